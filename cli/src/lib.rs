@@ -1,0 +1,1 @@
+//! hairsys CLI library

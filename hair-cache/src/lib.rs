@@ -1,0 +1,1 @@
+//! # hair-cache

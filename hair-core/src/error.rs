@@ -1,0 +1,82 @@
+//! Typed errors of the simulation level.
+//!
+//! Messages name the item at fault (triangle, strand, point, parameter) and the fix, because a host
+//! shows them to an artist as they are. File names are added by the layer that read the file.
+
+use thiserror::Error;
+
+/// Everything `hair-core` can refuse or detect.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum HairError {
+    /// A mesh has no triangles, an index out of range or a triangle of zero area.
+    #[error("mesh: {0}")]
+    Mesh(String),
+    /// A parameter is negative, non-finite or out of its range.
+    #[error("parameter `{name}` = {value}: {fix}")]
+    Parameter {
+        /// Name of the parameter as it appears in the scene file.
+        name: String,
+        /// The offending value, printed.
+        value: String,
+        /// What the user should do instead.
+        fix: String,
+    },
+    /// A strand is malformed (too few points, zero-length segment, non-finite point).
+    #[error("strand {strand}: {message}")]
+    Strand {
+        /// Index of the strand in its set.
+        strand: usize,
+        /// What is wrong and how to fix it.
+        message: String,
+    },
+    /// The solver left its stability region: the run stops instead of writing garbage.
+    #[error(
+        "simulation blew up at frame {frame}, strand {strand}: {cause}. The substep is \
+         {dt:.3e} s but the stability bound of the stiffest spring on the lightest point is \
+         dt < 2/ω = {bound:.3e} s; use substeps = \"auto\" (it would pick {auto_substeps}) or \
+         lower the stiffness"
+    )]
+    Unstable {
+        /// Frame index (0-based, relative to the run's first frame) at which it was detected.
+        frame: u32,
+        /// Strand in which it was detected first (lowest index).
+        strand: usize,
+        /// "non-finite position" or "energy ... exceeded ...".
+        cause: String,
+        /// Substep length in use, seconds.
+        dt: f64,
+        /// Predicted stable limit 2/ω, seconds.
+        bound: f64,
+        /// Substeps per step that `substeps = "auto"` would choose.
+        auto_substeps: u32,
+    },
+}
+
+/// Shorthand for results of this crate.
+pub type Result<T, E = HairError> = std::result::Result<T, E>;
+
+/// Checks that `value` is finite and ≥ 0, naming `name` in the error.
+pub fn check_non_negative(name: &str, value: f32) -> Result<()> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(HairError::Parameter {
+            name: name.to_string(),
+            value: value.to_string(),
+            fix: "must be a finite number ≥ 0".to_string(),
+        })
+    }
+}
+
+/// Checks that `value` is finite and > 0, naming `name` in the error.
+pub fn check_positive(name: &str, value: f32) -> Result<()> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(HairError::Parameter {
+            name: name.to_string(),
+            value: value.to_string(),
+            fix: "must be a finite number > 0".to_string(),
+        })
+    }
+}

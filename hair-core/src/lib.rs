@@ -1,0 +1,39 @@
+//! # hair-core
+//!
+//! The simulation level of hairsys: strands stored structure-of-arrays ([`StrandSet`]), scalp
+//! meshes with stable surface samples ([`TriMesh`], [`MeshSample`], [`RootFrame`]) and the
+//! mass-spring strand [`Solver`]. Units are SI (m, s, kg), Z up.
+//!
+//! This crate does no file or terminal I/O and keeps no global state: a host (the `hairsys` CLI
+//! or a DCC plugin) sets the scalp for each frame, calls [`Solver::step_frame`] and reads the
+//! positions back.
+//!
+//! ```
+//! use hair_core::{Anchor, HairParams, RootFrame, Scalp, Solver, SolverSettings, StrandInput, StrandSet};
+//! use nalgebra::Vector3;
+//!
+//! // One hair of 8 segments growing along +x from the origin, held at its root.
+//! let rest = (0..9).map(|i| Vector3::new(0.0, 0.0, 0.02 * i as f32)).collect();
+//! let anchor = Anchor::Body(RootFrame::at(Vector3::zeros()));
+//! let mut strands = StrandSet::new();
+//! strands.push(StrandInput::uniform(anchor, rest, 1e-3, 1e-4, 0.0, 0.0)).unwrap();
+//! let scalp = Scalp::fixed();
+//! let mut solver = Solver::new(SolverSettings::default(), HairParams::default(), &strands, &scalp, 1).unwrap();
+//! let report = solver.step_frame(&mut strands, &scalp).unwrap();
+//! assert_eq!(report.frame, 2);
+//! ```
+
+pub mod error;
+pub mod frames;
+pub mod mesh;
+pub mod solver;
+pub mod strands;
+
+pub use error::{HairError, Result};
+pub use mesh::{MeshSample, RootFrame, TriMesh};
+pub use solver::energy::{energy, Energy};
+pub use solver::{
+    FrameReport, HairParams, Integrator, PhaseTimes, Solver, SolverSettings, StabilityBound,
+    Substeps,
+};
+pub use strands::{Anchor, Scalp, StrandInput, StrandSet};

@@ -1,0 +1,360 @@
+//! The strand solver: mass-spring chains advanced by substepped semi-implicit Euler.
+//!
+//! # The step loop (seed 001, "Solver")
+//!
+//! One **frame** (1/fps s) is split into `steps` **collision steps**. Once per step the roots are
+//! evaluated on the scalp (the scalp given for the frame's end, interpolated from the previous
+//! frame's), and any per-step work is done (contacts and hair–hair grids join here). Then every
+//! strand, independently and in parallel (rayon), runs `substeps` **force substeps** of
+//! semi-implicit Euler, `v += dt·a(x, v); x += dt·v`, with:
+//!
+//! - stretch springs between neighbours (N/m),
+//! - bending springs towards the rest direction in the previous segment's frame (see
+//!   [`crate::frames`]); the root frame precedes segment 0, holding it to the scalp,
+//! - goal springs towards the animated rest position, weighted per point,
+//! - gravity and linear air drag.
+//!
+//! The root and any pinned point are kinematic: they follow their animated rest position and get
+//! the velocity that motion implies. After each substep's velocity update comes the **damping
+//! sub-loop** on relative velocity along each segment ([`damping`]), then the position update.
+//!
+//! # Stability
+//! `substeps = auto` takes the count from [`StabilityBound`]. After every step each strand is
+//! checked for non-finite values and runaway energy; either stops the run with
+//! [`HairError::Unstable`] naming the frame, the strand and the bound, before a bad frame can be
+//! written anywhere.
+
+mod damping;
+pub mod energy;
+mod kernel;
+pub mod params;
+pub mod stability;
+
+use std::time::{Duration, Instant};
+
+use rayon::prelude::*;
+
+use crate::error::{HairError, Result};
+use crate::mesh::RootFrame;
+use crate::strands::{Scalp, StrandSet};
+
+use kernel::{step_strand, Scratch, StepConstants, StrandView};
+pub use params::{HairParams, Integrator, SolverSettings, Substeps};
+pub use stability::StabilityBound;
+
+/// Points a parallel work item holds at most (about a few L2-sized blocks of strands).
+const BLOCK_POINTS: usize = 4096;
+
+/// Energy per unit mass that counts as runaway, as a multiple of the largest a sane strand has
+/// (fall its own length, move its own length per frame, follow the root).
+const RUNAWAY_FACTOR: f64 = 1e3;
+
+/// Which model components a solver runs, for reports.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Components(pub Vec<&'static str>);
+
+/// Wall-clock cost of one frame by phase.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PhaseTimes {
+    /// Evaluating root frames on the scalp.
+    pub roots: Duration,
+    /// Force substeps, damping and position updates of all strands, with the blow-up checks.
+    pub strands: Duration,
+}
+
+/// What one frame did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrameReport {
+    /// Frame number that was computed.
+    pub frame: u32,
+    /// Force substeps per step used.
+    pub substeps: u32,
+    /// Points × substeps advanced in this frame.
+    pub point_substeps: u64,
+    /// Largest relative segment stretch at the end of the frame.
+    pub max_stretch: f32,
+    /// Wall-clock cost by phase.
+    pub times: PhaseTimes,
+}
+
+/// A mass-spring strand solver: settings, parameters and the root state between frames.
+/// It does not own the strands; [`Solver::step_frame`] borrows them for one frame.
+#[derive(Debug, Clone)]
+pub struct Solver {
+    settings: SolverSettings,
+    params: HairParams,
+    bound: StabilityBound,
+    substeps: u32,
+    roots: Vec<RootFrame>,
+    blocks: Vec<std::ops::Range<usize>>,
+    frame: u32,
+}
+
+/// Outcome of one strand's step, folded per block in strand order.
+#[derive(Debug, Clone, Default)]
+struct BlockOutcome {
+    max_stretch: f32,
+    failure: Option<(usize, String)>,
+}
+
+impl Solver {
+    /// Prepares a solver for `strands` rooted on `scalp` at frame `start_frame`. Validates the
+    /// settings, the parameters and every anchor, and resolves `substeps = auto`.
+    pub fn new(
+        settings: SolverSettings,
+        params: HairParams,
+        strands: &StrandSet,
+        scalp: &Scalp,
+        start_frame: u32,
+    ) -> Result<Self> {
+        settings.validate()?;
+        params.validate()?;
+        strands.validate_anchors(scalp)?;
+        let bound = StabilityBound::of(strands, &params);
+        let substeps = match settings.substeps {
+            Substeps::Fixed(n) => n,
+            Substeps::Auto => bound.auto_substeps(settings.step_dt()),
+        };
+        Ok(Self {
+            settings,
+            params,
+            bound,
+            substeps,
+            roots: strands.root_frames(scalp),
+            blocks: blocks_of(strands),
+            frame: start_frame,
+        })
+    }
+
+    /// Force substeps per collision step in use.
+    pub fn substeps(&self) -> u32 {
+        self.substeps
+    }
+
+    /// Substep length in use, s.
+    pub fn dt(&self) -> f64 {
+        self.settings.step_dt() / self.substeps as f64
+    }
+
+    /// The predicted stability bound of this set and these parameters.
+    pub fn bound(&self) -> StabilityBound {
+        self.bound
+    }
+
+    /// Settings in use.
+    pub fn settings(&self) -> &SolverSettings {
+        &self.settings
+    }
+
+    /// Parameters in use.
+    pub fn params(&self) -> &HairParams {
+        &self.params
+    }
+
+    /// Frame number of the current state.
+    pub fn frame(&self) -> u32 {
+        self.frame
+    }
+
+    /// Root frames of the current state.
+    pub fn roots(&self) -> &[RootFrame] {
+        &self.roots
+    }
+
+    /// Model components this solver runs (a component whose coefficient is 0 costs nothing).
+    pub fn components(&self, strands: &StrandSet) -> Components {
+        let p = &self.params;
+        let mut c = vec!["stretch"];
+        if p.bend_stiffness > 0.0 {
+            c.push("bend");
+        }
+        if p.goal_stiffness > 0.0 && strands.goal_weights().iter().any(|&w| w > 0.0) {
+            c.push("goal");
+        }
+        if p.gravity().norm_squared() > 0.0 {
+            c.push("gravity");
+        }
+        if p.air_drag > 0.0 {
+            c.push("air drag");
+        }
+        if p.stretch_damping > 0.0 && self.settings.damping_iterations > 0 {
+            c.push("damping");
+        }
+        Components(c)
+    }
+
+    /// Advances `strands` by one frame, to the instant at which `scalp` is given.
+    ///
+    /// On [`HairError::Unstable`] the strands hold the failed state; do not write it anywhere.
+    pub fn step_frame(&mut self, strands: &mut StrandSet, scalp: &Scalp) -> Result<FrameReport> {
+        let frame = self.frame + 1;
+        let t0 = Instant::now();
+        let end_roots = strands.root_frames(scalp);
+        let mut times = PhaseTimes {
+            roots: t0.elapsed(),
+            ..Default::default()
+        };
+        let steps = self.settings.steps;
+        let step_dt = self.settings.step_dt();
+        let consts = StepConstants::new(
+            &self.params,
+            (step_dt / self.substeps as f64) as f32,
+            self.substeps,
+            self.settings.damping_iterations,
+            self.settings.integrator,
+        );
+        let mut max_stretch = 0.0f32;
+        for step in 0..steps {
+            let t1 = Instant::now();
+            let a = step as f32 / steps as f32;
+            let b = (step + 1) as f32 / steps as f32;
+            let starts: Vec<RootFrame> = self
+                .roots
+                .iter()
+                .zip(&end_roots)
+                .map(|(p, e)| p.interpolate(e, a))
+                .collect();
+            let ends: Vec<RootFrame> = self
+                .roots
+                .iter()
+                .zip(&end_roots)
+                .map(|(p, e)| p.interpolate(e, b))
+                .collect();
+            times.roots += t1.elapsed();
+            let t2 = Instant::now();
+            let outcome = self.step_strands(strands, &starts, &ends, &consts, step_dt);
+            times.strands += t2.elapsed();
+            if let Some((strand, cause)) = outcome.failure {
+                return Err(HairError::Unstable {
+                    frame,
+                    strand,
+                    cause,
+                    dt: self.dt(),
+                    bound: self.bound.dt_max,
+                    auto_substeps: self.bound.auto_substeps(step_dt),
+                });
+            }
+            max_stretch = outcome.max_stretch;
+        }
+        self.roots = end_roots;
+        self.frame = frame;
+        Ok(FrameReport {
+            frame,
+            substeps: self.substeps,
+            point_substeps: strands.point_count() as u64 * (self.substeps * steps) as u64,
+            max_stretch,
+            times,
+        })
+    }
+
+    fn step_strands(
+        &self,
+        strands: &mut StrandSet,
+        starts: &[RootFrame],
+        ends: &[RootFrame],
+        consts: &StepConstants,
+        step_dt: f64,
+    ) -> BlockOutcome {
+        let g = self.params.gravity().norm() as f64;
+        let fps = self.settings.fps as f64;
+        let (x_all, v_all, data) = strands.split_for_solver();
+        let mut jobs = Vec::with_capacity(self.blocks.len());
+        let (mut x_rest, mut v_rest) = (x_all, v_all);
+        for block in &self.blocks {
+            let len = (data.offsets[block.end] - data.offsets[block.start]) as usize;
+            let (x, xr) = x_rest.split_at_mut(len);
+            let (v, vr) = v_rest.split_at_mut(len);
+            x_rest = xr;
+            v_rest = vr;
+            jobs.push((block.clone(), x, v));
+        }
+        let outcomes: Vec<BlockOutcome> = jobs
+            .into_par_iter()
+            .map_init(Scratch::default, |scratch, (block, x, v)| {
+                let base = data.offsets[block.start] as usize;
+                let mut out = BlockOutcome::default();
+                for s in block {
+                    let p = data.offsets[s] as usize..data.offsets[s + 1] as usize;
+                    let seg = p.start - s..p.end - s - 1;
+                    let local = p.start - base..p.end - base;
+                    let mut view = StrandView {
+                        x: &mut x[local.clone()],
+                        v: &mut v[local],
+                        rest_local: &data.rest_local[p.clone()],
+                        inv_mass: &data.inv_mass[p.clone()],
+                        goal_weight: &data.goal_weight[p.clone()],
+                        rest_length: &data.rest_length[seg.clone()],
+                        bend_rest: &data.bend_rest[seg.clone()],
+                    };
+                    step_strand(&mut view, &starts[s], &ends[s], consts, scratch);
+                    let root_speed = ((ends[s].origin - starts[s].origin).norm() as f64) / step_dt;
+                    let length: f64 = data.rest_length[seg].iter().map(|&l| l as f64).sum();
+                    let limit =
+                        RUNAWAY_FACTOR * (g * length + (length * fps).powi(2) + root_speed.powi(2));
+                    let check =
+                        check_strand(&view, &data.mass[p], self.params.stretch_stiffness, limit);
+                    match check {
+                        Ok(stretch) => out.max_stretch = out.max_stretch.max(stretch),
+                        Err(cause) => {
+                            out.failure = Some((s, cause));
+                            break;
+                        }
+                    }
+                }
+                out
+            })
+            .collect();
+        outcomes
+            .into_iter()
+            .fold(BlockOutcome::default(), |acc, o| BlockOutcome {
+                max_stretch: acc.max_stretch.max(o.max_stretch),
+                failure: acc.failure.or(o.failure),
+            })
+    }
+}
+
+/// Checks a strand after a step: finite, and energy per unit mass (kinetic + stretch) below
+/// `limit` (J/kg). Returns the strand's largest relative stretch.
+fn check_strand(s: &StrandView, mass: &[f32], stretch_k: f32, limit: f64) -> Result<f32, String> {
+    let n = s.x.len();
+    let mut kinetic = 0.0f64;
+    let mut total_mass = 0.0f64;
+    for i in 0..n {
+        if !(s.x[i].iter().all(|c| c.is_finite()) && s.v[i].iter().all(|c| c.is_finite())) {
+            return Err(format!("non-finite position or velocity at point {i}"));
+        }
+        kinetic += 0.5 * mass[i] as f64 * s.v[i].cast::<f64>().norm_squared();
+        total_mass += mass[i] as f64;
+    }
+    let mut elastic = 0.0f64;
+    let mut stretch = 0.0f32;
+    for j in 0..n - 1 {
+        let len = (s.x[j + 1] - s.x[j]).norm();
+        stretch = stretch.max((len / s.rest_length[j] - 1.0).abs());
+        elastic += 0.5 * stretch_k as f64 * ((len - s.rest_length[j]) as f64).powi(2);
+    }
+    let specific = (kinetic + elastic) / total_mass.max(f64::MIN_POSITIVE);
+    if specific > limit {
+        return Err(format!(
+            "energy ran away ({specific:.3e} J/kg, limit {limit:.3e} J/kg)"
+        ));
+    }
+    Ok(stretch)
+}
+
+/// Splits the strands into contiguous blocks of about [`BLOCK_POINTS`] points.
+fn blocks_of(strands: &StrandSet) -> Vec<std::ops::Range<usize>> {
+    let offsets = strands.offsets();
+    let mut blocks = Vec::new();
+    let mut start = 0;
+    for s in 0..strands.len() {
+        if (offsets[s + 1] - offsets[start]) as usize >= BLOCK_POINTS {
+            blocks.push(start..s + 1);
+            start = s + 1;
+        }
+    }
+    if start < strands.len() {
+        blocks.push(start..strands.len());
+    }
+    blocks
+}

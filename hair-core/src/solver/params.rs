@@ -1,0 +1,134 @@
+//! Physical parameters of a hair system and the solver's time-stepping settings.
+
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{check_non_negative, check_positive, HairError, Result};
+
+/// Material and environment of a hair system (SI units).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HairParams {
+    /// Gravitational acceleration, m/s² (Z up: (0, 0, −9.81)).
+    pub gravity: [f32; 3],
+    /// Stretch spring stiffness between neighbouring points, N/m.
+    pub stretch_stiffness: f32,
+    /// Bending spring stiffness towards the rest direction in the previous segment's frame, N/m.
+    pub bend_stiffness: f32,
+    /// Goal spring stiffness towards the animated rest position, N/m (scaled by goal weight).
+    pub goal_stiffness: f32,
+    /// Viscous damping of relative velocity along each segment, 1/s: an isolated segment's
+    /// stretching speed decays as exp(−rate·t). Applied in the damping sub-loop.
+    pub stretch_damping: f32,
+    /// Air drag, 1/s: every free point's velocity decays as exp(−rate·t) in still air.
+    pub air_drag: f32,
+}
+
+impl Default for HairParams {
+    fn default() -> Self {
+        Self {
+            gravity: [0.0, 0.0, -9.81],
+            stretch_stiffness: 200.0,
+            bend_stiffness: 0.5,
+            goal_stiffness: 0.0,
+            stretch_damping: 50.0,
+            air_drag: 1.0,
+        }
+    }
+}
+
+impl HairParams {
+    /// Checks every parameter is finite and ≥ 0 (gravity finite).
+    pub fn validate(&self) -> Result<()> {
+        if !self.gravity.iter().all(|g| g.is_finite()) {
+            return Err(HairError::Parameter {
+                name: "gravity".into(),
+                value: format!("{:?}", self.gravity),
+                fix: "give three finite numbers in m/s², e.g. [0, 0, -9.81]".into(),
+            });
+        }
+        check_non_negative("stretch_stiffness", self.stretch_stiffness)?;
+        check_non_negative("bend_stiffness", self.bend_stiffness)?;
+        check_non_negative("goal_stiffness", self.goal_stiffness)?;
+        check_non_negative("stretch_damping", self.stretch_damping)?;
+        check_non_negative("air_drag", self.air_drag)
+    }
+
+    /// Gravity as a vector, m/s².
+    pub fn gravity(&self) -> Vector3<f32> {
+        Vector3::from(self.gravity)
+    }
+}
+
+/// How many force substeps each collision step takes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Substeps {
+    /// Exactly this many substeps per step.
+    Fixed(u32),
+    /// Derived from the stability bound of the stiffest spring on the lightest point.
+    Auto,
+}
+
+/// Time integration scheme of the force substeps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Integrator {
+    /// `v += dt·a(x, v); x += dt·v` — symplectic, the default.
+    SemiImplicitEuler,
+    /// `x += dt·v; v += dt·a(x, v)` with the old velocity — the baseline that fails first.
+    ExplicitEuler,
+}
+
+/// Time stepping of the solver.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SolverSettings {
+    /// Frames per second of the animation.
+    pub fps: f32,
+    /// Collision steps per frame (roots, contacts and grids are evaluated once per step).
+    pub steps: u32,
+    /// Force substeps per step.
+    pub substeps: Substeps,
+    /// Iterations of the damping sub-loop per substep (0 switches damping off).
+    pub damping_iterations: u32,
+    /// Integration scheme.
+    pub integrator: Integrator,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        Self {
+            fps: 24.0,
+            steps: 1,
+            substeps: Substeps::Auto,
+            damping_iterations: 10,
+            integrator: Integrator::SemiImplicitEuler,
+        }
+    }
+}
+
+impl SolverSettings {
+    /// Checks fps > 0, steps ≥ 1 and fixed substeps ≥ 1.
+    pub fn validate(&self) -> Result<()> {
+        check_positive("fps", self.fps)?;
+        if self.steps == 0 {
+            return Err(HairError::Parameter {
+                name: "steps".into(),
+                value: "0".into(),
+                fix: "use at least 1 collision step per frame".into(),
+            });
+        }
+        if self.substeps == Substeps::Fixed(0) {
+            return Err(HairError::Parameter {
+                name: "substeps".into(),
+                value: "0".into(),
+                fix: "use at least 1, or \"auto\"".into(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Length of one collision step, s.
+    pub fn step_dt(&self) -> f64 {
+        1.0 / (self.fps as f64 * self.steps as f64)
+    }
+}

@@ -1,0 +1,75 @@
+//! The stability bound of explicit-type integrators on a mass-spring chain, and `substeps = auto`.
+//!
+//! For a chain of springs of stiffness `k` between point masses `m`, the highest normal mode has
+//! angular frequency `ω ≈ 2·sqrt(k/m)`; semi-implicit Euler is stable only for `dt < 2/ω`.
+//! Stretch and bending springs act between the same neighbours, so their stiffnesses add; a goal
+//! spring ties a point to a fixed target and adds `k_goal/m` to `ω²`. The lightest free point
+//! (usually a tip, which carries half a segment) sets the bound. `auto` picks the smallest
+//! substep count whose `dt` is below [`AUTO_SAFETY`] times the bound.
+//!
+//! Explicit (forward) Euler is unstable for any undamped oscillator at any `dt`; the bound is
+//! reported for it too, but it only delays the growth (see the energy test in `tests/`).
+
+use crate::strands::StrandSet;
+
+use super::params::HairParams;
+
+/// Fraction of the bound `2/ω` that `substeps = "auto"` aims for.
+pub const AUTO_SAFETY: f64 = 0.8;
+
+/// The predicted stability limit of a strand set with given parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StabilityBound {
+    /// Highest angular frequency ω, rad/s.
+    pub omega: f64,
+    /// Largest stable substep 2/ω, s (infinite when no spring acts).
+    pub dt_max: f64,
+    /// Stiffest spring acting between neighbours (stretch + bend), N/m.
+    pub stiffness: f64,
+    /// Lightest free point, kg.
+    pub min_mass: f64,
+}
+
+impl StabilityBound {
+    /// Computes the bound for `strands` under `params`.
+    pub fn of(strands: &StrandSet, params: &HairParams) -> Self {
+        let min_mass = strands
+            .masses()
+            .iter()
+            .filter(|&&m| m > 0.0)
+            .fold(f64::INFINITY, |a, &m| a.min(m as f64));
+        let max_goal = strands
+            .goal_weights()
+            .iter()
+            .fold(0.0f64, |a, &w| a.max(w as f64));
+        let k = params.stretch_stiffness as f64 + params.bend_stiffness as f64;
+        let omega2 = if min_mass.is_finite() {
+            (4.0 * k + params.goal_stiffness as f64 * max_goal) / min_mass
+        } else {
+            0.0
+        };
+        let omega = omega2.sqrt();
+        let dt_max = if omega > 0.0 {
+            2.0 / omega
+        } else {
+            f64::INFINITY
+        };
+        Self {
+            omega,
+            dt_max,
+            stiffness: k,
+            min_mass,
+        }
+    }
+
+    /// Substeps per step of length `step_dt` (s) that `auto` chooses: the fewest keeping
+    /// `dt ≤ AUTO_SAFETY · 2/ω`, at least 1.
+    pub fn auto_substeps(&self, step_dt: f64) -> u32 {
+        if !self.dt_max.is_finite() {
+            return 1;
+        }
+        (step_dt / (AUTO_SAFETY * self.dt_max))
+            .ceil()
+            .clamp(1.0, u32::MAX as f64) as u32
+    }
+}
