@@ -16,29 +16,33 @@
 //! Impulses are equal and opposite, so damping conserves linear momentum; pinned points
 //! (`w = 0`) are not moved by it.
 
-use nalgebra::Vector3;
+use super::kernel::Lanes;
 
-/// Runs `iterations` Jacobi damping iterations on `v` in place.
+/// Runs `iterations` Jacobi damping iterations on the velocity lanes `v` in place.
 ///
-/// `tangent[j]` is segment `j`'s unit direction, `coef[j] = β / (w_j + w_{j+1})`, `impulse` a
-/// buffer of one value per segment.
+/// Segment arrays are padded (segment `j` at index `j + 1`, zeros at `0` and `n`):
+/// `tangent` holds unit directions, `coef` holds `β / (w_j + w_{j+1})`, `impulse` is a buffer.
 pub(crate) fn damp_segments(
-    v: &mut [Vector3<f32>],
+    v: &mut Lanes,
     inv_mass: &[f32],
-    tangent: &[Vector3<f32>],
+    tangent: &Lanes,
     coef: &[f32],
     impulse: &mut [f32],
     iterations: u32,
 ) {
-    let segs = tangent.len();
+    let n = inv_mass.len();
     for _ in 0..iterations {
-        for j in 0..segs {
-            impulse[j] = coef[j] * tangent[j].dot(&(v[j + 1] - v[j]));
+        for j in 0..n - 1 {
+            let r = tangent.x[j + 1] * (v.x[j + 1] - v.x[j])
+                + tangent.y[j + 1] * (v.y[j + 1] - v.y[j])
+                + tangent.z[j + 1] * (v.z[j + 1] - v.z[j]);
+            impulse[j + 1] = coef[j + 1] * r;
         }
-        for j in 0..segs {
-            let p = tangent[j] * impulse[j];
-            v[j] += p * inv_mass[j];
-            v[j + 1] -= p * inv_mass[j + 1];
+        for i in 0..n {
+            let (after, before) = (impulse[i + 1], impulse[i]);
+            v.x[i] += inv_mass[i] * (after * tangent.x[i + 1] - before * tangent.x[i]);
+            v.y[i] += inv_mass[i] * (after * tangent.y[i + 1] - before * tangent.y[i]);
+            v.z[i] += inv_mass[i] * (after * tangent.z[i + 1] - before * tangent.z[i]);
         }
     }
 }
@@ -47,27 +51,38 @@ pub(crate) fn damp_segments(
 mod tests {
     use super::*;
 
+    fn lanes(v: &[[f32; 3]]) -> Lanes {
+        Lanes {
+            x: v.iter().map(|p| p[0]).collect(),
+            y: v.iter().map(|p| p[1]).collect(),
+            z: v.iter().map(|p| p[2]).collect(),
+        }
+    }
+
     #[test]
     fn damping_conserves_momentum_and_reduces_stretch_rate() {
-        let t = vec![Vector3::x(); 3];
+        // Four points along x; padded tangents (zeros at both ends).
+        let t = lanes(&[
+            [0.0; 3],
+            [1.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0; 3],
+        ]);
         let w = [1.0, 2.0, 1.0, 0.5];
-        let mut v = vec![
-            Vector3::new(1.0, 0.3, 0.0),
-            Vector3::new(-1.0, 0.0, 0.0),
-            Vector3::new(2.0, 0.0, 1.0),
-            Vector3::zeros(),
-        ];
-        let momentum =
-            |v: &[Vector3<f32>]| v.iter().zip(w).map(|(v, w)| v / w).sum::<Vector3<f32>>();
-        let before = momentum(&v);
-        let coef: Vec<f32> = (0..3).map(|j| 0.3 / (w[j] + w[j + 1])).collect();
-        let mut imp = vec![0.0; 3];
-        let rate = |v: &[Vector3<f32>]| (0..3).map(|j| (v[j + 1] - v[j]).x.abs()).sum::<f32>();
-        let r0 = rate(&v);
+        let mut v = lanes(&[[1.0, 0.3, 0.0], [-1.0, 0.0, 0.0], [2.0, 0.0, 1.0], [0.0; 3]]);
+        let momentum = |v: &Lanes| (0..4).map(|i| v.x[i] / w[i]).sum::<f32>();
+        let rate = |v: &Lanes| (0..3).map(|j| (v.x[j + 1] - v.x[j]).abs()).sum::<f32>();
+        let (p0, r0) = (momentum(&v), rate(&v));
+        let mut coef = vec![0.0; 5];
+        for j in 0..3 {
+            coef[j + 1] = 0.3 / (w[j] + w[j + 1]);
+        }
+        let mut imp = vec![0.0; 5];
         damp_segments(&mut v, &w, &t, &coef, &mut imp, 10);
-        assert!((momentum(&v) - before).norm() < 1e-5);
+        assert!((momentum(&v) - p0).abs() < 1e-5);
         assert!(rate(&v) < 0.2 * r0);
         // Velocity across the segments (y, z) is untouched.
-        assert!((v[0].y - 0.3).abs() < 1e-6 && (v[2].z - 1.0).abs() < 1e-6);
+        assert!((v.y[0] - 0.3).abs() < 1e-6 && (v.z[2] - 1.0).abs() < 1e-6);
     }
 }

@@ -1,8 +1,12 @@
 //! One strand's whole collision step: `substeps` force substeps, each with its damping sub-loop.
 //!
-//! The strand's points stay in L1 for the whole loop. Every pass but one runs over independent
-//! points or segments (the compiler can vectorise them); the exception is the frame transport in
-//! the bending pass, a short recursion of one division per segment.
+//! The strand is copied once per step into strand-local structure-of-arrays scratch (separate
+//! x, y, z lanes), so every pass over points or segments is a plain loop over equal-length slices
+//! that the compiler vectorises, and the whole substep loop stays in L1. Segment arrays are
+//! *padded*: segment `j` (points `j`, `j + 1`) sits at index `j + 1`, and indices `0` and `n` hold
+//! zeros, so point `i` reads "the segment after" at `i + 1` and "the segment before" at `i`
+//! without branches. The one sequential pass is the frame transport of the bending springs, a
+//! short recursion per segment.
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -69,26 +73,115 @@ pub(crate) struct StrandView<'a> {
     pub bend_rest: &'a [RestDirection],
 }
 
-/// Per-thread work buffers, grown to the longest strand seen.
+/// Three f32 lanes of equal length.
+#[derive(Default)]
+pub(crate) struct Lanes {
+    pub x: Vec<f32>,
+    pub y: Vec<f32>,
+    pub z: Vec<f32>,
+}
+
+impl Lanes {
+    fn fit(&mut self, len: usize) {
+        for lane in [&mut self.x, &mut self.y, &mut self.z] {
+            lane.clear();
+            lane.resize(len, 0.0);
+        }
+    }
+
+    fn load(&mut self, from: &[Vector3<f32>]) {
+        for (i, p) in from.iter().enumerate() {
+            self.x[i] = p.x;
+            self.y[i] = p.y;
+            self.z[i] = p.z;
+        }
+    }
+
+    fn store(&self, to: &mut [Vector3<f32>]) {
+        for (i, p) in to.iter_mut().enumerate() {
+            *p = Vector3::new(self.x[i], self.y[i], self.z[i]);
+        }
+    }
+
+    #[inline(always)]
+    fn get(&self, i: usize) -> Vector3<f32> {
+        Vector3::new(self.x[i], self.y[i], self.z[i])
+    }
+
+    #[inline(always)]
+    fn set(&mut self, i: usize, p: Vector3<f32>) {
+        self.x[i] = p.x;
+        self.y[i] = p.y;
+        self.z[i] = p.z;
+    }
+}
+
+/// Per-thread work buffers, refitted to each strand.
 #[derive(Default)]
 pub(crate) struct Scratch {
-    tangent: Vec<Vector3<f32>>,
-    length: Vec<f32>,
-    force: Vec<Vector3<f32>>,
-    v_old: Vec<Vector3<f32>>,
+    x: Lanes,
+    v: Lanes,
+    v_old: Lanes,
+    force: Lanes,
+    /// Padded unit tangents (index j + 1 = segment j).
+    tangent: Lanes,
+    /// Padded bending forces on the far point of each segment.
+    bend: Lanes,
+    /// Animated rest positions (goal and pinned targets) of the current substep.
+    target: Lanes,
+    /// Padded stretch force magnitudes, N.
+    tension: Vec<f32>,
+    /// Padded damping coefficients β / (w_j + w_{j+1}).
     damp_coef: Vec<f32>,
+    /// Padded damping impulses.
     impulse: Vec<f32>,
+    /// 1 for free points, 0 for pinned ones.
+    free: Vec<f32>,
+    goal_k: Vec<f32>,
+    pinned: Vec<usize>,
 }
 
 impl Scratch {
-    fn fit(&mut self, points: usize) {
-        let segs = points - 1;
-        self.tangent.resize(segs, Vector3::zeros());
-        self.length.resize(segs, 0.0);
-        self.force.resize(points, Vector3::zeros());
-        self.v_old.resize(points, Vector3::zeros());
-        self.damp_coef.resize(segs, 0.0);
-        self.impulse.resize(segs, 0.0);
+    fn fit(&mut self, s: &StrandView, c: &StepConstants) {
+        let n = s.x.len();
+        for lanes in [
+            &mut self.x,
+            &mut self.v,
+            &mut self.v_old,
+            &mut self.force,
+            &mut self.target,
+        ] {
+            lanes.fit(n);
+        }
+        for lanes in [&mut self.tangent, &mut self.bend] {
+            lanes.fit(n + 1);
+        }
+        for buf in [&mut self.tension, &mut self.damp_coef, &mut self.impulse] {
+            buf.clear();
+            buf.resize(n + 1, 0.0);
+        }
+        self.x.load(s.x);
+        self.v.load(s.v);
+        self.free.clear();
+        self.free
+            .extend(s.inv_mass.iter().map(|&w| if w > 0.0 { 1.0 } else { 0.0 }));
+        self.pinned.clear();
+        self.pinned.extend((0..n).filter(|&i| s.inv_mass[i] == 0.0));
+        self.goal_k.clear();
+        self.goal_k
+            .extend(s.goal_weight.iter().zip(s.inv_mass).map(|(&g, &w)| {
+                if w > 0.0 {
+                    c.goal * g
+                } else {
+                    0.0
+                }
+            }));
+        if c.damp_fraction > 0.0 {
+            for j in 0..n - 1 {
+                let w = s.inv_mass[j] + s.inv_mass[j + 1];
+                self.damp_coef[j + 1] = if w > 0.0 { c.damp_fraction / w } else { 0.0 };
+            }
+        }
     }
 }
 
@@ -102,103 +195,114 @@ pub(crate) fn step_strand(
     scratch: &mut Scratch,
 ) {
     let n = s.x.len();
-    scratch.fit(n);
+    scratch.fit(s, c);
     let Scratch {
-        tangent,
-        length,
-        force,
+        x,
+        v,
         v_old,
+        force,
+        tangent,
+        bend,
+        target,
+        tension,
         damp_coef,
         impulse,
+        free,
+        goal_k,
+        pinned,
     } = scratch;
-    let dt = c.dt;
-    let inv_dt = 1.0 / dt;
-    if c.damp_fraction > 0.0 {
-        for j in 0..n - 1 {
-            let w = s.inv_mass[j] + s.inv_mass[j + 1];
-            damp_coef[j] = if w > 0.0 { c.damp_fraction / w } else { 0.0 };
-        }
-    }
+    let (dt, inv_dt) = (c.dt, 1.0 / c.dt);
+    let w = s.inv_mass;
+    let l0 = s.rest_length;
+    let needs_targets = c.goal > 0.0;
     for k in 0..c.substeps {
         let root = start.interpolate(end, (k + 1) as f32 / c.substeps as f32);
         let rot: Matrix3<f32> = root.rotation.to_rotation_matrix().into_inner();
-
-        // Segment directions and lengths.
-        for j in 0..n - 1 {
-            let d = s.x[j + 1] - s.x[j];
-            let l = d.norm();
-            length[j] = l;
-            tangent[j] = d / l;
+        let to_world = |i: usize| root.origin + rot * s.rest_local[i];
+        if needs_targets {
+            for i in 0..n {
+                target.set(i, to_world(i));
+            }
         }
 
-        // Stretch springs.
-        force.fill(Vector3::zeros());
+        // Segment tangents and stretch tensions (padded: segment j at j + 1).
         for j in 0..n - 1 {
-            let f = tangent[j] * (c.stretch * (length[j] - s.rest_length[j]));
-            force[j] += f;
-            force[j + 1] -= f;
+            let dx = x.x[j + 1] - x.x[j];
+            let dy = x.y[j + 1] - x.y[j];
+            let dz = x.z[j + 1] - x.z[j];
+            let len = (dx * dx + dy * dy + dz * dz).sqrt();
+            let inv = 1.0 / len;
+            tangent.x[j + 1] = dx * inv;
+            tangent.y[j + 1] = dy * inv;
+            tangent.z[j + 1] = dz * inv;
+            tension[j + 1] = c.stretch * (len - l0[j]);
         }
 
-        // Bending springs towards the rest direction in the previous segment's frame; the frame
-        // before segment 0 is the root frame, which holds the first segment to the scalp.
+        // Bending springs: the previous segment's frame is carried down the strand from the root
+        // frame by parallel transport (sequential), pulling point j + 1 towards its rest direction.
         if c.bend > 0.0 {
             let mut tp: Vector3<f32> = rot.column(2).into();
             let mut up: Vector3<f32> = rot.column(0).into();
             for j in 0..n - 1 {
-                let wp = tp.cross(&up);
-                let dir = s.bend_rest[j].in_frame(&tp, &up, &wp);
-                let f = (s.x[j] + dir * s.rest_length[j] - s.x[j + 1]) * c.bend;
-                force[j + 1] += f;
-                force[j] -= f;
-                up = transport(&up, &tp, &tangent[j]);
-                tp = tangent[j];
+                let dir = s.bend_rest[j].in_frame(&tp, &up, &tp.cross(&up));
+                let f = (x.get(j) + dir * l0[j] - x.get(j + 1)) * c.bend;
+                bend.set(j + 1, f);
+                let t = tangent.get(j + 1);
+                up = transport(&up, &tp, &t);
+                tp = t;
             }
         }
 
-        // Goal springs towards the animated rest position.
-        if c.goal > 0.0 {
-            for i in 0..n {
-                let target = root.origin + rot * s.rest_local[i];
-                force[i] += (target - s.x[i]) * (c.goal * s.goal_weight[i]);
-            }
-        }
-
-        if c.integrator == Integrator::ExplicitEuler {
-            v_old.copy_from_slice(s.v);
-        }
+        // Forces per point: stretch from the segments after and before, bending, goal.
         for i in 0..n {
-            let w = s.inv_mass[i];
-            if w > 0.0 {
-                let a = force[i] * w + c.gravity - s.v[i] * c.drag;
-                s.v[i] += a * dt;
-            } else {
-                let target = root.origin + rot * s.rest_local[i];
-                s.v[i] = (target - s.x[i]) * inv_dt;
+            force.x[i] = tension[i + 1] * tangent.x[i + 1] - tension[i] * tangent.x[i] + bend.x[i]
+                - bend.x[i + 1];
+            force.y[i] = tension[i + 1] * tangent.y[i + 1] - tension[i] * tangent.y[i] + bend.y[i]
+                - bend.y[i + 1];
+            force.z[i] = tension[i + 1] * tangent.z[i + 1] - tension[i] * tangent.z[i] + bend.z[i]
+                - bend.z[i + 1];
+        }
+        if needs_targets {
+            for i in 0..n {
+                force.x[i] += goal_k[i] * (target.x[i] - x.x[i]);
+                force.y[i] += goal_k[i] * (target.y[i] - x.y[i]);
+                force.z[i] += goal_k[i] * (target.z[i] - x.z[i]);
             }
+        }
+
+        let explicit = c.integrator == Integrator::ExplicitEuler;
+        if explicit {
+            v_old.x.copy_from_slice(&v.x);
+            v_old.y.copy_from_slice(&v.y);
+            v_old.z.copy_from_slice(&v.z);
+        }
+        // Velocity update of free points (w = 0 and free = 0 leave pinned points unchanged here).
+        let (gx, gy, gz) = (c.gravity.x, c.gravity.y, c.gravity.z);
+        for i in 0..n {
+            v.x[i] += dt * (force.x[i] * w[i] + free[i] * (gx - c.drag * v.x[i]));
+            v.y[i] += dt * (force.y[i] * w[i] + free[i] * (gy - c.drag * v.y[i]));
+            v.z[i] += dt * (force.z[i] * w[i] + free[i] * (gz - c.drag * v.z[i]));
+        }
+        // Pinned points get the velocity of their prescribed motion over this substep.
+        for &i in pinned.iter() {
+            let goal = to_world(i);
+            v.set(i, (goal - x.get(i)) * inv_dt);
         }
 
         if c.damp_fraction > 0.0 {
-            damp_segments(
-                s.v,
-                s.inv_mass,
-                tangent,
-                damp_coef,
-                impulse,
-                c.damp_iterations,
-            );
+            damp_segments(v, w, tangent, damp_coef, impulse, c.damp_iterations);
         }
 
-        let moved_by = if c.integrator == Integrator::ExplicitEuler {
-            &*v_old
-        } else {
-            &*s.v
-        };
+        let moved_by = if explicit { &*v_old } else { &*v };
         for i in 0..n {
-            if s.inv_mass[i] > 0.0 {
-                s.x[i] += moved_by[i] * dt;
-            } else {
-                s.x[i] = root.origin + rot * s.rest_local[i];
-            }
+            x.x[i] += dt * free[i] * moved_by.x[i];
+            x.y[i] += dt * free[i] * moved_by.y[i];
+            x.z[i] += dt * free[i] * moved_by.z[i];
+        }
+        for &i in pinned.iter() {
+            x.set(i, to_world(i));
         }
     }
+    x.store(s.x);
+    v.store(s.v);
 }

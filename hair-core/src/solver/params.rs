@@ -7,7 +7,7 @@ use crate::error::{check_non_negative, check_positive, HairError, Result};
 
 /// Material and environment of a hair system (SI units).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct HairParams {
     /// Gravitational acceleration, m/s² (Z up: (0, 0, −9.81)).
     pub gravity: [f32; 3],
