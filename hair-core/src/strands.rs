@@ -164,7 +164,8 @@ impl StrandSet {
                 return Err(err(format!("point {i} has a non-finite coordinate")));
             }
             let pinned = i == 0 || input.pinned[i];
-            if !pinned && !(input.mass[i].is_finite() && input.mass[i] > 0.0) {
+            let valid_mass = input.mass[i].is_finite() && input.mass[i] > 0.0;
+            if !pinned && !valid_mass {
                 return Err(err(format!(
                     "point {i} has mass {}; free points need a finite mass > 0 kg",
                     input.mass[i]
@@ -191,7 +192,7 @@ impl StrandSet {
         let scale = lengths.iter().sum::<f32>();
         if let Some(j) = lengths
             .iter()
-            .position(|&l| !(l > 1e-6 * scale.max(1e-6)) || l < 1e-9)
+            .position(|&l| l.is_nan() || l <= 1e-6 * scale.max(1e-6) || l < 1e-9)
         {
             return Err(err(format!(
                 "segment {j} (points {j}–{}) has zero length; merge or remove duplicate points",

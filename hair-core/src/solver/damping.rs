@@ -16,6 +16,8 @@
 //! Impulses are equal and opposite, so damping conserves linear momentum; pinned points
 //! (`w = 0`) are not moved by it.
 
+#![allow(clippy::needless_range_loop)] // index loops over several lanes vectorise
+
 use super::kernel::Lanes;
 
 /// Runs `iterations` Jacobi damping iterations on the velocity lanes `v` in place.

@@ -8,6 +8,9 @@
 //! without branches. The one sequential pass is the frame transport of the bending springs, a
 //! short recursion per segment.
 
+// Index loops over several equal-length lanes are the point of this module: they vectorise.
+#![allow(clippy::needless_range_loop)]
+
 use nalgebra::{Matrix3, Vector3};
 
 use crate::frames::{transport, RestDirection};

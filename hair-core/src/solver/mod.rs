@@ -319,12 +319,12 @@ fn check_strand(s: &StrandView, mass: &[f32], stretch_k: f32, limit: f64) -> Res
     let n = s.x.len();
     let mut kinetic = 0.0f64;
     let mut total_mass = 0.0f64;
-    for i in 0..n {
-        if !(s.x[i].iter().all(|c| c.is_finite()) && s.v[i].iter().all(|c| c.is_finite())) {
+    for (i, ((x, v), &m)) in s.x.iter().zip(s.v.iter()).zip(mass).enumerate() {
+        if !(x.iter().all(|c| c.is_finite()) && v.iter().all(|c| c.is_finite())) {
             return Err(format!("non-finite position or velocity at point {i}"));
         }
-        kinetic += 0.5 * mass[i] as f64 * s.v[i].cast::<f64>().norm_squared();
-        total_mass += mass[i] as f64;
+        kinetic += 0.5 * m as f64 * v.cast::<f64>().norm_squared();
+        total_mass += m as f64;
     }
     let mut elastic = 0.0f64;
     let mut stretch = 0.0f32;
