@@ -159,10 +159,30 @@ impl StrandSet {
                 return Err(err(format!("{len} values of `{name}` for {n} points")));
             }
         }
+        if let Some(i) = input
+            .rest
+            .iter()
+            .position(|p| !p.iter().all(|c| c.is_finite()))
+        {
+            return Err(err(format!("point {i} has a non-finite coordinate")));
+        }
+        // Geometry before masses: a duplicate point also leaves a zero lumped mass behind it.
+        let lengths: Vec<f32> = input
+            .rest
+            .windows(2)
+            .map(|w| (w[1] - w[0]).norm())
+            .collect();
+        let scale = lengths.iter().sum::<f32>();
+        if let Some(j) = lengths
+            .iter()
+            .position(|&l| l.is_nan() || l <= 1e-6 * scale.max(1e-6) || l < 1e-9)
+        {
+            return Err(err(format!(
+                "segment {j} (points {j}–{}) has zero length; merge or remove duplicate points",
+                j + 1
+            )));
+        }
         for i in 0..n {
-            if !input.rest[i].iter().all(|c| c.is_finite()) {
-                return Err(err(format!("point {i} has a non-finite coordinate")));
-            }
             let pinned = i == 0 || input.pinned[i];
             let valid_mass = input.mass[i].is_finite() && input.mass[i] > 0.0;
             if !pinned && !valid_mass {
@@ -183,21 +203,6 @@ impl StrandSet {
                     "point {i} has goal weight {w}; use a value in [0, 1]"
                 )));
             }
-        }
-        let lengths: Vec<f32> = input
-            .rest
-            .windows(2)
-            .map(|w| (w[1] - w[0]).norm())
-            .collect();
-        let scale = lengths.iter().sum::<f32>();
-        if let Some(j) = lengths
-            .iter()
-            .position(|&l| l.is_nan() || l <= 1e-6 * scale.max(1e-6) || l < 1e-9)
-        {
-            return Err(err(format!(
-                "segment {j} (points {j}–{}) has zero length; merge or remove duplicate points",
-                j + 1
-            )));
         }
         self.bend_rest.extend(frames::rest_directions(&input.rest));
         self.rest_length.extend(lengths);

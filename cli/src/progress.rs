@@ -1,0 +1,56 @@
+//! How long work reports itself: a bar with ETA on a terminal, nothing with `--quiet`, JSON lines
+//! on stdout with `--json`.
+
+use std::io::IsTerminal;
+
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::Serialize;
+
+/// Where progress goes.
+pub enum Progress {
+    /// An indicatif bar on stderr.
+    Bar(ProgressBar),
+    /// One JSON object per event on stdout.
+    Json,
+    /// Nothing.
+    Quiet,
+}
+
+impl Progress {
+    /// Chooses the mode from the flags and whether stderr is a terminal.
+    pub fn new(total: u64, quiet: bool, json: bool, what: &str) -> Self {
+        if json {
+            Progress::Json
+        } else if quiet || !std::io::stderr().is_terminal() {
+            Progress::Quiet
+        } else {
+            let bar = ProgressBar::new(total);
+            bar.set_style(
+                ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} {per_sec} ETA {eta}")
+                    .expect("the template is valid")
+                    .progress_chars("=> "),
+            );
+            bar.set_message(what.to_string());
+            Progress::Bar(bar)
+        }
+    }
+
+    /// Reports one unit of work done, with a JSON payload for `--json`.
+    pub fn tick<T: Serialize>(&self, event: &T) {
+        match self {
+            Progress::Bar(bar) => bar.inc(1),
+            Progress::Json => println!(
+                "{}",
+                serde_json::to_string(event).expect("events serialise")
+            ),
+            Progress::Quiet => {}
+        }
+    }
+
+    /// Removes the bar.
+    pub fn finish(&self) {
+        if let Progress::Bar(bar) = self {
+            bar.finish_and_clear();
+        }
+    }
+}

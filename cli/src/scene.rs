@@ -1,0 +1,546 @@
+//! The TOML scene file: its schema, loading with clear errors, and building the library objects.
+//!
+//! A scene names the scalp (built-in head, UV sphere, OBJ file or none) and its keyframed rigid
+//! motion, generated hair and/or explicit strands given as point lists, physics parameters and
+//! the solver's time stepping. Unknown keys are rejected; every error names the file, the field
+//! and the fix. `hairsys scene init` prints the built-in default scene with every key commented.
+
+use std::path::{Path, PathBuf};
+
+use hair_core::{
+    Anchor, HairParams, Integrator, RootFrame, Scalp, SolverSettings, StrandInput, StrandSet,
+    Substeps, TriMesh,
+};
+use hair_groom::{GenerateOptions, ObjOptions, Region, UpAxis};
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+
+use crate::motion::RigidMotion;
+
+/// The built-in default scene, fully commented (printed by `hairsys scene init`).
+pub const DEFAULT_SCENE: &str = include_str!("../../scenes/default.toml");
+
+/// A scene file could not be used. Displays as `FILE: message`.
+#[derive(Debug, thiserror::Error)]
+#[error("{file}: {message}")]
+pub struct SceneError {
+    /// The scene file (or `<built-in default scene>`).
+    pub file: String,
+    /// What is wrong, naming the field and the fix.
+    pub message: String,
+}
+
+/// The whole scene file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// `[scene]`: name, frame range, frame rate.
+    pub scene: SceneSection,
+    /// `[solver]`: time stepping.
+    #[serde(default)]
+    pub solver: SolverSection,
+    /// `[physics]`: material and environment (see [`HairParams`]).
+    #[serde(default)]
+    pub physics: HairParams,
+    /// `[scalp]`: the mesh hair grows from and its motion.
+    #[serde(default)]
+    pub scalp: ScalpSection,
+    /// `[hair]`: hair generated on the scalp.
+    #[serde(default)]
+    pub hair: Option<HairSection>,
+    /// `[[strands]]`: explicit strands given as point lists.
+    #[serde(default)]
+    pub strands: Vec<ExplicitStrand>,
+}
+
+/// `[scene]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneSection {
+    /// Free-form name, shown in reports.
+    #[serde(default)]
+    pub name: String,
+    /// Frames per second.
+    #[serde(default = "default_fps")]
+    pub fps: f32,
+    /// First and last frame `[first, last]`; the hair is at rest at the first.
+    pub frames: [u32; 2],
+}
+
+fn default_fps() -> f32 {
+    24.0
+}
+
+/// `substeps = "auto"` or a count.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum SubstepsValue {
+    /// A fixed count.
+    Count(i64),
+    /// `"auto"`.
+    Word(String),
+}
+
+/// `[solver]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SolverSection {
+    /// `"semi-implicit-euler"` (default) or `"explicit-euler"`.
+    pub integrator: Integrator,
+    /// Collision steps per frame.
+    pub steps: u32,
+    /// Force substeps per step: a count or `"auto"`.
+    pub substeps: SubstepsValue,
+    /// Iterations of the damping sub-loop per substep (0 = off).
+    pub damping_iterations: u32,
+}
+
+impl Default for SolverSection {
+    fn default() -> Self {
+        Self {
+            integrator: Integrator::SemiImplicitEuler,
+            steps: 1,
+            substeps: SubstepsValue::Word("auto".into()),
+            damping_iterations: 10,
+        }
+    }
+}
+
+/// `[scalp]`.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScalpSection {
+    /// `[scalp.mesh]`: which mesh.
+    #[serde(default)]
+    pub mesh: ScalpMesh,
+    /// `[scalp.motion]`: keyframed rigid motion of the scalp (and of explicit strands' roots).
+    #[serde(default)]
+    pub motion: RigidMotion,
+}
+
+/// `[scalp.mesh]`, chosen by `kind`.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum ScalpMesh {
+    /// No mesh: only explicit strands (rooted in body space).
+    #[default]
+    None,
+    /// The built-in head (meters, Z up, crown at about 0.22 m).
+    BuiltinHead,
+    /// A UV sphere centred at the origin.
+    UvSphere {
+        /// Radius, m.
+        radius: f32,
+        /// Segments around the equator.
+        segments: u32,
+        /// Rings from pole to pole.
+        rings: u32,
+    },
+    /// A triangle mesh from an OBJ file.
+    Obj {
+        /// Path, relative to the scene file.
+        path: PathBuf,
+        /// Multiplier from file units to meters.
+        #[serde(default = "one")]
+        scale: f32,
+        /// The file's up axis: `"z"` (default) or `"y"` (converted to Z up).
+        #[serde(default)]
+        up_axis: UpAxisValue,
+    },
+}
+
+fn one() -> f32 {
+    1.0
+}
+
+/// Up axis of an OBJ file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum UpAxisValue {
+    /// Y up (Maya, most exporters); converted to Z up.
+    Y,
+    /// Z up (Blender's convention).
+    #[default]
+    Z,
+}
+
+/// `[hair]`: hair generated on the scalp (see [`GenerateOptions`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HairSection {
+    /// Number of strands.
+    pub count: usize,
+    /// Strand length, m.
+    pub length: f32,
+    /// Segments per strand.
+    pub segments: u32,
+    /// Seed of the root distribution.
+    #[serde(default)]
+    pub seed: u64,
+    /// Strand (wisp) radius, m.
+    #[serde(default = "default_radius")]
+    pub radius: f32,
+    /// Linear density, kg/m.
+    #[serde(default = "default_density")]
+    pub mass_per_length: f32,
+    /// Goal weight at the root, 0–1.
+    #[serde(default)]
+    pub goal_root: f32,
+    /// Goal weight at the tip, 0–1.
+    #[serde(default)]
+    pub goal_tip: f32,
+    /// Random shortening, fraction of the length in [0, 1).
+    #[serde(default)]
+    pub length_variation: f32,
+    /// Where on the scalp hair grows: `{ direction = [x, y, z], max_angle_deg = a }`.
+    #[serde(default)]
+    pub region: Option<RegionSection>,
+}
+
+fn default_radius() -> f32 {
+    1e-3
+}
+
+fn default_density() -> f32 {
+    1e-3
+}
+
+/// A cone of surface normals.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegionSection {
+    /// Axis of the cone (any length).
+    pub direction: [f32; 3],
+    /// Half-angle, degrees.
+    pub max_angle_deg: f32,
+}
+
+/// `[[strands]]`: one strand given as a point list (world coordinates at the first frame, m).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExplicitStrand {
+    /// Points from root to tip, m.
+    pub points: Vec<[f32; 3]>,
+    /// Indices of points held at their rest position (the root, 0, always is).
+    #[serde(default)]
+    pub pinned: Vec<usize>,
+    /// Linear density, kg/m (masses lumped at the points), unless `masses` is given.
+    #[serde(default = "default_density")]
+    pub mass_per_length: f32,
+    /// Per-point masses, kg (overrides `mass_per_length`).
+    #[serde(default)]
+    pub masses: Option<Vec<f32>>,
+    /// Radius, m.
+    #[serde(default = "default_radius")]
+    pub radius: f32,
+    /// Goal weight at root and tip `[root, tip]`, 0–1.
+    #[serde(default)]
+    pub goal: [f32; 2],
+}
+
+/// A loaded scene: where it came from, its text, the parsed schema and its hash.
+#[derive(Debug, Clone)]
+pub struct SceneFile {
+    /// The file path, or `<built-in default scene>`.
+    pub origin: String,
+    /// Directory relative paths in the scene resolve against.
+    pub base_dir: PathBuf,
+    /// The scene text as read.
+    pub text: String,
+    /// The parsed scene.
+    pub scene: Scene,
+}
+
+impl SceneFile {
+    /// The built-in default scene.
+    pub fn builtin_default() -> Self {
+        Self::parse(
+            DEFAULT_SCENE,
+            "<built-in default scene>",
+            PathBuf::from("."),
+        )
+        .expect("the built-in default scene parses (checked by a test)")
+    }
+
+    /// Reads and parses a scene file.
+    pub fn load(path: &Path) -> Result<Self, SceneError> {
+        let origin = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+            file: origin.clone(),
+            message: format!("cannot read the scene file ({e}); check the path"),
+        })?;
+        let base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        Self::parse(&text, &origin, base_dir)
+    }
+
+    /// Parses scene text; `origin` names it in errors.
+    pub fn parse(text: &str, origin: &str, base_dir: PathBuf) -> Result<Self, SceneError> {
+        let scene: Scene = toml::from_str(text).map_err(|e| SceneError {
+            file: origin.to_string(),
+            message: format!("not a valid scene: {}", e.to_string().trim_end()),
+        })?;
+        Ok(Self {
+            origin: origin.to_string(),
+            base_dir,
+            text: text.to_string(),
+            scene,
+        })
+    }
+
+    /// SHA-256 (hex) of the parsed scene and the bytes of every file it references, so edits to
+    /// comments do not change it but any change to what is simulated does.
+    pub fn hash(&self) -> Result<String, SceneError> {
+        let mut h = Sha256::new();
+        h.update(serde_json::to_vec(&self.scene).expect("a scene always serialises"));
+        if let ScalpMesh::Obj { path, .. } = &self.scene.scalp.mesh {
+            let full = self.base_dir.join(path);
+            let bytes = std::fs::read(&full).map_err(|e| self.error(format!(
+                "[scalp.mesh] path = {}: cannot read {} ({e}); fix the path (relative to the scene file)",
+                path.display(),
+                full.display()
+            )))?;
+            h.update(bytes);
+        }
+        Ok(h.finalize().iter().map(|b| format!("{b:02x}")).collect())
+    }
+
+    fn error(&self, message: String) -> SceneError {
+        SceneError {
+            file: self.origin.clone(),
+            message,
+        }
+    }
+
+    /// Validates the scene and builds everything a run needs.
+    pub fn build(&self) -> Result<Simulation, SceneError> {
+        let s = &self.scene;
+        let err = |m: String| self.error(m);
+        let [first, last] = s.scene.frames;
+        if !(s.scene.fps.is_finite() && s.scene.fps > 0.0) {
+            return Err(err(format!(
+                "[scene] fps = {}: use a finite frame rate > 0, e.g. 24",
+                s.scene.fps
+            )));
+        }
+        if last <= first {
+            return Err(err(format!(
+                "[scene] frames = [{first}, {last}]: the last frame must come after the first"
+            )));
+        }
+        let substeps = match &s.solver.substeps {
+            SubstepsValue::Word(w) if w == "auto" => Substeps::Auto,
+            SubstepsValue::Count(n) if *n >= 1 && *n <= 1_000_000 => Substeps::Fixed(*n as u32),
+            other => {
+                return Err(err(format!(
+                    "[solver] substeps = {}: use \"auto\" or a whole number from 1 to 1000000",
+                    match other {
+                        SubstepsValue::Count(n) => n.to_string(),
+                        SubstepsValue::Word(w) => format!("{w:?}"),
+                    }
+                )))
+            }
+        };
+        let settings = SolverSettings {
+            fps: s.scene.fps,
+            steps: s.solver.steps,
+            substeps,
+            damping_iterations: s.solver.damping_iterations,
+            integrator: s.solver.integrator,
+        };
+        settings
+            .validate()
+            .map_err(|e| err(format!("[solver] {e}")))?;
+        s.physics
+            .validate()
+            .map_err(|e| err(format!("[physics] {e}")))?;
+        s.scalp
+            .motion
+            .validate()
+            .map_err(|e| err(format!("[scalp.motion] {e}")))?;
+
+        let rest_mesh = self.scalp_mesh()?;
+        let mut strands = StrandSet::new();
+        if let Some(hair) = &s.hair {
+            let Some(mesh) = &rest_mesh else {
+                return Err(err(
+                    "[hair] generates hair on the scalp, but [scalp.mesh] kind = \"none\"; choose a scalp mesh \
+                     or give [[strands]] instead"
+                        .into(),
+                ));
+            };
+            let opts = GenerateOptions {
+                count: hair.count,
+                length: hair.length,
+                segments: hair.segments,
+                seed: hair.seed,
+                radius: hair.radius,
+                mass_per_length: hair.mass_per_length,
+                goal_root: hair.goal_root,
+                goal_tip: hair.goal_tip,
+                length_variation: hair.length_variation,
+                region: match hair.region {
+                    None => Region::All,
+                    Some(r) => Region::Cone {
+                        direction: Vector3::from(r.direction),
+                        max_angle_deg: r.max_angle_deg,
+                    },
+                },
+            };
+            let inputs =
+                hair_groom::generate(mesh, &opts).map_err(|e| err(format!("[hair] {e}")))?;
+            for input in inputs {
+                strands
+                    .push(input)
+                    .map_err(|e| err(format!("[hair] {e}")))?;
+            }
+        }
+        for (i, st) in s.strands.iter().enumerate() {
+            let input = explicit_strand(st).map_err(|m| err(format!("[[strands]] #{i}: {m}")))?;
+            strands
+                .push(input)
+                .map_err(|e| err(format!("[[strands]] #{i}: {e}")))?;
+        }
+        if strands.is_empty() {
+            return Err(err(
+                "the scene has no hair: add a [hair] section or [[strands]]".into(),
+            ));
+        }
+        let mut sim = Simulation {
+            strands,
+            settings,
+            params: s.physics,
+            first_frame: first,
+            last_frame: last,
+            rest_mesh,
+            motion: s.scalp.motion.clone(),
+        };
+        let scalp = sim.scalp_at(first as f32);
+        sim.strands
+            .validate_anchors(&scalp)
+            .map_err(|e| err(e.to_string()))?;
+        sim.strands.reset_to_rest(&scalp);
+        Ok(sim)
+    }
+
+    fn scalp_mesh(&self) -> Result<Option<TriMesh>, SceneError> {
+        let err = |m: String| self.error(format!("[scalp.mesh] {m}"));
+        Ok(match &self.scene.scalp.mesh {
+            ScalpMesh::None => None,
+            ScalpMesh::BuiltinHead => Some(hair_groom::builtin_head()),
+            ScalpMesh::UvSphere {
+                radius,
+                segments,
+                rings,
+            } => Some(
+                hair_groom::uv_sphere(*radius, *segments, *rings)
+                    .map_err(|e| err(format!("uv-sphere: {e}")))?,
+            ),
+            ScalpMesh::Obj {
+                path,
+                scale,
+                up_axis,
+            } => {
+                let opts = ObjOptions {
+                    scale: *scale,
+                    up_axis: match up_axis {
+                        UpAxisValue::Y => UpAxis::Y,
+                        UpAxisValue::Z => UpAxis::Z,
+                    },
+                };
+                let full = self.base_dir.join(path);
+                Some(hair_groom::load_obj(&full, &opts).map_err(|e| err(e.to_string()))?)
+            }
+        })
+    }
+}
+
+/// Builds an explicit strand: root frame at its first point with world axes, carried by the
+/// scalp's rigid motion.
+fn explicit_strand(st: &ExplicitStrand) -> Result<StrandInput, String> {
+    let n = st.points.len();
+    if n < 2 {
+        return Err(format!(
+            "points has {n} point(s); give at least 2, root first"
+        ));
+    }
+    if let Some(i) = st
+        .points
+        .iter()
+        .position(|p| !p.iter().all(|c| c.is_finite()))
+    {
+        return Err(format!("points[{i}] is not finite"));
+    }
+    let root = Vector3::from(st.points[0]);
+    let rest: Vec<Vector3<f32>> = st.points.iter().map(|p| Vector3::from(*p) - root).collect();
+    let anchor = Anchor::Body(RootFrame::at(root));
+    if !(st.mass_per_length.is_finite() && st.mass_per_length > 0.0) {
+        return Err(format!(
+            "mass_per_length = {}: use a finite density > 0 kg/m",
+            st.mass_per_length
+        ));
+    }
+    let mut input = StrandInput::uniform(
+        anchor,
+        rest,
+        st.mass_per_length,
+        st.radius,
+        st.goal[0],
+        st.goal[1],
+    );
+    if let Some(masses) = &st.masses {
+        if masses.len() != n {
+            return Err(format!(
+                "masses has {} values for {n} points; give one per point",
+                masses.len()
+            ));
+        }
+        input.mass.clone_from(masses);
+    }
+    for &i in &st.pinned {
+        if i >= n {
+            return Err(format!(
+                "pinned names point {i} but the strand has {n} points (0–{})",
+                n - 1
+            ));
+        }
+        input.pinned[i] = true;
+    }
+    Ok(input)
+}
+
+/// Everything a run needs, built from a scene.
+#[derive(Debug, Clone)]
+pub struct Simulation {
+    /// Strands at rest at the first frame.
+    pub strands: StrandSet,
+    /// Time stepping.
+    pub settings: SolverSettings,
+    /// Physics parameters.
+    pub params: HairParams,
+    /// First frame (hair at rest).
+    pub first_frame: u32,
+    /// Last frame.
+    pub last_frame: u32,
+    rest_mesh: Option<TriMesh>,
+    motion: RigidMotion,
+}
+
+impl Simulation {
+    /// The scalp at (possibly fractional) `frame`: the rest mesh moved by the rigid motion.
+    pub fn scalp_at(&self, frame: f32) -> Scalp {
+        let body = self.motion.at(frame);
+        Scalp {
+            mesh: self.rest_mesh.as_ref().map(|m| m.transformed(&body)),
+            body,
+        }
+    }
+
+    /// Restricts the run to frames `first..=last` (the hair starts at rest at `first`).
+    pub fn set_frames(&mut self, first: u32, last: u32) {
+        self.first_frame = first;
+        self.last_frame = last;
+        let scalp = self.scalp_at(first as f32);
+        self.strands.reset_to_rest(&scalp);
+    }
+}

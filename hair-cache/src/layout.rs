@@ -1,0 +1,676 @@
+//! The byte format of a hairsys cache, format version 1.
+//!
+//! This page is the specification: a tool that knows MCAP (<https://mcap.dev/spec>) can read a
+//! cache from it without this crate. Every integer and float is **little-endian**; floats are
+//! IEEE-754. Units are SI: meters, seconds, meters per second.
+//!
+//! # The file
+//!
+//! One MCAP file per simulation run, written by [`crate::CacheWriter`]. While the run is going the
+//! file is named `<path>.partial` ([`crate::partial_path`]); it is renamed to `<path>` only after
+//! its summary has been written and synced to disk, so a file without the `.partial` suffix is a
+//! complete cache. A `.partial` file has no summary section: its frames can be recovered by
+//! scanning its chunks.
+//!
+//! Records, in file order:
+//!
+//! 1. **Header**: profile [`PROFILE`] (`"hairsys"`), library `"hair-cache/<crate version>"`.
+//! 2. **Metadata** named [`METADATA_NAME`] (`"hairsys"`), a `map<string, string>`:
+//!
+//!    | key | value |
+//!    |---|---|
+//!    | [`KEY_FORMAT_VERSION`] `format_version` | `"1"` ([`FORMAT_VERSION`]); a reader refuses other versions |
+//!    | [`KEY_FPS`] `fps` | frames per second, decimal, the shortest text that parses back to the same `f64` (`"24"`, `"29.97"`) |
+//!    | [`KEY_FIRST_FRAME`] `first_frame` | the run's first frame number, decimal `u32` |
+//!    | [`KEY_STRAND_COUNT`] `strand_count` | number of strands, decimal `u32` (equal to the layout's) |
+//!    | [`KEY_POINT_COUNT`] `point_count` | number of points, decimal `u32` (equal to the layout's) |
+//!    | [`KEY_SCENE_TOML`] `scene_toml` | the scene file's text (TOML) |
+//!    | [`KEY_SCENE_HASH`] `scene_hash` | hash of the scene as hex digits, as given by the writer's caller |
+//!    | [`EXTRA_PREFIX`]`<key>` (`extra.substeps`, …) | free key/values of the caller (solver components, substeps, …) |
+//!
+//! 3. **Attachment** named [`LAYOUT_ATTACHMENT_NAME`] (`"hairsys/layout.bin"`), media type
+//!    [`LAYOUT_MEDIA_TYPE`] (`application/octet-stream`), log and create time 0: the strand
+//!    layout, see [Layout attachment](#layout-attachment).
+//! 4. **Chunks** (compression `""`, `"lz4"` or `"zstd"`, see [`crate::Compression`]), each
+//!    followed by its Message Index record. The first chunk holds the Schema and the Channel
+//!    records before the first frame; every chunk holds one or more consecutive frames.
+//!    - Schema: name [`FRAME_SCHEMA_NAME`] (`"hairsys.Frame"`), encoding
+//!      [`FRAME_SCHEMA_ENCODING`] (`"text/plain"`), data [`FRAME_SCHEMA_TEXT`]: a UTF-8
+//!      description of the payload for humans and generic MCAP tools.
+//!    - Channel: topic [`FRAME_TOPIC`] (`"/hairsys/frames"`), message encoding
+//!      [`FRAME_MESSAGE_ENCODING`] (`"hairsys.frame.v1"`), no channel metadata.
+//!    - One Message per frame, in increasing frame order: `sequence` = frame number,
+//!      `log_time` = `publish_time` = frame time in nanoseconds ([`frame_time_ns`]), data: the
+//!      [frame payload](#frame-payload).
+//! 5. Data End, then the summary section (Schema, Channel, Statistics, Chunk Indexes,
+//!    Attachment Index, Metadata Index), Summary Offsets and the Footer. Readers seek frames by
+//!    `log_time` through the chunk indexes and message indexes.
+//!
+//! A run that writes no frame has no chunk, schema or channel.
+//!
+//! No wall-clock time or other varying value is written: the same inputs give a byte-identical
+//! file (zstd is run single-threaded for that reason).
+//!
+//! # Frame time
+//!
+//! Frame `f` of a run at `fps` frames per second is at `t = f / fps` seconds (an `f64` division)
+//! and is logged at `round(t × 10⁹)` nanoseconds (`f64` product, rounded half away from zero).
+//! Frame numbers are `u32`, hence never negative, and frame times are limited to
+//! [`MAX_TIME_NS`] (2⁵³ ns, about 104 days) so that the nanosecond time maps back to exactly
+//! one frame number: `f = round(log_time × fps / 10⁹)`.
+//!
+//! # Layout attachment
+//!
+//! `S` strands, `P` points; strand `s` owns points `offsets[s] .. offsets[s+1]` and segments
+//! `offsets[s] − s .. offsets[s+1] − s − 1` (segment `j` of a strand joins its points `j`, `j+1`).
+//!
+//! | offset (bytes) | type | count | content |
+//! |---|---|---|---|
+//! | 0 | `u32` | 1 | strand count `S` |
+//! | 4 | `u32` | 1 | point count `P` |
+//! | 8 | `u32` | `S + 1` | point offsets: `offsets[0] = 0`, strictly increasing, `offsets[S] = P` |
+//! | 8 + 4(S+1) | `f32` | `P − S` | segment rest lengths, m |
+//! | 8 + 4(S+1) + 4(P−S) | `f32` | `P` | point radii, m |
+//!
+//! Total `8 + 4(S + 1) + 4(P − S) + 4P` bytes.
+//!
+//! # Frame payload
+//!
+//! Message data on [`FRAME_TOPIC`], `P` points:
+//!
+//! | offset (bytes) | type | count | content |
+//! |---|---|---|---|
+//! | 0 | `u32` | 1 | format version, `1` |
+//! | 4 | `u32` | 1 | frame number |
+//! | 8 | `f64` | 1 | frame time, s (`frame / fps`) |
+//! | 16 | `u32` | 1 | point count `P` |
+//! | 20 | `f32` | `3P` | positions, m, world space, `x y z` interleaved per point |
+//! | 20 + 12P | `f32` | `3P` | velocities, m/s, world space, `x y z` interleaved per point |
+//!
+//! Total `20 + 24P` bytes ([`frame_payload_len`]). Every value is finite: the writer refuses a
+//! frame with a NaN or infinite coordinate.
+
+use std::collections::BTreeMap;
+
+use hair_core::StrandSet;
+use nalgebra::Vector3;
+
+/// Version of this byte format, stored in the metadata and in every frame payload.
+pub const FORMAT_VERSION: u32 = 1;
+/// MCAP header profile of a hairsys cache.
+pub const PROFILE: &str = "hairsys";
+/// MCAP header library string.
+pub const LIBRARY: &str = concat!("hair-cache/", env!("CARGO_PKG_VERSION"));
+/// Name of the metadata record holding the run's settings.
+pub const METADATA_NAME: &str = "hairsys";
+/// Metadata key: format version (decimal).
+pub const KEY_FORMAT_VERSION: &str = "format_version";
+/// Metadata key: frames per second (decimal `f64`).
+pub const KEY_FPS: &str = "fps";
+/// Metadata key: the run's first frame number (decimal `u32`).
+pub const KEY_FIRST_FRAME: &str = "first_frame";
+/// Metadata key: number of strands (decimal `u32`).
+pub const KEY_STRAND_COUNT: &str = "strand_count";
+/// Metadata key: number of points (decimal `u32`).
+pub const KEY_POINT_COUNT: &str = "point_count";
+/// Metadata key: text of the scene file (TOML).
+pub const KEY_SCENE_TOML: &str = "scene_toml";
+/// Metadata key: hash of the scene, hex digits.
+pub const KEY_SCENE_HASH: &str = "scene_hash";
+/// Prefix of the caller's free metadata keys: `extra` key `k` is stored as `extra.k`.
+pub const EXTRA_PREFIX: &str = "extra.";
+/// Name of the attachment holding the strand layout.
+pub const LAYOUT_ATTACHMENT_NAME: &str = "hairsys/layout.bin";
+/// Media type of the layout attachment.
+pub const LAYOUT_MEDIA_TYPE: &str = "application/octet-stream";
+/// Topic of the frame channel.
+pub const FRAME_TOPIC: &str = "/hairsys/frames";
+/// Message encoding of the frame channel.
+pub const FRAME_MESSAGE_ENCODING: &str = "hairsys.frame.v1";
+/// Name of the frame channel's schema.
+pub const FRAME_SCHEMA_NAME: &str = "hairsys.Frame";
+/// Encoding of the frame channel's schema: its data is plain UTF-8 text.
+pub const FRAME_SCHEMA_ENCODING: &str = "text/plain";
+/// Data of the frame channel's schema: a description of the payload.
+pub const FRAME_SCHEMA_TEXT: &str = "hairsys frame, format version 1, little-endian:\n\
+u32 format_version (1)\n\
+u32 frame\n\
+f64 time_s (frame / fps)\n\
+u32 point_count P\n\
+f32 positions[3P] (m, world, x y z per point)\n\
+f32 velocities[3P] (m/s, world, x y z per point)\n\
+Strand layout (offsets, rest lengths, radii): attachment hairsys/layout.bin.\n";
+/// Bytes of the frame payload before the positions.
+pub const FRAME_HEADER_LEN: usize = 20;
+/// Bytes per point in a frame payload: 3 `f32` positions and 3 `f32` velocities.
+pub const FRAME_BYTES_PER_POINT: usize = 24;
+/// Largest frame time, ns (2⁵³): below it `f64` holds every nanosecond exactly.
+pub const MAX_TIME_NS: u64 = 1 << 53;
+
+/// Strand layout of a cache: which points belong to which strand, segment rest lengths and point
+/// radii. Stored once per file, in the [layout attachment](self#layout-attachment).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct CacheLayout {
+    /// Point offsets: strand `s` owns points `offsets[s]..offsets[s + 1]`; `offsets[0] = 0`,
+    /// strictly increasing; the last entry is the point count.
+    pub offsets: Vec<u32>,
+    /// Segment rest lengths, m: `point count − strand count` values, strand after strand.
+    pub rest_lengths: Vec<f32>,
+    /// Point radii (collision and render width), m: one per point.
+    pub radii: Vec<f32>,
+}
+
+impl CacheLayout {
+    /// The layout of `strands`: its offsets, segment rest lengths (m) and point radii (m).
+    pub fn of(strands: &StrandSet) -> Self {
+        let offsets = if strands.offsets().is_empty() {
+            vec![0]
+        } else {
+            strands.offsets().to_vec()
+        };
+        Self {
+            offsets,
+            rest_lengths: strands.rest_lengths().to_vec(),
+            radii: strands.radii().to_vec(),
+        }
+    }
+
+    /// Number of strands.
+    pub fn strand_count(&self) -> usize {
+        self.offsets.len().saturating_sub(1)
+    }
+
+    /// Number of points (the last offset).
+    pub fn point_count(&self) -> usize {
+        self.offsets.last().map_or(0, |&p| p as usize)
+    }
+
+    /// Index of the strand that owns point `point`, if the point exists.
+    pub fn strand_of(&self, point: usize) -> Option<usize> {
+        if point >= self.point_count() {
+            return None;
+        }
+        Some(self.offsets.partition_point(|&o| o as usize <= point) - 1)
+    }
+
+    /// Checks the invariants of the [layout attachment](self#layout-attachment); the error says
+    /// what is wrong.
+    pub(crate) fn validate(&self) -> Result<(), String> {
+        let Some(&first) = self.offsets.first() else {
+            return Err("the layout has no offsets; build it with CacheLayout::of".into());
+        };
+        if first != 0 {
+            return Err(format!("offsets[0] is {first}; it must be 0"));
+        }
+        if let Some(s) = self.offsets.windows(2).position(|w| w[1] <= w[0]) {
+            return Err(format!(
+                "strand {s} has no point (offsets[{s}] = {}, offsets[{}] = {}); offsets must \
+                 strictly increase",
+                self.offsets[s],
+                s + 1,
+                self.offsets[s + 1]
+            ));
+        }
+        let (strands, points) = (self.strand_count(), self.point_count());
+        if self.rest_lengths.len() != points - strands {
+            return Err(format!(
+                "{} rest lengths for {points} points in {strands} strands; there must be one per \
+                 segment ({})",
+                self.rest_lengths.len(),
+                points - strands
+            ));
+        }
+        if self.radii.len() != points {
+            return Err(format!(
+                "{} radii for {points} points; there must be one per point",
+                self.radii.len()
+            ));
+        }
+        if let Some(j) = self.rest_lengths.iter().position(|l| !l.is_finite()) {
+            return Err(format!(
+                "rest length of segment {j} is {}",
+                self.rest_lengths[j]
+            ));
+        }
+        if let Some(i) = self.radii.iter().position(|r| !r.is_finite()) {
+            return Err(format!("radius of point {i} is {}", self.radii[i]));
+        }
+        Ok(())
+    }
+
+    /// The attachment bytes. The layout must be valid ([`CacheLayout::validate`]).
+    pub(crate) fn encode(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(
+            8 + 4 * (self.offsets.len() + self.rest_lengths.len() + self.radii.len()),
+        );
+        out.extend_from_slice(&(self.strand_count() as u32).to_le_bytes());
+        out.extend_from_slice(&(self.point_count() as u32).to_le_bytes());
+        for o in &self.offsets {
+            out.extend_from_slice(&o.to_le_bytes());
+        }
+        for v in self.rest_lengths.iter().chain(&self.radii) {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+        out
+    }
+
+    /// Parses and validates attachment bytes.
+    pub(crate) fn decode(bytes: &[u8]) -> Result<Self, String> {
+        let mut r = LeReader::new(bytes);
+        let strands = r.u32()? as usize;
+        let points = r.u32()? as usize;
+        if points < strands {
+            return Err(format!("{points} points for {strands} strands"));
+        }
+        let expected = 8 + 4 * (strands + 1) + 4 * (points - strands) + 4 * points;
+        if bytes.len() != expected {
+            return Err(format!(
+                "layout attachment has {} bytes; {strands} strands and {points} points need \
+                 {expected}",
+                bytes.len()
+            ));
+        }
+        let offsets = (0..=strands)
+            .map(|_| r.u32())
+            .collect::<Result<Vec<_>, _>>()?;
+        let rest_lengths = (0..points - strands)
+            .map(|_| r.f32())
+            .collect::<Result<Vec<_>, _>>()?;
+        let radii = (0..points)
+            .map(|_| r.f32())
+            .collect::<Result<Vec<_>, _>>()?;
+        let layout = Self {
+            offsets,
+            rest_lengths,
+            radii,
+        };
+        layout.validate()?;
+        if layout.point_count() != points {
+            return Err(format!(
+                "layout says {points} points but its last offset is {}",
+                layout.point_count()
+            ));
+        }
+        Ok(layout)
+    }
+}
+
+/// Settings of a run stored in the cache's metadata record.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct CacheHeader {
+    /// Frames per second: frame `f` is at `f / fps` seconds. Finite, in (0, 10⁶].
+    pub fps: f64,
+    /// Frame number of the run's first frame (its initial state); written frames are ≥ it.
+    pub first_frame: u32,
+    /// Text of the scene file (TOML) that produced the run.
+    pub scene_toml: String,
+    /// Hash of the scene, hex digits (computed by the caller, e.g. SHA-256 of the scene text).
+    pub scene_hash: String,
+    /// Free key/values of the caller (solver components, substeps, …), stored under
+    /// [`EXTRA_PREFIX`]. Keys are non-empty.
+    pub extra: BTreeMap<String, String>,
+}
+
+impl CacheHeader {
+    /// Checks the header; the error says what is wrong and what to use instead.
+    pub(crate) fn validate(&self) -> Result<(), String> {
+        if !(self.fps.is_finite() && self.fps > 0.0 && self.fps <= 1e6) {
+            return Err(format!(
+                "fps is {}; use a frame rate in (0, 1e6] frames per second",
+                self.fps
+            ));
+        }
+        if self.scene_hash.is_empty() || !self.scene_hash.chars().all(|c| c.is_ascii_hexdigit()) {
+            return Err(format!(
+                "scene hash {:?} is not a hex string; pass the hex digits of the scene's hash",
+                self.scene_hash
+            ));
+        }
+        if self.extra.contains_key("") {
+            return Err("an extra metadata key is empty; give every extra value a name".into());
+        }
+        Ok(())
+    }
+
+    /// The metadata map of this header for a run with `layout`.
+    pub(crate) fn to_metadata(&self, layout: &CacheLayout) -> BTreeMap<String, String> {
+        let mut map: BTreeMap<String, String> = [
+            (KEY_FORMAT_VERSION, FORMAT_VERSION.to_string()),
+            (KEY_FPS, self.fps.to_string()),
+            (KEY_FIRST_FRAME, self.first_frame.to_string()),
+            (KEY_STRAND_COUNT, layout.strand_count().to_string()),
+            (KEY_POINT_COUNT, layout.point_count().to_string()),
+            (KEY_SCENE_TOML, self.scene_toml.clone()),
+            (KEY_SCENE_HASH, self.scene_hash.clone()),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), v))
+        .collect();
+        for (k, v) in &self.extra {
+            map.insert(format!("{EXTRA_PREFIX}{k}"), v.clone());
+        }
+        map
+    }
+}
+
+/// What a metadata map holds besides the [`CacheHeader`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct MetadataCounts {
+    pub strands: usize,
+    pub points: usize,
+}
+
+/// Why a metadata map could not be read.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum MetadataError {
+    /// `format_version` is missing or not [`FORMAT_VERSION`]; holds the value found.
+    Version(String),
+    /// A key is missing or malformed.
+    Key(String),
+}
+
+/// Parses a metadata map into a header and the counts it declares.
+pub(crate) fn header_from_metadata(
+    map: &BTreeMap<String, String>,
+) -> Result<(CacheHeader, MetadataCounts), MetadataError> {
+    let version = map
+        .get(KEY_FORMAT_VERSION)
+        .map_or("(missing)", String::as_str);
+    if version != FORMAT_VERSION.to_string() {
+        return Err(MetadataError::Version(version.to_string()));
+    }
+    let get = |key: &str| {
+        map.get(key)
+            .ok_or_else(|| MetadataError::Key(format!("metadata key `{key}` is missing")))
+    };
+    fn parse<T: std::str::FromStr>(key: &str, value: &str) -> Result<T, MetadataError> {
+        value
+            .parse()
+            .map_err(|_| MetadataError::Key(format!("metadata `{key}` = {value:?} is not valid")))
+    }
+    let header = CacheHeader {
+        fps: parse(KEY_FPS, get(KEY_FPS)?)?,
+        first_frame: parse(KEY_FIRST_FRAME, get(KEY_FIRST_FRAME)?)?,
+        scene_toml: get(KEY_SCENE_TOML)?.clone(),
+        scene_hash: get(KEY_SCENE_HASH)?.clone(),
+        extra: map
+            .iter()
+            .filter_map(|(k, v)| Some((k.strip_prefix(EXTRA_PREFIX)?.to_string(), v.clone())))
+            .collect(),
+    };
+    header.validate().map_err(MetadataError::Key)?;
+    let counts = MetadataCounts {
+        strands: parse(KEY_STRAND_COUNT, get(KEY_STRAND_COUNT)?)?,
+        points: parse(KEY_POINT_COUNT, get(KEY_POINT_COUNT)?)?,
+    };
+    Ok((header, counts))
+}
+
+/// One frame of a cache.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    /// Frame number.
+    pub frame: u32,
+    /// Frame time, s (`frame / fps`).
+    pub time: f64,
+    /// Point positions, m, world space, in layout order.
+    pub positions: Vec<Vector3<f32>>,
+    /// Point velocities, m/s, world space, in layout order.
+    pub velocities: Vec<Vector3<f32>>,
+}
+
+/// Time of frame `frame` at `fps` frames per second, s.
+pub fn frame_time_s(frame: u32, fps: f64) -> f64 {
+    f64::from(frame) / fps
+}
+
+/// `log_time` of frame `frame` at `fps` frames per second, ns; `None` above [`MAX_TIME_NS`].
+pub fn frame_time_ns(frame: u32, fps: f64) -> Option<u64> {
+    let ns = (frame_time_s(frame, fps) * 1e9).round();
+    // The bound check comes first, so the cast below is exact.
+    (ns.is_finite() && ns >= 0.0 && ns <= MAX_TIME_NS as f64).then_some(ns as u64)
+}
+
+/// The frame number whose `log_time` at `fps` is exactly `ns`, if there is one.
+pub fn frame_at_time_ns(ns: u64, fps: f64) -> Option<u32> {
+    let f = (ns as f64 * fps / 1e9).round();
+    if !(f >= 0.0 && f <= f64::from(u32::MAX)) {
+        return None;
+    }
+    let frame = f as u32;
+    (frame_time_ns(frame, fps) == Some(ns)).then_some(frame)
+}
+
+/// Length of the payload of a frame of `points` points, bytes.
+pub fn frame_payload_len(points: usize) -> usize {
+    FRAME_HEADER_LEN + FRAME_BYTES_PER_POINT * points
+}
+
+/// Writes the payload of one frame into `out` (cleared first). Slices have equal lengths.
+pub(crate) fn encode_frame(
+    out: &mut Vec<u8>,
+    frame: u32,
+    time: f64,
+    positions: &[Vector3<f32>],
+    velocities: &[Vector3<f32>],
+) {
+    out.clear();
+    out.reserve(frame_payload_len(positions.len()));
+    out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
+    out.extend_from_slice(&frame.to_le_bytes());
+    out.extend_from_slice(&time.to_le_bytes());
+    out.extend_from_slice(&(positions.len() as u32).to_le_bytes());
+    for v in positions.iter().chain(velocities) {
+        for c in v.iter() {
+            out.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+}
+
+/// Parses a frame payload of a cache with `points` points.
+pub(crate) fn decode_frame(bytes: &[u8], points: usize) -> Result<Frame, String> {
+    let mut r = LeReader::new(bytes);
+    let version = r.u32()?;
+    if version != FORMAT_VERSION {
+        return Err(format!(
+            "frame payload has format version {version}, expected {FORMAT_VERSION}"
+        ));
+    }
+    let frame = r.u32()?;
+    let time = r.f64()?;
+    let count = r.u32()? as usize;
+    if count != points {
+        return Err(format!(
+            "frame {frame} has {count} points, the layout {points}"
+        ));
+    }
+    if bytes.len() != frame_payload_len(points) {
+        return Err(format!(
+            "frame {frame} payload has {} bytes, {points} points need {}",
+            bytes.len(),
+            frame_payload_len(points)
+        ));
+    }
+    let vectors = |data: &[u8]| -> Vec<Vector3<f32>> {
+        data.chunks_exact(12)
+            .map(|c| {
+                let f = |i: usize| f32::from_le_bytes([c[i], c[i + 1], c[i + 2], c[i + 3]]);
+                Vector3::new(f(0), f(4), f(8))
+            })
+            .collect()
+    };
+    let body = &bytes[FRAME_HEADER_LEN..];
+    let (pos, vel) = body.split_at(12 * points);
+    Ok(Frame {
+        frame,
+        time,
+        positions: vectors(pos),
+        velocities: vectors(vel),
+    })
+}
+
+/// Reads little-endian values from a byte slice, failing (not panicking) at its end.
+pub(crate) struct LeReader<'a> {
+    bytes: &'a [u8],
+    pos: usize,
+}
+
+impl<'a> LeReader<'a> {
+    /// A reader at the start of `bytes`.
+    pub(crate) fn new(bytes: &'a [u8]) -> Self {
+        Self { bytes, pos: 0 }
+    }
+
+    /// The next `n` bytes.
+    pub(crate) fn take(&mut self, n: usize) -> Result<&'a [u8], String> {
+        let end = self
+            .pos
+            .checked_add(n)
+            .filter(|&end| end <= self.bytes.len())
+            .ok_or_else(|| {
+                format!(
+                    "record ends after {} bytes, {n} more needed at byte {}",
+                    self.bytes.len(),
+                    self.pos
+                )
+            })?;
+        let out = &self.bytes[self.pos..end];
+        self.pos = end;
+        Ok(out)
+    }
+
+    fn array<const N: usize>(&mut self) -> Result<[u8; N], String> {
+        let mut out = [0; N];
+        out.copy_from_slice(self.take(N)?);
+        Ok(out)
+    }
+
+    /// The next `u32`.
+    pub(crate) fn u32(&mut self) -> Result<u32, String> {
+        self.array().map(u32::from_le_bytes)
+    }
+
+    /// The next `u64`.
+    pub(crate) fn u64(&mut self) -> Result<u64, String> {
+        self.array().map(u64::from_le_bytes)
+    }
+
+    /// The next `f32`.
+    pub(crate) fn f32(&mut self) -> Result<f32, String> {
+        self.array().map(f32::from_le_bytes)
+    }
+
+    /// The next `f64`.
+    pub(crate) fn f64(&mut self) -> Result<f64, String> {
+        self.array().map(f64::from_le_bytes)
+    }
+
+    /// The next MCAP string (`u32` length, UTF-8 bytes).
+    pub(crate) fn string(&mut self) -> Result<&'a str, String> {
+        let len = self.u32()? as usize;
+        std::str::from_utf8(self.take(len)?).map_err(|e| format!("string is not UTF-8: {e}"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn layout() -> CacheLayout {
+        CacheLayout {
+            offsets: vec![0, 3, 5],
+            rest_lengths: vec![0.1, 0.2, 0.3],
+            radii: vec![1e-3, 2e-3, 3e-3, 4e-3, 5e-3],
+        }
+    }
+
+    #[test]
+    fn layout_bytes_follow_the_documented_table() {
+        let bytes = layout().encode();
+        assert_eq!(bytes.len(), 8 + 4 * 3 + 4 * 3 + 4 * 5);
+        assert_eq!(&bytes[0..8], &[2, 0, 0, 0, 5, 0, 0, 0]);
+        assert_eq!(&bytes[8..20], &[0, 0, 0, 0, 3, 0, 0, 0, 5, 0, 0, 0]);
+        assert_eq!(&bytes[20..24], &0.1f32.to_le_bytes());
+        assert_eq!(CacheLayout::decode(&bytes), Ok(layout()));
+        assert_eq!(layout().strand_of(4), Some(1));
+        assert_eq!(layout().strand_of(2), Some(0));
+        assert_eq!(layout().strand_of(5), None);
+    }
+
+    #[test]
+    fn truncated_layout_is_refused() {
+        let bytes = layout().encode();
+        let err = CacheLayout::decode(&bytes[..bytes.len() - 1]).unwrap_err();
+        assert!(err.contains("bytes"), "{err}");
+    }
+
+    #[test]
+    fn empty_strand_is_refused() {
+        let mut l = layout();
+        l.offsets = vec![0, 3, 3, 5];
+        assert!(l.validate().unwrap_err().contains("strand 1 has no point"));
+    }
+
+    #[test]
+    fn frame_payload_follows_the_documented_table() {
+        let p = [Vector3::new(1.0f32, 2.0, 3.0)];
+        let v = [Vector3::new(-1.0f32, 0.5, 0.25)];
+        let mut out = Vec::new();
+        encode_frame(&mut out, 7, 7.0 / 24.0, &p, &v);
+        assert_eq!(out.len(), frame_payload_len(1));
+        assert_eq!(&out[0..8], &[1, 0, 0, 0, 7, 0, 0, 0]);
+        assert_eq!(&out[8..16], &(7.0f64 / 24.0).to_le_bytes());
+        assert_eq!(&out[16..20], &[1, 0, 0, 0]);
+        assert_eq!(&out[20..24], &1.0f32.to_le_bytes());
+        assert_eq!(&out[32..36], &(-1.0f32).to_le_bytes());
+        let frame = decode_frame(&out, 1).unwrap();
+        assert_eq!(
+            (frame.frame, frame.positions[0], frame.velocities[0]),
+            (7, p[0], v[0])
+        );
+        assert!(decode_frame(&out, 2).is_err());
+        assert!(decode_frame(&out[..out.len() - 1], 1).is_err());
+    }
+
+    #[test]
+    fn frame_times_map_back_to_frame_numbers() {
+        for fps in [24.0, 23.976, 29.97, 30.0, 60.0, 1000.0, 0.5] {
+            for frame in [0, 1, 2, 17, 1001, 100_000] {
+                let ns = frame_time_ns(frame, fps).unwrap();
+                assert_eq!(frame_at_time_ns(ns, fps), Some(frame), "{fps} {frame}");
+                assert_eq!(frame_at_time_ns(ns + 1, fps), None);
+            }
+        }
+        assert_eq!(frame_time_ns(24, 24.0), Some(1_000_000_000));
+        assert_eq!(frame_time_ns(u32::MAX, 1.0), None);
+    }
+
+    #[test]
+    fn metadata_round_trips() {
+        let header = CacheHeader {
+            fps: 29.97,
+            first_frame: 3,
+            scene_toml: "[sim]\nfps = 29.97\n".into(),
+            scene_hash: "00ff".into(),
+            extra: [("substeps".to_string(), "12".to_string())].into(),
+        };
+        let map = header.to_metadata(&layout());
+        assert_eq!(map["extra.substeps"], "12");
+        assert_eq!(map["fps"], "29.97");
+        let (back, counts) = header_from_metadata(&map).unwrap();
+        assert_eq!(back, header);
+        assert_eq!(
+            counts,
+            MetadataCounts {
+                strands: 2,
+                points: 5
+            }
+        );
+        let mut newer = map.clone();
+        newer.insert(KEY_FORMAT_VERSION.into(), "2".into());
+        assert_eq!(
+            header_from_metadata(&newer),
+            Err(MetadataError::Version("2".into()))
+        );
+    }
+}
