@@ -37,7 +37,7 @@ pub enum HairError {
          lower the stiffness"
     )]
     Unstable {
-        /// Frame index (0-based, relative to the run's first frame) at which it was detected.
+        /// Frame number being computed when it was detected (numbered like [`crate::FrameReport::frame`]).
         frame: u32,
         /// Strand in which it was detected first (lowest index).
         strand: usize,

@@ -7,7 +7,9 @@
 //! u = tangent, w = bitangent), so the whole chain of frames turns with the head. A bending spring
 //! pulls point `j + 1` towards `x_j + l_j (a t_{j-1} + b u_{j-1} + c w_{j-1})`, where `(a, b, c)` is
 //! the [`RestDirection`] of segment `j`: its rest direction in its predecessor's rest frame. For the
-//! first segment that is "held to the rest direction in the root frame".
+//! first segment that is "held to the rest direction in the root frame". Since that target turns
+//! with the frames before it, the solver applies the full gradient of the spring energy
+//! `½ k |x_j + l_j d_j − x_{j+1}|²`, reactions on the earlier points included (see the kernel).
 //!
 //! Transport of a normal `u ⟂ t_prev` to `t_next` uses the closed form
 //! `u − (u·t_next)/(1 + t_prev·t_next) (t_prev + t_next)`, which is exactly the minimal rotation

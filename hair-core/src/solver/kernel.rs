@@ -5,8 +5,8 @@
 //! that the compiler vectorises, and the whole substep loop stays in L1. Segment arrays are
 //! *padded*: segment `j` (points `j`, `j + 1`) sits at index `j + 1`, and indices `0` and `n` hold
 //! zeros, so point `i` reads "the segment after" at `i + 1` and "the segment before" at `i`
-//! without branches. The one sequential pass is the frame transport of the bending springs, a
-//! short recursion per segment.
+//! without branches. The sequential passes are those of the bending springs: the frame transport
+//! down the strand and the suffix sum of their twisting torques back up, a short recursion each.
 
 // Index loops over several equal-length lanes are the point of this module: they vectorise.
 #![allow(clippy::needless_range_loop)]
@@ -138,6 +138,16 @@ pub(crate) struct Scratch {
     damp_coef: Vec<f32>,
     /// Padded damping impulses.
     impulse: Vec<f32>,
+    /// Padded rest directions of the bending springs in their reference frames (unit).
+    dir: Lanes,
+    /// Padded reactions of the bending springs on the segment before theirs, N.
+    react: Lanes,
+    /// Padded holonomy vectors β of the transported frames (dimensionless).
+    beta: Lanes,
+    /// Padded twisting torques of the bending springs, then their suffix sums, N·m.
+    twist: Vec<f32>,
+    /// Padded inverse segment lengths, 1/m.
+    inv_len: Vec<f32>,
     /// 1 for free points, 0 for pinned ones.
     free: Vec<f32>,
     goal_k: Vec<f32>,
@@ -156,10 +166,22 @@ impl Scratch {
         ] {
             lanes.fit(n);
         }
-        for lanes in [&mut self.tangent, &mut self.bend] {
+        for lanes in [
+            &mut self.tangent,
+            &mut self.bend,
+            &mut self.dir,
+            &mut self.react,
+            &mut self.beta,
+        ] {
             lanes.fit(n + 1);
         }
-        for buf in [&mut self.tension, &mut self.damp_coef, &mut self.impulse] {
+        for buf in [
+            &mut self.tension,
+            &mut self.damp_coef,
+            &mut self.impulse,
+            &mut self.twist,
+            &mut self.inv_len,
+        ] {
             buf.clear();
             buf.resize(n + 1, 0.0);
         }
@@ -210,6 +232,11 @@ pub(crate) fn step_strand(
         tension,
         damp_coef,
         impulse,
+        dir,
+        react,
+        beta,
+        twist,
+        inv_len,
         free,
         goal_k,
         pinned,
@@ -218,13 +245,19 @@ pub(crate) fn step_strand(
     let w = s.inv_mass;
     let l0 = s.rest_length;
     let needs_targets = c.goal > 0.0;
+    // Forces of substep k are evaluated at its start, where the positions are: goal targets and
+    // the root frame of the bending springs use the scalp at t_k (`now`). Kinematic points move to
+    // where the scalp puts them at the substep's end, t_{k+1} (`root`). (Goal targets taken at
+    // t_{k+1} would lead the strand by its velocity × dt.)
+    let mut now = *start;
+    let mut rot_now: Matrix3<f32> = now.rotation.to_rotation_matrix().into_inner();
     for k in 0..c.substeps {
         let root = start.interpolate(end, (k + 1) as f32 / c.substeps as f32);
         let rot: Matrix3<f32> = root.rotation.to_rotation_matrix().into_inner();
         let to_world = |i: usize| root.origin + rot * s.rest_local[i];
         if needs_targets {
             for i in 0..n {
-                target.set(i, to_world(i));
+                target.set(i, now.origin + rot_now * s.rest_local[i]);
             }
         }
 
@@ -238,21 +271,106 @@ pub(crate) fn step_strand(
             tangent.x[j + 1] = dx * inv;
             tangent.y[j + 1] = dy * inv;
             tangent.z[j + 1] = dz * inv;
+            inv_len[j + 1] = inv;
             tension[j + 1] = c.stretch * (len - l0[j]);
         }
 
         // Bending springs: the previous segment's frame is carried down the strand from the root
-        // frame by parallel transport (sequential), pulling point j + 1 towards its rest direction.
+        // frame by parallel transport (sequential), pulling point j + 1 towards its rest direction
+        // d_j in that frame with f_j = k (x_j + l_j d_j − x_{j+1}).
+        //
+        // The forces are the exact gradient of the spring energy
+        // E_j = ½ k |x_j + l_j d_j − x_{j+1}|² (what `energy` reports), so bending neither creates
+        // nor destroys energy. Besides f_j on x_{j+1} and −f_j on x_j: d_j turns with frame j − 1,
+        // whose rotation under a change of the tangents is `t_{j−1} × δt_{j−1}` plus a twist about
+        // t_{j−1} that parallel transport accumulates from the root,
+        // `ψ_k = −Σ_{i≤k} β_i·(δt_{i−1} + δt_i)` with `β_i = t_{i−1} × t_i / (1 + t_{i−1}·t_i)`
+        // (the holonomy of the reference twist in Bergou et al. 2008). With `c_j = l_j d_j × f_j`
+        // and `s_j = t_{j−1}·c_j` (the spring's twisting torque), the energy gradient with respect
+        // to tangent t_m is `G_m = c_{m+1} × t_m − β_m S_m − β_{m+1} S_{m+1}`, `S_m = Σ_{j>m} s_j`,
+        // applied as −G_m/len_m on x_{m+1} and +G_m/len_m on x_m. Its first term is the opposite
+        // couple on the previous segment; without these terms the springs exert a net torque and
+        // an undamped strand gains energy (flutter). The root frame (t_{−1}) is kinematic and
+        // takes no reaction.
+        //
+        // Only the transport is sequential; the rest runs per segment (padded index i = j + 1),
+        // and the bending lane ends up holding, per segment, the force its far point receives
+        // (its near point gets the opposite): f_j − g_{j+1} − G_j's twist part / len_j.
         if c.bend > 0.0 {
-            let mut tp: Vector3<f32> = rot.column(2).into();
-            let mut up: Vector3<f32> = rot.column(0).into();
+            let root_t: Vector3<f32> = rot_now.column(2).into();
+            let mut tp = root_t;
+            let mut up: Vector3<f32> = rot_now.column(0).into();
             for j in 0..n - 1 {
-                let dir = s.bend_rest[j].in_frame(&tp, &up, &tp.cross(&up));
-                let f = (x.get(j) + dir * l0[j] - x.get(j + 1)) * c.bend;
-                bend.set(j + 1, f);
+                dir.set(j + 1, s.bend_rest[j].in_frame(&tp, &up, &tp.cross(&up)));
                 let t = tangent.get(j + 1);
                 up = transport(&up, &tp, &t);
                 tp = t;
+            }
+            // Per segment: f, couple c, twist torque s, reaction g = c × t_{j−1} / len_{j−1}
+            // (stored with the spring, applied to segment j − 1) and β_j. A segment folded
+            // straight back has no transport (see `frames::transport`): β = 0 there.
+            #[inline(always)]
+            #[allow(clippy::too_many_arguments)]
+            fn spring(
+                i: usize,
+                t_prev: Vector3<f32>,
+                inv_len_prev: f32,
+                k_bend: f32,
+                l: f32,
+                x: &Lanes,
+                tangent: &Lanes,
+                dir: &Lanes,
+                bend: &mut Lanes,
+                react: &mut Lanes,
+                beta: &mut Lanes,
+                twist: &mut [f32],
+            ) {
+                let d = dir.get(i);
+                let f = (x.get(i - 1) + d * l - x.get(i)) * k_bend;
+                bend.set(i, f);
+                let couple = d.cross(&f) * l;
+                twist[i] = t_prev.dot(&couple);
+                react.set(i, couple.cross(&t_prev) * inv_len_prev);
+                let t = tangent.get(i);
+                let cos1 = 1.0 + t_prev.dot(&t);
+                let scale = if cos1 > 1e-6 { 1.0 / cos1 } else { 0.0 };
+                beta.set(i, t_prev.cross(&t) * scale);
+            }
+            spring(
+                1, root_t, 0.0, c.bend, l0[0], x, tangent, dir, bend, react, beta, twist,
+            );
+            for i in 2..n {
+                let t_prev = tangent.get(i - 1);
+                let inv = inv_len[i - 1];
+                spring(
+                    i,
+                    t_prev,
+                    inv,
+                    c.bend,
+                    l0[i - 1],
+                    x,
+                    tangent,
+                    dir,
+                    bend,
+                    react,
+                    beta,
+                    twist,
+                );
+            }
+            // Suffix sums in place: twist[i] becomes S for segment i − 1 (sum over i' > i).
+            let mut acc = 0.0f32;
+            for i in (1..n).rev() {
+                let s_here = twist[i];
+                twist[i] = acc;
+                acc += s_here;
+            }
+            // Index n holds zeros in react, beta and twist.
+            for i in 1..n {
+                let (sa, sb) = (twist[i], twist[i + 1]);
+                let w = inv_len[i];
+                bend.x[i] += (beta.x[i] * sa + beta.x[i + 1] * sb) * w - react.x[i + 1];
+                bend.y[i] += (beta.y[i] * sa + beta.y[i + 1] * sb) * w - react.y[i + 1];
+                bend.z[i] += (beta.z[i] * sa + beta.z[i + 1] * sb) * w - react.z[i + 1];
             }
         }
 
@@ -305,6 +423,8 @@ pub(crate) fn step_strand(
         for &i in pinned.iter() {
             x.set(i, to_world(i));
         }
+        now = root;
+        rot_now = rot;
     }
     x.store(s.x);
     v.store(s.v);

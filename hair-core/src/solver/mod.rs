@@ -32,6 +32,7 @@ pub mod stability;
 
 use std::time::{Duration, Instant};
 
+use nalgebra::UnitQuaternion;
 use rayon::prelude::*;
 
 use crate::error::{HairError, Result};
@@ -189,7 +190,16 @@ impl Solver {
     pub fn step_frame(&mut self, strands: &mut StrandSet, scalp: &Scalp) -> Result<FrameReport> {
         let frame = self.frame + 1;
         let t0 = Instant::now();
-        let end_roots = strands.root_frames(scalp);
+        let mut end_roots = strands.root_frames(scalp);
+        // q and −q are the same rotation, but interpolating from the previous frame's quaternion
+        // towards the one in the opposite hemisphere turns the roots the long way round (through
+        // up to a full turn) within the frame, or through a zero quaternion (NaN) half-way. Take
+        // the representative nearest the previous frame's.
+        for (end, prev) in end_roots.iter_mut().zip(&self.roots) {
+            if end.rotation.coords.dot(&prev.rotation.coords) < 0.0 {
+                end.rotation = UnitQuaternion::new_unchecked(-end.rotation.into_inner());
+            }
+        }
         let mut times = PhaseTimes {
             roots: t0.elapsed(),
             ..Default::default()
@@ -319,10 +329,13 @@ fn check_strand(s: &StrandView, mass: &[f32], stretch_k: f32, limit: f64) -> Res
     let n = s.x.len();
     let mut kinetic = 0.0f64;
     let mut total_mass = 0.0f64;
-    for (i, ((x, v), &m)) in s.x.iter().zip(s.v.iter()).zip(mass).enumerate() {
-        if !(x.iter().all(|c| c.is_finite()) && v.iter().all(|c| c.is_finite())) {
-            return Err(format!("non-finite position or velocity at point {i}"));
-        }
+    let finite = |i: usize| s.x[i].iter().chain(s.v[i].iter()).all(|c| c.is_finite());
+    if let Some(bad) = (0..n).find(|&i| !finite(i)) {
+        // Name the first free point: a pinned root turns non-finite only through its neighbours.
+        let i = (0..n).find(|&i| mass[i] > 0.0 && !finite(i)).unwrap_or(bad);
+        return Err(format!("non-finite position or velocity at point {i}"));
+    }
+    for (v, &m) in s.v.iter().zip(mass) {
         kinetic += 0.5 * m as f64 * v.cast::<f64>().norm_squared();
         total_mass += m as f64;
     }
