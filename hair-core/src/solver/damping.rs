@@ -16,75 +16,60 @@
 //! Impulses are equal and opposite, so damping conserves linear momentum; pinned points
 //! (`w = 0`) are not moved by it.
 
-#![allow(clippy::needless_range_loop)] // index loops over several lanes vectorise
+use super::lanes::{F, V3};
 
-use super::kernel::Lanes;
-
-/// Runs `iterations` Jacobi damping iterations on the velocity lanes `v` in place.
+/// Runs `iterations` Jacobi damping iterations on the velocities `v` of a group in place.
 ///
 /// Segment arrays are padded (segment `j` at index `j + 1`, zeros at `0` and `n`):
 /// `tangent` holds unit directions, `coef` holds `β / (w_j + w_{j+1})`, `impulse` is a buffer.
 pub(crate) fn damp_segments(
-    v: &mut Lanes,
-    inv_mass: &[f32],
-    tangent: &Lanes,
-    coef: &[f32],
-    impulse: &mut [f32],
+    v: &mut [V3],
+    inv_mass: &[F],
+    tangent: &[V3],
+    coef: &[F],
+    impulse: &mut [F],
     iterations: u32,
 ) {
-    let n = inv_mass.len();
+    let n = v.len();
     for _ in 0..iterations {
         for j in 0..n - 1 {
-            let r = tangent.x[j + 1] * (v.x[j + 1] - v.x[j])
-                + tangent.y[j + 1] * (v.y[j + 1] - v.y[j])
-                + tangent.z[j + 1] * (v.z[j + 1] - v.z[j]);
-            impulse[j + 1] = coef[j + 1] * r;
+            impulse[j + 1] = coef[j + 1] * tangent[j + 1].dot(&(v[j + 1] - v[j]));
         }
         for i in 0..n {
-            let (after, before) = (impulse[i + 1], impulse[i]);
-            v.x[i] += inv_mass[i] * (after * tangent.x[i + 1] - before * tangent.x[i]);
-            v.y[i] += inv_mass[i] * (after * tangent.y[i + 1] - before * tangent.y[i]);
-            v.z[i] += inv_mass[i] * (after * tangent.z[i + 1] - before * tangent.z[i]);
+            v[i] += (tangent[i + 1] * impulse[i + 1] - tangent[i] * impulse[i]) * inv_mass[i];
         }
     }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::lanes::splat;
     use super::*;
-
-    fn lanes(v: &[[f32; 3]]) -> Lanes {
-        Lanes {
-            x: v.iter().map(|p| p[0]).collect(),
-            y: v.iter().map(|p| p[1]).collect(),
-            z: v.iter().map(|p| p[2]).collect(),
-        }
-    }
+    use nalgebra::Vector3;
 
     #[test]
     fn damping_conserves_momentum_and_reduces_stretch_rate() {
-        // Four points along x; padded tangents (zeros at both ends).
-        let t = lanes(&[
-            [0.0; 3],
-            [1.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [0.0; 3],
-        ]);
+        // Four points along x, the same in every lane; padded tangents (zeros at both ends).
+        let along = V3::splat(&Vector3::x());
+        let t = [V3::default(), along, along, along, V3::default()];
         let w = [1.0, 2.0, 1.0, 0.5];
-        let mut v = lanes(&[[1.0, 0.3, 0.0], [-1.0, 0.0, 0.0], [2.0, 0.0, 1.0], [0.0; 3]]);
-        let momentum = |v: &Lanes| (0..4).map(|i| v.x[i] / w[i]).sum::<f32>();
-        let rate = |v: &Lanes| (0..3).map(|j| (v.x[j + 1] - v.x[j]).abs()).sum::<f32>();
-        let (p0, r0) = (momentum(&v), rate(&v));
-        let mut coef = vec![0.0; 5];
+        let inv_mass = w.map(splat);
+        let mut v = [[1.0, 0.3, 0.0], [-1.0, 0.0, 0.0], [2.0, 0.0, 1.0], [0.0; 3]]
+            .map(|p| V3::splat(&Vector3::from(p)));
+        let lane0 = |v: &[V3]| v.iter().map(|p| p.lane(0)).collect::<Vec<_>>();
+        let momentum = |v: &[Vector3<f32>]| (0..4).map(|i| v[i].x / w[i]).sum::<f32>();
+        let rate = |v: &[Vector3<f32>]| (0..3).map(|j| (v[j + 1].x - v[j].x).abs()).sum::<f32>();
+        let before = lane0(&v);
+        let mut coef = [splat(0.0); 5];
         for j in 0..3 {
-            coef[j + 1] = 0.3 / (w[j] + w[j + 1]);
+            coef[j + 1] = splat(0.3 / (w[j] + w[j + 1]));
         }
-        let mut imp = vec![0.0; 5];
-        damp_segments(&mut v, &w, &t, &coef, &mut imp, 10);
-        assert!((momentum(&v) - p0).abs() < 1e-5);
-        assert!(rate(&v) < 0.2 * r0);
+        let mut imp = [splat(0.0); 5];
+        damp_segments(&mut v, &inv_mass, &t, &coef, &mut imp, 10);
+        let after = lane0(&v);
+        assert!((momentum(&after) - momentum(&before)).abs() < 1e-5);
+        assert!(rate(&after) < 0.2 * rate(&before));
         // Velocity across the segments (y, z) is untouched.
-        assert!((v.y[0] - 0.3).abs() < 1e-6 && (v.z[2] - 1.0).abs() < 1e-6);
+        assert!((after[0].y - 0.3).abs() < 1e-6 && (after[2].z - 1.0).abs() < 1e-6);
     }
 }

@@ -1,22 +1,24 @@
-//! One strand's whole collision step: `substeps` force substeps, each with its damping sub-loop.
+//! One collision step of a group of up to [`LANES`] strands with the same number of points:
+//! `substeps` force substeps, each with its damping sub-loop.
 //!
-//! The strand is copied once per step into strand-local structure-of-arrays scratch (separate
-//! x, y, z lanes), so every pass over points or segments is a plain loop over equal-length slices
-//! that the compiler vectorises, and the whole substep loop stays in L1. Segment arrays are
-//! *padded*: segment `j` (points `j`, `j + 1`) sits at index `j + 1`, and indices `0` and `n` hold
-//! zeros, so point `i` reads "the segment after" at `i + 1` and "the segment before" at `i`
-//! without branches. The sequential passes are those of the bending springs: the frame transport
-//! down the strand and the suffix sum of their twisting torques back up, a short recursion each.
+//! Strand `l` of the group lives in SIMD lane `l` ([`super::lanes`]), so every pass — the
+//! per-segment tangents, the sequential frame transport and twist sums of the bending springs,
+//! the per-point updates and the damping sub-loop — advances eight strands per instruction, and
+//! the group's whole substep loop stays in L1. The group is gathered from the strand set once per
+//! step and scattered back after it. Lanes a group does not fill repeat its first strand and are
+//! discarded.
+//!
+//! Segment arrays are *padded*: segment `j` (points `j`, `j + 1`) sits at index `j + 1`, and
+//! indices `0` and `n` hold zeros, so point `i` reads "the segment after" at `i + 1` and "the
+//! segment before" at `i` without branches.
 
-// Index loops over several equal-length lanes are the point of this module: they vectorise.
-#![allow(clippy::needless_range_loop)]
+use nalgebra::Vector3;
 
-use nalgebra::{Matrix3, Vector3};
-
-use crate::frames::{transport, RestDirection};
+use crate::frames::RestDirection;
 use crate::mesh::RootFrame;
 
 use super::damping::damp_segments;
+use super::lanes::{div_or_zero, splat, F, LANES, Q4, V3};
 use super::params::{HairParams, Integrator};
 
 /// Constants of a step shared by every strand.
@@ -76,208 +78,214 @@ pub(crate) struct StrandView<'a> {
     pub bend_rest: &'a [RestDirection],
 }
 
-/// Three f32 lanes of equal length.
-#[derive(Default)]
-pub(crate) struct Lanes {
-    pub x: Vec<f32>,
-    pub y: Vec<f32>,
-    pub z: Vec<f32>,
-}
-
-impl Lanes {
-    fn fit(&mut self, len: usize) {
-        for lane in [&mut self.x, &mut self.y, &mut self.z] {
-            lane.clear();
-            lane.resize(len, 0.0);
-        }
-    }
-
-    fn load(&mut self, from: &[Vector3<f32>]) {
-        for (i, p) in from.iter().enumerate() {
-            self.x[i] = p.x;
-            self.y[i] = p.y;
-            self.z[i] = p.z;
-        }
-    }
-
-    fn store(&self, to: &mut [Vector3<f32>]) {
-        for (i, p) in to.iter_mut().enumerate() {
-            *p = Vector3::new(self.x[i], self.y[i], self.z[i]);
-        }
-    }
-
-    #[inline(always)]
-    fn get(&self, i: usize) -> Vector3<f32> {
-        Vector3::new(self.x[i], self.y[i], self.z[i])
-    }
-
-    #[inline(always)]
-    fn set(&mut self, i: usize, p: Vector3<f32>) {
-        self.x[i] = p.x;
-        self.y[i] = p.y;
-        self.z[i] = p.z;
-    }
-}
-
-/// Per-thread work buffers, refitted to each strand.
+/// Per-thread work buffers of one group, refitted to each group.
 #[derive(Default)]
 pub(crate) struct Scratch {
-    x: Lanes,
-    v: Lanes,
-    v_old: Lanes,
-    force: Lanes,
-    /// Padded unit tangents (index j + 1 = segment j).
-    tangent: Lanes,
-    /// Padded bending forces on the far point of each segment.
-    bend: Lanes,
-    /// Animated rest positions (goal and pinned targets) of the current substep.
-    target: Lanes,
-    /// Padded stretch force magnitudes, N.
-    tension: Vec<f32>,
-    /// Padded damping coefficients β / (w_j + w_{j+1}).
-    damp_coef: Vec<f32>,
-    /// Padded damping impulses.
-    impulse: Vec<f32>,
-    /// Padded rest directions of the bending springs in their reference frames (unit).
-    dir: Lanes,
-    /// Padded reactions of the bending springs on the segment before theirs, N.
-    react: Lanes,
-    /// Padded holonomy vectors β of the transported frames (dimensionless).
-    beta: Lanes,
-    /// Padded twisting torques of the bending springs, then their suffix sums, N·m.
-    twist: Vec<f32>,
-    /// Padded inverse segment lengths, 1/m.
-    inv_len: Vec<f32>,
+    x: Vec<V3>,
+    v: Vec<V3>,
+    v_old: Vec<V3>,
+    force: Vec<V3>,
+    rest_local: Vec<V3>,
+    target: Vec<V3>,
+    /// Inverse masses, 1/kg (0 pinned).
+    inv_mass: Vec<F>,
     /// 1 for free points, 0 for pinned ones.
-    free: Vec<f32>,
-    goal_k: Vec<f32>,
+    free: Vec<F>,
+    goal_k: Vec<F>,
+    /// Rest lengths per segment (unpadded), m.
+    rest_length: Vec<F>,
+    /// Rest directions per segment (unpadded) as (t, u, w) components.
+    bend_rest: Vec<V3>,
+    /// Points pinned in at least one lane.
     pinned: Vec<usize>,
+    // Padded segment arrays (index j + 1 = segment j).
+    tangent: Vec<V3>,
+    inv_len: Vec<F>,
+    tension: Vec<F>,
+    bend: Vec<V3>,
+    dir: Vec<V3>,
+    react: Vec<V3>,
+    beta: Vec<V3>,
+    twist: Vec<F>,
+    damp_coef: Vec<F>,
+    impulse: Vec<F>,
+    q_start: Q4,
+    q_end: Q4,
+    o_start: V3,
+    o_end: V3,
+}
+
+fn refit<T: Copy + Default>(buf: &mut Vec<T>, len: usize) {
+    buf.clear();
+    buf.resize(len, T::default());
+}
+
+/// Gathers lane `l`'s value of per-point data: `f(strand, i)` for the group's strands.
+fn gather<T: Copy>(views: &[StrandView], l: usize, f: impl Fn(&StrandView) -> T) -> T {
+    f(&views[l.min(views.len() - 1)])
 }
 
 impl Scratch {
-    fn fit(&mut self, s: &StrandView, c: &StepConstants) {
-        let n = s.x.len();
-        for lanes in [
+    fn fit(
+        &mut self,
+        views: &[StrandView],
+        starts: &[RootFrame],
+        ends: &[RootFrame],
+        c: &StepConstants,
+    ) {
+        let n = views[0].x.len();
+        for buf in [
             &mut self.x,
             &mut self.v,
             &mut self.v_old,
             &mut self.force,
+            &mut self.rest_local,
             &mut self.target,
         ] {
-            lanes.fit(n);
+            refit(buf, n);
         }
-        for lanes in [
+        for buf in [
             &mut self.tangent,
             &mut self.bend,
             &mut self.dir,
             &mut self.react,
             &mut self.beta,
         ] {
-            lanes.fit(n + 1);
+            refit(buf, n + 1);
         }
         for buf in [
+            &mut self.inv_len,
             &mut self.tension,
+            &mut self.twist,
             &mut self.damp_coef,
             &mut self.impulse,
-            &mut self.twist,
-            &mut self.inv_len,
         ] {
-            buf.clear();
-            buf.resize(n + 1, 0.0);
+            refit(buf, n + 1);
         }
-        self.x.load(s.x);
-        self.v.load(s.v);
-        self.free.clear();
-        self.free
-            .extend(s.inv_mass.iter().map(|&w| if w > 0.0 { 1.0 } else { 0.0 }));
-        self.pinned.clear();
-        self.pinned.extend((0..n).filter(|&i| s.inv_mass[i] == 0.0));
-        self.goal_k.clear();
-        self.goal_k
-            .extend(s.goal_weight.iter().zip(s.inv_mass).map(|(&g, &w)| {
-                if w > 0.0 {
-                    c.goal * g
+        refit(&mut self.inv_mass, n);
+        refit(&mut self.free, n);
+        refit(&mut self.goal_k, n);
+        refit(&mut self.rest_length, n - 1);
+        refit(&mut self.bend_rest, n - 1);
+        let lanes3 = |f: &dyn Fn(&StrandView) -> Vector3<f32>| {
+            V3::from_lanes(&std::array::from_fn(|l| gather(views, l, f)))
+        };
+        let lanes1 =
+            |f: &dyn Fn(&StrandView) -> f32| F::new(std::array::from_fn(|l| gather(views, l, f)));
+        for i in 0..n {
+            self.x[i] = lanes3(&|s| s.x[i]);
+            self.v[i] = lanes3(&|s| s.v[i]);
+            self.rest_local[i] = lanes3(&|s| s.rest_local[i]);
+            self.inv_mass[i] = lanes1(&|s| s.inv_mass[i]);
+            self.free[i] = lanes1(&|s| if s.inv_mass[i] > 0.0 { 1.0 } else { 0.0 });
+            self.goal_k[i] = lanes1(&|s| {
+                if s.inv_mass[i] > 0.0 {
+                    c.goal * s.goal_weight[i]
                 } else {
                     0.0
                 }
-            }));
-        if c.damp_fraction > 0.0 {
-            for j in 0..n - 1 {
-                let w = s.inv_mass[j] + s.inv_mass[j + 1];
-                self.damp_coef[j + 1] = if w > 0.0 { c.damp_fraction / w } else { 0.0 };
+            });
+        }
+        for j in 0..n - 1 {
+            self.rest_length[j] = lanes1(&|s| s.rest_length[j]);
+            self.bend_rest[j] = lanes3(&|s| {
+                let d = s.bend_rest[j];
+                Vector3::new(d.t, d.u, d.w)
+            });
+            if c.damp_fraction > 0.0 {
+                let w = lanes1(&|s| s.inv_mass[j] + s.inv_mass[j + 1]);
+                self.damp_coef[j + 1] = div_or_zero(splat(c.damp_fraction), w, 0.0);
+            }
+        }
+        self.pinned.clear();
+        self.pinned
+            .extend((0..n).filter(|&i| views.iter().any(|s| s.inv_mass[i] == 0.0)));
+        let quat = |frames: &[RootFrame]| {
+            let q = |l: usize| frames[l.min(frames.len() - 1)].rotation;
+            Q4 {
+                w: F::new(std::array::from_fn(|l| q(l).w)),
+                i: F::new(std::array::from_fn(|l| q(l).i)),
+                j: F::new(std::array::from_fn(|l| q(l).j)),
+                k: F::new(std::array::from_fn(|l| q(l).k)),
+            }
+        };
+        let origin = |frames: &[RootFrame]| {
+            V3::from_lanes(&std::array::from_fn(|l| {
+                frames[l.min(frames.len() - 1)].origin
+            }))
+        };
+        self.q_start = quat(starts);
+        self.q_end = quat(ends);
+        self.o_start = origin(starts);
+        self.o_end = origin(ends);
+    }
+
+    fn scatter(&self, views: &mut [StrandView]) {
+        for (i, (x, v)) in self.x.iter().zip(&self.v).enumerate() {
+            let (x, v) = (x.to_lanes(), v.to_lanes());
+            for (l, s) in views.iter_mut().enumerate() {
+                s.x[i] = x[l];
+                s.v[i] = v[l];
             }
         }
     }
 }
 
-/// Advances one strand by one collision step: the root moves from `start` to `end` (interpolated
-/// per substep), pinned points follow their animated rest positions.
-pub(crate) fn step_strand(
-    s: &mut StrandView,
-    start: &RootFrame,
-    end: &RootFrame,
+/// Parallel transport of `u` from unit tangent `tp` to `t` (see [`crate::frames::transport`]).
+#[inline(always)]
+fn transport(u: &V3, tp: &V3, t: &V3) -> V3 {
+    let c = splat(1.0) + tp.dot(t);
+    *u - (*tp + *t) * div_or_zero(u.dot(t), c, 1e-6)
+}
+
+/// Advances a group of strands (equal point counts, at most [`LANES`]) by one collision step:
+/// roots move from `starts` to `ends` (interpolated per substep), pinned points follow their
+/// animated rest positions.
+pub(crate) fn step_group(
+    views: &mut [StrandView],
+    starts: &[RootFrame],
+    ends: &[RootFrame],
     c: &StepConstants,
-    scratch: &mut Scratch,
+    g: &mut Scratch,
 ) {
-    let n = s.x.len();
-    scratch.fit(s, c);
-    let Scratch {
-        x,
-        v,
-        v_old,
-        force,
-        tangent,
-        bend,
-        target,
-        tension,
-        damp_coef,
-        impulse,
-        dir,
-        react,
-        beta,
-        twist,
-        inv_len,
-        free,
-        goal_k,
-        pinned,
-    } = scratch;
-    let (dt, inv_dt) = (c.dt, 1.0 / c.dt);
-    let w = s.inv_mass;
-    let l0 = s.rest_length;
+    debug_assert!(!views.is_empty() && views.len() <= LANES);
+    g.fit(views, starts, ends, c);
+    let n = views[0].x.len();
+    let (dt, inv_dt) = (splat(c.dt), splat(1.0 / c.dt));
+    let (k_stretch, k_bend, drag) = (splat(c.stretch), splat(c.bend), splat(c.drag));
+    let gravity = V3::splat(&c.gravity);
     let needs_targets = c.goal > 0.0;
+    let explicit = c.integrator == Integrator::ExplicitEuler;
+    let zero = splat(0.0);
     // Forces of substep k are evaluated at its start, where the positions are: goal targets and
     // the root frame of the bending springs use the scalp at t_k (`now`). Kinematic points move to
-    // where the scalp puts them at the substep's end, t_{k+1} (`root`). (Goal targets taken at
-    // t_{k+1} would lead the strand by its velocity × dt.)
-    let mut now = *start;
-    let mut rot_now: Matrix3<f32> = now.rotation.to_rotation_matrix().into_inner();
+    // where the scalp puts them at the substep's end, t_{k+1}. (Goal targets taken at t_{k+1}
+    // would lead the strand by its velocity × dt.)
+    let mut origin_now = g.o_start;
+    let mut rot_now = g.q_start.matrix();
     for k in 0..c.substeps {
-        let root = start.interpolate(end, (k + 1) as f32 / c.substeps as f32);
-        let rot: Matrix3<f32> = root.rotation.to_rotation_matrix().into_inner();
-        let to_world = |i: usize| root.origin + rot * s.rest_local[i];
+        let s = (k + 1) as f32 / c.substeps as f32;
+        let rot = Q4::nlerp(&g.q_start, &g.q_end, s).matrix();
+        let origin = g.o_start * splat(1.0 - s) + g.o_end * splat(s);
         if needs_targets {
             for i in 0..n {
-                target.set(i, now.origin + rot_now * s.rest_local[i]);
+                g.target[i] = origin_now + rot_now.mul(&g.rest_local[i]);
             }
         }
 
-        // Segment tangents and stretch tensions (padded: segment j at j + 1).
+        // Segment tangents and stretch tensions.
         for j in 0..n - 1 {
-            let dx = x.x[j + 1] - x.x[j];
-            let dy = x.y[j + 1] - x.y[j];
-            let dz = x.z[j + 1] - x.z[j];
-            let len = (dx * dx + dy * dy + dz * dz).sqrt();
-            let inv = 1.0 / len;
-            tangent.x[j + 1] = dx * inv;
-            tangent.y[j + 1] = dy * inv;
-            tangent.z[j + 1] = dz * inv;
-            inv_len[j + 1] = inv;
-            tension[j + 1] = c.stretch * (len - l0[j]);
+            let d = g.x[j + 1] - g.x[j];
+            let len = d.dot(&d).sqrt();
+            let inv = splat(1.0) / len;
+            g.tangent[j + 1] = d * inv;
+            g.inv_len[j + 1] = inv;
+            g.tension[j + 1] = k_stretch * (len - g.rest_length[j]);
         }
 
         // Bending springs: the previous segment's frame is carried down the strand from the root
-        // frame by parallel transport (sequential), pulling point j + 1 towards its rest direction
-        // d_j in that frame with f_j = k (x_j + l_j d_j − x_{j+1}).
+        // frame by parallel transport, pulling point j + 1 towards its rest direction d_j in that
+        // frame with f_j = k (x_j + l_j d_j − x_{j+1}).
         //
         // The forces are the exact gradient of the spring energy
         // E_j = ½ k |x_j + l_j d_j − x_{j+1}|² (what `energy` reports), so bending neither creates
@@ -291,141 +299,101 @@ pub(crate) fn step_strand(
         // applied as −G_m/len_m on x_{m+1} and +G_m/len_m on x_m. Its first term is the opposite
         // couple on the previous segment; without these terms the springs exert a net torque and
         // an undamped strand gains energy (flutter). The root frame (t_{−1}) is kinematic and
-        // takes no reaction.
+        // takes no reaction. A segment folded straight back has no transport: β = 0 there.
         //
-        // Only the transport is sequential; the rest runs per segment (padded index i = j + 1),
-        // and the bending lane ends up holding, per segment, the force its far point receives
-        // (its near point gets the opposite): f_j − g_{j+1} − G_j's twist part / len_j.
+        // The bending array ends up holding, per segment, the force its far point receives (its
+        // near point gets the opposite).
         if c.bend > 0.0 {
-            let root_t: Vector3<f32> = rot_now.column(2).into();
+            let root_t = rot_now.cols[2];
             let mut tp = root_t;
-            let mut up: Vector3<f32> = rot_now.column(0).into();
+            let mut up = rot_now.cols[0];
             for j in 0..n - 1 {
-                dir.set(j + 1, s.bend_rest[j].in_frame(&tp, &up, &tp.cross(&up)));
-                let t = tangent.get(j + 1);
+                let r = g.bend_rest[j];
+                g.dir[j + 1] = tp * r.x + up * r.y + tp.cross(&up) * r.z;
+                let t = g.tangent[j + 1];
                 up = transport(&up, &tp, &t);
                 tp = t;
             }
-            // Per segment: f, couple c, twist torque s, reaction g = c × t_{j−1} / len_{j−1}
-            // (stored with the spring, applied to segment j − 1) and β_j. A segment folded
-            // straight back has no transport (see `frames::transport`): β = 0 there.
-            #[inline(always)]
-            #[allow(clippy::too_many_arguments)]
-            fn spring(
-                i: usize,
-                t_prev: Vector3<f32>,
-                inv_len_prev: f32,
-                k_bend: f32,
-                l: f32,
-                x: &Lanes,
-                tangent: &Lanes,
-                dir: &Lanes,
-                bend: &mut Lanes,
-                react: &mut Lanes,
-                beta: &mut Lanes,
-                twist: &mut [f32],
-            ) {
-                let d = dir.get(i);
-                let f = (x.get(i - 1) + d * l - x.get(i)) * k_bend;
-                bend.set(i, f);
+            for i in 1..n {
+                let (t_prev, inv_len_prev) = if i == 1 {
+                    (root_t, zero)
+                } else {
+                    (g.tangent[i - 1], g.inv_len[i - 1])
+                };
+                let l = g.rest_length[i - 1];
+                let d = g.dir[i];
+                let f = (g.x[i - 1] + d * l - g.x[i]) * k_bend;
+                g.bend[i] = f;
                 let couple = d.cross(&f) * l;
-                twist[i] = t_prev.dot(&couple);
-                react.set(i, couple.cross(&t_prev) * inv_len_prev);
-                let t = tangent.get(i);
-                let cos1 = 1.0 + t_prev.dot(&t);
-                let scale = if cos1 > 1e-6 { 1.0 / cos1 } else { 0.0 };
-                beta.set(i, t_prev.cross(&t) * scale);
-            }
-            spring(
-                1, root_t, 0.0, c.bend, l0[0], x, tangent, dir, bend, react, beta, twist,
-            );
-            for i in 2..n {
-                let t_prev = tangent.get(i - 1);
-                let inv = inv_len[i - 1];
-                spring(
-                    i,
-                    t_prev,
-                    inv,
-                    c.bend,
-                    l0[i - 1],
-                    x,
-                    tangent,
-                    dir,
-                    bend,
-                    react,
-                    beta,
-                    twist,
-                );
+                g.twist[i] = t_prev.dot(&couple);
+                g.react[i] = couple.cross(&t_prev) * inv_len_prev;
+                let t = g.tangent[i];
+                g.beta[i] =
+                    t_prev.cross(&t) * div_or_zero(splat(1.0), splat(1.0) + t_prev.dot(&t), 1e-6);
             }
             // Suffix sums in place: twist[i] becomes S for segment i − 1 (sum over i' > i).
-            let mut acc = 0.0f32;
+            let mut acc = zero;
             for i in (1..n).rev() {
-                let s_here = twist[i];
-                twist[i] = acc;
-                acc += s_here;
+                let here = g.twist[i];
+                g.twist[i] = acc;
+                acc += here;
             }
             // Index n holds zeros in react, beta and twist.
             for i in 1..n {
-                let (sa, sb) = (twist[i], twist[i + 1]);
-                let w = inv_len[i];
-                bend.x[i] += (beta.x[i] * sa + beta.x[i + 1] * sb) * w - react.x[i + 1];
-                bend.y[i] += (beta.y[i] * sa + beta.y[i + 1] * sb) * w - react.y[i + 1];
-                bend.z[i] += (beta.z[i] * sa + beta.z[i + 1] * sb) * w - react.z[i + 1];
+                let twist =
+                    (g.beta[i] * g.twist[i] + g.beta[i + 1] * g.twist[i + 1]) * g.inv_len[i];
+                g.bend[i] = g.bend[i] + twist - g.react[i + 1];
             }
         }
 
         // Forces per point: stretch from the segments after and before, bending, goal.
         for i in 0..n {
-            force.x[i] = tension[i + 1] * tangent.x[i + 1] - tension[i] * tangent.x[i] + bend.x[i]
-                - bend.x[i + 1];
-            force.y[i] = tension[i + 1] * tangent.y[i + 1] - tension[i] * tangent.y[i] + bend.y[i]
-                - bend.y[i + 1];
-            force.z[i] = tension[i + 1] * tangent.z[i + 1] - tension[i] * tangent.z[i] + bend.z[i]
-                - bend.z[i + 1];
+            g.force[i] = g.tangent[i + 1] * g.tension[i + 1] - g.tangent[i] * g.tension[i]
+                + g.bend[i]
+                - g.bend[i + 1];
         }
         if needs_targets {
             for i in 0..n {
-                force.x[i] += goal_k[i] * (target.x[i] - x.x[i]);
-                force.y[i] += goal_k[i] * (target.y[i] - x.y[i]);
-                force.z[i] += goal_k[i] * (target.z[i] - x.z[i]);
+                g.force[i] += (g.target[i] - g.x[i]) * g.goal_k[i];
             }
         }
 
-        let explicit = c.integrator == Integrator::ExplicitEuler;
         if explicit {
-            v_old.x.copy_from_slice(&v.x);
-            v_old.y.copy_from_slice(&v.y);
-            v_old.z.copy_from_slice(&v.z);
+            g.v_old.copy_from_slice(&g.v);
         }
-        // Velocity update of free points (w = 0 and free = 0 leave pinned points unchanged here).
-        let (gx, gy, gz) = (c.gravity.x, c.gravity.y, c.gravity.z);
+        // Velocity update (w = 0 and free = 0 leave pinned points unchanged here).
         for i in 0..n {
-            v.x[i] += dt * (force.x[i] * w[i] + free[i] * (gx - c.drag * v.x[i]));
-            v.y[i] += dt * (force.y[i] * w[i] + free[i] * (gy - c.drag * v.y[i]));
-            v.z[i] += dt * (force.z[i] * w[i] + free[i] * (gz - c.drag * v.z[i]));
+            let a = g.force[i] * g.inv_mass[i] + (gravity - g.v[i] * drag) * g.free[i];
+            g.v[i] += a * dt;
         }
         // Pinned points get the velocity of their prescribed motion over this substep.
-        for &i in pinned.iter() {
-            let goal = to_world(i);
-            v.set(i, (goal - x.get(i)) * inv_dt);
+        for &i in &g.pinned {
+            let goal = origin + rot.mul(&g.rest_local[i]);
+            let kinematic = (goal - g.x[i]) * inv_dt;
+            g.v[i] = V3::select(g.free[i].simd_gt(zero), &g.v[i], &kinematic);
         }
 
         if c.damp_fraction > 0.0 {
-            damp_segments(v, w, tangent, damp_coef, impulse, c.damp_iterations);
+            damp_segments(
+                &mut g.v,
+                &g.inv_mass,
+                &g.tangent,
+                &g.damp_coef,
+                &mut g.impulse,
+                c.damp_iterations,
+            );
         }
 
-        let moved_by = if explicit { &*v_old } else { &*v };
         for i in 0..n {
-            x.x[i] += dt * free[i] * moved_by.x[i];
-            x.y[i] += dt * free[i] * moved_by.y[i];
-            x.z[i] += dt * free[i] * moved_by.z[i];
+            let moved_by = if explicit { g.v_old[i] } else { g.v[i] };
+            g.x[i] += moved_by * (dt * g.free[i]);
         }
-        for &i in pinned.iter() {
-            x.set(i, to_world(i));
+        for &i in &g.pinned {
+            let goal = origin + rot.mul(&g.rest_local[i]);
+            g.x[i] = V3::select(g.free[i].simd_gt(zero), &g.x[i], &goal);
         }
-        now = root;
+        origin_now = origin;
         rot_now = rot;
     }
-    x.store(s.x);
-    v.store(s.v);
+    g.scatter(views);
 }

@@ -27,6 +27,7 @@
 mod damping;
 pub mod energy;
 mod kernel;
+mod lanes;
 pub mod params;
 pub mod stability;
 
@@ -39,7 +40,8 @@ use crate::error::{HairError, Result};
 use crate::mesh::RootFrame;
 use crate::strands::{Scalp, StrandSet};
 
-use kernel::{step_strand, Scratch, StepConstants, StrandView};
+use kernel::{step_group, Scratch, StepConstants, StrandView};
+use lanes::LANES;
 pub use params::{HairParams, Integrator, SolverSettings, Substeps};
 pub use stability::StabilityBound;
 
@@ -280,34 +282,53 @@ impl Solver {
         }
         let outcomes: Vec<BlockOutcome> = jobs
             .into_par_iter()
-            .map_init(Scratch::default, |scratch, (block, x, v)| {
-                let base = data.offsets[block.start] as usize;
+            .map_init(Scratch::default, |scratch, (block, mut x, mut v)| {
                 let mut out = BlockOutcome::default();
-                for s in block {
-                    let p = data.offsets[s] as usize..data.offsets[s + 1] as usize;
-                    let seg = p.start - s..p.end - s - 1;
-                    let local = p.start - base..p.end - base;
-                    let mut view = StrandView {
-                        x: &mut x[local.clone()],
-                        v: &mut v[local],
-                        rest_local: &data.rest_local[p.clone()],
-                        inv_mass: &data.inv_mass[p.clone()],
-                        goal_weight: &data.goal_weight[p.clone()],
-                        rest_length: &data.rest_length[seg.clone()],
-                        bend_rest: &data.bend_rest[seg.clone()],
-                    };
-                    step_strand(&mut view, &starts[s], &ends[s], consts, scratch);
-                    let root_speed = ((ends[s].origin - starts[s].origin).norm() as f64) / step_dt;
-                    let length: f64 = data.rest_length[seg].iter().map(|&l| l as f64).sum();
-                    let limit =
-                        RUNAWAY_FACTOR * (g * length + (length * fps).powi(2) + root_speed.powi(2));
-                    let check =
-                        check_strand(&view, &data.mass[p], self.params.stretch_stiffness, limit);
-                    match check {
-                        Ok(stretch) => out.max_stretch = out.max_stretch.max(stretch),
-                        Err(cause) => {
-                            out.failure = Some((s, cause));
-                            break;
+                for group in groups_in(data.offsets, block) {
+                    // One view per strand of the group, over disjoint pieces of the block.
+                    let mut views = Vec::with_capacity(group.len());
+                    for s in group.clone() {
+                        let p = data.offsets[s] as usize..data.offsets[s + 1] as usize;
+                        let seg = p.start - s..p.end - s - 1;
+                        let (xs, xr) = std::mem::take(&mut x).split_at_mut(p.len());
+                        let (vs, vr) = std::mem::take(&mut v).split_at_mut(p.len());
+                        x = xr;
+                        v = vr;
+                        views.push(StrandView {
+                            x: xs,
+                            v: vs,
+                            rest_local: &data.rest_local[p.clone()],
+                            inv_mass: &data.inv_mass[p.clone()],
+                            goal_weight: &data.goal_weight[p.clone()],
+                            rest_length: &data.rest_length[seg.clone()],
+                            bend_rest: &data.bend_rest[seg],
+                        });
+                    }
+                    step_group(
+                        &mut views,
+                        &starts[group.clone()],
+                        &ends[group.clone()],
+                        consts,
+                        scratch,
+                    );
+                    for (view, s) in views.iter().zip(group) {
+                        let p = data.offsets[s] as usize..data.offsets[s + 1] as usize;
+                        let root_speed =
+                            ((ends[s].origin - starts[s].origin).norm() as f64) / step_dt;
+                        let length: f64 = view.rest_length.iter().map(|&l| l as f64).sum();
+                        let limit = RUNAWAY_FACTOR
+                            * (g * length + (length * fps).powi(2) + root_speed.powi(2));
+                        match check_strand(
+                            view,
+                            &data.mass[p],
+                            self.params.stretch_stiffness,
+                            limit,
+                        ) {
+                            Ok(stretch) => out.max_stretch = out.max_stretch.max(stretch),
+                            Err(cause) => {
+                                out.failure = Some((s, cause));
+                                return out;
+                            }
                         }
                     }
                 }
@@ -353,6 +374,24 @@ fn check_strand(s: &StrandView, mass: &[f32], stretch_k: f32, limit: f64) -> Res
         ));
     }
     Ok(stretch)
+}
+
+/// The groups of a block: runs of at most [`LANES`] consecutive strands with equal point counts,
+/// advanced together by the kernel.
+fn groups_in(offsets: &[u32], block: std::ops::Range<usize>) -> Vec<std::ops::Range<usize>> {
+    let len = |s: usize| offsets[s + 1] - offsets[s];
+    let mut groups = Vec::new();
+    let mut start = block.start;
+    for s in block.clone() {
+        if s - start == LANES || len(s) != len(start) {
+            groups.push(start..s);
+            start = s;
+        }
+    }
+    if start < block.end {
+        groups.push(start..block.end);
+    }
+    groups
 }
 
 /// Splits the strands into contiguous blocks of about [`BLOCK_POINTS`] points.
