@@ -94,6 +94,8 @@ pub struct SolverSection {
     pub substeps: SubstepsValue,
     /// Iterations of the damping sub-loop per substep (0 = off).
     pub damping_iterations: u32,
+    /// Strain limit after each substep (0 = inextensible); absent = off.
+    pub max_strain: Option<f32>,
 }
 
 impl Default for SolverSection {
@@ -103,6 +105,7 @@ impl Default for SolverSection {
             steps: 1,
             substeps: SubstepsValue::Word("auto".into()),
             damping_iterations: 10,
+            max_strain: None,
         }
     }
 }
@@ -347,6 +350,7 @@ impl SceneFile {
             substeps,
             damping_iterations: s.solver.damping_iterations,
             integrator: s.solver.integrator,
+            max_strain: s.solver.max_strain,
         };
         settings
             .validate()

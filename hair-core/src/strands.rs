@@ -330,7 +330,8 @@ impl StrandSet {
         }
     }
 
-    /// Largest relative segment stretch |len/rest − 1| over all segments.
+    /// Largest relative segment elongation `len/rest − 1` over all segments (0 if none is longer
+    /// than at rest).
     pub fn max_stretch(&self) -> f32 {
         (0..self.len())
             .map(|s| {
@@ -339,7 +340,7 @@ impl StrandSet {
                 self.positions[p]
                     .windows(2)
                     .zip(&self.rest_length[seg])
-                    .map(|(w, l)| ((w[1] - w[0]).norm() / l - 1.0).abs())
+                    .map(|(w, l)| (w[1] - w[0]).norm() / l - 1.0)
                     .fold(0.0f32, f32::max)
             })
             .fold(0.0, f32::max)

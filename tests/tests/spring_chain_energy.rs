@@ -63,6 +63,7 @@ fn scene(integrator: Integrator) -> (StrandSet, Solver, Scalp) {
     let probe = Solver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
     let h = RATIO * probe.bound().dt_max;
     let settings = SolverSettings {
+        max_strain: None,
         fps: (1.0 / (h * SUBSTEPS_PER_FRAME as f64)) as f32,
         steps: 1,
         substeps: Substeps::Fixed(SUBSTEPS_PER_FRAME),

@@ -21,6 +21,9 @@ use super::damping::damp_segments;
 use super::lanes::{div_or_zero, splat, F, LANES, Q4, V3};
 use super::params::{HairParams, Integrator};
 
+/// Root-to-tip sweeps of the strain limiter per substep.
+const STRAIN_SWEEPS: u32 = 2;
+
 /// Constants of a step shared by every strand.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct StepConstants {
@@ -35,6 +38,8 @@ pub(crate) struct StepConstants {
     pub dt: f32,
     pub substeps: u32,
     pub integrator: Integrator,
+    /// Largest allowed segment length as a multiple of the rest length, if limited.
+    pub max_length_ratio: Option<f32>,
 }
 
 impl StepConstants {
@@ -44,6 +49,7 @@ impl StepConstants {
         substeps: u32,
         damp_iterations: u32,
         integrator: Integrator,
+        max_strain: Option<f32>,
     ) -> Self {
         let damp_fraction = if damp_iterations > 0 && p.stretch_damping > 0.0 {
             // Exact exponential decay over dt/iterations for an isolated segment, capped at 1/2 so
@@ -63,6 +69,7 @@ impl StepConstants {
             dt,
             substeps,
             integrator,
+            max_length_ratio: max_strain.map(|e| 1.0 + e),
         }
     }
 }
@@ -392,8 +399,44 @@ pub(crate) fn step_group(
             let goal = origin + rot.mul(&g.rest_local[i]);
             g.x[i] = V3::select(g.free[i].simd_gt(zero), &g.x[i], &goal);
         }
+        if let Some(ratio) = c.max_length_ratio {
+            limit_strain(g, splat(ratio), inv_dt);
+        }
         origin_now = origin;
         rot_now = rot;
     }
     g.scatter(views);
+}
+
+/// Strain limiting (Provot 1995): a segment longer than `ratio × rest length` is shortened to
+/// it by moving both ends along it in proportion to their inverse masses (a pinned end does not
+/// move), which conserves linear momentum. [`STRAIN_SWEEPS`] sweeps run root to tip (Gauss–Seidel
+/// down the strand, parallel across the lanes); a last follow-the-leader pass then moves only far
+/// ends, which guarantees the limit for the small residual the sweeps leave. The velocity of a
+/// moved point changes by its displacement / dt, so positions and velocities stay consistent; the
+/// correction only removes stretch.
+fn limit_strain(g: &mut Scratch, ratio: F, inv_dt: F) {
+    let zero = splat(0.0);
+    for sweep in 0..=STRAIN_SWEEPS {
+        let follow_the_leader = sweep == STRAIN_SWEEPS;
+        for j in 0..g.x.len() - 1 {
+            let d = g.x[j + 1] - g.x[j];
+            let len = d.dot(&d).sqrt();
+            let excess = (len - g.rest_length[j] * ratio).max(zero);
+            let wa = if follow_the_leader {
+                zero
+            } else {
+                g.inv_mass[j]
+            };
+            let wb = g.inv_mass[j + 1];
+            // Displacement along the segment per unit inverse mass (0 where both ends are fixed).
+            let shift = d * div_or_zero(excess, len * (wa + wb), 0.0);
+            g.x[j] += shift * wa;
+            g.x[j + 1] -= shift * wb;
+            if !follow_the_leader {
+                g.v[j] += shift * (wa * inv_dt);
+                g.v[j + 1] -= shift * (wb * inv_dt);
+            }
+        }
+    }
 }

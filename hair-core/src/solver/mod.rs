@@ -74,7 +74,8 @@ pub struct FrameReport {
     pub substeps: u32,
     /// Points × substeps advanced in this frame.
     pub point_substeps: u64,
-    /// Largest relative segment stretch at the end of the frame.
+    /// Largest relative segment elongation `len/rest − 1` at the end of the frame (0 if none is
+    /// longer than at rest).
     pub max_stretch: f32,
     /// Wall-clock cost by phase.
     pub times: PhaseTimes,
@@ -183,6 +184,11 @@ impl Solver {
         if p.stretch_damping > 0.0 && self.settings.damping_iterations > 0 {
             c.push("damping");
         }
+        match self.settings.max_strain {
+            Some(0.0) => c.push("inextensibility"),
+            Some(_) => c.push("strain limit"),
+            None => {}
+        }
         Components(c)
     }
 
@@ -214,6 +220,7 @@ impl Solver {
             self.substeps,
             self.settings.damping_iterations,
             self.settings.integrator,
+            self.settings.max_strain,
         );
         let mut max_stretch = 0.0f32;
         for step in 0..steps {
@@ -345,7 +352,7 @@ impl Solver {
 }
 
 /// Checks a strand after a step: finite, and energy per unit mass (kinetic + stretch) below
-/// `limit` (J/kg). Returns the strand's largest relative stretch.
+/// `limit` (J/kg). Returns the strand's largest relative elongation (≥ 0).
 fn check_strand(s: &StrandView, mass: &[f32], stretch_k: f32, limit: f64) -> Result<f32, String> {
     let n = s.x.len();
     let mut kinetic = 0.0f64;
@@ -364,7 +371,7 @@ fn check_strand(s: &StrandView, mass: &[f32], stretch_k: f32, limit: f64) -> Res
     let mut stretch = 0.0f32;
     for j in 0..n - 1 {
         let len = (s.x[j + 1] - s.x[j]).norm();
-        stretch = stretch.max((len / s.rest_length[j] - 1.0).abs());
+        stretch = stretch.max(len / s.rest_length[j] - 1.0);
         elastic += 0.5 * stretch_k as f64 * ((len - s.rest_length[j]) as f64).powi(2);
     }
     let specific = (kinetic + elastic) / total_mass.max(f64::MIN_POSITIVE);

@@ -92,6 +92,10 @@ pub struct SolverSettings {
     pub damping_iterations: u32,
     /// Integration scheme.
     pub integrator: Integrator,
+    /// Strain limit after each substep: segments longer than `(1 + max_strain) × rest length`
+    /// are shortened to it (root to tip, velocities corrected). `Some(0.0)` makes strands
+    /// inextensible; `None` switches it off.
+    pub max_strain: Option<f32>,
 }
 
 impl Default for SolverSettings {
@@ -102,6 +106,7 @@ impl Default for SolverSettings {
             substeps: Substeps::Auto,
             damping_iterations: 10,
             integrator: Integrator::SemiImplicitEuler,
+            max_strain: None,
         }
     }
 }
@@ -123,6 +128,9 @@ impl SolverSettings {
                 value: "0".into(),
                 fix: "use at least 1, or \"auto\"".into(),
             });
+        }
+        if let Some(limit) = self.max_strain {
+            check_non_negative("max_strain", limit)?;
         }
         Ok(())
     }

@@ -38,6 +38,7 @@ pub fn fixed_settings(fps: f32, substeps: u32, integrator: Integrator) -> Solver
         substeps: Substeps::Fixed(substeps),
         damping_iterations: 10,
         integrator,
+        max_strain: None,
     }
 }
 
