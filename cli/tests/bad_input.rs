@@ -1,25 +1,11 @@
 //! Bad input through the real `hairsys` binary: a clear message naming the file, the field and
 //! the fix on stderr, a non-zero exit code, and no file left that looks like a complete cache.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn hairsys(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hairsys"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
+use common::{hairsys, tempdir};
 
-fn tempdir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("hairsys-bad-input-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-/// A small valid scene; `edit` replaces one line to make it bad.
+/// A small valid scene; each test replaces one line to make it bad.
 const SCENE: &str = r#"
 [scene]
 frames = [1, 3]

@@ -1,8 +1,9 @@
 //! The commands end to end through the real binary: `simulate` writes a cache whose frames,
 //! strands and points `cache info` reports, and `--json` prints one parseable object per line.
 
-use std::path::PathBuf;
-use std::process::Command;
+mod common;
+
+use common::{hairsys, tempdir};
 
 const SCENE: &str = r#"
 [scene]
@@ -19,21 +20,6 @@ count = 30
 length = 0.1
 segments = 5
 "#;
-
-fn tempdir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("hairsys-commands-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn hairsys(args: &[&str], dir: &PathBuf) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_hairsys"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
-}
 
 #[test]
 fn simulate_then_cache_info() {
