@@ -204,4 +204,17 @@ pub enum CacheError {
         /// The frames it holds, in words ("frames 1–120", "no frame").
         available: String,
     },
+    /// A time outside the cached frames was asked for.
+    #[error(
+        "`{}` holds no frame at or around {time} s: it holds {range}; pick a time in that range",
+        .path.display()
+    )]
+    TimeOutOfRange {
+        /// The file read.
+        path: PathBuf,
+        /// The time asked for, s.
+        time: f64,
+        /// The cached range in words ("frames 1–120, 0.0417 s – 5 s", "no frame").
+        range: String,
+    },
 }

@@ -3,7 +3,9 @@
 //! The MCAP point cache of hairsys: one file per simulation run, holding the run's settings, the
 //! strand layout and one message per frame (positions in m, velocities in m/s). The byte format
 //! is specified in [`layout`]; [`CacheWriter`] writes a run crash-safely (into `<path>.partial`,
-//! renamed when finished) and [`CacheReader`] reads any frame through the file's index.
+//! renamed when finished) and [`CacheReader`] reads any frame through the file's index, by frame
+//! number or time, and samples between frames ([`sample`]: cubic Hermite or linear, motion-blur
+//! [`Shutter`] sets). [`recover()`] reads the complete frames of a file whose writer was killed.
 //!
 //! ```
 //! use hair_cache::{CacheHeader, CacheLayout, CacheReader, CacheWriter, WriterOptions};
@@ -33,13 +35,18 @@
 #![warn(missing_docs)]
 
 pub mod error;
+pub mod foxglove;
 pub mod layout;
 pub mod reader;
+pub mod recover;
+pub mod sample;
 pub mod summary;
 pub mod writer;
 
 pub use error::CacheError;
 pub use layout::{CacheHeader, CacheLayout, Frame};
 pub use reader::{summarize, CacheReader};
+pub use recover::{recover, Recovery, RecoveryWarning};
+pub use sample::{interpolate, Interpolation, Sample, Shutter};
 pub use summary::CacheSummary;
 pub use writer::{partial_path, CacheWriter, Compression, WriterOptions};

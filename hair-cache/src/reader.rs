@@ -20,6 +20,9 @@ pub fn summarize(path: impl AsRef<Path>) -> Result<CacheSummary, CacheError> {
     Ok(CacheReader::open(path)?.summary())
 }
 
+/// A message of a chunk: its `log_time` (ns) and payload.
+pub(crate) type ChunkMessage = (u64, Vec<u8>);
+
 /// An open cache file: its header, layout and frame list, and random access to its frames.
 pub struct CacheReader {
     path: PathBuf,
@@ -30,6 +33,13 @@ pub struct CacheReader {
     layout: CacheLayout,
     /// Frame numbers stored, increasing.
     frames: Vec<u32>,
+    /// For each entry of `frames`: the index in `summary.chunk_indexes` of the chunk holding it.
+    frame_chunks: Vec<usize>,
+    /// The last chunk decompressed: its index in `summary.chunk_indexes` and its frame messages
+    /// (`log_time`, payload), so reading neighbouring frames decompresses it once.
+    cached_chunk: Option<(usize, Vec<ChunkMessage>)>,
+    /// Id of the frame channel (0 without frames).
+    frame_channel: u16,
     compression: String,
     buf: Vec<u8>,
 }
@@ -88,6 +98,9 @@ impl CacheReader {
             header: CacheHeader::default(),
             layout: CacheLayout::default(),
             frames: Vec::new(),
+            frame_chunks: Vec::new(),
+            cached_chunk: None,
+            frame_channel: 0,
             compression: String::new(),
             buf: Vec::new(),
         };
@@ -151,7 +164,7 @@ impl CacheReader {
     /// Reads frame number `frame` (positions in m, velocities in m/s) through the index,
     /// decompressing only the chunk that holds it.
     pub fn read_frame(&mut self, frame: u32) -> Result<Frame, CacheError> {
-        if self.frames.binary_search(&frame).is_err() {
+        let Ok(index) = self.frames.binary_search(&frame) else {
             return Err(CacheError::NoSuchFrame {
                 path: self.path.clone(),
                 frame,
@@ -165,53 +178,26 @@ impl CacheReader {
                     _ => "no frame".into(),
                 },
             });
-        }
+        };
         // Every listed frame passed `frame_at_time_ns`, so its time exists.
         let time_ns = layout::frame_time_ns(frame, self.header.fps).unwrap_or(0);
-        let Some(chunk) = self
-            .summary
-            .chunk_indexes
-            .iter()
-            .find(|c| (c.message_start_time..=c.message_end_time).contains(&time_ns))
-        else {
-            return Err(self.damaged(format!("no chunk index covers frame {frame}")));
-        };
-        read_range(
-            &self.path,
-            &mut self.file,
-            self.file_len,
-            chunk.chunk_start_offset,
-            chunk.chunk_length,
-            &mut self.buf,
-        )?;
-        let body = (self.buf.first() == Some(&op::CHUNK))
-            .then(|| self.buf.get(9..))
-            .flatten();
-        let (chunk_header, data) = match body.map(|b| mcap::parse_record(op::CHUNK, b)) {
-            Some(Ok(Record::Chunk { header, data })) => (header, data),
-            Some(Err(e)) => return Err(self.damaged(format!("chunk of frame {frame}: {e}"))),
-            _ => return Err(self.damaged(format!("the index of frame {frame} points to no chunk"))),
-        };
-        // `ChunkReader` checks the chunk's CRC once it reaches the chunk's end, so the chunk is
-        // read to its end even after the frame was found.
-        let records = mcap::read::ChunkReader::new(chunk_header, &data)
-            .map_err(|e| damaged(&self.path, format!("chunk of frame {frame}: {e}")))?;
-        let mut payload = None;
-        for record in records {
-            match record {
-                Ok(Record::Message { header, data }) if header.log_time == time_ns => {
-                    payload = Some(data);
-                }
-                Ok(_) => {}
-                Err(e) => return Err(self.damaged(format!("chunk of frame {frame}: {e}"))),
-            }
+        let chunk = self.frame_chunks[index];
+        if self.cached_chunk.as_ref().map(|c| c.0) != Some(chunk) {
+            self.cached_chunk = None;
+            let messages = self.read_chunk(chunk, frame)?;
+            self.cached_chunk = Some((chunk, messages));
         }
-        let Some(payload) = payload else {
+        let messages = self.cached_chunk.as_ref().map_or(&[][..], |c| &c.1[..]);
+        let Some(payload) = messages
+            .binary_search_by_key(&time_ns, |m| m.0)
+            .ok()
+            .map(|i| &messages[i].1)
+        else {
             return Err(self.damaged(format!(
                 "the index lists frame {frame} but its chunk does not hold it"
             )));
         };
-        let decoded = layout::decode_frame(&payload, self.layout.point_count())
+        let decoded = layout::decode_frame(payload, self.layout.point_count())
             .map_err(|e| damaged(&self.path, e))?;
         if decoded.frame != frame {
             return Err(self.damaged(format!(
@@ -220,6 +206,97 @@ impl CacheReader {
             )));
         }
         Ok(decoded)
+    }
+
+    /// Time of the first and the last stored frame, s (`None` without frames).
+    pub fn time_range(&self) -> Option<(f64, f64)> {
+        let fps = self.header.fps;
+        match (self.frames.first(), self.frames.last()) {
+            (Some(&a), Some(&b)) => {
+                Some((layout::frame_time_s(a, fps), layout::frame_time_s(b, fps)))
+            }
+            _ => None,
+        }
+    }
+
+    /// The stored frame at time `time` (s), to the nearest nanosecond, if there is one.
+    pub fn frame_at_time(&self, time: f64) -> Option<u32> {
+        let ns = time_to_ns(time)?;
+        let frame = layout::frame_at_time_ns(ns, self.header.fps)?;
+        self.frames.binary_search(&frame).is_ok().then_some(frame)
+    }
+
+    /// The stored frames around time `time` (s): `(a, b)` with `a ≤ time ≤ b`, consecutive in
+    /// the file, `a == b` when a frame is logged at `time` (to the nearest nanosecond). A time
+    /// before the first or after the last frame is a [`CacheError::TimeOutOfRange`] that names
+    /// the cached range.
+    pub fn frames_around(&self, time: f64) -> Result<(u32, u32), CacheError> {
+        if let Some(frame) = self.frame_at_time(time) {
+            return Ok((frame, frame));
+        }
+        let fps = self.header.fps;
+        let out_of_range = || CacheError::TimeOutOfRange {
+            path: self.path.clone(),
+            time,
+            range: self.range_text(),
+        };
+        let ns = time_to_ns(time).ok_or_else(out_of_range)?;
+        // Frame times increase with frame numbers, so the first frame after `time` is found by
+        // bisection over the frame list.
+        let after = self
+            .frames
+            .partition_point(|&f| layout::frame_time_ns(f, fps).is_some_and(|f_ns| f_ns <= ns));
+        if after == 0 || after == self.frames.len() {
+            return Err(out_of_range());
+        }
+        Ok((self.frames[after - 1], self.frames[after]))
+    }
+
+    /// Reads the frame logged at time `time` (s, to the nearest nanosecond) through the index.
+    /// Without a frame at that time: [`CacheError::TimeOutOfRange`] outside the cached range,
+    /// else [`CacheError::NoSuchFrame`] naming the frames around it.
+    pub fn read_frame_at_time(&mut self, time: f64) -> Result<Frame, CacheError> {
+        if let Some(frame) = self.frame_at_time(time) {
+            return self.read_frame(frame);
+        }
+        let (a, b) = self.frames_around(time)?;
+        Err(CacheError::NoSuchFrame {
+            path: self.path.clone(),
+            frame: (time * self.header.fps)
+                .round()
+                .clamp(0.0, f64::from(u32::MAX)) as u32,
+            available: format!(
+                "no frame at {time} s, only frames {a} and {b} around it (sample between them)"
+            ),
+        })
+    }
+
+    /// The cached range in words, for errors.
+    fn range_text(&self) -> String {
+        match (self.frames.first(), self.frames.last(), self.time_range()) {
+            (Some(a), Some(b), Some((t0, t1))) => {
+                format!("frames {a}–{b}, {t0} s – {t1} s")
+            }
+            _ => "no frame".into(),
+        }
+    }
+
+    /// Decompresses chunk `chunk` (index in the summary's chunk indexes), checks its CRC and
+    /// returns its frame messages (`log_time`, payload) sorted by time. `frame` is for errors.
+    fn read_chunk(&mut self, chunk: usize, frame: u32) -> Result<Vec<ChunkMessage>, CacheError> {
+        let index = &self.summary.chunk_indexes[chunk];
+        read_range(
+            &self.path,
+            &mut self.file,
+            self.file_len,
+            index.chunk_start_offset,
+            index.chunk_length,
+            &mut self.buf,
+        )?;
+        let mut messages = chunk_messages(&self.buf, Some(self.frame_channel))
+            .map_err(|e| damaged(&self.path, format!("chunk of frame {frame}: {e}")))?;
+        messages.sort_by_key(|m| m.0);
+        Ok(messages)
     }
 
     fn damaged(&self, detail: String) -> CacheError {
@@ -310,8 +387,10 @@ impl CacheReader {
                 layout::FRAME_MESSAGE_ENCODING
             )));
         }
+        self.frame_channel = channel.id;
+        // (log_time, chunk) of every frame message, from the chunks' message indexes.
         let mut times = Vec::new();
-        for chunk in &self.summary.chunk_indexes {
+        for (chunk_number, chunk) in self.summary.chunk_indexes.iter().enumerate() {
             if !chunk.message_index_offsets.contains_key(&channel.id) {
                 continue;
             }
@@ -330,7 +409,7 @@ impl CacheReader {
             for record in mcap::read::LinearReader::sans_magic(&self.buf) {
                 match record.map_err(|e| damaged(&self.path, e.to_string()))? {
                     Record::MessageIndex(index) if index.channel_id == channel.id => {
-                        times.extend(index.records.iter().map(|r| r.log_time));
+                        times.extend(index.records.iter().map(|r| (r.log_time, chunk_number)));
                     }
                     Record::MessageIndex(_) => {}
                     _ => {
@@ -345,21 +424,24 @@ impl CacheReader {
         let fps = self.header.fps;
         let mut frames = times
             .into_iter()
-            .map(|ns| {
-                layout::frame_at_time_ns(ns, fps).ok_or_else(|| {
+            .map(|(ns, chunk)| {
+                let frame = layout::frame_at_time_ns(ns, fps).ok_or_else(|| {
                     damaged(
                         &self.path,
                         format!(
                             "a frame is logged at {ns} ns, which is no frame time at {fps} fps"
                         ),
                     )
-                })
+                })?;
+                Ok((frame, chunk))
             })
-            .collect::<Result<Vec<u32>, _>>()?;
+            .collect::<Result<Vec<(u32, usize)>, CacheError>>()?;
         frames.sort_unstable();
-        if let Some(w) = frames.windows(2).find(|w| w[0] == w[1]) {
-            return Err(self.damaged(format!("frame {} is stored twice", w[0])));
+        if let Some(w) = frames.windows(2).find(|w| w[0].0 == w[1].0) {
+            return Err(self.damaged(format!("frame {} is stored twice", w[0].0)));
         }
+        self.frame_chunks = frames.iter().map(|f| f.1).collect();
+        let frames: Vec<u32> = frames.into_iter().map(|f| f.0).collect();
         self.frames = frames;
         self.check_message_count(self.frames.len())
     }
@@ -441,7 +523,7 @@ fn read_summary(path: &Path, file: &mut File, file_len: u64) -> Result<mcap::Sum
 }
 
 /// The data of an attachment record body (header, `u64` length, data, `u32` CRC), CRC checked.
-fn attachment_data(body: &[u8]) -> Result<&[u8], String> {
+pub(crate) fn attachment_data(body: &[u8]) -> Result<&[u8], String> {
     // Check the structure first: `mcap::parse_record` slices the body without bounds checks.
     let mut r = LeReader::new(body);
     r.u64()?; // log time
@@ -459,6 +541,42 @@ fn attachment_data(body: &[u8]) -> Result<&[u8], String> {
         Ok(_) => Err("the attachment index points to another record".into()),
         Err(e) => Err(format!("layout attachment: {e}")),
     }
+}
+
+/// Seconds to nanoseconds, rounded; `None` for negative, non-finite or too large times.
+fn time_to_ns(time: f64) -> Option<u64> {
+    let ns = (time * 1e9).round();
+    (ns.is_finite() && ns >= 0.0 && ns <= layout::MAX_TIME_NS as f64).then_some(ns as u64)
+}
+
+/// The messages (`log_time`, payload) of a whole chunk record (`record`: opcode, length and
+/// body), decompressed and CRC-checked; only those of channel `channel` if it is given.
+pub(crate) fn chunk_messages(
+    record: &[u8],
+    channel: Option<u16>,
+) -> Result<Vec<ChunkMessage>, String> {
+    let body = (record.first() == Some(&op::CHUNK))
+        .then(|| record.get(9..))
+        .flatten()
+        .ok_or("the index points to no chunk")?;
+    let (chunk_header, data) = match mcap::parse_record(op::CHUNK, body) {
+        Ok(Record::Chunk { header, data }) => (header, data),
+        Ok(_) => return Err("the index points to no chunk".into()),
+        Err(e) => return Err(e.to_string()),
+    };
+    // `ChunkReader` checks the chunk's CRC once it reaches the chunk's end, so the chunk is
+    // always read to its end.
+    let records = mcap::read::ChunkReader::new(chunk_header, &data).map_err(|e| e.to_string())?;
+    let mut messages = Vec::new();
+    for record in records {
+        match record.map_err(|e| e.to_string())? {
+            Record::Message { header, data } if channel.is_none_or(|c| c == header.channel_id) => {
+                messages.push((header.log_time, data.into_owned()));
+            }
+            _ => {}
+        }
+    }
+    Ok(messages)
 }
 
 /// Reads `length` bytes at `offset` of `file` into `buf`, after checking they lie in the file.
@@ -501,7 +619,7 @@ fn read_up_to(file: &mut File, buf: &mut [u8]) -> std::io::Result<usize> {
     Ok(filled)
 }
 
-fn damaged(path: &Path, detail: String) -> CacheError {
+pub(crate) fn damaged(path: &Path, detail: String) -> CacheError {
     CacheError::Damaged {
         path: path.to_path_buf(),
         detail,

@@ -1,0 +1,324 @@
+//! Recovering the frames of a cache whose writer was killed (or dropped) before finishing.
+//!
+//! Such a file (normally `<path>.partial`) has no summary section, so [`recover`] walks its
+//! records from the start: the header, the `hairsys` metadata, the layout attachment, then the
+//! chunks. Every chunk whose record is complete and whose CRC checks is a self-contained set of
+//! frames (see [`crate::writer`]): its frames are returned. The walk stops at the first record
+//! that runs past the end of the file (the chunk the writer had open, or a cut file); a complete
+//! chunk that fails its checks is skipped. What was lost is described by [`Recovery::warning`].
+//! A finished cache is recovered too (its summary is not needed).
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use mcap::records::{op, Record};
+
+use crate::error::CacheError;
+use crate::layout::{self, CacheHeader, CacheLayout, Frame, MetadataError};
+use crate::reader::{attachment_data, damaged};
+use crate::summary::CacheSummary;
+use crate::writer::{CacheWriter, WriterOptions};
+
+/// The frames recovered from a cache file, and what was lost.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Recovery {
+    /// The file read.
+    pub path: PathBuf,
+    /// The run's settings, from the metadata record.
+    pub header: CacheHeader,
+    /// The strand layout, from the layout attachment.
+    pub layout: CacheLayout,
+    /// Every frame of every complete chunk, in file order (increasing frame numbers).
+    pub frames: Vec<Frame>,
+    /// What was lost; `None` when every chunk of the file was complete (only the summary was
+    /// missing, or the file was finished).
+    pub warning: Option<RecoveryWarning>,
+}
+
+/// What [`recover`] could not read.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RecoveryWarning {
+    /// Frames recovered, in words (`"frames 1–37"`, `"no frame"`).
+    pub recovered: String,
+    /// The last frame recovered, if any.
+    pub last_frame: Option<u32>,
+    /// Each loss, in words, in file order.
+    pub losses: Vec<String>,
+    /// Bytes of the file that held no recovered record (incomplete or damaged records).
+    pub lost_bytes: u64,
+}
+
+impl fmt::Display for RecoveryWarning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} recovered; {}",
+            self.recovered,
+            self.losses.join("; ")
+        )
+    }
+}
+
+impl Recovery {
+    /// Frame numbers recovered, increasing.
+    pub fn frame_numbers(&self) -> Vec<u32> {
+        self.frames.iter().map(|f| f.frame).collect()
+    }
+
+    /// Writes the recovered frames into a new, finished cache at `path` (through
+    /// `<path>.partial`, like any run) and returns its summary.
+    pub fn write(
+        &self,
+        path: impl AsRef<Path>,
+        options: WriterOptions,
+    ) -> Result<CacheSummary, CacheError> {
+        let mut writer = CacheWriter::create(path, &self.header, &self.layout, options)?;
+        for frame in &self.frames {
+            writer.write_frame(frame.frame, &frame.positions, &frame.velocities)?;
+        }
+        writer.finish()
+    }
+}
+
+/// Reads every frame of the complete chunks of the cache file at `path` (a `.partial` file
+/// left by a killed or dropped writer, or any cache). Fails, naming the file, if it cannot be
+/// read, is not MCAP, or ends before its metadata and layout attachment are complete (then no
+/// frame can be interpreted).
+pub fn recover(path: impl AsRef<Path>) -> Result<Recovery, CacheError> {
+    let path = path.as_ref().to_path_buf();
+    let bytes = std::fs::read(&path).map_err(|source| CacheError::Io {
+        path: path.clone(),
+        action: "read",
+        source,
+    })?;
+    if bytes.len() < mcap::MAGIC.len() || bytes[..mcap::MAGIC.len()] != *mcap::MAGIC {
+        return Err(CacheError::NotMcap {
+            path,
+            detail: if bytes.len() < mcap::MAGIC.len() {
+                format!("it has only {} bytes", bytes.len())
+            } else {
+                "it does not start with the MCAP magic bytes".into()
+            },
+        });
+    }
+    let file_len = bytes.len() as u64;
+    let mut header: Option<CacheHeader> = None;
+    let mut counts = None;
+    let mut cache_layout: Option<CacheLayout> = None;
+    let mut frame_channel: Option<u16> = None;
+    let mut frames: Vec<Frame> = Vec::new();
+    let mut losses = Vec::new();
+    let mut lost_bytes = 0u64;
+    let mut pos = mcap::MAGIC.len();
+    let after = |frames: &[Frame]| match frames.last() {
+        Some(f) => format!("after frame {}", f.frame),
+        None => "before the first frame".to_string(),
+    };
+    let incomplete_start = |detail: String| CacheError::Incomplete {
+        path: path.clone(),
+        detail: format!("{detail}, so none of its frames can be read"),
+    };
+    while pos < bytes.len() {
+        let rest = &bytes[pos..];
+        let record_len = (rest.len() >= 9)
+            .then(|| u64::from_le_bytes(rest[1..9].try_into().unwrap_or([0; 8])))
+            .and_then(|len| usize::try_from(len).ok())
+            .filter(|&len| len <= rest.len() - 9);
+        let Some(len) = record_len else {
+            // The record runs past the end of the file.
+            if cache_layout.is_none() {
+                return Err(incomplete_start(format!(
+                    "it ends inside its header, metadata or layout attachment (at byte \
+                     {file_len})"
+                )));
+            }
+            let what = if rest[0] == op::CHUNK {
+                "chunk"
+            } else {
+                "record"
+            };
+            losses.push(format!(
+                "the {what} {} was incomplete ({} bytes) and is lost",
+                after(&frames),
+                rest.len()
+            ));
+            lost_bytes += rest.len() as u64;
+            break;
+        };
+        let opcode = rest[0];
+        let body = &rest[9..9 + len];
+        pos += 9 + len;
+        match opcode {
+            op::METADATA => {
+                if let Ok(Record::Metadata(m)) = mcap::parse_record(op::METADATA, body) {
+                    if m.name == layout::METADATA_NAME {
+                        let (h, c) =
+                            layout::header_from_metadata(&m.metadata).map_err(|e| match e {
+                                MetadataError::Version(found) => CacheError::Version {
+                                    path: path.clone(),
+                                    found,
+                                    supported: layout::FORMAT_VERSION,
+                                },
+                                MetadataError::Key(detail) => damaged(&path, detail),
+                            })?;
+                        header = Some(h);
+                        counts = Some(c);
+                    }
+                }
+            }
+            op::ATTACHMENT => {
+                let Ok(Record::Attachment { header: a, .. }) =
+                    mcap::parse_record(op::ATTACHMENT, body)
+                else {
+                    continue;
+                };
+                if a.name == layout::LAYOUT_ATTACHMENT_NAME {
+                    let data = attachment_data(body).map_err(|e| damaged(&path, e))?;
+                    let l = CacheLayout::decode(data)
+                        .map_err(|e| damaged(&path, format!("strand layout: {e}")))?;
+                    cache_layout = Some(l);
+                }
+            }
+            op::CHUNK => {
+                let (Some(h), Some(l)) = (&header, &cache_layout) else {
+                    return Err(CacheError::NotHairsys {
+                        path,
+                        detail: "it has no `hairsys` metadata record and `hairsys/layout.bin` \
+                                 attachment before its first chunk"
+                            .into(),
+                    });
+                };
+                match chunk_frames(body, h.fps, l.point_count(), &mut frame_channel) {
+                    Ok(chunk) => {
+                        if let (Some(last), Some(first)) = (frames.last(), chunk.first()) {
+                            if first.frame <= last.frame {
+                                losses.push(format!(
+                                    "a chunk {} holds frame {} out of order and was skipped",
+                                    after(&frames),
+                                    first.frame
+                                ));
+                                lost_bytes += 9 + len as u64;
+                                continue;
+                            }
+                        }
+                        frames.extend(chunk);
+                    }
+                    Err(e) => {
+                        losses.push(format!(
+                            "the chunk {} is damaged ({e}, {} bytes) and is lost",
+                            after(&frames),
+                            9 + len
+                        ));
+                        lost_bytes += 9 + len as u64;
+                    }
+                }
+            }
+            // The summary follows; every chunk has been seen.
+            op::DATA_END | op::FOOTER => break,
+            _ => {}
+        }
+    }
+    let (Some(header), Some(cache_layout)) = (header, cache_layout) else {
+        return Err(if pos >= bytes.len() {
+            incomplete_start(format!(
+                "it ends (at byte {file_len}) before its metadata and layout attachment"
+            ))
+        } else {
+            CacheError::NotHairsys {
+                path,
+                detail: "it has no `hairsys` metadata record or `hairsys/layout.bin` attachment"
+                    .into(),
+            }
+        });
+    };
+    if let Some(c) = counts {
+        if (c.strands, c.points) != (cache_layout.strand_count(), cache_layout.point_count()) {
+            return Err(damaged(
+                &path,
+                format!(
+                    "the metadata declares {} strands and {} points, the layout {} and {}",
+                    c.strands,
+                    c.points,
+                    cache_layout.strand_count(),
+                    cache_layout.point_count()
+                ),
+            ));
+        }
+    }
+    let warning = (!losses.is_empty()).then(|| RecoveryWarning {
+        recovered: frames_text(&frames),
+        last_frame: frames.last().map(|f| f.frame),
+        losses,
+        lost_bytes,
+    });
+    Ok(Recovery {
+        path,
+        header,
+        layout: cache_layout,
+        frames,
+        warning,
+    })
+}
+
+/// The frames of one chunk record body, CRC-checked and decoded; `channel` is the frame
+/// channel's id once a chunk has declared it.
+fn chunk_frames(
+    body: &[u8],
+    fps: f64,
+    points: usize,
+    channel: &mut Option<u16>,
+) -> Result<Vec<Frame>, String> {
+    let (chunk_header, data) = match mcap::parse_record(op::CHUNK, body) {
+        Ok(Record::Chunk { header, data }) => (header, data),
+        Ok(_) => return Err("not a chunk".into()),
+        Err(e) => return Err(e.to_string()),
+    };
+    let records = mcap::read::ChunkReader::new(chunk_header, &data).map_err(|e| e.to_string())?;
+    // Nothing is kept unless the whole chunk (and its CRC, checked at its end) reads.
+    let mut chunk_channel = *channel;
+    let mut frames = Vec::new();
+    for record in records {
+        match record.map_err(|e| e.to_string())? {
+            Record::Channel(c) if c.topic == layout::FRAME_TOPIC => chunk_channel = Some(c.id),
+            Record::Message { header, data } if Some(header.channel_id) == chunk_channel => {
+                let frame = layout::decode_frame(&data, points)?;
+                if layout::frame_time_ns(frame.frame, fps) != Some(header.log_time) {
+                    return Err(format!(
+                        "frame {} is logged at {} ns, not at its time",
+                        frame.frame, header.log_time
+                    ));
+                }
+                if frames
+                    .last()
+                    .is_some_and(|f: &Frame| f.frame >= frame.frame)
+                {
+                    return Err(format!("frame {} is out of order", frame.frame));
+                }
+                frames.push(frame);
+            }
+            _ => {}
+        }
+    }
+    *channel = chunk_channel;
+    Ok(frames)
+}
+
+/// Frames in words: "frames 1–37", "3 frames between 1 and 9", "no frame".
+fn frames_text(frames: &[Frame]) -> String {
+    match (frames.first(), frames.last()) {
+        (Some(a), Some(b)) if frames.len() as u64 == u64::from(b.frame - a.frame) + 1 => {
+            if a.frame == b.frame {
+                format!("frame {}", a.frame)
+            } else {
+                format!("frames {}–{}", a.frame, b.frame)
+            }
+        }
+        (Some(a), Some(b)) => format!(
+            "{} frames between {} and {}",
+            frames.len(),
+            a.frame,
+            b.frame
+        ),
+        _ => "no frame".into(),
+    }
+}
