@@ -41,6 +41,7 @@ fn write_cache(path: &Path, frames: u32, compression: Compression, chunk_size: u
     let options = WriterOptions {
         compression,
         chunk_size,
+        foxglove: None,
     };
     let mut writer = CacheWriter::create(path, &header, &layout, options).unwrap();
     let n = layout.point_count();

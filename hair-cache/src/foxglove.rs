@@ -9,7 +9,7 @@
 //! the cache's frame `world` (meters, Z up).
 
 use nalgebra::Vector3;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::layout::CacheLayout;
 
@@ -21,7 +21,7 @@ pub const SCENE_UPDATE_SCHEMA_NAME: &str = "foxglove.SceneUpdate";
 pub const SCENE_UPDATE_SCHEMA: &str = include_str!("../schemas/foxglove/SceneUpdate.json");
 
 /// What the view shows.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct FoxgloveOptions {
     /// Largest number of strands drawn per frame (evenly spaced through the set).
     pub max_strands: usize,

@@ -446,14 +446,27 @@ impl CacheReader {
         self.check_message_count(self.frames.len())
     }
 
-    /// Checks the statistics record's message count against the frames listed.
+    /// Checks the statistics record's message count on the frame channel (all messages when
+    /// there is no frame channel) against the frames listed.
     fn check_message_count(&self, frames: usize) -> Result<(), CacheError> {
-        match &self.summary.stats {
-            Some(stats) if stats.message_count != frames as u64 => Err(self.damaged(format!(
-                "its statistics count {} messages but the indexes list {frames} frames",
-                stats.message_count
-            ))),
-            _ => Ok(()),
+        let Some(stats) = &self.summary.stats else {
+            return Ok(());
+        };
+        let counted = if self.frame_channel == 0 {
+            stats.message_count
+        } else {
+            stats
+                .channel_message_counts
+                .get(&self.frame_channel)
+                .copied()
+                .unwrap_or(0)
+        };
+        if counted == frames as u64 {
+            Ok(())
+        } else {
+            Err(self.damaged(format!(
+                "its statistics count {counted} frame messages but the indexes list {frames} frames"
+            )))
         }
     }
 

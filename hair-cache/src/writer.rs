@@ -25,6 +25,7 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::error::CacheError;
+use crate::foxglove::{self, FoxgloveOptions};
 use crate::layout::{self, CacheHeader, CacheLayout};
 use crate::summary::{CacheSummary, SummaryInput};
 
@@ -84,6 +85,8 @@ pub struct WriterOptions {
     /// overhead (about 170 bytes) stays under 0.3 %. Larger chunks lose more frames when a run is
     /// killed and make reading one frame decompress its neighbours.
     pub chunk_size: u64,
+    /// Also write the Foxglove view channel ([`crate::foxglove`]), if given.
+    pub foxglove: Option<FoxgloveOptions>,
 }
 
 impl WriterOptions {
@@ -96,6 +99,7 @@ impl Default for WriterOptions {
         Self {
             compression: Compression::default(),
             chunk_size: Self::DEFAULT_CHUNK_SIZE,
+            foxglove: None,
         }
     }
 }
@@ -122,6 +126,8 @@ pub struct CacheWriter {
     path: PathBuf,
     partial: PathBuf,
     channel: Arc<mcap::Channel<'static>>,
+    /// The Foxglove view channel, when enabled.
+    view: Option<Arc<mcap::Channel<'static>>>,
     options: WriterOptions,
     layout: CacheLayout,
     fps: f64,
@@ -204,11 +210,26 @@ impl CacheWriter {
             message_encoding: layout::FRAME_MESSAGE_ENCODING.into(),
             metadata: Default::default(),
         };
+        let view = options.foxglove.map(|_| {
+            Arc::new(mcap::Channel {
+                id: 2,
+                topic: foxglove::SCENE_TOPIC.into(),
+                schema: Some(Arc::new(mcap::Schema {
+                    id: 2,
+                    name: foxglove::SCENE_UPDATE_SCHEMA_NAME.into(),
+                    encoding: "jsonschema".into(),
+                    data: Cow::Borrowed(foxglove::SCENE_UPDATE_SCHEMA.as_bytes()),
+                })),
+                message_encoding: "json".into(),
+                metadata: Default::default(),
+            })
+        });
         Ok(Self {
             mcap: Some(mcap),
             path,
             partial,
             channel: Arc::new(channel),
+            view,
             options,
             layout: layout.clone(),
             fps: header.fps,
@@ -306,8 +327,20 @@ impl CacheWriter {
             data: Cow::Borrowed(&self.payload),
         })
         .map_err(write_err)?;
-        self.frames.push(frame);
         self.open_chunk_bytes += self.payload.len() as u64;
+        if let (Some(view), Some(opts)) = (&self.view, &self.options.foxglove) {
+            let json = foxglove::scene_update(&self.layout, positions, time_ns, opts);
+            mcap.write(&mcap::Message {
+                channel: view.clone(),
+                sequence: frame,
+                log_time: time_ns,
+                publish_time: time_ns,
+                data: Cow::Borrowed(&json),
+            })
+            .map_err(write_err)?;
+            self.open_chunk_bytes += json.len() as u64;
+        }
+        self.frames.push(frame);
         if self.open_chunk_bytes >= self.options.chunk_size {
             mcap.flush().map_err(write_err)?;
             self.open_chunk_bytes = 0;

@@ -87,6 +87,7 @@ fn a_flipped_byte_in_a_frame_is_detected() {
         let options = WriterOptions {
             compression,
             chunk_size: 0,
+            foxglove: None,
         };
         finished_cache(&path, options);
         let mut bytes = fs::read(&path).unwrap();

@@ -57,6 +57,7 @@ fn python_mcap_reads_every_compression_and_chunking() {
             let options = WriterOptions {
                 compression,
                 chunk_size,
+                foxglove: None,
             };
             let mut writer = CacheWriter::create(&path, &header(), &layout, options).unwrap();
             for f in 1..=frames {

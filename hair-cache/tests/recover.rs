@@ -63,6 +63,7 @@ fn truncated_partial_files_give_back_exactly_their_complete_chunks() {
         let options = WriterOptions {
             compression,
             chunk_size: 1500, // about four frames per chunk
+            foxglove: None,
         };
         let run = dir.path().join(format!("run-{compression}.mcap"));
         let partial = dropped_run(&run, options);
@@ -181,6 +182,7 @@ fn a_file_cut_inside_its_header_or_metadata_is_a_clear_error() {
         WriterOptions {
             compression: Compression::None,
             chunk_size: 1500,
+            foxglove: None,
         },
     );
     let finished_len = 8 + 9; // magic and the header record's opcode and length
@@ -212,6 +214,7 @@ fn a_damaged_chunk_is_skipped_and_named() {
     let options = WriterOptions {
         compression: Compression::None,
         chunk_size: 1500,
+        foxglove: None,
     };
     let mut partial = dropped_run(&run, options);
     let done = dir.path().join("done.mcap");
@@ -247,6 +250,7 @@ fn a_killed_writer_leaves_its_closed_chunks() {
     let options = WriterOptions {
         compression: Compression::Lz4,
         chunk_size: 1500,
+        foxglove: None,
     };
     let mut writer = CacheWriter::create(&run, &header(), &layout, options).unwrap();
     for f in 1..=22 {

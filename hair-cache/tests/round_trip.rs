@@ -32,6 +32,7 @@ fn layout_and_three_frames_round_trip_bit_exactly() {
             let options = WriterOptions {
                 compression,
                 chunk_size,
+                foxglove: None,
             };
             let summary = write(&path, options, &[1, 2, 4]);
             assert_eq!(summary.frames, 3);

@@ -43,6 +43,7 @@ fn polynomial_cache(path: &Path, cubic: bool, compression: Compression) {
     let options = WriterOptions {
         compression,
         chunk_size: 1000, // several chunks, so sampling crosses chunk boundaries
+        foxglove: None,
     };
     let mut writer = CacheWriter::create(path, &header(), &layout, options).unwrap();
     for f in 1..=5u32 {
@@ -236,6 +237,7 @@ fn random_reads_in_any_order_match_frame_by_frame() {
     let options = WriterOptions {
         compression: Compression::Lz4,
         chunk_size: 2000,
+        foxglove: None,
     };
     let mut writer = CacheWriter::create(&path, &header(), &layout, options).unwrap();
     for f in 1..=60 {
