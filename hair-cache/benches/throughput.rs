@@ -26,8 +26,11 @@ fn layout() -> CacheLayout {
     }
 }
 
+/// Positions (m) and velocities (m/s) of one frame.
+type FrameData = (Vec<Vector3<f32>>, Vec<Vector3<f32>>);
+
 /// Positions and velocities of frame `f`: strands hanging and swinging.
-fn frame(f: u32) -> (Vec<Vector3<f32>>, Vec<Vector3<f32>>) {
+fn frame(f: u32) -> FrameData {
     let t = f as f32 / 24.0;
     let mut x = Vec::with_capacity((STRANDS * POINTS_PER_STRAND) as usize);
     let mut v = Vec::with_capacity(x.capacity());
@@ -56,7 +59,7 @@ fn header() -> CacheHeader {
     }
 }
 
-fn write(path: &Path, compression: Compression, frames: &[(Vec<Vector3<f32>>, Vec<Vector3<f32>>)]) {
+fn write(path: &Path, compression: Compression, frames: &[FrameData]) {
     let options = WriterOptions {
         compression,
         ..WriterOptions::default()
