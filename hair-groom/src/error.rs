@@ -4,6 +4,7 @@
 //! `[hair]`, the sampling region) and says how to fix it, because a host shows it to an artist as
 //! it is.
 
+use std::fmt;
 use std::path::PathBuf;
 
 use hair_core::HairError;
@@ -60,9 +61,110 @@ pub enum GroomError {
         /// The region, printed.
         region: String,
     },
+    /// A groom file (`.hair`, `.tfx`, OBJ curves, `.usda`) is malformed: wrong magic, truncated,
+    /// counts that disagree with its size, a non-finite coordinate, a curve with fewer than 2
+    /// points. `at` is the byte offset (binary formats) or line (text formats) of the fault.
+    #[error("{}{at}: {message}", .path.display())]
+    BadFile {
+        /// The file being read.
+        path: PathBuf,
+        /// Where in the file.
+        at: FileLocation,
+        /// What is wrong and how to fix it.
+        message: String,
+    },
+    /// A groom file could not be written.
+    #[error("cannot write {}: {source}; check that the directory exists and is writable", .path.display())]
+    Write {
+        /// The file being written.
+        path: PathBuf,
+        /// The operating system's reason.
+        source: std::io::Error,
+    },
+    /// A curve of an in-memory groom is unusable (fewer than 2 points, non-finite point, too
+    /// many points for the target format).
+    #[error("curve {curve}: {message}")]
+    Curve {
+        /// Index of the curve in its groom.
+        curve: usize,
+        /// What is wrong and how to fix it.
+        message: String,
+    },
+    /// Guide roots lie farther from the scalp than the snap threshold.
+    #[error(
+        "{} guide root(s) lie farther than {max_distance} m from the scalp: {}; check the \
+         import `scale` and `up_axis`, that the groom belongs to this scalp, or raise \
+         `max_snap_distance`",
+        .far.len(),
+        list_far(.far)
+    )]
+    RootsTooFar {
+        /// The refused strands with their distances.
+        far: Vec<FarRoot>,
+        /// The threshold, m.
+        max_distance: f32,
+    },
+    /// Interpolation was asked for with no enabled guide.
+    #[error("no guide is enabled: enable at least one guide to interpolate simulation hairs from")]
+    NoEnabledGuides,
+    /// A simulation hair's root lies on a piece of the mesh that no enabled guide is rooted on.
+    #[error(
+        "simulation hair {hair}: its root lies on a piece of the scalp mesh that no enabled guide \
+         is rooted on (the mesh is in separate pieces); add or enable a guide there, or use the \
+         Euclidean distance"
+    )]
+    NoGuideReachable {
+        /// Index of the simulation hair (its root in the list of roots).
+        hair: usize,
+    },
     /// An option or parameter is out of range, or `hair-core` refused the data built from it.
     #[error(transparent)]
     Core(#[from] HairError),
+}
+
+/// Where in a file a fault lies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FileLocation {
+    /// The file as a whole (e.g. its size).
+    File,
+    /// A byte offset from the start of a binary file.
+    Byte(u64),
+    /// A 1-based line of a text file.
+    Line(usize),
+}
+
+impl fmt::Display for FileLocation {
+    /// Empty, ` at byte N` or ` line N`, appended to the file name.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            FileLocation::File => Ok(()),
+            FileLocation::Byte(b) => write!(f, " at byte {b}"),
+            FileLocation::Line(l) => write!(f, " line {l}"),
+        }
+    }
+}
+
+/// A guide root refused by snapping: its strand and its distance to the scalp.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FarRoot {
+    /// Index of the strand in the groom.
+    pub strand: usize,
+    /// Distance from the root to the nearest scalp point, m.
+    pub distance: f32,
+}
+
+/// The first ten far roots as `strand 3 (0.025 m), …`.
+fn list_far(far: &[FarRoot]) -> String {
+    let mut s = far
+        .iter()
+        .take(10)
+        .map(|r| format!("strand {} ({:.4} m)", r.strand, r.distance))
+        .collect::<Vec<_>>()
+        .join(", ");
+    if far.len() > 10 {
+        s.push_str(&format!(" and {} more", far.len() - 10));
+    }
+    s
 }
 
 /// A parameter error naming `name` (the scene-file key), the offending value and the fix.

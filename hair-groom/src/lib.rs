@@ -1,11 +1,23 @@
 //! # hair-groom
 //!
-//! The guide level of hairsys: the scalp meshes hair grows from ([`load_obj`], [`builtin_head`],
-//! [`uv_sphere`]), seeded area-weighted root sampling on them ([`sample_area_weighted`]) and
-//! generated straight hair ([`generate()`]) handed to `hair-core` as [`hair_core::StrandInput`]s.
+//! The guide level of hairsys (seed 001, "Hair Levels"): the scalp meshes hair grows from
+//! ([`load_obj`], [`builtin_head`], [`uv_sphere`]), seeded points on them ([`sample_area_weighted`],
+//! [`sample_poisson_disk`] with an optional density from vertex weights), generated straight hair
+//! handed to `hair-core` directly ([`generate()`]), and the guide workflow:
+//!
+//! 1. a [`Groom`] (world-space curves, m, Z up) read from a file ([`read_groom`]: Cem Yuksel
+//!    `.hair`, TressFX `.tfx`, OBJ polylines, USD `BasisCurves` `.usda`, with [`ImportOptions`]
+//!    for unit scale and up axis) and summarised by [`groom_info`];
+//! 2. [`Guide`]s — a root [`hair_core::MeshSample`] and a rest shape in the root frame — from
+//!    [`snap_to_scalp`] (roots moved to the nearest scalp point, distances reported, far roots
+//!    refused) or [`generate_guides`] (along the normal or combed, straight or curled), edited by
+//!    the operators of [`ops`] and written back with [`guides_to_groom`] and [`write_groom`];
+//! 3. simulation hairs whose rest shapes are interpolated from the nearest enabled guides
+//!    ([`interpolate()`]), and guides as strands ([`Guide::to_strand_input`]).
+//!
 //! Units are SI (m, kg), Z up; every random choice takes an explicit seed and gives bit-identical
 //! results for it. No file I/O happens outside [`formats`], no terminal I/O anywhere; errors are
-//! [`GroomError`]s that name the file or option at fault and the fix.
+//! [`GroomError`]s that name the file (and byte offset or line) or option at fault and the fix.
 //!
 //! ```
 //! use hair_core::StrandSet;
@@ -35,12 +47,27 @@
 pub mod error;
 pub mod formats;
 pub mod generate;
+pub mod groom;
+pub mod guides;
+pub mod interpolate;
+pub mod ops;
 mod rng;
 pub mod sampling;
 pub mod shapes;
+pub mod snap;
+mod surface_distance;
 
-pub use error::GroomError;
+pub use error::{FarRoot, FileLocation, GroomError};
+pub use formats::hair::{read_hair, write_hair};
 pub use formats::obj::{load_obj, ObjOptions, UpAxis};
+pub use formats::obj_curves::{read_obj_curves, write_obj_curves};
+pub use formats::tfx::{read_tfx, write_tfx};
+pub use formats::usd::{read_usda, write_usda};
+pub use formats::{read_groom, write_groom, GroomFormat, ImportOptions};
 pub use generate::{generate, GenerateOptions};
-pub use sampling::{sample_area_weighted, Region};
+pub use groom::{groom_info, Groom, GroomInfo};
+pub use guides::{generate_guides, Curl, GrowDirection, GuideOptions};
+pub use interpolate::{interpolate, Distance, GuideWeight, InterpolateOptions, SimHair};
+pub use sampling::{sample_area_weighted, sample_poisson_disk, Region};
 pub use shapes::{builtin_head, uv_sphere};
+pub use snap::{guides_to_groom, snap_to_scalp, Guide, SnapOptions, Snapped};

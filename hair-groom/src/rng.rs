@@ -16,6 +16,8 @@ pub(crate) enum Purpose {
     Roots,
     /// Per-strand length variation ([`crate::generate()`]).
     Lengths,
+    /// Poisson-disk candidates and their density tests ([`crate::sampling`]).
+    Poisson,
 }
 
 /// The generator for `purpose` under the user's `seed`.
@@ -25,6 +27,7 @@ pub(crate) fn stream(seed: u64, purpose: Purpose) -> Pcg64 {
     let tag = match purpose {
         Purpose::Roots => 0,
         Purpose::Lengths => 0x6c65_6e67_7468_7321, // "lengths!"
+        Purpose::Poisson => 0x706f_6973_736f_6e21, // "poisson!"
     };
     Pcg64::seed_from_u64(seed ^ tag)
 }

@@ -1,5 +1,6 @@
-//! Seeded, area-weighted random points on a mesh surface ([`MeshSample`]s), the roots of
-//! generated hair.
+//! Seeded points on a mesh surface ([`MeshSample`]s, seed 001 "Mesh Point Sampling"), the roots of
+//! generated hair and of simulation hairs: area-weighted random ([`sample_area_weighted`]) and
+//! Poisson-disk ([`sample_poisson_disk`], optionally with a density from vertex weights).
 //!
 //! A triangle is picked with probability proportional to its area (binary search in the
 //! cumulative areas), then a point uniform within it by the square-root trick: with `r1`, `r2`
@@ -8,10 +9,13 @@
 //! random numbers come from a seeded PCG64 stream built from raw integer output, so a seed gives
 //! bit-identical samples on every run and platform.
 
+use std::collections::HashMap;
 use std::fmt;
 
 use hair_core::{MeshSample, TriMesh};
 use nalgebra::Vector3;
+
+use rand_pcg::Pcg64;
 
 use crate::error::{parameter, GroomError};
 use crate::rng::{self, Purpose};
@@ -102,45 +106,176 @@ pub fn sample_area_weighted(
     seed: u64,
     region: &Region,
 ) -> Result<Vec<MeshSample>, GroomError> {
-    region.validate()?;
-    // Cumulative areas, m²; triangles outside the region add nothing, so the search never lands
-    // on them.
-    let mut cumulative = Vec::with_capacity(mesh.triangles().len());
-    let mut total = 0.0f64;
-    let mut last_inside = None;
-    for t in 0..mesh.triangles().len() {
-        let [a, b, c] = mesh.corners(t).map(|p| p.cast::<f64>());
-        let face = (b - a).cross(&(c - a));
-        if region.contains(&face) {
-            total += 0.5 * face.norm();
-            last_inside = Some(t);
-        }
-        cumulative.push(total);
-    }
-    let Some(last_inside) = last_inside.filter(|_| total > 0.0) else {
-        return Err(GroomError::EmptyRegion {
-            region: region.to_string(),
-        });
-    };
-
+    let table = AreaTable::new(mesh, region)?;
     let mut rng = rng::stream(seed, Purpose::Roots);
-    let samples = (0..count)
-        .map(|_| {
-            let target = rng::unit_f64(&mut rng) * total;
-            // First triangle whose cumulative area exceeds the target; rounding can push the
-            // target to the total, which belongs to the last triangle of the region.
-            let t = cumulative
-                .partition_point(|&c| c <= target)
-                .min(last_inside);
-            let s = rng::unit_f32(&mut rng).sqrt();
-            let r2 = rng::unit_f32(&mut rng);
-            MeshSample {
-                triangle: t as u32,
-                weights: [1.0 - s, s * (1.0 - r2), s * r2],
+    Ok((0..count).map(|_| table.draw(&mut rng)).collect())
+}
+
+/// Cumulative triangle areas of a region, to draw area-weighted points from.
+struct AreaTable {
+    /// Cumulative areas, m²; triangles outside the region add nothing, so the search never
+    /// lands on them.
+    cumulative: Vec<f64>,
+    /// Area of the region, m².
+    total: f64,
+    /// Last triangle of the region.
+    last_inside: usize,
+}
+
+impl AreaTable {
+    /// The table of `region` on `mesh`; errors if the region is malformed or holds no area.
+    fn new(mesh: &TriMesh, region: &Region) -> Result<Self, GroomError> {
+        region.validate()?;
+        let mut cumulative = Vec::with_capacity(mesh.triangles().len());
+        let mut total = 0.0f64;
+        let mut last_inside = None;
+        for t in 0..mesh.triangles().len() {
+            let [a, b, c] = mesh.corners(t).map(|p| p.cast::<f64>());
+            let face = (b - a).cross(&(c - a));
+            if region.contains(&face) {
+                total += 0.5 * face.norm();
+                last_inside = Some(t);
             }
+            cumulative.push(total);
+        }
+        let Some(last_inside) = last_inside.filter(|_| total > 0.0) else {
+            return Err(GroomError::EmptyRegion {
+                region: region.to_string(),
+            });
+        };
+        Ok(Self {
+            cumulative,
+            total,
+            last_inside,
         })
-        .collect();
-    Ok(samples)
+    }
+
+    /// One area-weighted point: three draws from `rng`.
+    fn draw(&self, rng: &mut Pcg64) -> MeshSample {
+        let target = rng::unit_f64(rng) * self.total;
+        // First triangle whose cumulative area exceeds the target; rounding can push the
+        // target to the total, which belongs to the last triangle of the region.
+        let t = self
+            .cumulative
+            .partition_point(|&c| c <= target)
+            .min(self.last_inside);
+        let s = rng::unit_f32(rng).sqrt();
+        let r2 = rng::unit_f32(rng);
+        MeshSample {
+            triangle: t as u32,
+            weights: [1.0 - s, s * (1.0 - r2), s * r2],
+        }
+    }
+}
+
+/// Candidates drawn per `min_distance²` of area by [`sample_poisson_disk`]: enough to fill the
+/// surface to about 90 % of its maximal dart-throwing density.
+const CANDIDATES_PER_DISK: f64 = 10.0;
+
+/// Most candidates [`sample_poisson_disk`] draws before refusing a too small `min_distance`.
+const MAX_CANDIDATES: f64 = 2e7;
+
+/// Draws points on `region` of `mesh` no two closer than `min_distance` (m, straight-line
+/// distance), from `seed`: Poisson-disk sampling by dart throwing.
+///
+/// Candidates are drawn area-weighted (`10 · area / min_distance²` of them, in a fixed order from
+/// the seed) and each is kept if no kept point lies within `min_distance` (a hash grid of cell
+/// `min_distance` finds the neighbours). With `density`, one weight in [0, 1] per mesh vertex,
+/// a candidate is first kept with probability equal to the weight interpolated at it, so the
+/// density of points follows the weights (a weight 0 grows nothing). Each result is a
+/// [`MeshSample`]: it stays on the same material point when the mesh deforms and evaluates to the
+/// mesh's UV there with [`TriMesh::sample_uv`]. The same inputs give bit-identical samples.
+///
+/// Errors: `min_distance` not finite and > 0 or so small that more than 2·10⁷ candidates would
+/// be needed, `density` not one finite weight in [0, 1] per vertex, an empty region.
+pub fn sample_poisson_disk(
+    mesh: &TriMesh,
+    min_distance: f32,
+    seed: u64,
+    region: &Region,
+    density: Option<&[f32]>,
+) -> Result<Vec<MeshSample>, GroomError> {
+    if !(min_distance.is_finite() && min_distance > 0.0) {
+        return Err(parameter(
+            "min_distance",
+            min_distance,
+            "must be a finite distance > 0 m (closest spacing of two samples)",
+        ));
+    }
+    if let Some(w) = density {
+        if w.len() != mesh.positions().len() {
+            return Err(parameter(
+                "density",
+                format!("{} weights", w.len()),
+                &format!(
+                    "give one weight per mesh vertex ({})",
+                    mesh.positions().len()
+                ),
+            ));
+        }
+        if let Some(i) = w.iter().position(|x| !(0.0..=1.0).contains(x)) {
+            return Err(parameter(
+                "density",
+                format!("{} at vertex {i}", w[i]),
+                "every vertex weight must lie in [0, 1]",
+            ));
+        }
+    }
+    let table = AreaTable::new(mesh, region)?;
+    let d = f64::from(min_distance);
+    let candidates = (CANDIDATES_PER_DISK * table.total / (d * d)).ceil();
+    if candidates > MAX_CANDIDATES {
+        return Err(parameter(
+            "min_distance",
+            min_distance,
+            &format!(
+                "is too small for a surface of {:.4} m² ({candidates:.0} candidates; at most \
+                 {MAX_CANDIDATES:.0}): use a larger spacing",
+                table.total
+            ),
+        ));
+    }
+    let mut rng = rng::stream(seed, Purpose::Poisson);
+    let cell = |p: &Vector3<f32>| (p / min_distance).map(|c| c.floor() as i64);
+    let mut grid: HashMap<Vector3<i64>, Vec<usize>> = HashMap::new();
+    let mut kept: Vec<(MeshSample, Vector3<f32>)> = Vec::new();
+    for _ in 0..candidates as usize {
+        let sample = table.draw(&mut rng);
+        let keep_draw = rng::unit_f32(&mut rng);
+        if let Some(w) = density {
+            let tri = mesh.triangles()[sample.triangle as usize];
+            let weight: f32 = tri
+                .iter()
+                .zip(sample.weights)
+                .map(|(&v, b)| w[v as usize] * b)
+                .sum();
+            if keep_draw >= weight {
+                continue;
+            }
+        }
+        let [a, b, c] = mesh.corners(sample.triangle as usize);
+        let p = a * sample.weights[0] + b * sample.weights[1] + c * sample.weights[2];
+        let home = cell(&p);
+        let mut crowded = false;
+        'search: for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let key = home + Vector3::new(dx, dy, dz);
+                    if let Some(list) = grid.get(&key) {
+                        if list.iter().any(|&k| (kept[k].1 - p).norm() < min_distance) {
+                            crowded = true;
+                            break 'search;
+                        }
+                    }
+                }
+            }
+        }
+        if !crowded {
+            grid.entry(home).or_default().push(kept.len());
+            kept.push((sample, p));
+        }
+    }
+    Ok(kept.into_iter().map(|(s, _)| s).collect())
 }
 
 #[cfg(test)]
@@ -293,5 +428,83 @@ mod tests {
         assert!(sample_area_weighted(&unequal(), 0, 1, &Region::All)
             .unwrap()
             .is_empty());
+    }
+
+    #[test]
+    fn poisson_disk_keeps_its_distance_and_fills_the_surface() {
+        let mesh = crate::shapes::builtin_head();
+        let d = 0.01;
+        let samples = sample_poisson_disk(&mesh, d, 4, &Region::All, None).unwrap();
+        let points: Vec<Vector3<f32>> = samples.iter().map(|s| mesh.evaluate(s).origin).collect();
+        let mut closest = f32::MAX;
+        for i in 0..points.len() {
+            for j in 0..i {
+                closest = closest.min((points[i] - points[j]).norm());
+            }
+        }
+        assert!(closest >= d, "closest pair {closest} m < {d} m");
+        // A maximal packing holds about area / (0.87 d²) disks; dart throwing reaches well over
+        // half of that.
+        let area: f32 = (0..mesh.triangles().len())
+            .map(|t| mesh.triangle_area(t))
+            .sum();
+        let fill = samples.len() as f32 / (area / (0.866 * d * d));
+        assert!(
+            fill > 0.5 && fill < 1.0,
+            "{} samples, fill {fill}",
+            samples.len()
+        );
+        // Seeded, and the samples keep the mesh's UV.
+        assert_eq!(
+            samples,
+            sample_poisson_disk(&mesh, d, 4, &Region::All, None).unwrap()
+        );
+        assert_ne!(
+            samples,
+            sample_poisson_disk(&mesh, d, 5, &Region::All, None).unwrap()
+        );
+        let uv = mesh.sample_uv(&samples[0]).unwrap();
+        assert!(uv.iter().all(|c| (0.0..=1.0).contains(c)));
+    }
+
+    #[test]
+    fn poisson_density_follows_vertex_weights() {
+        let mesh = crate::shapes::uv_sphere(0.1, 32, 16).unwrap();
+        // Weight 1 on vertices with z > 0 (the equator ring included), 0 below: nothing grows below
+        // the first ring under the equator (z = -0.0195 m).
+        let weights: Vec<f32> = mesh
+            .positions()
+            .iter()
+            .map(|p| if p.z > 0.0 { 1.0 } else { 0.0 })
+            .collect();
+        let samples = sample_poisson_disk(&mesh, 0.01, 2, &Region::All, Some(&weights)).unwrap();
+        let lower = samples
+            .iter()
+            .filter(|s| mesh.evaluate(s).origin.z < -0.02)
+            .count();
+        assert!(
+            samples.len() > 100 && lower == 0,
+            "{} samples, {lower} in the unweighted half",
+            samples.len()
+        );
+        let half: Vec<f32> = weights.iter().map(|w| 0.5 * w).collect();
+        let thinner = sample_poisson_disk(&mesh, 0.01, 2, &Region::All, Some(&half)).unwrap();
+        assert!(thinner.len() < samples.len());
+    }
+
+    #[test]
+    fn bad_poisson_requests_are_named() {
+        let mesh = unequal();
+        for (d, density, name) in [
+            (0.0, None, "`min_distance`"),
+            (f32::NAN, None, "`min_distance`"),
+            (1e-5, None, "too small"),
+            (0.1, Some(vec![1.0; 3]), "one weight per mesh vertex"),
+            (0.1, Some(vec![f32::NAN; 24]), "vertex 0"),
+        ] {
+            let err =
+                sample_poisson_disk(&mesh, d, 1, &Region::All, density.as_deref()).unwrap_err();
+            assert!(err.to_string().contains(name), "{err}");
+        }
     }
 }

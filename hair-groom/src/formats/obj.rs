@@ -12,9 +12,10 @@ use std::io::BufReader;
 use std::path::Path;
 
 use hair_core::{HairError, TriMesh};
-use nalgebra::{Vector2, Vector3};
+use nalgebra::Vector2;
 
-use crate::error::{parameter, GroomError};
+use super::{check_options, to_world};
+use crate::error::GroomError;
 
 /// Which axis points up in the file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -54,13 +55,7 @@ impl Default for ObjOptions {
 /// degenerate triangle (its index counts the file's triangles from 0 after triangulation), and a
 /// `scale` that is not finite and > 0.
 pub fn load_obj(path: &Path, opts: &ObjOptions) -> Result<TriMesh, GroomError> {
-    if !(opts.scale.is_finite() && opts.scale > 0.0) {
-        return Err(parameter(
-            "scale",
-            opts.scale,
-            "must be a finite number > 0 (meters per file unit, e.g. 0.01 for centimeters)",
-        ));
-    }
+    check_options(opts)?;
     let file = File::open(path).map_err(|source| GroomError::Read {
         path: path.to_path_buf(),
         source,
@@ -88,7 +83,11 @@ pub fn load_obj(path: &Path, opts: &ObjOptions) -> Result<TriMesh, GroomError> {
         let mesh = &model.mesh;
         let base = positions.len() as u32;
         let count = mesh.positions.len() / 3;
-        positions.extend(mesh.positions.chunks_exact(3).map(|p| convert(p, opts)));
+        positions.extend(
+            mesh.positions
+                .chunks_exact(3)
+                .map(|p| to_world([p[0], p[1], p[2]], opts)),
+        );
         triangles.extend(
             mesh.indices
                 .chunks_exact(3)
@@ -123,18 +122,11 @@ pub fn load_obj(path: &Path, opts: &ObjOptions) -> Result<TriMesh, GroomError> {
     mesh.with_uvs(uvs).map_err(with_file)
 }
 
-/// One file position converted to Z up and scaled to meters.
-fn convert(p: &[f32], opts: &ObjOptions) -> Vector3<f32> {
-    let v = match opts.up_axis {
-        UpAxis::Y => Vector3::new(p[0], -p[2], p[1]),
-        UpAxis::Z => Vector3::new(p[0], p[1], p[2]),
-    };
-    v * opts.scale
-}
-
 #[cfg(test)]
 mod tests {
     use std::path::PathBuf;
+
+    use nalgebra::Vector3;
 
     use super::*;
 
