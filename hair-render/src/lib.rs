@@ -1,5 +1,48 @@
 //! # hair-render
 //!
-//! The render level of hairsys: child hairs (clumping, curl) generated on request from simulation
-//! frames. Not built yet: this crate reserves its place in the data flow
-//! groom → solver → cache → children (see `DESIGN.md`).
+//! The render level of hairsys (seed 001, "Rendering"): child hairs generated on request from the
+//! simulation level at any instant, so every renderer and the viewport get the same hair.
+//!
+//! - [`Parents`]: parent polylines at one instant (flat positions + offsets, as
+//!   `hair_core::StrandSet` and the cache hold them), their root frames and scalp attributes;
+//! - [`generate`] with [`ChildSettings`] (count, spread, seed, subdivision, [`Shape`]: clump,
+//!   curl, roughness, length variation, taper) and a [`Lod`] (render, or display: a fraction of
+//!   the children with fewer points) → [`ChildBuffers`], flat arrays a host renderer consumes;
+//! - [`export`]: USD `BasisCurves` (`.usda`, with time samples or velocities for motion blur)
+//!   and Cem Yuksel's `.hair`; the only module that does I/O.
+//!
+//! ```
+//! use hair_render::{generate, ChildCount, ChildSettings, Lod, Parents};
+//! use nalgebra::Vector3;
+//!
+//! // Two straight parents of 5 points, 10 cm long.
+//! let positions: Vec<_> = (0..2)
+//!     .flat_map(|p| (0..5).map(move |i| Vector3::new(0.01 * p as f32, 0.0, 0.025 * i as f32)))
+//!     .collect();
+//! let parents = Parents::new(&positions, &[0, 5, 10]).unwrap();
+//! let settings = ChildSettings { count: ChildCount::PerParent(20), ..Default::default() };
+//! let children = generate(&parents, &settings, Lod::Render).unwrap();
+//! assert_eq!(children.curve_count(), 40);
+//! assert_eq!(children.point_count(), 40 * 17); // 4 segments × 4 pieces + 1
+//! ```
+//!
+//! Not built yet: *interpolated* children (between several parents); only *simple* children
+//! (grouped around one parent, the distribution seed 001 prefers) are generated.
+
+pub mod buffers;
+pub mod children;
+pub mod error;
+pub mod export;
+pub mod lod;
+pub mod parents;
+mod path;
+mod rng;
+pub mod shape;
+pub mod subdivide;
+
+pub use buffers::{ChildBuffers, Extent};
+pub use children::{generate, ChildCount, ChildSettings};
+pub use error::{RenderError, Result};
+pub use lod::{DisplayLod, Lod};
+pub use parents::{Parents, ScalpRoots};
+pub use shape::{Clump, Curl, Roughness, Shape, Taper};

@@ -1,0 +1,280 @@
+//! USD `BasisCurves` in the `.usda` text format, for any USD-reading renderer.
+//!
+//! One prim, `/<prim>` (default `/children`), on a stage with `upAxis = "Z"` and
+//! `metersPerUnit = 1` (children are meters, Z up), `timeCodesPerSecond` and
+//! `framesPerSecond` set to the scene's rate. The curves are `type = "linear"`: the library
+//! already subdivided the parents (Catmull–Rom) and shaped the children, so the renderer draws the
+//! points as they are, and what it draws is exactly what the viewport shows.
+//!
+//! Attributes: `curveVertexCounts`, `points` (the frame's positions as the default value),
+//! `extent` (bounds padded by half the widths, over every motion sample), `widths` with
+//! `interpolation = "vertex"` (one diameter per point), `primvars:st` (`texCoord2f`, uniform: the
+//! root UV of each curve) when the scalp has UVs, `primvars:displayColor` (uniform) when it has
+//! vertex colors, and the per-curve `primvars:random` (float) and `primvars:parent` (int).
+//!
+//! Motion blur ([`Motion`]): either `points.timeSamples` at several time codes over the shutter
+//! (children regenerated from parents sampled at each time, same topology), with the stage's
+//! `startTimeCode`/`endTimeCode` spanning them; or `velocities` (m/s per point) on the one frame.
+//! Every float is written as the shortest decimal that reads back to the same `f32`.
+
+use std::io::Write;
+use std::path::Path;
+
+use super::write_atomically;
+use crate::buffers::{extent_of, ChildBuffers, Extent};
+use crate::error::{parameter, RenderError, Result};
+
+/// One motion sample: the children at one time code.
+#[derive(Debug, Clone, Copy)]
+pub struct MotionSample<'a> {
+    /// USD time code (frames at `frames_per_second`), e.g. 11.75 for frame 12 − ¼.
+    pub time_code: f64,
+    /// The children at that time; must have the topology of the exported children.
+    pub children: &'a ChildBuffers,
+}
+
+/// How motion blur is carried.
+#[derive(Debug, Clone, Copy, Default)]
+pub enum Motion<'a> {
+    /// No motion blur: the points of one frame.
+    #[default]
+    None,
+    /// `points.timeSamples` at each sample's time code (in increasing order, at least 1).
+    TimeSamples(&'a [MotionSample<'a>]),
+    /// `velocities` per point, m/s, x y z interleaved (see [`velocities`]).
+    Velocities(&'a [f32]),
+}
+
+/// Stage and prim settings of a `.usda` export.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UsdOptions {
+    /// Name of the `BasisCurves` prim (a USD identifier), also the stage's `defaultPrim`.
+    pub prim: String,
+    /// Frames per second: the stage's `timeCodesPerSecond` and `framesPerSecond` (> 0).
+    pub frames_per_second: f64,
+    /// Time code of the exported frame (the default `points`), in frames.
+    pub time_code: f64,
+}
+
+impl Default for UsdOptions {
+    /// Prim `children`, 24 fps, time code 1.
+    fn default() -> Self {
+        Self {
+            prim: "children".into(),
+            frames_per_second: 24.0,
+            time_code: 1.0,
+        }
+    }
+}
+
+/// Velocities (m/s per point, x y z interleaved) of children that move from `before` to `after`
+/// in `seconds` (> 0): the central difference a renderer extrapolates over its shutter.
+pub fn velocities(before: &ChildBuffers, after: &ChildBuffers, seconds: f32) -> Result<Vec<f32>> {
+    before.check_same_topology(after)?;
+    if !(seconds.is_finite() && seconds > 0.0) {
+        return Err(parameter(
+            "seconds",
+            seconds,
+            "the time between the two samples must be a finite number > 0 s",
+        ));
+    }
+    let inv = 1.0 / seconds;
+    Ok(before
+        .points
+        .iter()
+        .zip(&after.points)
+        .map(|(a, b)| (b - a) * inv)
+        .collect())
+}
+
+/// Writes `children` as a `.usda` stage to `out`, with `motion` blur. Refuses no children, a bad
+/// prim name or rate, and motion samples whose curves differ from `children`.
+pub fn write_usda<W: Write>(
+    mut out: W,
+    children: &ChildBuffers,
+    motion: &Motion,
+    opts: &UsdOptions,
+) -> Result<()> {
+    let extent = check(children, motion, opts)?;
+    let fps = opts.frames_per_second;
+    let (start, end) = match motion {
+        Motion::TimeSamples(s) => (s[0].time_code, s[s.len() - 1].time_code),
+        _ => (opts.time_code, opts.time_code),
+    };
+    writeln!(out, "#usda 1.0\n(")?;
+    writeln!(out, "    defaultPrim = \"{}\"", opts.prim)?;
+    writeln!(out, "    doc = \"hairsys render children\"")?;
+    writeln!(out, "    endTimeCode = {end:?}")?;
+    writeln!(out, "    framesPerSecond = {fps:?}")?;
+    writeln!(out, "    metersPerUnit = 1")?;
+    writeln!(out, "    startTimeCode = {start:?}")?;
+    writeln!(out, "    timeCodesPerSecond = {fps:?}")?;
+    writeln!(out, "    upAxis = \"Z\"\n)\n")?;
+    writeln!(out, "def BasisCurves \"{}\"\n{{", opts.prim)?;
+    writeln!(out, "    uniform token type = \"linear\"")?;
+    writeln!(out, "    uniform token wrap = \"nonperiodic\"")?;
+    write!(out, "    int[] curveVertexCounts = ")?;
+    write_list(&mut out, &children.vertex_counts, 1, |o, v| {
+        write!(o, "{}", v[0])
+    })?;
+    write!(out, "\n    point3f[] points = ")?;
+    write_vec3s(&mut out, &children.points)?;
+    match motion {
+        Motion::None => {}
+        Motion::TimeSamples(samples) => {
+            writeln!(out, "\n    point3f[] points.timeSamples = {{")?;
+            for s in samples.iter() {
+                write!(out, "        {:?}: ", s.time_code)?;
+                write_vec3s(&mut out, &s.children.points)?;
+                writeln!(out, ",")?;
+            }
+            write!(out, "    }}")?;
+        }
+        Motion::Velocities(v) => {
+            write!(out, "\n    vector3f[] velocities = ")?;
+            write_vec3s(&mut out, v)?;
+        }
+    }
+    let [a, b, c] = extent.min;
+    let [d, e, f] = extent.max;
+    write!(
+        out,
+        "\n    float3[] extent = [({a:?}, {b:?}, {c:?}), ({d:?}, {e:?}, {f:?})]"
+    )?;
+    write!(out, "\n    float[] widths = ")?;
+    write_list(&mut out, &children.widths, 1, |o, v| {
+        write!(o, "{:?}", v[0])
+    })?;
+    write!(out, " (\n        interpolation = \"vertex\"\n    )")?;
+    if let Some(st) = &children.root_uv {
+        write!(out, "\n    texCoord2f[] primvars:st = ")?;
+        write_list(&mut out, st, 2, |o, v| {
+            write!(o, "({:?}, {:?})", v[0], v[1])
+        })?;
+        write!(out, " (\n        interpolation = \"uniform\"\n    )")?;
+    }
+    if let Some(rgb) = &children.color {
+        write!(out, "\n    color3f[] primvars:displayColor = ")?;
+        write_vec3s(&mut out, rgb)?;
+        write!(out, " (\n        interpolation = \"uniform\"\n    )")?;
+    }
+    write!(out, "\n    float[] primvars:random = ")?;
+    write_list(&mut out, &children.random, 1, |o, v| {
+        write!(o, "{:?}", v[0])
+    })?;
+    write!(out, " (\n        interpolation = \"uniform\"\n    )")?;
+    write!(out, "\n    int[] primvars:parent = ")?;
+    write_list(&mut out, &children.parent, 1, |o, v| write!(o, "{}", v[0]))?;
+    writeln!(out, " (\n        interpolation = \"uniform\"\n    )\n}}")?;
+    Ok(())
+}
+
+/// Writes `children` to the `.usda` file at `path` atomically (see [`crate::export`]).
+pub fn export_usda(
+    path: &Path,
+    children: &ChildBuffers,
+    motion: &Motion,
+    opts: &UsdOptions,
+) -> Result<()> {
+    write_atomically(path, |out| write_usda(out, children, motion, opts))
+}
+
+/// Validates the export and returns the extent over every sample.
+fn check(children: &ChildBuffers, motion: &Motion, opts: &UsdOptions) -> Result<Extent> {
+    let name_ok = opts
+        .prim
+        .chars()
+        .next()
+        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+        && opts
+            .prim
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_');
+    if !name_ok {
+        return Err(parameter(
+            "prim",
+            format!("{:?}", opts.prim),
+            "use a USD identifier: letters, digits and _, not starting with a digit",
+        ));
+    }
+    if !(opts.frames_per_second.is_finite() && opts.frames_per_second > 0.0) {
+        return Err(parameter(
+            "frames_per_second",
+            opts.frames_per_second,
+            "use a finite rate > 0, e.g. 24",
+        ));
+    }
+    if !opts.time_code.is_finite() {
+        return Err(parameter(
+            "time_code",
+            opts.time_code,
+            "use a finite frame number",
+        ));
+    }
+    let mut extent = children
+        .extent()
+        .ok_or_else(|| RenderError::Input("no children to export: raise the child count".into()))?;
+    match motion {
+        Motion::None => {}
+        Motion::TimeSamples(samples) => {
+            if samples.is_empty() {
+                return Err(RenderError::Input(
+                    "motion blur by time samples needs at least 1 sample".into(),
+                ));
+            }
+            let mut prev = f64::NEG_INFINITY;
+            for s in samples.iter() {
+                children.check_same_topology(s.children)?;
+                if !(s.time_code.is_finite() && s.time_code > prev) {
+                    return Err(parameter(
+                        "motion sample time code",
+                        s.time_code,
+                        "give finite time codes in increasing order",
+                    ));
+                }
+                prev = s.time_code;
+                if let Some(e) = extent_of(&s.children.points, &children.widths) {
+                    for k in 0..3 {
+                        extent.min[k] = extent.min[k].min(e.min[k]);
+                        extent.max[k] = extent.max[k].max(e.max[k]);
+                    }
+                }
+            }
+        }
+        Motion::Velocities(v) => {
+            if v.len() != children.points.len() {
+                return Err(RenderError::Input(format!(
+                    "{} velocity components for {} points: give x y z per point",
+                    v.len(),
+                    children.point_count()
+                )));
+            }
+        }
+    }
+    Ok(extent)
+}
+
+/// Writes `[a, b, …]` of `values` taken `stride` at a time by `item`.
+fn write_list<W: Write, T>(
+    out: &mut W,
+    values: &[T],
+    stride: usize,
+    mut item: impl FnMut(&mut W, &[T]) -> std::io::Result<()>,
+) -> Result<()> {
+    out.write_all(b"[")?;
+    for (k, v) in values.chunks_exact(stride).enumerate() {
+        if k > 0 {
+            out.write_all(b", ")?;
+        }
+        item(out, v)?;
+    }
+    out.write_all(b"]")?;
+    Ok(())
+}
+
+/// Writes interleaved x y z as `[(x, y, z), …]`.
+fn write_vec3s<W: Write>(out: &mut W, xyz: &[f32]) -> Result<()> {
+    write_list(out, xyz, 3, |o, v| {
+        write!(o, "({:?}, {:?}, {:?})", v[0], v[1], v[2])
+    })
+}
