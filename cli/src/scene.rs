@@ -1,15 +1,17 @@
 //! The TOML scene file: its schema, loading with clear errors, and building the library objects.
 //!
 //! A scene names the scalp (built-in head, UV sphere, OBJ file or none) and its keyframed rigid
-//! motion, generated hair and/or explicit strands given as point lists, physics parameters and
-//! the solver's time stepping. Unknown keys are rejected; every error names the file, the field
+//! motion, generated hair and/or explicit strands given as point lists, physics parameters, the
+//! solver's time stepping, and the colliders hair collides with: `[scalp.collider]` (the scalp
+//! mesh, for its own hair), `[[colliders]]` (spheres, capsules and OBJ meshes with keyframed rigid
+//! motion, thickness and friction) and `[contacts]` (see `hair_core::ContactSettings`). Unknown keys are rejected; every error names the file, the field
 //! and the fix. `hairsys scene init` prints the built-in default scene with every key commented.
 
 use std::path::{Path, PathBuf};
 
 use hair_core::{
-    Anchor, HairParams, Integrator, RootFrame, Scalp, SolverSettings, StrandInput, StrandSet,
-    Substeps, TriMesh,
+    Anchor, Collider, ColliderId, ColliderShape, Colliders, ContactSettings, HairError, HairParams,
+    Integrator, RootFrame, Scalp, SolverSettings, StrandInput, StrandSet, Substeps, TriMesh,
 };
 use hair_groom::{GenerateOptions, ObjOptions, Region, UpAxis};
 use nalgebra::Vector3;
@@ -52,6 +54,14 @@ pub struct Scene {
     /// `[[strands]]`: explicit strands given as point lists.
     #[serde(default)]
     pub strands: Vec<ExplicitStrand>,
+    /// `[[colliders]]`: spheres, capsules and OBJ meshes hair collides with, each with keyframed
+    /// rigid motion.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub colliders: Vec<ColliderSection>,
+    /// `[contacts]`: fast-motion stepping and push-out speed of hair–object collision (see
+    /// [`ContactSettings`]); absent = the defaults.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contacts: Option<ContactSettings>,
 }
 
 /// `[scene]`.
@@ -120,6 +130,73 @@ pub struct ScalpSection {
     /// `[scalp.motion]`: keyframed rigid motion of the scalp (and of explicit strands' roots).
     #[serde(default)]
     pub motion: RigidMotion,
+    /// `[scalp.collider]`: present = the scalp mesh is a collider for its own hair.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub collider: Option<ScalpCollider>,
+}
+
+/// `[scalp.collider]`: the scalp mesh as a collider for the hair rooted on it (it follows the
+/// scalp's motion).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScalpCollider {
+    /// Distance kept between hair and the scalp, m, on top of the hair radius.
+    #[serde(default)]
+    pub thickness: f32,
+    /// Coulomb friction coefficient (≥ 0).
+    #[serde(default)]
+    pub friction: f32,
+}
+
+/// `[[colliders]]`: one collider.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ColliderSection {
+    /// Free-form name, shown in messages.
+    #[serde(default)]
+    pub name: String,
+    /// `[colliders.shape]`: the geometry, in the collider's body space.
+    pub shape: ColliderShapeSection,
+    /// Distance kept between hair and the surface, m, on top of the hair radius (≥ 0). Open
+    /// meshes (shells) should have a few hair radii.
+    #[serde(default)]
+    pub thickness: f32,
+    /// Coulomb friction coefficient (≥ 0): 0 frictionless, about 0.3 hair on skin.
+    #[serde(default)]
+    pub friction: f32,
+    /// `[colliders.motion]`: keyframed rigid motion (no keys = fixed at the origin).
+    #[serde(default)]
+    pub motion: RigidMotion,
+}
+
+/// `[colliders.shape]`, chosen by `kind`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum ColliderShapeSection {
+    /// A sphere centred at the body origin.
+    Sphere {
+        /// Radius, m.
+        radius: f32,
+    },
+    /// A capsule along the body z axis, centred at the body origin.
+    Capsule {
+        /// Distance from the origin to each end cap's centre, m.
+        half_height: f32,
+        /// Radius, m.
+        radius: f32,
+    },
+    /// A triangle mesh from an OBJ file. Closed meshes are solids; open or non-manifold meshes
+    /// are two-sided shells (see `hair_core::contacts::collider`).
+    Obj {
+        /// Path, relative to the scene file.
+        path: PathBuf,
+        /// Multiplier from file units to meters.
+        #[serde(default = "one")]
+        scale: f32,
+        /// The file's up axis: `"z"` (default) or `"y"` (converted to Z up).
+        #[serde(default)]
+        up_axis: UpAxisValue,
+    },
 }
 
 /// `[scalp.mesh]`, chosen by `kind`.
@@ -305,6 +382,20 @@ impl SceneFile {
             )))?;
             h.update(bytes);
         }
+        for (i, c) in self.scene.colliders.iter().enumerate() {
+            if let ColliderShapeSection::Obj { path, .. } = &c.shape {
+                let full = self.base_dir.join(path);
+                let bytes = std::fs::read(&full).map_err(|e| {
+                    self.error(format!(
+                        "[[colliders]] #{i} shape path = {}: cannot read {} ({e}); fix the path \
+                         (relative to the scene file)",
+                        path.display(),
+                        full.display()
+                    ))
+                })?;
+                h.update(bytes);
+            }
+        }
         Ok(h.finalize().iter().map(|b| format!("{b:02x}")).collect())
     }
 
@@ -410,6 +501,17 @@ impl SceneFile {
                 "the scene has no hair: add a [hair] section or [[strands]]".into(),
             ));
         }
+        let colliders = self.colliders()?;
+        if let Some(c) = &s.contacts {
+            c.validate().map_err(|e| err(format!("[contacts] {e}")))?;
+        }
+        if s.scalp.collider.is_some() && rest_mesh.is_none() {
+            return Err(err(
+                "[scalp.collider] makes the scalp mesh a collider, but [scalp.mesh] kind = \"none\"; \
+                 choose a scalp mesh or remove [scalp.collider]"
+                    .into(),
+            ));
+        }
         let mut sim = Simulation {
             strands,
             settings,
@@ -418,13 +520,74 @@ impl SceneFile {
             last_frame: last,
             rest_mesh,
             motion: s.scalp.motion.clone(),
+            colliders,
+            scalp_collider: s.scalp.collider,
+            contact_settings: s.contacts.unwrap_or_default(),
         };
         let scalp = sim.scalp_at(first as f32);
         sim.strands
             .validate_anchors(&scalp)
             .map_err(|e| err(e.to_string()))?;
         sim.strands.reset_to_rest(&scalp);
+        // Build the colliders once so that every collider error shows at load time.
+        sim.colliders_at(first as f32)
+            .map_err(|e| err(sim.collider_message(&e)))?;
         Ok(sim)
+    }
+
+    /// Loads and checks the `[[colliders]]`.
+    fn colliders(&self) -> Result<Vec<SceneCollider>, SceneError> {
+        let mut out = Vec::new();
+        for (i, c) in self.scene.colliders.iter().enumerate() {
+            let err = |m: String| self.error(format!("[[colliders]] #{i}{}: {m}", named(&c.name)));
+            let shape = match &c.shape {
+                ColliderShapeSection::Sphere { radius } => {
+                    ColliderShape::Sphere { radius: *radius }
+                }
+                ColliderShapeSection::Capsule {
+                    half_height,
+                    radius,
+                } => ColliderShape::Capsule {
+                    half_height: *half_height,
+                    radius: *radius,
+                },
+                ColliderShapeSection::Obj {
+                    path,
+                    scale,
+                    up_axis,
+                } => {
+                    let opts = ObjOptions {
+                        scale: *scale,
+                        up_axis: match up_axis {
+                            UpAxisValue::Y => UpAxis::Y,
+                            UpAxisValue::Z => UpAxis::Z,
+                        },
+                    };
+                    let full = self.base_dir.join(path);
+                    let mesh = hair_groom::load_obj(&full, &opts)
+                        .map_err(|e| err(format!("shape: {e}")))?;
+                    ColliderShape::Mesh(mesh)
+                }
+            };
+            let collider = Collider {
+                shape,
+                thickness: c.thickness,
+                friction: c.friction,
+            };
+            collider.validate(i).map_err(|e| match e {
+                HairError::Collider { message, .. } => err(message),
+                other => err(other.to_string()),
+            })?;
+            c.motion
+                .validate()
+                .map_err(|m| err(format!("motion: {m}")))?;
+            out.push(SceneCollider {
+                name: c.name.clone(),
+                collider,
+                motion: c.motion.clone(),
+            });
+        }
+        Ok(out)
     }
 
     fn scalp_mesh(&self) -> Result<Option<TriMesh>, SceneError> {
@@ -513,6 +676,26 @@ fn explicit_strand(st: &ExplicitStrand) -> Result<StrandInput, String> {
     Ok(input)
 }
 
+/// ` (name)` for a named collider, nothing otherwise.
+fn named(name: &str) -> String {
+    if name.is_empty() {
+        String::new()
+    } else {
+        format!(" ({name})")
+    }
+}
+
+/// A collider of the scene: its geometry, thickness, friction and keyframed motion.
+#[derive(Debug, Clone)]
+pub struct SceneCollider {
+    /// The name from the scene file (may be empty).
+    pub name: String,
+    /// Geometry (meshes loaded), thickness and friction.
+    pub collider: Collider,
+    /// Keyframed rigid motion.
+    pub motion: RigidMotion,
+}
+
 /// Everything a run needs, built from a scene.
 #[derive(Debug, Clone)]
 pub struct Simulation {
@@ -528,9 +711,54 @@ pub struct Simulation {
     pub last_frame: u32,
     rest_mesh: Option<TriMesh>,
     motion: RigidMotion,
+    /// The `[[colliders]]`, in file order (their [`ColliderId`]s are 0, 1, …).
+    pub colliders: Vec<SceneCollider>,
+    /// `[scalp.collider]`, if the scalp collides with its hair.
+    pub scalp_collider: Option<ScalpCollider>,
+    /// `[contacts]`.
+    pub contact_settings: ContactSettings,
 }
 
 impl Simulation {
+    /// True when the scene has any collider (scene colliders or the scalp).
+    pub fn has_colliders(&self) -> bool {
+        !self.colliders.is_empty() || self.scalp_collider.is_some()
+    }
+
+    /// The colliders placed at (possibly fractional) `frame`: the `[[colliders]]` in file order,
+    /// then the scalp if `[scalp.collider]` is given.
+    pub fn colliders_at(&self, frame: f32) -> Result<Colliders, HairError> {
+        let mut set = Colliders::new();
+        set.settings = self.contact_settings;
+        for c in &self.colliders {
+            set.insert(c.collider.clone(), c.motion.at(frame))?;
+        }
+        if let Some(sc) = &self.scalp_collider {
+            set.insert_scalp(&self.scalp_at(frame), sc.thickness, sc.friction)?;
+        }
+        Ok(set)
+    }
+
+    /// Sets every scene collider's pose at (possibly fractional) `frame` (the scalp collider
+    /// follows the scalp by itself).
+    pub fn pose_colliders(&self, set: &mut Colliders, frame: f32) -> Result<(), HairError> {
+        for (i, c) in self.colliders.iter().enumerate() {
+            set.set_pose(ColliderId(i as u32), c.motion.at(frame))?;
+        }
+        Ok(())
+    }
+
+    /// A collider error in the scene's terms: `[[colliders]] #i (name)` or `[scalp.collider]`.
+    pub fn collider_message(&self, e: &HairError) -> String {
+        match e {
+            HairError::Collider { collider, message } => match self.colliders.get(*collider) {
+                Some(c) => format!("[[colliders]] #{collider}{}: {message}", named(&c.name)),
+                None => format!("[scalp.collider]: {message}"),
+            },
+            other => other.to_string(),
+        }
+    }
+
     /// The scalp at (possibly fractional) `frame`: the rest mesh moved by the rigid motion.
     pub fn scalp_at(&self, frame: f32) -> Scalp {
         let body = self.motion.at(frame);

@@ -29,6 +29,14 @@ pub enum HairError {
         /// What is wrong and how to fix it.
         message: String,
     },
+    /// A collider is unusable (size, thickness, friction, pose, mesh).
+    #[error("collider {collider}: {message}")]
+    Collider {
+        /// Index of the collider in its set (insertion order from 0).
+        collider: usize,
+        /// What is wrong and how to fix it.
+        message: String,
+    },
     /// The solver left its stability region: the run stops instead of writing garbage.
     #[error(
         "simulation blew up at frame {frame}, strand {strand}: {cause}. The substep is \

@@ -1,8 +1,8 @@
 //! # hair-core
 //!
 //! The simulation level of hairsys: strands stored structure-of-arrays ([`StrandSet`]), scalp
-//! meshes with stable surface samples ([`TriMesh`], [`MeshSample`], [`RootFrame`]) and the
-//! mass-spring strand [`Solver`]. Units are SI (m, s, kg), Z up.
+//! meshes with stable surface samples ([`TriMesh`], [`MeshSample`], [`RootFrame`]), the
+//! mass-spring strand [`Solver`] and hair–object collision ([`contacts`]: [`Colliders`]). Units are SI (m, s, kg), Z up.
 //!
 //! This crate does no file or terminal I/O and keeps no global state: a host (the `hairsys` CLI
 //! or a DCC plugin) sets the scalp for each frame, calls [`Solver::step_frame`] and reads the
@@ -23,12 +23,14 @@
 //! assert_eq!(report.frame, 2);
 //! ```
 
+pub mod contacts;
 pub mod error;
 pub mod frames;
 pub mod mesh;
 pub mod solver;
 pub mod strands;
 
+pub use contacts::{Collider, ColliderId, ColliderShape, Colliders, ContactSettings, MeshKind};
 pub use error::{HairError, Result};
 pub use mesh::{MeshSample, RootFrame, TriMesh};
 pub use solver::energy::{energy, Energy};

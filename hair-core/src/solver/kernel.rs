@@ -1,5 +1,7 @@
 //! One collision step of a group of up to [`LANES`] strands with the same number of points:
-//! `substeps` force substeps, each with its damping sub-loop.
+//! `substeps` force substeps, each with its damping sub-loop and, for groups with a contact this
+//! step, the contact response (`contacts::penalty`; the contact data is gathered into lanes once
+//! per step with the rest, and only points with a contact in some lane are visited).
 //!
 //! Strand `l` of the group lives in SIMD lane `l` ([`super::lanes`]), so every pass — the
 //! per-segment tangents, the sequential frame transport and twist sums of the bending springs,
@@ -14,6 +16,8 @@
 
 use nalgebra::Vector3;
 
+use crate::contacts::detect::NO_CONTACT;
+use crate::contacts::penalty::{respond, ContactLanes};
 use crate::frames::RestDirection;
 use crate::mesh::RootFrame;
 
@@ -40,6 +44,8 @@ pub(crate) struct StepConstants {
     pub integrator: Integrator,
     /// Largest allowed segment length as a multiple of the rest length, if limited.
     pub max_length_ratio: Option<f32>,
+    /// Largest push-out speed of a point inside a collider, m/s.
+    pub max_push_speed: f32,
 }
 
 impl StepConstants {
@@ -70,6 +76,7 @@ impl StepConstants {
             substeps,
             integrator,
             max_length_ratio: max_strain.map(|e| 1.0 + e),
+            max_push_speed: f32::INFINITY,
         }
     }
 }
@@ -83,6 +90,19 @@ pub(crate) struct StrandView<'a> {
     pub goal_weight: &'a [f32],
     pub rest_length: &'a [f32],
     pub bend_rest: &'a [RestDirection],
+    /// This step's contacts of the strand's points, if any point has one.
+    pub contacts: Option<ContactSlice<'a>>,
+}
+
+/// One strand's contacts of a step (see [`crate::contacts::detect`]), per point.
+#[derive(Clone, Copy)]
+pub(crate) struct ContactSlice<'a> {
+    pub anchor: &'a [Vector3<f32>],
+    pub size: &'a [f32],
+    pub curved: &'a [bool],
+    pub anchor_velocity: &'a [Vector3<f32>],
+    pub surface_velocity: &'a [Vector3<f32>],
+    pub friction: &'a [f32],
 }
 
 /// Per-thread work buffers of one group, refitted to each group.
@@ -116,6 +136,14 @@ pub(crate) struct Scratch {
     twist: Vec<F>,
     damp_coef: Vec<F>,
     impulse: Vec<F>,
+    /// Contacts per point (only filled when `has_contacts`).
+    contact: Vec<ContactLanes>,
+    /// Extra velocity of the position update per point (along the contact normal), m/s.
+    push: Vec<V3>,
+    /// Does any strand of the group have a contact this step?
+    has_contacts: bool,
+    /// Points with a contact in at least one lane (when `has_contacts`).
+    contact_points: Vec<usize>,
     q_start: Q4,
     q_end: Q4,
     o_start: V3,
@@ -204,6 +232,20 @@ impl Scratch {
                 self.damp_coef[j + 1] = div_or_zero(splat(c.damp_fraction), w, 0.0);
             }
         }
+        self.has_contacts = views.iter().any(|s| s.contacts.is_some());
+        self.contact_points.clear();
+        if self.has_contacts {
+            refit(&mut self.contact, n);
+            refit(&mut self.push, n);
+            self.contact_points.extend((0..n).filter(|&i| {
+                views
+                    .iter()
+                    .any(|s| s.contacts.is_some_and(|c| c.size[i] != NO_CONTACT))
+            }));
+            for &i in &self.contact_points {
+                self.contact[i] = gather_contact(views, i);
+            }
+        }
         self.pinned.clear();
         self.pinned
             .extend((0..n).filter(|&i| views.iter().any(|s| s.inv_mass[i] == 0.0)));
@@ -235,6 +277,36 @@ impl Scratch {
                 s.v[i] = v[l];
             }
         }
+    }
+}
+
+/// Lane `l`'s contact data of point `i` (lanes a group does not fill repeat its first strand;
+/// strands without contacts this step get none).
+fn gather_contact(views: &[StrandView], i: usize) -> ContactLanes {
+    let zero = Vector3::zeros();
+    let mut anchor = [zero; LANES];
+    let mut anchor_velocity = [zero; LANES];
+    let mut surface_velocity = [zero; LANES];
+    let mut size = [NO_CONTACT; LANES];
+    let mut curved = [0.0; LANES];
+    let mut friction = [0.0; LANES];
+    for l in 0..LANES {
+        if let Some(c) = views[l.min(views.len() - 1)].contacts {
+            anchor[l] = c.anchor[i];
+            anchor_velocity[l] = c.anchor_velocity[i];
+            surface_velocity[l] = c.surface_velocity[i];
+            size[l] = c.size[i];
+            curved[l] = if c.curved[i] { 1.0 } else { 0.0 };
+            friction[l] = c.friction[i];
+        }
+    }
+    ContactLanes {
+        anchor: V3::from_lanes(&anchor),
+        size: F::new(size),
+        curved: F::new(curved),
+        anchor_velocity: V3::from_lanes(&anchor_velocity),
+        surface_velocity: V3::from_lanes(&surface_velocity),
+        friction: F::new(friction),
     }
 }
 
@@ -284,7 +356,11 @@ pub(crate) fn step_group(
         for j in 0..n - 1 {
             let d = g.x[j + 1] - g.x[j];
             let len = d.dot(&d).sqrt();
-            let inv = splat(1.0) / len;
+            // A collider can press two neighbours onto the same spot (a strand hanging straight
+            // down onto a rising plate): such a segment has no direction, and takes no stretch or
+            // bending direction this substep instead of dividing by zero. Any real segment is
+            // far longer than 1 nm, so this leaves every other result bit-identical.
+            let inv = div_or_zero(splat(1.0), len, 1e-9);
             g.tangent[j + 1] = d * inv;
             g.inv_len[j + 1] = inv;
             g.tension[j + 1] = k_stretch * (len - g.rest_length[j]);
@@ -391,9 +467,33 @@ pub(crate) fn step_group(
             );
         }
 
+        // Contact response (see `contacts::penalty`): after the velocity update and the damping
+        // sub-loop, before the position update. Explicit Euler moves points with the old
+        // velocity, so the response applies to that one too.
+        if g.has_contacts {
+            let t_end = splat((k + 1) as f32 * c.dt);
+            let max_push = splat(c.max_push_speed);
+            for &i in &g.contact_points {
+                let moving = if explicit {
+                    &mut g.v_old[i]
+                } else {
+                    &mut g.v[i]
+                };
+                g.push[i] = respond(moving, &g.x[i], &g.contact[i], t_end, inv_dt, max_push);
+            }
+            if explicit {
+                for &i in &g.contact_points {
+                    respond(&mut g.v[i], &g.x[i], &g.contact[i], t_end, inv_dt, max_push);
+                }
+            }
+        }
+
         for i in 0..n {
             let moved_by = if explicit { g.v_old[i] } else { g.v[i] };
             g.x[i] += moved_by * (dt * g.free[i]);
+        }
+        for &i in &g.contact_points {
+            g.x[i] += g.push[i] * (dt * g.free[i]);
         }
         for &i in &g.pinned {
             let goal = origin + rot.mul(&g.rest_local[i]);

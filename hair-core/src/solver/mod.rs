@@ -4,7 +4,9 @@
 //!
 //! One **frame** (1/fps s) is split into `steps` **collision steps**. Once per step the roots are
 //! evaluated on the scalp (the scalp given for the frame's end, interpolated from the previous
-//! frame's), and any per-step work is done (contacts and hair–hair grids join here). Then every
+//! frame's), and the per-step work is done: with colliders
+//! ([`Solver::step_frame_with_colliders`]), contact detection (see [`crate::contacts`]; hair–hair
+//! grids will join here). Then every
 //! strand, independently and in parallel (rayon), runs `substeps` **force substeps** of
 //! semi-implicit Euler, `v += dt·a(x, v); x += dt·v`, with:
 //!
@@ -16,7 +18,10 @@
 //!
 //! The root and any pinned point are kinematic: they follow their animated rest position and get
 //! the velocity that motion implies. After each substep's velocity update comes the **damping
-//! sub-loop** on relative velocity along each segment ([`damping`]), then the position update.
+//! sub-loop** on relative velocity along each segment ([`damping`]), then the **contact
+//! response** of points with a contact this step (Choe et al. 2005, see [`crate::contacts`]),
+//! then the position update. A frame whose colliders turn fast runs more collision steps of
+//! fewer substeps each (the substep never gets longer).
 //!
 //! # Stability
 //! `substeps = auto` takes the count from [`StabilityBound`]. After every step each strand is
@@ -27,7 +32,7 @@
 mod damping;
 pub mod energy;
 mod kernel;
-mod lanes;
+pub(crate) mod lanes;
 pub mod params;
 pub mod stability;
 
@@ -40,7 +45,9 @@ use crate::error::{HairError, Result};
 use crate::mesh::RootFrame;
 use crate::strands::{Scalp, StrandSet};
 
-use kernel::{step_group, Scratch, StepConstants, StrandView};
+use crate::contacts::detect::{detect, DetectInput, PointContacts};
+use crate::contacts::Colliders;
+use kernel::{step_group, ContactSlice, Scratch, StepConstants, StrandView};
 use lanes::LANES;
 pub use params::{HairParams, Integrator, SolverSettings, Substeps};
 pub use stability::StabilityBound;
@@ -61,8 +68,11 @@ pub struct Components(pub Vec<&'static str>);
 pub struct PhaseTimes {
     /// Evaluating root frames on the scalp.
     pub roots: Duration,
-    /// Force substeps, damping and position updates of all strands, with the blow-up checks.
+    /// Force substeps, damping and position updates of all strands, with the blow-up checks
+    /// (the contact response included).
     pub strands: Duration,
+    /// Contact detection (zero without colliders).
+    pub contacts: Duration,
 }
 
 /// What one frame did.
@@ -70,10 +80,16 @@ pub struct PhaseTimes {
 pub struct FrameReport {
     /// Frame number that was computed.
     pub frame: u32,
-    /// Force substeps per step used.
+    /// Force substeps per collision step used.
     pub substeps: u32,
+    /// Collision steps run: the scene's steps, times the fast-motion factor when colliders moved
+    /// too far for the contact model's tolerance in the frame (see
+    /// [`crate::contacts::collider_set`]).
+    pub steps: u32,
     /// Points × substeps advanced in this frame.
     pub point_substeps: u64,
+    /// Point contacts found, summed over the frame's collision steps (0 without colliders).
+    pub contact_points: u64,
     /// Largest relative segment elongation `len/rest − 1` at the end of the frame (0 if none is
     /// longer than at rest).
     pub max_stretch: f32,
@@ -92,6 +108,9 @@ pub struct Solver {
     roots: Vec<RootFrame>,
     blocks: Vec<std::ops::Range<usize>>,
     frame: u32,
+    contacts: PointContacts,
+    /// Smallest radius of a free point, m (∞ without free points).
+    min_radius: f32,
 }
 
 /// Outcome of one strand's step, folded per block in strand order.
@@ -127,6 +146,13 @@ impl Solver {
             roots: strands.root_frames(scalp),
             blocks: blocks_of(strands),
             frame: start_frame,
+            contacts: PointContacts::default(),
+            min_radius: strands
+                .radii()
+                .iter()
+                .zip(strands.inverse_masses())
+                .filter(|(_, &w)| w > 0.0)
+                .fold(f32::INFINITY, |a, (&r, _)| a.min(r)),
         })
     }
 
@@ -192,10 +218,38 @@ impl Solver {
         Components(c)
     }
 
-    /// Advances `strands` by one frame, to the instant at which `scalp` is given.
+    /// Advances `strands` by one frame, to the instant at which `scalp` is given, with no
+    /// colliders.
     ///
     /// On [`HairError::Unstable`] the strands hold the failed state; do not write it anywhere.
     pub fn step_frame(&mut self, strands: &mut StrandSet, scalp: &Scalp) -> Result<FrameReport> {
+        self.advance(strands, scalp, None)
+    }
+
+    /// Advances `strands` by one frame, to the instant at which `scalp` is given, colliding with
+    /// `colliders` at the poses set for this frame's end ([`Colliders::set_pose`]); colliders
+    /// inserted with [`Colliders::insert_scalp`] follow `scalp.body`. See [`crate::contacts`].
+    ///
+    /// A frame whose colliders move too fast for the contact model's tolerance
+    /// ([`crate::contacts::collider_set`]) runs more collision steps with proportionally fewer substeps each ([`FrameReport::steps`]). An empty set does
+    /// exactly what [`Solver::step_frame`] does.
+    pub fn step_frame_with_colliders(
+        &mut self,
+        strands: &mut StrandSet,
+        scalp: &Scalp,
+        colliders: &mut Colliders,
+    ) -> Result<FrameReport> {
+        colliders.settings.validate()?;
+        let colliders = (!colliders.is_empty()).then_some(colliders);
+        self.advance(strands, scalp, colliders)
+    }
+
+    fn advance(
+        &mut self,
+        strands: &mut StrandSet,
+        scalp: &Scalp,
+        mut colliders: Option<&mut Colliders>,
+    ) -> Result<FrameReport> {
         let frame = self.frame + 1;
         let t0 = Instant::now();
         let mut end_roots = strands.root_frames(scalp);
@@ -212,17 +266,34 @@ impl Solver {
             roots: t0.elapsed(),
             ..Default::default()
         };
-        let steps = self.settings.steps;
-        let step_dt = self.settings.step_dt();
-        let consts = StepConstants::new(
+        // Fast colliders split the frame into more steps of fewer substeps each.
+        let factor = match colliders.as_deref_mut() {
+            Some(c) => {
+                c.begin_frame(scalp);
+                let tolerance = c
+                    .settings
+                    .tolerance
+                    .unwrap_or((0.5 * self.min_radius).max(1e-4));
+                c.step_factor(self.settings.steps, tolerance)
+            }
+            None => 1,
+        };
+        let steps = self.settings.steps * factor;
+        let substeps = self.substeps.div_ceil(factor);
+        let step_dt = self.settings.step_dt() / factor as f64;
+        let mut consts = StepConstants::new(
             &self.params,
-            (step_dt / self.substeps as f64) as f32,
-            self.substeps,
+            (step_dt / substeps as f64) as f32,
+            substeps,
             self.settings.damping_iterations,
             self.settings.integrator,
             self.settings.max_strain,
         );
+        if let Some(c) = colliders.as_deref() {
+            consts.max_push_speed = c.settings.max_push_speed;
+        }
         let mut max_stretch = 0.0f32;
+        let mut contact_points = 0u64;
         for step in 0..steps {
             let t1 = Instant::now();
             let a = step as f32 / steps as f32;
@@ -240,8 +311,27 @@ impl Solver {
                 .map(|(p, e)| p.interpolate(e, b))
                 .collect();
             times.roots += t1.elapsed();
+            let contacts = match colliders.as_deref_mut() {
+                Some(c) => {
+                    let t3 = Instant::now();
+                    let input = DetectInput {
+                        offsets: strands.offsets(),
+                        positions: &strands.positions,
+                        velocities: &strands.velocities,
+                        radii: strands.radii(),
+                        inv_mass: strands.inverse_masses(),
+                        blocks: &self.blocks,
+                        step_dt: step_dt as f32,
+                        gravity: self.params.gravity().norm(),
+                    };
+                    contact_points += detect(c, a, b, &input, &mut self.contacts) as u64;
+                    times.contacts += t3.elapsed();
+                    Some(&self.contacts)
+                }
+                None => None,
+            };
             let t2 = Instant::now();
-            let outcome = self.step_strands(strands, &starts, &ends, &consts, step_dt);
+            let outcome = self.step_strands(strands, &starts, &ends, &consts, step_dt, contacts);
             times.strands += t2.elapsed();
             if let Some((strand, cause)) = outcome.failure {
                 return Err(HairError::Unstable {
@@ -250,17 +340,22 @@ impl Solver {
                     cause,
                     dt: self.dt(),
                     bound: self.bound.dt_max,
-                    auto_substeps: self.bound.auto_substeps(step_dt),
+                    auto_substeps: self.bound.auto_substeps(self.settings.step_dt()),
                 });
             }
             max_stretch = outcome.max_stretch;
+        }
+        if let Some(c) = colliders {
+            c.finish_frame();
         }
         self.roots = end_roots;
         self.frame = frame;
         Ok(FrameReport {
             frame,
-            substeps: self.substeps,
-            point_substeps: strands.point_count() as u64 * (self.substeps * steps) as u64,
+            substeps,
+            steps,
+            point_substeps: strands.point_count() as u64 * (substeps * steps) as u64,
+            contact_points,
             max_stretch,
             times,
         })
@@ -273,6 +368,7 @@ impl Solver {
         ends: &[RootFrame],
         consts: &StepConstants,
         step_dt: f64,
+        contacts: Option<&PointContacts>,
     ) -> BlockOutcome {
         let g = self.params.gravity().norm() as f64;
         let fps = self.settings.fps as f64;
@@ -309,6 +405,16 @@ impl Solver {
                             goal_weight: &data.goal_weight[p.clone()],
                             rest_length: &data.rest_length[seg.clone()],
                             bend_rest: &data.bend_rest[seg],
+                            contacts: contacts.filter(|c| c.strand_active[s]).map(|c| {
+                                ContactSlice {
+                                    anchor: &c.anchor[p.clone()],
+                                    size: &c.size[p.clone()],
+                                    curved: &c.curved[p.clone()],
+                                    anchor_velocity: &c.anchor_velocity[p.clone()],
+                                    surface_velocity: &c.surface_velocity[p.clone()],
+                                    friction: &c.friction[p.clone()],
+                                }
+                            }),
                         });
                     }
                     step_group(

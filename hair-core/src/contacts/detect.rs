@@ -1,0 +1,616 @@
+//! Contact detection, once per collision step: every free hair point (a sphere of its radius)
+//! against the colliders, through rapier's query pipeline (broad phase) and parry's point
+//! projection on each candidate shape (narrow phase).
+//!
+//! Everything happens in each collider's body space at the step's start pose, where a rigid
+//! collider stands still: a point's signed distance to it depends only on the point's body-space
+//! position `p`, and changes by at most how far `p` moves.
+//!
+//! 1. **Query radius.** A point can reach collider `c` within the step only if it is within
+//!    `q = radius + thickness + 2|v − v_c(x)|·Δt + |g|·Δt² + 1 mm` of its surface, with
+//!    `v − v_c(x)` its velocity relative to the collider's material point where it is (so hair
+//!    moving with a head has a small radius however fast the head moves; the factor 2 and the
+//!    `|g|Δt²` cover acceleration within the step).
+//! 2. **Clearance skip.** For every point and collider a lower bound of the signed distance is
+//!    kept: the distance measured at an earlier step minus how far the point has moved in the
+//!    collider's body space since. This is exact (the distance is 1-Lipschitz), not a heuristic.
+//!    A point whose bound exceeds `q` skips the collider; hair away from every collider costs a
+//!    few nanoseconds per point and step.
+//! 3. **Broad phase.** The AABB of a strand's remaining points, each grown by its largest query
+//!    radius, is intersected with the colliders' swept AABBs in rapier's BVH
+//!    ([`rapier3d::pipeline::QueryPipeline::intersect_aabb_conservative`]).
+//! 4. **Narrow phase.** Each remaining point is projected on each candidate shape. A point
+//!    outside the shape's enclosing sphere by more than `q` is not projected (that distance is
+//!    its new bound). Any other point is projected without a distance limit, so its exact distance
+//!    renews its bound and a point deep inside a solid is found; a solid mesh says whether the
+//!    point is inside by parry's pseudo-normal test. On a mesh the search is warm-started: the
+//!    distance to the triangle the point projected on last time bounds the distance to the mesh,
+//!    and parry's BVH search starting from that bound visits only the nodes nearer than it; near a
+//!    convex part of a solid mesh that triangle often certifies the answer by itself
+//!    ([`super::fast_projection`]) and no search runs. (Which of two equally near triangles is
+//!    found can depend on that hint; the hint depends only on the point's own history, so results
+//!    do not depend on the thread count.)
+//!
+//! A contact keeps, for the nearest collider (smallest signed distance), the surface element the
+//! response works with (see [`super::penalty`]): where the surface is flat (or the point is deeper
+//! than half the radius of curvature) the tangent plane at the projection, as its outward normal
+//! `n` and offset `c = d₀ − n·x₀` (`d₀` the signed distance of the point's sphere from the surface
+//! grown by the thickness, negative = penetration); where it is curved, the sphere of its smallest
+//! curvature `κ` tangent there (centre `p − n/κ`, radius `1/κ` grown by thickness and hair radius;
+//! exact for sphere colliders and capsule caps, estimated per triangle for meshes, see
+//! [`super::collider`]; a sphere whose centre lies farther from the body origin than the shape
+//! itself becomes a plane). The sphere's centre moves with the collider's material point there
+//! and the plane with the material point at the projection (velocities from the start-of-step
+//! to the end-of-step pose); the projection's velocity is also kept for friction, with the
+//! collider's friction coefficient. Points without a contact get a plane offset so large that the
+//! response never acts on them.
+
+use nalgebra::{Isometry3, Point3, Vector3};
+use parry3d::query::{DefaultQueryDispatcher, PointQuery, PointQueryWithLocation};
+use parry3d::shape::{Shape, TrianglePointLocation};
+use rapier3d::geometry::Aabb;
+use rapier3d::pipeline::QueryFilter;
+use rayon::prelude::*;
+
+use super::collider_set::{Colliders, Surface};
+use super::fast_projection::FastProjection;
+use super::math::{from_glam, to_glam};
+
+/// Plane offset of a point without a contact, m: the response's distance test never passes.
+pub(crate) const NO_CONTACT: f32 = 1e20;
+
+/// Extra query distance covering what the margin's motion estimate leaves out, m.
+const SLACK: f32 = 1e-3;
+
+/// Below this distance (m) from the surface the projection direction is not trusted and the
+/// surface normal of the feature is used.
+const NORMAL_EPS: f32 = 1e-7;
+
+/// Radius of curvature (m) beyond which a surface counts as flat.
+const FLAT: f32 = 10.0;
+
+/// The contacts of one collision step, one (or none) per point, strand-contiguous like the
+/// strand set.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct PointContacts {
+    /// Plane: outward unit normal, world. Curved: centre of the contact sphere at the step's
+    /// start, world, m.
+    pub anchor: Vec<Vector3<f32>>,
+    /// Plane: `c` in `d(x) = n·x + c` (m) at the step's start. Curved: radius (m) the point's
+    /// centre keeps to, > 0 outside the sphere, < 0 inside it.
+    pub size: Vec<f32>,
+    /// Is the contact a sphere (curved) rather than a plane?
+    pub curved: Vec<bool>,
+    /// Velocity of the model, m/s: of the collider's material point at the sphere's centre
+    /// (curved) or at the contact (plane, where only its normal part matters).
+    pub anchor_velocity: Vec<Vector3<f32>>,
+    /// Velocity of the collider's surface at the contact, m/s.
+    pub surface_velocity: Vec<Vector3<f32>>,
+    /// Friction coefficient of the contact.
+    pub friction: Vec<f32>,
+    /// Per strand: does any of its points have a contact?
+    pub strand_active: Vec<bool>,
+}
+
+/// What detection remembers of a point and one collider between steps.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Memory {
+    /// Body-space position at which `bound` was measured, m.
+    at: Vector3<f32>,
+    /// Lower bound of the signed distance to the collider's surface there, m (−∞: unknown).
+    bound: f32,
+    /// Mesh triangle the point projected on there (`u32::MAX`: none), a warm start.
+    hint: u32,
+}
+
+impl Default for Memory {
+    fn default() -> Self {
+        Self {
+            at: Vector3::zeros(),
+            bound: f32::NEG_INFINITY,
+            hint: u32::MAX,
+        }
+    }
+}
+
+/// Per point and collider memory (see the module docs), point-major.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Clearance {
+    memory: Vec<Memory>,
+}
+
+impl Clearance {
+    /// Forgets everything (colliders were added).
+    pub fn reset(&mut self) {
+        self.memory.clear();
+    }
+}
+
+/// What detection reads of the strands.
+pub(crate) struct DetectInput<'a> {
+    pub offsets: &'a [u32],
+    pub positions: &'a [Vector3<f32>],
+    pub velocities: &'a [Vector3<f32>],
+    pub radii: &'a [f32],
+    pub inv_mass: &'a [f32],
+    /// Strand ranges processed as one parallel job.
+    pub blocks: &'a [std::ops::Range<usize>],
+    /// Length of the collision step, s.
+    pub step_dt: f32,
+    /// Magnitude of gravity, m/s².
+    pub gravity: f32,
+}
+
+/// A collider as detection sees it during one step.
+struct StepCollider<'a> {
+    shape: &'a dyn Shape,
+    /// Enclosing sphere, body space: centre (m) and radius (m).
+    bounding_sphere: (Vector3<f32>, f32),
+    surface: Surface,
+    start: Isometry3<f32>,
+    start_inv: Isometry3<f32>,
+    end: Isometry3<f32>,
+    /// The step's rigid motion in world space, `end · start⁻¹`.
+    motion: Isometry3<f32>,
+    thickness: f32,
+    friction: f32,
+    /// Smallest curvature per mesh triangle, 1/m (empty for analytic shapes).
+    curvature: &'a [f32],
+    /// Largest distance of the shape from its body origin, m: contact spheres whose centre lies
+    /// farther are replaced by planes (their linearised motion under rotation would err more).
+    reach: f32,
+    /// The narrow-phase shortcut of a solid mesh.
+    fast: Option<&'a FastProjection>,
+}
+
+impl StepCollider<'_> {
+    /// Velocity (m/s) of the collider's material point at body-space `local` over a step of
+    /// `dt` s.
+    fn velocity_at(&self, local: &Vector3<f32>, dt: f32) -> Vector3<f32> {
+        let p = Point3::from(*local);
+        ((self.end * p) - (self.start * p)) / dt
+    }
+}
+
+/// Per-block output slices.
+struct BlockOut<'a> {
+    anchor: &'a mut [Vector3<f32>],
+    size: &'a mut [f32],
+    curved: &'a mut [bool],
+    anchor_velocity: &'a mut [Vector3<f32>],
+    surface_velocity: &'a mut [Vector3<f32>],
+    friction: &'a mut [f32],
+    active: &'a mut [bool],
+    memory: &'a mut [Memory],
+}
+
+/// A point to project on a collider: point index, collider, body-space position, query radius.
+struct Query {
+    point: usize,
+    collider: usize,
+    local: Vector3<f32>,
+    radius: f32,
+}
+
+/// Detects the contacts of the step from fraction `a` to `b` of the frame. Returns the number of
+/// points with a contact.
+pub(crate) fn detect(
+    colliders: &mut Colliders,
+    a: f32,
+    b: f32,
+    input: &DetectInput,
+    out: &mut PointContacts,
+) -> usize {
+    let n = input.positions.len();
+    let strands = input.offsets.len() - 1;
+    colliders.place_for_step(a, b);
+    let count = colliders.entries.len();
+    let memory = &mut colliders.clearance.memory;
+    if memory.len() != n * count {
+        *memory = vec![Memory::default(); n * count];
+    }
+    out.anchor.resize(n, Vector3::zeros());
+    out.size.resize(n, NO_CONTACT);
+    out.curved.resize(n, false);
+    out.anchor_velocity.resize(n, Vector3::zeros());
+    out.surface_velocity.resize(n, Vector3::zeros());
+    out.friction.resize(n, 0.0);
+    out.strand_active.resize(strands, false);
+
+    let step = colliders
+        .entries
+        .iter()
+        .map(|e| {
+            let start = e.pose_at(a);
+            StepCollider {
+                shape: &*e.shape,
+                bounding_sphere: e.bounding_sphere,
+                surface: e.surface,
+                start,
+                start_inv: start.inverse(),
+                end: e.pose_at(b),
+                motion: e.pose_at(b) * start.inverse(),
+                thickness: e.thickness,
+                friction: e.friction,
+                curvature: &e.curvature,
+                reach: e.bounding_radius,
+                fast: e.fast.as_ref(),
+            }
+        })
+        .collect::<Vec<_>>();
+    let handles: Vec<_> = colliders.entries.iter().map(|e| e.handle).collect();
+
+    // Disjoint output slices per block.
+    let mut jobs = Vec::with_capacity(input.blocks.len());
+    {
+        let mut anchor = out.anchor.as_mut_slice();
+        let mut size = out.size.as_mut_slice();
+        let mut curved = out.curved.as_mut_slice();
+        let mut anchor_velocity = out.anchor_velocity.as_mut_slice();
+        let mut surface_velocity = out.surface_velocity.as_mut_slice();
+        let mut friction = out.friction.as_mut_slice();
+        let mut active = out.strand_active.as_mut_slice();
+        let mut memory = memory.as_mut_slice();
+        for block in input.blocks {
+            let len = (input.offsets[block.end] - input.offsets[block.start]) as usize;
+            let o = BlockOut {
+                anchor: take(&mut anchor, len),
+                size: take(&mut size, len),
+                curved: take(&mut curved, len),
+                anchor_velocity: take(&mut anchor_velocity, len),
+                surface_velocity: take(&mut surface_velocity, len),
+                friction: take(&mut friction, len),
+                active: take(&mut active, block.len()),
+                memory: take(&mut memory, len * count),
+            };
+            jobs.push((block.clone(), o));
+        }
+    }
+
+    let dispatcher = DefaultQueryDispatcher;
+    let (broad_phase, bodies, set) = (&colliders.broad_phase, &colliders.bodies, &colliders.set);
+    let dt = input.step_dt;
+    jobs.into_par_iter()
+        .map(|(block, o)| {
+            let pipeline =
+                broad_phase.as_query_pipeline(&dispatcher, bodies, set, QueryFilter::default());
+            let base = input.offsets[block.start] as usize;
+            let mut found = 0usize;
+            let mut candidates = vec![false; count];
+            let mut queries: Vec<Query> = Vec::new();
+            let mut best: Vec<Option<(f32, Hit, usize)>> = Vec::new();
+            let mut strand_hint = vec![u32::MAX; count];
+            for (k, s) in block.clone().enumerate() {
+                let points = input.offsets[s] as usize..input.offsets[s + 1] as usize;
+                queries.clear();
+                let mut lo = Vector3::repeat(f32::INFINITY);
+                let mut hi = Vector3::repeat(f32::NEG_INFINITY);
+                for i in points.clone() {
+                    let j = i - base;
+                    o.size[j] = NO_CONTACT;
+                    o.anchor[j] = Vector3::zeros();
+                    o.curved[j] = false;
+                    o.anchor_velocity[j] = Vector3::zeros();
+                    o.surface_velocity[j] = Vector3::zeros();
+                    o.friction[j] = 0.0;
+                    if input.inv_mass[i] == 0.0 {
+                        continue;
+                    }
+                    let x = input.positions[i];
+                    for (c, col) in step.iter().enumerate() {
+                        let local = (col.start_inv * Point3::from(x)).coords;
+                        let carried = ((col.motion * Point3::from(x)).coords - x) / dt;
+                        let relative = input.velocities[i] - carried;
+                        let q = input.radii[i]
+                            + col.thickness
+                            + 2.0 * relative.norm() * dt
+                            + input.gravity * dt * dt
+                            + SLACK;
+                        let m = &o.memory[j * count + c];
+                        if m.bound - (local - m.at).norm() >= q {
+                            continue;
+                        }
+                        queries.push(Query {
+                            point: i,
+                            collider: c,
+                            local,
+                            radius: q,
+                        });
+                        lo = lo.inf(&x.add_scalar(-q));
+                        hi = hi.sup(&x.add_scalar(q));
+                    }
+                }
+                o.active[k] = false;
+                if queries.is_empty() {
+                    continue;
+                }
+                candidates.iter_mut().for_each(|c| *c = false);
+                let aabb = Aabb::new(to_glam(&lo), to_glam(&hi));
+                for (h, _) in pipeline.intersect_aabb_conservative(aabb) {
+                    if let Some(c) = handles.iter().position(|&e| e == h) {
+                        candidates[c] = true;
+                    }
+                }
+                best.clear();
+                best.resize(points.len(), None);
+                // A point without a hint of its own starts from its predecessor's triangle.
+                strand_hint.iter_mut().for_each(|h| *h = u32::MAX);
+                for query in &queries {
+                    let (i, c) = (query.point, query.collider);
+                    let j = i - base;
+                    let m = &mut o.memory[j * count + c];
+                    m.at = query.local;
+                    if !candidates[c] {
+                        // Outside the broad phase: farther than the query radius.
+                        m.bound = query.radius;
+                        continue;
+                    }
+                    let col = &step[c];
+                    let own = if m.hint != u32::MAX {
+                        m.hint
+                    } else {
+                        strand_hint[c]
+                    };
+                    let hint = (own != u32::MAX).then_some(own);
+                    let hit = match project(col, &query.local, query.radius, hint) {
+                        Ok(hit) => hit,
+                        Err((far, triangle)) => {
+                            m.bound = far;
+                            m.hint = triangle.unwrap_or(m.hint);
+                            strand_hint[c] = m.hint;
+                            continue;
+                        }
+                    };
+                    m.bound = hit.signed;
+                    if col.shape.as_trimesh().is_some() {
+                        m.hint = hit.triangle;
+                    }
+                    strand_hint[c] = m.hint;
+                    let d0 = hit.signed - col.thickness - input.radii[i];
+                    let slot = &mut best[i - points.start];
+                    if slot.as_ref().is_none_or(|b| d0 < b.0) {
+                        *slot = Some((d0, hit, c));
+                    }
+                }
+                for (offset, slot) in best.iter().enumerate() {
+                    let Some((d0, hit, c)) = slot else {
+                        continue;
+                    };
+                    let i = points.start + offset;
+                    let j = i - base;
+                    let col = &step[*c];
+                    let x = input.positions[i];
+                    o.surface_velocity[j] = col.velocity_at(&hit.local_point, dt);
+                    o.friction[j] = col.friction;
+                    o.active[k] = true;
+                    found += 1;
+                    // The sphere of the surface's curvature, grown like the surface by thickness
+                    // and hair radius; a plane where flat, too tight for the hair, or where the
+                    // point is deep in the sphere.
+                    let normal = col.start.rotation * hit.local_normal;
+                    let grow = col.thickness + input.radii[i];
+                    let rho = 1.0 / hit.curvature.abs();
+                    let rho_grown = if hit.curvature > 0.0 {
+                        rho + grow
+                    } else {
+                        rho - grow
+                    };
+                    let centre = if hit.curvature > 0.0 {
+                        hit.local_point - hit.local_normal * rho
+                    } else {
+                        hit.local_point + hit.local_normal * rho
+                    };
+                    if rho < FLAT
+                        && rho_grown > 0.0
+                        && *d0 > -0.5 * rho_grown
+                        && centre.norm() <= col.reach
+                    {
+                        o.anchor[j] = (col.start * Point3::from(centre)).coords;
+                        o.size[j] = rho_grown.copysign(hit.curvature);
+                        o.curved[j] = true;
+                        o.anchor_velocity[j] = col.velocity_at(&centre, dt);
+                    } else {
+                        o.anchor[j] = normal;
+                        o.size[j] = d0 - normal.dot(&x);
+                        o.anchor_velocity[j] = o.surface_velocity[j];
+                    }
+                }
+            }
+            found
+        })
+        .sum()
+}
+
+/// Splits the first `len` items off `rest`.
+fn take<'a, T>(rest: &mut &'a mut [T], len: usize) -> &'a mut [T] {
+    let (head, tail) = std::mem::take(rest).split_at_mut(len);
+    *rest = tail;
+    head
+}
+
+/// A point projected on a collider surface, in the collider's body space.
+#[derive(Debug, Clone, Copy, Default)]
+struct Hit {
+    /// Signed distance from the (unthickened) surface, m; negative inside a solid.
+    signed: f32,
+    /// Outward unit normal, body space.
+    local_normal: Vector3<f32>,
+    /// The projection, body space, m.
+    local_point: Vector3<f32>,
+    /// Smallest curvature of the surface there, 1/m: > 0 bending away from the point's side
+    /// (convex), < 0 towards it, 0 flat.
+    curvature: f32,
+    /// Triangle of a mesh the point projected on (0 for analytic shapes).
+    triangle: u32,
+}
+
+/// Projects body-space point `p` on collider `col` if its surface lies within `q` (m), or if the
+/// point is inside a solid. Otherwise returns a lower bound (> q, m) of its distance to the
+/// surface — the distance itself, or to the shape's enclosing sphere when that is beyond `q` —
+/// with the mesh triangle nearest to it if one was found. `hint` is a mesh triangle the point was
+/// near before, which warm-starts the search.
+fn project(
+    col: &StepCollider,
+    p: &Vector3<f32>,
+    q: f32,
+    hint: Option<u32>,
+) -> Result<Hit, (f32, Option<u32>)> {
+    let p = Point3::from(*p);
+    let pg = to_glam(&p.coords);
+    let (centre, enclosing) = col.bounding_sphere;
+    let far = (p.coords - centre).norm() - enclosing;
+    if far > q {
+        return Err((far, None));
+    }
+    if let Some(mesh) = col.shape.as_trimesh() {
+        // Near a convex part of a solid mesh, the last triangle may certify the answer.
+        if let (Some(fast), Some(t)) = (col.fast, hint) {
+            if let Some(f) = fast.project(mesh, t, &p.coords) {
+                return if f.height > q {
+                    Err((f.height, Some(f.triangle)))
+                } else {
+                    Ok(Hit {
+                        signed: f.height,
+                        local_normal: f.normal,
+                        local_point: f.point,
+                        curvature: col
+                            .curvature
+                            .get(f.triangle as usize)
+                            .copied()
+                            .unwrap_or(0.0),
+                        triangle: f.triangle,
+                    })
+                };
+            }
+        }
+        // The hint triangle's distance bounds the mesh's; a little more keeps that triangle
+        // itself findable (the search only accepts strictly nearer candidates).
+        let limit = hint
+            .filter(|&t| (t as usize) < mesh.num_triangles())
+            .map(|t| {
+                let d = mesh.triangle(t).distance_to_local_point(pg, true);
+                d * (1.0 + 1e-4) + 1e-6
+            })
+            .unwrap_or(f32::MAX);
+        // Rounding can put the hint triangle itself just beyond the limit; then search without
+        // one. Only a non-finite point finds nothing at all.
+        let found = mesh
+            .project_local_point_and_get_location_with_max_dist(pg, false, limit)
+            .or_else(|| {
+                mesh.project_local_point_and_get_location_with_max_dist(pg, false, f32::MAX)
+            });
+        let Some((proj, (tri, location))) = found else {
+            return Err((q, None));
+        };
+        let point = from_glam(proj.point);
+        let delta = p.coords - point;
+        let dist = delta.norm();
+        let inside = col.surface == Surface::Solid && proj.is_inside;
+        if !inside && dist > q {
+            return Err((dist, Some(tri)));
+        }
+        let local_normal = if dist > NORMAL_EPS {
+            if inside {
+                -delta / dist
+            } else {
+                delta / dist
+            }
+        } else {
+            // On the surface: the feature's (pseudo-)normal.
+            let face = from_glam(mesh.triangle(tri).scaled_normal());
+            let pseudo = mesh
+                .pseudo_normals_if_oriented()
+                .and_then(|pn| match location {
+                    TrianglePointLocation::OnEdge(e, _) => pn
+                        .edges_pseudo_normal
+                        .get(tri as usize)
+                        .map(|n| from_glam(n[e as usize])),
+                    TrianglePointLocation::OnVertex(v) => {
+                        let idx = mesh.indices()[tri as usize][v as usize];
+                        pn.vertices_pseudo_normal
+                            .get(idx as usize)
+                            .map(|n| from_glam(*n))
+                    }
+                    _ => None,
+                });
+            unit_or_z(pseudo.unwrap_or(face))
+        };
+        // Triangle curvature is along the winding normal; from the back of a shell it flips.
+        let face = from_glam(mesh.triangle(tri).scaled_normal());
+        let kappa = col.curvature.get(tri as usize).copied().unwrap_or(0.0);
+        let curvature = if face.dot(&local_normal) < 0.0 {
+            -kappa
+        } else {
+            kappa
+        };
+        return Ok(Hit {
+            signed: if inside { -dist } else { dist },
+            local_normal,
+            local_point: point,
+            curvature,
+            triangle: tri,
+        });
+    }
+    // Analytic shapes: exact and cheap, no distance limit needed.
+    let proj = col.shape.project_local_point(pg, false);
+    let mut curvature = 0.0;
+    let point = from_glam(proj.point);
+    let delta = p.coords - point;
+    let dist = delta.norm();
+    if !proj.is_inside && dist > q {
+        return Err((dist, None));
+    }
+    let local_normal = if dist > NORMAL_EPS {
+        if proj.is_inside {
+            -delta / dist
+        } else {
+            delta / dist
+        }
+    } else {
+        // On the surface: away from the sphere's centre or the capsule's axis.
+        unit_or_z(point - axis_point(col.shape, &point))
+    };
+    // A sphere is curved everywhere; a capsule on its caps, flat along its cylinder (its
+    // smallest curvature).
+    if let Some(ball) = col.shape.as_ball() {
+        curvature = 1.0 / ball.radius;
+    } else if let Some(capsule) = col.shape.as_capsule() {
+        let (a, b) = (from_glam(capsule.segment.a), from_glam(capsule.segment.b));
+        let ab = b - a;
+        let t = (point - a).dot(&ab) / ab.norm_squared().max(f32::MIN_POSITIVE);
+        if !(0.0..=1.0).contains(&t) || ab.norm_squared() == 0.0 {
+            curvature = 1.0 / capsule.radius;
+        }
+    }
+    Ok(Hit {
+        signed: if proj.is_inside { -dist } else { dist },
+        local_normal,
+        local_point: point,
+        curvature,
+        triangle: 0,
+    })
+}
+
+/// Nearest point of a capsule's axis segment to `point` (body space), or the origin for other
+/// shapes (a sphere's centre).
+fn axis_point(shape: &dyn Shape, point: &Vector3<f32>) -> Vector3<f32> {
+    match shape.as_capsule() {
+        Some(c) => {
+            let (a, b) = (from_glam(c.segment.a), from_glam(c.segment.b));
+            let ab = b - a;
+            let t =
+                ((point - a).dot(&ab) / ab.norm_squared().max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
+            a + ab * t
+        }
+        None => Vector3::zeros(),
+    }
+}
+
+fn unit_or_z(v: Vector3<f32>) -> Vector3<f32> {
+    let n = v.norm();
+    if n > 0.0 && n.is_finite() {
+        v / n
+    } else {
+        Vector3::z()
+    }
+}
