@@ -3,5 +3,7 @@
 
 pub mod motion;
 pub mod progress;
+pub mod render_children;
+pub mod resume;
 pub mod scene;
 pub mod simulate;

@@ -1,10 +1,14 @@
 //! `hairsys`: simulate hair scenes into MCAP point caches.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{Parser, Subcommand, ValueEnum};
+use hair_cache::foxglove::FoxgloveOptions;
+use hair_cache::{CacheReader, Compression, Interpolation, WriterOptions};
+use hair_render::{ChildCount, ChildSettings, DisplayLod, Lod};
 use hairsys::progress::Progress;
+use hairsys::render_children::{export, ExportOptions, Format};
 use hairsys::scene::{SceneFile, DEFAULT_SCENE};
 use hairsys::simulate::{simulate, SimulateOptions};
 use serde_json::json;
@@ -32,6 +36,16 @@ enum Command {
         /// Worker threads (default: all cores).
         #[arg(long)]
         threads: Option<usize>,
+        /// Continue the interrupted run left in CACHE.partial from its last complete frame.
+        #[arg(long)]
+        resume: bool,
+        /// Cache chunk compression.
+        #[arg(long, value_enum, default_value_t = CompressionArg::None)]
+        compression: CompressionArg,
+        /// Also write a foxglove.SceneUpdate channel showing up to N strands per frame (default 500),
+        /// to scrub the run in Foxglove.
+        #[arg(long, value_name = "N", num_args = 0..=1, default_missing_value = "500")]
+        foxglove: Option<usize>,
         /// Print nothing but errors.
         #[arg(long, conflicts_with = "json")]
         quiet: bool,
@@ -49,6 +63,127 @@ enum Command {
         #[command(subcommand)]
         command: CacheCommand,
     },
+    /// Render children generated on request from the simulation level.
+    RenderChildren {
+        #[command(subcommand)]
+        command: RenderCommand,
+    },
+    /// Groom files (guide curves): .hair, .tfx, .obj (polylines), .usda (BasisCurves).
+    Groom {
+        #[command(subcommand)]
+        command: GroomCommand,
+    },
+}
+
+#[derive(Subcommand)]
+enum RenderCommand {
+    /// Generate children from a cached frame (with motion-blur samples over a shutter) or from the
+    /// scene's rest state, and write them as USD BasisCurves or .hair.
+    Export(Box<ExportArgs>),
+}
+
+#[derive(clap::Args)]
+struct ExportArgs {
+    /// Cache to read (the scene stored in it gives the roots); without it, the rest state.
+    #[arg(long)]
+    cache: Option<PathBuf>,
+    /// Scene file: the rest state to export without --cache, or a scene overriding the cache's.
+    #[arg(long)]
+    scene: Option<PathBuf>,
+    /// Frame to export (with --cache).
+    #[arg(long)]
+    frame: Option<u32>,
+    /// Shutter interval OPEN,CLOSE in frames around the frame.
+    #[arg(long, value_parser = parse_pair, default_value = "-0.25,0.25", allow_hyphen_values = true)]
+    shutter: (f64, f64),
+    /// Motion samples over the shutter (USD time samples); 1 = no motion blur.
+    #[arg(long, default_value_t = 1)]
+    motion_samples: usize,
+    /// Children per parent strand.
+    #[arg(long, conflicts_with = "count")]
+    children_per_parent: Option<u32>,
+    /// Total number of children, spread over the parents.
+    #[arg(long)]
+    count: Option<u64>,
+    /// Display level of detail (10 % of the children, fewer points) instead of render.
+    #[arg(long)]
+    display: bool,
+    /// Radius of the disc children are spread over around their parent's root, m.
+    #[arg(long, default_value_t = 0.005)]
+    spread: f32,
+    /// Clump factor: 1 draws child tips onto the parent's tip, 0 none.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    clump: f32,
+    /// Curl radius, m (0 = no curl).
+    #[arg(long, default_value_t = 0.0)]
+    curl_radius: f32,
+    /// Curl frequency, turns per meter of hair.
+    #[arg(long, default_value_t = 0.0)]
+    curl_frequency: f32,
+    /// Seed of the children's random values.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = FormatArg::Usd)]
+    format: FormatArg,
+    /// Output file (.usda for usd, .hair for hair).
+    #[arg(short, long)]
+    out: PathBuf,
+    /// Print nothing but errors.
+    #[arg(long, conflicts_with = "json")]
+    quiet: bool,
+    /// Print a JSON summary on stdout.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Children output format.
+#[derive(Clone, Copy, ValueEnum)]
+enum FormatArg {
+    /// USD BasisCurves (.usda).
+    Usd,
+    /// Cem Yuksel's .hair.
+    Hair,
+}
+
+fn parse_pair(s: &str) -> Result<(f64, f64), String> {
+    let (a, b) = s
+        .split_once(',')
+        .ok_or_else(|| format!("`{s}` is not OPEN,CLOSE, e.g. -0.25,0.25"))?;
+    let num = |t: &str| {
+        t.trim()
+            .parse::<f64>()
+            .map_err(|_| format!("`{t}` is not a number"))
+    };
+    Ok((num(a)?, num(b)?))
+}
+
+#[derive(Subcommand)]
+enum GroomCommand {
+    /// Print a groom file's strands, points, lengths and bounds (in meters, Z up, after --scale
+    /// and --up-axis).
+    Info {
+        /// Groom file; the format comes from the extension.
+        file: PathBuf,
+        /// Meters per file unit (the Sintel sample: 0.01).
+        #[arg(long, default_value_t = 1.0)]
+        scale: f32,
+        /// The file's up axis; Y-up files are turned to Z up.
+        #[arg(long, value_enum, default_value_t = UpAxisArg::Z)]
+        up_axis: UpAxisArg,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+/// Up axis of a file.
+#[derive(Clone, Copy, ValueEnum)]
+enum UpAxisArg {
+    /// Y up (Maya, most exporters); converted to Z up.
+    Y,
+    /// Z up (Blender).
+    Z,
 }
 
 #[derive(Subcommand)]
@@ -62,6 +197,27 @@ enum SceneCommand {
     },
 }
 
+/// Chunk compression of the cache.
+#[derive(Clone, Copy, ValueEnum)]
+enum CompressionArg {
+    /// No compression: fastest to write and read; simulated hair barely compresses.
+    None,
+    /// LZ4: about 1 % smaller on moving hair, half the size for still hair; 2.7× slower writes.
+    Lz4,
+    /// Zstandard: about 9 % smaller on moving hair, slower to write.
+    Zstd,
+}
+
+impl From<CompressionArg> for Compression {
+    fn from(c: CompressionArg) -> Self {
+        match c {
+            CompressionArg::None => Compression::None,
+            CompressionArg::Lz4 => Compression::Lz4,
+            CompressionArg::Zstd => Compression::Zstd,
+        }
+    }
+}
+
 #[derive(Subcommand)]
 enum CacheCommand {
     /// Print a cache's frames, time range, strands, points and bytes.
@@ -71,6 +227,29 @@ enum CacheCommand {
         /// Print JSON instead of text.
         #[arg(long)]
         json: bool,
+    },
+    /// Print the positions at any time between cached frames (cubic Hermite with the cached
+    /// velocities), as JSON.
+    Sample {
+        /// Cache file (MCAP).
+        file: PathBuf,
+        /// Time in seconds (frame / fps); at a frame time the sample is that frame exactly.
+        #[arg(long)]
+        time: f64,
+        /// Interpolate linearly instead of with cubic Hermite.
+        #[arg(long)]
+        linear: bool,
+        /// Write the JSON to this file instead of stdout.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Recover every complete frame of a broken cache (e.g. the CACHE.partial of a killed run)
+    /// into a complete cache, and say what was lost.
+    Recover {
+        /// The broken cache.
+        broken: PathBuf,
+        /// Where to write the recovered, complete cache.
+        fixed: PathBuf,
     },
 }
 
@@ -96,7 +275,25 @@ fn main() -> ExitCode {
             threads,
             quiet,
             json,
-        } => run_simulate(scene, cache, frames, threads, quiet, json),
+            resume,
+            compression,
+            foxglove,
+        } => {
+            let writer = WriterOptions {
+                compression: compression.into(),
+                foxglove: foxglove.map(|max_strands| FoxgloveOptions { max_strands }),
+                ..WriterOptions::default()
+            };
+            let run = RunArgs {
+                scene,
+                cache,
+                frames,
+                threads,
+                writer,
+                resume,
+            };
+            run_simulate(run, quiet, json)
+        }
         Command::Scene {
             command: SceneCommand::Init,
         } => {
@@ -143,19 +340,196 @@ fn main() -> ExitCode {
                 1
             }
         },
+        Command::Cache {
+            command:
+                CacheCommand::Sample {
+                    file,
+                    time,
+                    linear,
+                    out,
+                },
+        } => report(sample(&file, time, linear, out.as_deref())),
+        Command::Cache {
+            command: CacheCommand::Recover { broken, fixed },
+        } => report(recover(&broken, &fixed)),
+        Command::RenderChildren {
+            command: RenderCommand::Export(args),
+        } => report(export_children(*args)),
+        Command::Groom {
+            command:
+                GroomCommand::Info {
+                    file,
+                    scale,
+                    up_axis,
+                    json,
+                },
+        } => report(groom_info(&file, scale, up_axis, json)),
     };
     ExitCode::from(code as u8)
 }
 
-fn run_simulate(
+/// What `simulate` was asked to run.
+struct RunArgs {
     scene: Option<PathBuf>,
     cache: PathBuf,
     frames: Option<(u32, u32)>,
     threads: Option<usize>,
-    quiet: bool,
-    json: bool,
-) -> i32 {
-    let scene = match scene {
+    writer: WriterOptions,
+    resume: bool,
+}
+
+/// Prints an error and gives the exit code (0 done, 1 failed).
+fn report(result: Result<(), String>) -> i32 {
+    match result {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("error: {e}");
+            1
+        }
+    }
+}
+
+/// `render-children export`.
+fn export_children(a: ExportArgs) -> Result<(), String> {
+    let count = match (a.children_per_parent, a.count) {
+        (_, Some(n)) => ChildCount::Total(n),
+        (Some(n), None) => ChildCount::PerParent(n),
+        (None, None) => ChildSettings::default().count,
+    };
+    let mut settings = ChildSettings {
+        count,
+        spread: a.spread,
+        seed: a.seed,
+        ..ChildSettings::default()
+    };
+    settings.shape.clump.factor = a.clump;
+    settings.shape.curl.radius = a.curl_radius;
+    settings.shape.curl.frequency = a.curl_frequency;
+    let opts = ExportOptions {
+        cache: a.cache,
+        scene: a.scene,
+        frame: a.frame,
+        shutter: a.shutter,
+        motion_samples: a.motion_samples,
+        settings,
+        lod: if a.display {
+            Lod::Display(DisplayLod::default())
+        } else {
+            Lod::Render
+        },
+        format: match a.format {
+            FormatArg::Usd => Format::Usd,
+            FormatArg::Hair => Format::Hair,
+        },
+        out: a.out,
+    };
+    let progress = Progress::new(opts.motion_samples as u64, a.quiet, false, "children");
+    let summary = export(&opts, || progress.tick(&()));
+    progress.finish();
+    let summary = summary?;
+    if a.json {
+        println!(
+            "{}",
+            serde_json::to_string(&summary).expect("summaries serialise")
+        );
+    } else if !a.quiet {
+        println!(
+            "wrote {}: {} children, {} points, {} time sample(s)",
+            summary.out, summary.curves, summary.points, summary.time_samples
+        );
+    }
+    Ok(())
+}
+
+/// `groom info`: a groom file's summary.
+fn groom_info(file: &Path, scale: f32, up_axis: UpAxisArg, json: bool) -> Result<(), String> {
+    let up_axis = match up_axis {
+        UpAxisArg::Y => hair_groom::UpAxis::Y,
+        UpAxisArg::Z => hair_groom::UpAxis::Z,
+    };
+    let groom = hair_groom::read_groom(file, &hair_groom::ImportOptions { scale, up_axis })
+        .map_err(|e| e.to_string())?;
+    let info = hair_groom::groom_info(&groom);
+    if json {
+        let (lo, hi) = info.bounds;
+        let doc = json!({
+            "file": file.display().to_string(),
+            "strands": info.strands,
+            "points": info.points,
+            "points_per_strand": [info.points_min, info.points_max],
+            "length_m": { "min": info.length_min, "mean": info.length_mean, "max": info.length_max },
+            "bounds_m": [[lo.x, lo.y, lo.z], [hi.x, hi.y, hi.z]],
+        });
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&doc).expect("summaries serialise")
+        );
+    } else {
+        println!("{}", file.display());
+        println!("{info}");
+    }
+    Ok(())
+}
+
+/// `cache sample`: positions at `time` as JSON.
+fn sample(file: &Path, time: f64, linear: bool, out: Option<&Path>) -> Result<(), String> {
+    let mut reader = CacheReader::open(file).map_err(|e| e.to_string())?;
+    let interpolation = if linear {
+        Interpolation::Linear
+    } else {
+        Interpolation::Hermite
+    };
+    let (a, b) = reader.frames_around(time).map_err(|e| e.to_string())?;
+    let sample = reader
+        .sample(time, interpolation)
+        .map_err(|e| e.to_string())?;
+    let doc = json!({
+        "file": file.display().to_string(),
+        "time": sample.time,
+        "between_frames": [a, b],
+        "interpolation": if linear { "linear" } else { "hermite" },
+        "points": sample.positions.len(),
+        "positions": sample.positions.iter().map(|p| [p.x, p.y, p.z]).collect::<Vec<_>>(),
+        "velocities": sample.velocities.iter().map(|v| [v.x, v.y, v.z]).collect::<Vec<_>>(),
+    });
+    let text = serde_json::to_string(&doc).expect("samples serialise");
+    match out {
+        Some(path) => std::fs::write(path, text + "\n").map_err(|e| {
+            format!(
+                "{}: cannot write the sample ({e}); check the directory",
+                path.display()
+            )
+        }),
+        None => {
+            println!("{text}");
+            Ok(())
+        }
+    }
+}
+
+/// `cache recover`: every complete frame of `broken` into a complete cache at `fixed`.
+fn recover(broken: &Path, fixed: &Path) -> Result<(), String> {
+    let recovery = hair_cache::recover(broken).map_err(|e| e.to_string())?;
+    if recovery.frames.is_empty() {
+        return Err(format!(
+            "{}: no complete frame to recover",
+            broken.display()
+        ));
+    }
+    match &recovery.warning {
+        Some(w) => eprintln!("warning: {}: {w}", broken.display()),
+        None => eprintln!("{}: every frame was complete", broken.display()),
+    }
+    let summary = recovery
+        .write(fixed, WriterOptions::default())
+        .map_err(|e| e.to_string())?;
+    println!("wrote {}", fixed.display());
+    print!("{summary}");
+    Ok(())
+}
+
+fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
+    let scene = match run.scene {
         Some(path) => match SceneFile::load(&path) {
             Ok(s) => s,
             Err(e) => {
@@ -165,26 +539,32 @@ fn run_simulate(
         },
         None => SceneFile::builtin_default(),
     };
+    let frames = run.frames;
     let [first, last] = scene.scene.scene.frames;
     let (first, last) = frames.unwrap_or((first, last));
     let progress = Progress::new(last.saturating_sub(first) as u64, quiet, json, "simulating");
     let opts = SimulateOptions {
         scene,
-        cache,
+        cache: run.cache,
         frames,
-        threads,
+        threads: run.threads,
+        writer: run.writer,
+        resume: run.resume,
     };
     let result = simulate(&opts, |r| {
         progress.tick(&json!({
             "event": "frame",
             "frame": r.frame,
             "max_stretch": r.max_stretch,
-            "ms": (r.times.roots + r.times.strands).as_secs_f64() * 1e3,
+            "ms": (r.times.roots + r.times.strands + r.times.contacts).as_secs_f64() * 1e3,
         }))
     });
     progress.finish();
     match result {
         Ok(summary) => {
+            if let (Some(warning), false) = (&summary.recovery_warning, quiet || json) {
+                eprintln!("warning: the interrupted run kept {warning}");
+            }
             if json {
                 println!("{}", json!({ "event": "done", "summary": summary }));
             } else if !quiet {

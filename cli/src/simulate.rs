@@ -8,6 +8,7 @@ use hair_cache::{CacheHeader, CacheLayout, CacheSummary, CacheWriter, WriterOpti
 use hair_core::{FrameReport, Solver};
 use serde::Serialize;
 
+use crate::resume::resume;
 use crate::scene::{SceneError, SceneFile};
 
 /// Why a run stopped.
@@ -52,6 +53,19 @@ pub struct SimulateOptions {
     pub frames: Option<(u32, u32)>,
     /// Worker threads (default: all cores).
     pub threads: Option<usize>,
+    /// Cache compression, chunking and the optional Foxglove view.
+    pub writer: WriterOptions,
+    /// Continue the interrupted run left in `CACHE.partial` instead of starting over.
+    pub resume: bool,
+}
+
+impl SimulateOptions {
+    fn scene_error(&self, message: String) -> SceneError {
+        SceneError {
+            file: self.scene.origin.clone(),
+            message,
+        }
+    }
 }
 
 /// What a finished run did.
@@ -83,12 +97,23 @@ pub struct RunSummary {
     pub roots_ms_per_frame: f64,
     /// Mean time per frame in the strand substeps, ms.
     pub strands_ms_per_frame: f64,
+    /// Mean time per frame detecting contacts, ms (0 without colliders).
+    pub contacts_ms_per_frame: f64,
+    /// Mean number of points with a contact per collision step.
+    pub contact_points_per_step: f64,
+    /// Most collision steps any frame took (more than `[solver] steps` when colliders moved
+    /// fast).
+    pub max_collision_steps: u32,
     /// Throughput of the solver, point-substeps per second.
     pub point_substeps_per_s: f64,
     /// Largest relative segment stretch seen at any frame end.
     pub max_stretch: f32,
     /// The written cache.
     pub cache: CacheSummary,
+    /// With `--resume`: the frame the interrupted run was continued from.
+    pub resumed_from: Option<u32>,
+    /// With `--resume`: what the interrupted run had lost (frames after its last complete chunk).
+    pub recovery_warning: Option<String>,
 }
 
 /// Runs a scene to completion, calling `on_frame` after each frame.
@@ -105,6 +130,12 @@ pub fn simulate(
         }
         sim.set_frames(first, last);
     }
+    let scene_hash = opts.scene.hash()?;
+    let first_frame = sim.first_frame;
+    let resumed = match opts.resume {
+        true => Some(resume(&opts.cache, &scene_hash, &mut sim)?),
+        false => None,
+    };
     let threads = opts.threads.unwrap_or_else(rayon::current_num_threads);
     if threads == 0 {
         return Err(RunError::Usage("--threads 0: use at least 1 thread".into()));
@@ -130,7 +161,15 @@ pub fn simulate(
         sim.first_frame,
     )
     .map_err(solver_err)?;
-    let components = solver.components(&sim.strands).0;
+    let mut components = solver.components(&sim.strands).0;
+    // Colliders at the first frame, posed again for every frame (the scalp collider follows the
+    // scalp by itself).
+    let mut colliders = sim
+        .colliders_at(sim.first_frame as f32)
+        .map_err(|e| RunError::Input(opts.scene_error(sim.collider_message(&e))))?;
+    if !colliders.is_empty() {
+        components.push("contacts");
+    }
 
     let mut extra = BTreeMap::new();
     extra.insert("components".to_string(), components.join(","));
@@ -141,17 +180,24 @@ pub fn simulate(
     );
     let header = CacheHeader {
         fps: sim.settings.fps as f64,
-        first_frame: sim.first_frame,
+        first_frame,
         scene_toml: opts.scene.text.clone(),
-        scene_hash: opts.scene.hash()?,
+        scene_hash,
         extra,
     };
     let mut writer = CacheWriter::create(
         &opts.cache,
         &header,
         &CacheLayout::of(&sim.strands),
-        WriterOptions::default(),
+        opts.writer,
     )?;
+    // A resumed run first writes the frames it takes over; the last of them is the state it
+    // continues from, written below like a first frame.
+    if let Some(resumed) = &resumed {
+        for f in &resumed.frames[..resumed.frames.len() - 1] {
+            writer.write_frame(f.frame, &f.positions, &f.velocities)?;
+        }
+    }
     writer.write_frame(
         sim.first_frame,
         &sim.strands.positions,
@@ -160,17 +206,25 @@ pub fn simulate(
 
     let (mut solve_time, mut cache_time) = (Duration::ZERO, Duration::ZERO);
     let (mut roots_time, mut strands_time) = (Duration::ZERO, Duration::ZERO);
+    let mut contacts_time = Duration::ZERO;
+    let (mut contact_points, mut collision_steps, mut max_steps) = (0u64, 0u64, 0u32);
     let mut point_substeps = 0u64;
     let mut max_stretch = 0.0f32;
     for frame in sim.first_frame + 1..=sim.last_frame {
         let scalp = sim.scalp_at(frame as f32);
+        sim.pose_colliders(&mut colliders, frame as f32)
+            .map_err(|e| RunError::Input(opts.scene_error(sim.collider_message(&e))))?;
         let t0 = Instant::now();
         let report = pool
-            .install(|| solver.step_frame(&mut sim.strands, &scalp))
+            .install(|| solver.step_frame_with_colliders(&mut sim.strands, &scalp, &mut colliders))
             .map_err(solver_err)?;
         solve_time += t0.elapsed();
         roots_time += report.times.roots;
         strands_time += report.times.strands;
+        contacts_time += report.times.contacts;
+        contact_points += report.contact_points;
+        collision_steps += report.steps as u64;
+        max_steps = max_steps.max(report.steps);
         point_substeps += report.point_substeps;
         max_stretch = max_stretch.max(report.max_stretch);
         let t1 = Instant::now();
@@ -195,9 +249,14 @@ pub fn simulate(
         cache_ms_per_frame: per_frame(cache_time),
         roots_ms_per_frame: per_frame(roots_time),
         strands_ms_per_frame: per_frame(strands_time),
+        contacts_ms_per_frame: per_frame(contacts_time),
+        contact_points_per_step: contact_points as f64 / collision_steps.max(1) as f64,
+        max_collision_steps: max_steps,
         point_substeps_per_s: point_substeps as f64 / solve_time.as_secs_f64().max(1e-12),
         max_stretch,
         cache,
+        resumed_from: resumed.as_ref().map(|r| r.last_frame()),
+        recovery_warning: resumed.and_then(|r| r.warning.map(|w| w.to_string())),
     })
 }
 
@@ -222,6 +281,16 @@ impl std::fmt::Display for RunSummary {
             "  substeps: {} per step, dt = {:.3e} s (stability bound 2/ω = {:.3e} s)",
             self.substeps, self.dt, self.dt_bound
         )?;
+        if self.components.contains(&"contacts") {
+            writeln!(
+                f,
+                "  contacts: detection {:.2} ms/frame, {:.0} points in contact per step, up to {} collision steps per frame",
+                self.contacts_ms_per_frame, self.contact_points_per_step, self.max_collision_steps
+            )?;
+        }
+        if let Some(frame) = self.resumed_from {
+            writeln!(f, "  resumed from frame {frame}")?;
+        }
         writeln!(f, "  max stretch: {:.3} %", self.max_stretch * 100.0)?;
         writeln!(f, "  components: {}", self.components.join(", "))?;
         write!(f, "{}", self.cache)

@@ -41,6 +41,8 @@ fn run(threads: usize, name: &str) -> Vec<u8> {
         cache: cache.clone(),
         frames: None,
         threads: Some(threads),
+        writer: hair_cache::WriterOptions::default(),
+        resume: false,
     };
     simulate(&opts, |_| {}).unwrap();
     std::fs::read(&cache).unwrap()

@@ -141,7 +141,7 @@ fn too_large_fixed_substep_stops_with_unstable_naming_frame_strand_and_bound() {
         let fps = 24.0f32;
         let substeps = (1.0 / (fps as f64 * ratio * bound.dt_max)).round() as u32;
         let settings = SolverSettings {
-        max_strain: None,
+            max_strain: None,
             fps,
             substeps: Substeps::Fixed(substeps),
             ..SolverSettings::default()

@@ -1,0 +1,205 @@
+//! `hairsys render-children export`: render children generated on request from a cached frame (or
+//! sub-frame samples over a shutter, for motion blur) or from the scene's rest state, written as
+//! USD `BasisCurves` (`.usda`) or Cem Yuksel's `.hair`.
+//!
+//! The scene that made a cache travels inside it (metadata `scene_toml`), so the children's roots
+//! (mesh samples, root frames) come from that scene: the same scalp, at the sampled time.
+
+use std::path::{Path, PathBuf};
+
+use hair_cache::{CacheReader, Interpolation};
+use hair_core::{Anchor, MeshSample};
+use hair_render::export::usd::{self, Motion, MotionSample, UsdOptions};
+use hair_render::{generate, ChildBuffers, ChildSettings, Lod, Parents, ScalpRoots};
+use nalgebra::Vector3;
+
+use crate::scene::{SceneFile, Simulation};
+
+/// Output format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// USD `BasisCurves`, `.usda` text.
+    Usd,
+    /// Cem Yuksel's `.hair`.
+    Hair,
+}
+
+/// What to export.
+pub struct ExportOptions {
+    /// Cache to read frames from; without it, the scene's rest state.
+    pub cache: Option<PathBuf>,
+    /// Scene file (needed without `cache`; overrides the scene stored in the cache).
+    pub scene: Option<PathBuf>,
+    /// Frame to export (with a cache).
+    pub frame: Option<u32>,
+    /// Shutter interval in frames around the frame, e.g. (−0.25, 0.25).
+    pub shutter: (f64, f64),
+    /// Motion samples over the shutter (1 = no motion blur).
+    pub motion_samples: usize,
+    /// Child count and shape.
+    pub settings: ChildSettings,
+    /// Render or display level of detail.
+    pub lod: Lod,
+    /// Output format.
+    pub format: Format,
+    /// Output path.
+    pub out: PathBuf,
+}
+
+/// What was written.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ExportSummary {
+    /// Output path.
+    pub out: String,
+    /// Child curves written.
+    pub curves: usize,
+    /// Points written per time sample.
+    pub points: usize,
+    /// Time samples written (1 without motion blur).
+    pub time_samples: usize,
+}
+
+/// Generates and writes the children; `on_sample` is called after each time sample.
+pub fn export(opts: &ExportOptions, mut on_sample: impl FnMut()) -> Result<ExportSummary, String> {
+    if opts.motion_samples == 0 {
+        return Err("--motion-samples 0: use at least 1 sample".into());
+    }
+    let (scene, mut reader) = match &opts.cache {
+        Some(cache) => {
+            let reader = CacheReader::open(cache).map_err(|e| e.to_string())?;
+            let scene = match &opts.scene {
+                Some(path) => SceneFile::load(path).map_err(|e| e.to_string())?,
+                None => {
+                    let base = cache.parent().map(Path::to_path_buf).unwrap_or_default();
+                    let origin = format!("{} (scene stored in the cache)", cache.display());
+                    SceneFile::parse(&reader.header().scene_toml, &origin, base)
+                        .map_err(|e| e.to_string())?
+                }
+            };
+            (scene, Some(reader))
+        }
+        None => {
+            let scene = match &opts.scene {
+                Some(path) => SceneFile::load(path).map_err(|e| e.to_string())?,
+                None => SceneFile::builtin_default(),
+            };
+            (scene, None)
+        }
+    };
+    let sim = scene.build().map_err(|e| e.to_string())?;
+    let fps = sim.settings.fps as f64;
+    let frame = match (&reader, opts.frame) {
+        (Some(_), Some(f)) => f,
+        (Some(_), None) => return Err("--cache needs --frame N: the frame to export".into()),
+        (None, Some(_)) => {
+            return Err("--frame needs --cache: without a cache the rest state is exported".into())
+        }
+        (None, None) => sim.first_frame,
+    };
+    let offsets = shutter_offsets(opts.shutter, opts.motion_samples)?;
+    let mut samples: Vec<(f64, ChildBuffers)> = Vec::with_capacity(offsets.len());
+    for offset in offsets {
+        let time_code = frame as f64 + offset;
+        let positions = match reader.as_mut() {
+            Some(r) => {
+                r.sample(time_code / fps, Interpolation::Hermite)
+                    .map_err(|e| e.to_string())?
+                    .positions
+            }
+            None => sim.strands.positions.clone(),
+        };
+        samples.push((
+            time_code,
+            children_at(&sim, &positions, time_code as f32, opts)?,
+        ));
+        on_sample();
+    }
+    let centre = samples.len() / 2;
+    let out = &opts.out;
+    match opts.format {
+        Format::Hair => {
+            hair_render::export::hair::export_hair(out, &samples[centre].1)
+                .map_err(|e| e.to_string())?;
+        }
+        Format::Usd => {
+            let motion: Vec<MotionSample> = samples
+                .iter()
+                .map(|(time_code, children)| MotionSample {
+                    time_code: *time_code,
+                    children,
+                })
+                .collect();
+            let motion = if motion.len() > 1 {
+                Motion::TimeSamples(&motion)
+            } else {
+                Motion::None
+            };
+            let usd_opts = UsdOptions {
+                frames_per_second: fps,
+                time_code: frame as f64,
+                ..UsdOptions::default()
+            };
+            usd::export_usda(out, &samples[centre].1, &motion, &usd_opts)
+                .map_err(|e| e.to_string())?;
+        }
+    }
+    let children = &samples[centre].1;
+    Ok(ExportSummary {
+        out: out.display().to_string(),
+        curves: children.curve_count(),
+        points: children.point_count(),
+        time_samples: if opts.format == Format::Usd {
+            samples.len()
+        } else {
+            1
+        },
+    })
+}
+
+/// Offsets (frames) of `n` samples evenly over the shutter, both ends included; the centre for 1.
+fn shutter_offsets((open, close): (f64, f64), n: usize) -> Result<Vec<f64>, String> {
+    if !(open.is_finite() && close.is_finite() && open <= close) {
+        return Err(format!("--shutter {open},{close}: give OPEN,CLOSE in frames with OPEN ≤ CLOSE, e.g. -0.25,0.25"));
+    }
+    if n == 1 {
+        return Ok(vec![0.5 * (open + close)]);
+    }
+    Ok((0..n)
+        .map(|i| open + (close - open) * i as f64 / (n - 1) as f64)
+        .collect())
+}
+
+/// Children of the simulation level at `positions`, rooted on the scalp at `frame`.
+fn children_at(
+    sim: &Simulation,
+    positions: &[Vector3<f32>],
+    frame: f32,
+    opts: &ExportOptions,
+) -> Result<ChildBuffers, String> {
+    let scalp = sim.scalp_at(frame);
+    let roots = sim.strands.root_frames(&scalp);
+    let samples: Vec<Option<MeshSample>> = sim
+        .strands
+        .anchors()
+        .iter()
+        .map(|a| match a {
+            Anchor::Surface(s) => Some(*s),
+            Anchor::Body(_) => None,
+        })
+        .collect();
+    let err = |e: hair_render::RenderError| e.to_string();
+    let mut parents = Parents::new(positions, sim.strands.offsets())
+        .map_err(err)?
+        .with_root_frames(&roots)
+        .map_err(err)?;
+    if let Some(mesh) = &scalp.mesh {
+        parents = parents
+            .with_scalp(ScalpRoots {
+                mesh,
+                samples: &samples,
+                colors: None,
+            })
+            .map_err(err)?;
+    }
+    generate(&parents, &opts.settings, opts.lod).map_err(err)
+}
