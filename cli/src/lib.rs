@@ -6,4 +6,5 @@ pub mod progress;
 pub mod render_children;
 pub mod resume;
 pub mod scene;
+pub mod scene_guides;
 pub mod simulate;

@@ -160,6 +160,14 @@ fn parse_pair(s: &str) -> Result<(f64, f64), String> {
 
 #[derive(Subcommand)]
 enum GroomCommand {
+    /// Write a scene's guides (imported and snapped, or generated) to a groom file, e.g. .hair.
+    Export {
+        /// Scene file with a [guides] section.
+        scene: PathBuf,
+        /// Output file; the format comes from the extension (.hair, .tfx, .obj, .usda).
+        #[arg(short, long)]
+        out: PathBuf,
+    },
     /// Print a groom file's strands, points, lengths and bounds (in meters, Z up, after --scale
     /// and --up-axis).
     Info {
@@ -313,6 +321,9 @@ fn main() -> ExitCode {
                     sim.last_frame,
                     sim.settings.fps
                 );
+                if let Some(guides) = &sim.guides_report {
+                    println!("  guides: {guides}");
+                }
                 0
             }
             Err(e) => {
@@ -355,6 +366,9 @@ fn main() -> ExitCode {
         Command::RenderChildren {
             command: RenderCommand::Export(args),
         } => report(export_children(*args)),
+        Command::Groom {
+            command: GroomCommand::Export { scene, out },
+        } => report(export_guides(&scene, &out)),
         Command::Groom {
             command:
                 GroomCommand::Info {
@@ -438,6 +452,32 @@ fn export_children(a: ExportArgs) -> Result<(), String> {
             summary.out, summary.curves, summary.points, summary.time_samples
         );
     }
+    Ok(())
+}
+
+/// `groom export`: a scene's guides, in world space at rest, to a groom file.
+fn export_guides(scene: &Path, out: &Path) -> Result<(), String> {
+    let sim = SceneFile::load(scene)
+        .and_then(|s| s.build())
+        .map_err(|e| e.to_string())?;
+    let (Some(mesh), false) = (sim.rest_mesh(), sim.guides.is_empty()) else {
+        return Err(format!(
+            "{}: the scene has no [guides] to export",
+            scene.display()
+        ));
+    };
+    let groom = hair_groom::guides_to_groom(mesh, &sim.guides).map_err(|e| e.to_string())?;
+    let opts = hair_groom::ImportOptions {
+        scale: 1.0,
+        up_axis: hair_groom::UpAxis::Z,
+    };
+    hair_groom::write_groom(out, &groom, &opts).map_err(|e| e.to_string())?;
+    println!(
+        "wrote {}: {} guides, {} points (meters, Z up)",
+        out.display(),
+        groom.len(),
+        groom.point_count()
+    );
     Ok(())
 }
 

@@ -19,6 +19,7 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 use crate::motion::RigidMotion;
+use crate::scene_guides::{self, GuidesSection, SimHairsSection};
 
 /// The built-in default scene, fully commented (printed by `hairsys scene init`).
 pub const DEFAULT_SCENE: &str = include_str!("../../scenes/default.toml");
@@ -54,6 +55,12 @@ pub struct Scene {
     /// `[[strands]]`: explicit strands given as point lists.
     #[serde(default)]
     pub strands: Vec<ExplicitStrand>,
+    /// `[guides]`: guide hairs (imported and snapped, or generated) defining rest shapes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub guides: Option<GuidesSection>,
+    /// `[sim_hairs]`: simulation hairs interpolated from the guides.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sim_hairs: Option<SimHairsSection>,
     /// `[[colliders]]`: spheres, capsules and OBJ meshes hair collides with, each with keyframed
     /// rigid motion.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -490,6 +497,24 @@ impl SceneFile {
                     .map_err(|e| err(format!("[hair] {e}")))?;
             }
         }
+        let mut guided = None;
+        if let Some(guides) = &s.guides {
+            let Some(mesh) = &rest_mesh else {
+                return Err(err("[guides] puts guides on the scalp, but [scalp.mesh] kind = \"none\"; choose a scalp mesh".into()));
+            };
+            let built = scene_guides::build(guides, s.sim_hairs.as_ref(), mesh, &self.base_dir)
+                .map_err(err)?;
+            for input in &built.inputs {
+                strands
+                    .push(input.clone())
+                    .map_err(|e| err(format!("[sim_hairs] {e}")))?;
+            }
+            guided = Some(built);
+        } else if s.sim_hairs.is_some() {
+            return Err(err(
+                "[sim_hairs] interpolates from guides: add a [guides] section".into(),
+            ));
+        }
         for (i, st) in s.strands.iter().enumerate() {
             let input = explicit_strand(st).map_err(|m| err(format!("[[strands]] #{i}: {m}")))?;
             strands
@@ -523,6 +548,8 @@ impl SceneFile {
             colliders,
             scalp_collider: s.scalp.collider,
             contact_settings: s.contacts.unwrap_or_default(),
+            guides_report: guided.as_ref().map(|g| g.report.clone()),
+            guides: guided.map(|g| g.guides).unwrap_or_default(),
         };
         let scalp = sim.scalp_at(first as f32);
         sim.strands
@@ -717,9 +744,18 @@ pub struct Simulation {
     pub scalp_collider: Option<ScalpCollider>,
     /// `[contacts]`.
     pub contact_settings: ContactSettings,
+    /// The `[guides]` on the scalp, if the scene has them.
+    pub guides: Vec<hair_groom::Guide>,
+    /// What `[guides]` and `[sim_hairs]` built, in words (snap distances included).
+    pub guides_report: Option<String>,
 }
 
 impl Simulation {
+    /// The scalp mesh at rest (before the scalp's motion), if the scene has one.
+    pub fn rest_mesh(&self) -> Option<&TriMesh> {
+        self.rest_mesh.as_ref()
+    }
+
     /// True when the scene has any collider (scene colliders or the scalp).
     pub fn has_colliders(&self) -> bool {
         !self.colliders.is_empty() || self.scalp_collider.is_some()

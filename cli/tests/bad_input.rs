@@ -207,3 +207,40 @@ fn every_command_has_help() {
         );
     }
 }
+
+/// A scene with the Sintel groom on a sphere far smaller than the groom: every root is too far.
+fn guides_scene(extra: &str) -> String {
+    let tfx = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../data/sintel/sintel_hair.tfx"
+    );
+    format!(
+        "[scene]\nframes = [1, 3]\n[scalp.mesh]\nkind = \"uv-sphere\"\nradius = 0.1\nsegments = 12\nrings = 8\n\
+         [guides]\nfile = \"{tfx}\"\nscale = 0.01\nup_axis = \"y\"\n{extra}"
+    )
+}
+
+#[test]
+fn guides_too_far_from_the_scalp_are_named() {
+    run_bad(
+        "guides-far",
+        &guides_scene("[sim_hairs]\ncount = 10\n"),
+        &["[guides]", "strand", "max_snap_distance"],
+    );
+}
+
+#[test]
+fn guides_without_sim_hairs_and_sim_hairs_without_guides_are_explained() {
+    run_bad(
+        "guides-alone",
+        &guides_scene("max_snap_distance = 1.0\n"),
+        &["[sim_hairs]"],
+    );
+    let scene = "[scene]\nframes = [1, 3]\n[scalp.mesh]\nkind = \"builtin-head\"\n[sim_hairs]\ncount = 10\n";
+    run_bad("sim-hairs-alone", scene, &["[guides]"]);
+    run_bad(
+        "disabled-out-of-range",
+        &guides_scene("max_snap_distance = 1.0\ndisabled = [500]\n[sim_hairs]\ncount = 10\n"),
+        &["disabled", "500"],
+    );
+}

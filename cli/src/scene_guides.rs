@@ -1,0 +1,281 @@
+//! The `[guides]` and `[sim_hairs]` scene sections (seed 001, "Hair Levels"): a few guide hairs,
+//! imported from a groom file and snapped onto the scalp or generated on it, define the rest
+//! shapes; many more simulation hairs get theirs by interpolation from the nearest guides.
+
+use std::path::{Path, PathBuf};
+
+use hair_core::{Anchor, StrandInput, TriMesh};
+use hair_groom::{
+    Curl, Distance, GrowDirection, Guide, GuideOptions, ImportOptions, InterpolateOptions, Region,
+    SnapOptions, UpAxis,
+};
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+use crate::scene::{RegionSection, UpAxisValue};
+
+/// `[guides]`: import `file`, or generate `count` guides.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GuidesSection {
+    /// Groom file (.hair, .tfx, .obj polylines, .usda), relative to the scene file.
+    #[serde(default)]
+    pub file: Option<PathBuf>,
+    /// Meters per file unit.
+    #[serde(default = "one")]
+    pub scale: f32,
+    /// The file's up axis: `"z"` (default) or `"y"`.
+    #[serde(default)]
+    pub up_axis: UpAxisValue,
+    /// Largest distance a root may be moved onto the scalp, m; farther roots are refused.
+    #[serde(default = "default_snap")]
+    pub max_snap_distance: f32,
+    /// Generated guides: how many.
+    #[serde(default)]
+    pub count: Option<usize>,
+    /// Generated guides: length, m.
+    #[serde(default)]
+    pub length: Option<f32>,
+    /// Generated guides: segments.
+    #[serde(default)]
+    pub segments: Option<u32>,
+    /// Generated guides: seed of the roots.
+    #[serde(default)]
+    pub seed: u64,
+    /// Generated guides: where they grow.
+    #[serde(default)]
+    pub region: Option<RegionSection>,
+    /// Generated guides: comb towards this world direction (absent: along the normal).
+    #[serde(default)]
+    pub comb_direction: Option<[f32; 3]>,
+    /// Generated guides: angle from the normal when combed, degrees.
+    #[serde(default)]
+    pub comb_angle_deg: f32,
+    /// Generated guides: curl radius, m (0 = straight).
+    #[serde(default)]
+    pub curl_radius: f32,
+    /// Generated guides: curl turns per meter.
+    #[serde(default)]
+    pub curl_turns_per_meter: f32,
+    /// Indices of guides switched off (the sim hairs interpolate from the others).
+    #[serde(default)]
+    pub disabled: Vec<usize>,
+}
+
+/// `[sim_hairs]`: simulation hairs interpolated from the guides.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimHairsSection {
+    /// Number of hairs, roots area-weighted (or give `min_distance`).
+    #[serde(default)]
+    pub count: Option<usize>,
+    /// Poisson-disk roots at least this far apart, m (instead of `count`).
+    #[serde(default)]
+    pub min_distance: Option<f32>,
+    /// Seed of the roots.
+    #[serde(default)]
+    pub seed: u64,
+    /// Where sim hairs grow.
+    #[serde(default)]
+    pub region: Option<RegionSection>,
+    /// Guides blended per hair.
+    #[serde(default = "default_k")]
+    pub k: usize,
+    /// Points per hair (default: the guides' point count).
+    #[serde(default)]
+    pub points: Option<usize>,
+    /// `"surface"` (default) or `"euclidean"` root distances.
+    #[serde(default)]
+    pub distance: DistanceValue,
+    /// Linear density, kg/m.
+    #[serde(default = "default_density")]
+    pub mass_per_length: f32,
+    /// Radius, m.
+    #[serde(default = "default_radius")]
+    pub radius: f32,
+    /// Goal weight at the root.
+    #[serde(default)]
+    pub goal_root: f32,
+    /// Goal weight at the tip.
+    #[serde(default)]
+    pub goal_tip: f32,
+}
+
+/// How root distances are measured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DistanceValue {
+    /// Along the scalp surface.
+    #[default]
+    Surface,
+    /// Straight line.
+    Euclidean,
+}
+
+fn one() -> f32 {
+    1.0
+}
+fn default_snap() -> f32 {
+    0.025
+}
+fn default_k() -> usize {
+    4
+}
+fn default_density() -> f32 {
+    1e-3
+}
+fn default_radius() -> f32 {
+    1e-3
+}
+
+fn region(r: &Option<RegionSection>) -> Region {
+    match r {
+        None => Region::All,
+        Some(r) => Region::Cone {
+            direction: Vector3::from(r.direction),
+            max_angle_deg: r.max_angle_deg,
+        },
+    }
+}
+
+/// The guides and their sim hairs, with a report of what was done.
+pub struct GuidedHair {
+    /// Guides on the scalp (rest shapes in root frames).
+    pub guides: Vec<Guide>,
+    /// The simulation hairs to add to the strand set.
+    pub inputs: Vec<StrandInput>,
+    /// One line on the guides (source, snap distances) and the sim hairs.
+    pub report: String,
+}
+
+/// Builds the guides and the sim hairs interpolated from them. Errors name the section and key.
+pub fn build(
+    guides: &GuidesSection,
+    sim: Option<&SimHairsSection>,
+    mesh: &TriMesh,
+    base_dir: &Path,
+) -> Result<GuidedHair, String> {
+    let (guides_list, source) = match &guides.file {
+        Some(file) => {
+            let up_axis = match guides.up_axis {
+                UpAxisValue::Y => UpAxis::Y,
+                UpAxisValue::Z => UpAxis::Z,
+            };
+            let path = base_dir.join(file);
+            let groom = hair_groom::read_groom(
+                &path,
+                &ImportOptions {
+                    scale: guides.scale,
+                    up_axis,
+                },
+            )
+            .map_err(|e| format!("[guides] file: {e}"))?;
+            let snapped = hair_groom::snap_to_scalp(
+                &groom,
+                mesh,
+                &SnapOptions {
+                    max_distance: guides.max_snap_distance,
+                },
+            )
+            .map_err(|e| {
+                format!(
+                    "[guides] {e} (raise max_snap_distance, or fix the groom's scale and up_axis)"
+                )
+            })?;
+            let [lo, median, hi] = snapped.distance_summary();
+            let source = format!(
+                "{} guides from {}, roots snapped {:.2} / {:.2} / {:.2} mm (min / median / max)",
+                snapped.guides.len(),
+                file.display(),
+                lo * 1e3,
+                median * 1e3,
+                hi * 1e3
+            );
+            (snapped.guides, source)
+        }
+        None => {
+            let need = |key: &str| {
+                format!("[guides] needs `file`, or `{key}` (with count, length, segments) to generate guides")
+            };
+            let opts = GuideOptions {
+                count: guides.count.ok_or_else(|| need("count"))?,
+                length: guides.length.ok_or_else(|| need("length"))?,
+                segments: guides.segments.ok_or_else(|| need("segments"))?,
+                seed: guides.seed,
+                region: region(&guides.region),
+                direction: match guides.comb_direction {
+                    Some(d) => GrowDirection::Combed {
+                        direction: Vector3::from(d),
+                        angle_deg: guides.comb_angle_deg,
+                    },
+                    None => GrowDirection::Normal,
+                },
+                curl: (guides.curl_radius > 0.0).then_some(Curl {
+                    radius: guides.curl_radius,
+                    turns_per_meter: guides.curl_turns_per_meter,
+                }),
+            };
+            let list =
+                hair_groom::generate_guides(mesh, &opts).map_err(|e| format!("[guides] {e}"))?;
+            let source = format!("{} generated guides", list.len());
+            (list, source)
+        }
+    };
+    let mut enabled = vec![true; guides_list.len()];
+    for &i in &guides.disabled {
+        let slot = enabled.get_mut(i).ok_or_else(|| {
+            format!(
+                "[guides] disabled names guide {i} but there are {} guides (0–{})",
+                guides_list.len(),
+                guides_list.len().saturating_sub(1)
+            )
+        })?;
+        *slot = false;
+    }
+    let Some(sim) = sim else {
+        return Err("[guides] needs a [sim_hairs] section: how many simulation hairs to interpolate from the guides".into());
+    };
+    let roots = match (sim.count, sim.min_distance) {
+        (Some(count), None) => hair_groom::sample_area_weighted(mesh, count, sim.seed, &region(&sim.region)),
+        (None, Some(d)) => hair_groom::sample_poisson_disk(mesh, d, sim.seed, &region(&sim.region), None),
+        _ => return Err("[sim_hairs] give exactly one of `count` (area-weighted roots) or `min_distance` (Poisson disk, m)".into()),
+    }
+    .map_err(|e| format!("[sim_hairs] {e}"))?;
+    let points = sim
+        .points
+        .unwrap_or_else(|| guides_list.first().map_or(2, |g| g.rest.len()));
+    let opts = InterpolateOptions {
+        k: sim.k,
+        points,
+        distance: match sim.distance {
+            DistanceValue::Surface => Distance::Surface,
+            DistanceValue::Euclidean => Distance::Euclidean,
+        },
+    };
+    let hairs = hair_groom::interpolate(mesh, &guides_list, &enabled, &roots, &opts)
+        .map_err(|e| format!("[sim_hairs] {e}"))?;
+    let inputs = hairs
+        .into_iter()
+        .map(|h| {
+            StrandInput::uniform(
+                Anchor::Surface(h.root),
+                h.rest,
+                sim.mass_per_length,
+                sim.radius,
+                sim.goal_root,
+                sim.goal_tip,
+            )
+        })
+        .collect::<Vec<_>>();
+    let report = format!(
+        "{source}; {} enabled; {} sim hairs of {points} points from the {} nearest",
+        enabled.iter().filter(|&&e| e).count(),
+        inputs.len(),
+        sim.k
+    );
+    Ok(GuidedHair {
+        guides: guides_list,
+        inputs,
+        report,
+    })
+}

@@ -1,0 +1,44 @@
+//! The guide level through a scene file (`scenes/sintel.toml`): the Sintel groom's 228 guides are
+//! imported and snapped onto the bust (the snap report is printed), 3,000 simulation hairs are
+//! interpolated from them, every hair's rest length stays within the guides' range, and the scene
+//! simulates.
+
+use std::path::PathBuf;
+
+use hair_core::Solver;
+use hairsys::scene::SceneFile;
+
+#[test]
+fn sintel_scene_snaps_guides_and_interpolates_sim_hairs() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../scenes/sintel.toml");
+    let mut sim = SceneFile::load(&path).unwrap().build().unwrap();
+    let report = sim.guides_report.clone().expect("the scene has guides");
+    println!("sintel.toml: {report}");
+    assert_eq!(sim.guides.len(), 228);
+    assert_eq!(sim.strands.len(), 3000);
+    let length = |rest: &[nalgebra::Vector3<f32>]| {
+        rest.windows(2).map(|w| (w[1] - w[0]).norm()).sum::<f32>()
+    };
+    let guide_lengths: Vec<f32> = sim.guides.iter().map(|g| length(&g.rest)).collect();
+    let (lo, hi) = guide_lengths
+        .iter()
+        .fold((f32::MAX, 0.0f32), |(lo, hi), &l| (lo.min(l), hi.max(l)));
+    for s in 0..sim.strands.len() {
+        let l = sim.strands.rest_strand_length(s);
+        assert!(
+            l >= lo * 0.999 && l <= hi * 1.001,
+            "sim hair {s} is {l} m long, guides span {lo}–{hi} m"
+        );
+    }
+    let scalp = sim.scalp_at(1.0);
+    let mut solver = Solver::new(sim.settings, sim.params, &sim.strands, &scalp, 1).unwrap();
+    for frame in 2..=3 {
+        let scalp = sim.scalp_at(frame as f32);
+        let report = solver.step_frame(&mut sim.strands, &scalp).unwrap();
+        assert!(
+            report.max_stretch <= 0.01 + 1e-5,
+            "stretch {}",
+            report.max_stretch
+        );
+    }
+}
