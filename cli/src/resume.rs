@@ -9,7 +9,7 @@
 
 use std::path::Path;
 
-use hair_cache::{Frame, RecoveryWarning};
+use hair_cache::{Frame, Precision, RecoveryWarning};
 
 use crate::scene::Simulation;
 use crate::simulate::RunError;
@@ -20,6 +20,8 @@ pub struct Resumed {
     pub frames: Vec<Frame>,
     /// What the interrupted run lost (frames after the last complete chunk).
     pub warning: Option<RecoveryWarning>,
+    /// How the interrupted run stored its frames; the resumed run keeps it.
+    pub precision: Precision,
 }
 
 impl Resumed {
@@ -86,6 +88,7 @@ pub fn resume(cache: &Path, scene_hash: &str, sim: &mut Simulation) -> Result<Re
     Ok(Resumed {
         frames: recovery.frames,
         warning: recovery.warning,
+        precision: recovery.precision,
     })
 }
 

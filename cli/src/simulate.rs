@@ -189,7 +189,13 @@ pub fn simulate(
         &opts.cache,
         &header,
         &CacheLayout::of(&sim.strands),
-        opts.writer,
+        WriterOptions {
+            // A resumed run keeps the precision its frames were written with.
+            precision: resumed
+                .as_ref()
+                .map_or(opts.writer.precision, |r| r.precision),
+            ..opts.writer
+        },
     )?;
     // A resumed run first writes the frames it takes over; the last of them is the state it
     // continues from, written below like a first frame.

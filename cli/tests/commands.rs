@@ -112,3 +112,34 @@ fn cache_info_on_a_missing_file_fails_clearly() {
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("nothing.mcap"));
 }
+
+#[test]
+fn quantized_caches_are_half_the_size() {
+    let dir = tempdir("quantize");
+    std::fs::write(dir.join("scene.toml"), SCENE).unwrap();
+    for (name, flag) in [("f32.mcap", None), ("q16.mcap", Some("--quantize"))] {
+        let mut args = vec!["simulate", "scene.toml", "--cache", name, "--quiet"];
+        args.extend(flag);
+        let out = hairsys(&args, &dir);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let bytes = |name: &str| std::fs::metadata(dir.join(name)).unwrap().len() as f64;
+    let frames_bytes = |name: &str| {
+        let info = hairsys(&["cache", "info", name, "--json"], &dir);
+        serde_json::from_slice::<serde_json::Value>(&info.stdout).unwrap()["frames"]
+            .as_u64()
+            .unwrap()
+    };
+    assert_eq!(frames_bytes("q16.mcap"), frames_bytes("f32.mcap"));
+    // 180 points × 5 frames: frame data shrinks from 24 to 12 bytes per point-frame; the fixed
+    // parts of the file (header, layout, summary) do not.
+    let saved = bytes("f32.mcap") - bytes("q16.mcap");
+    assert!(
+        saved >= 0.9 * 12.0 * 180.0 * 5.0,
+        "saved only {saved} bytes"
+    );
+}

@@ -14,7 +14,8 @@ use std::path::Path;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use hair_cache::{
-    CacheHeader, CacheLayout, CacheReader, CacheWriter, Compression, Interpolation, WriterOptions,
+    CacheHeader, CacheLayout, CacheReader, CacheWriter, Compression, Interpolation, Precision,
+    WriterOptions,
 };
 use nalgebra::Vector3;
 
@@ -42,6 +43,7 @@ fn write_cache(path: &Path, frames: u32, compression: Compression, chunk_size: u
         compression,
         chunk_size,
         foxglove: None,
+        precision: Precision::F32,
     };
     let mut writer = CacheWriter::create(path, &header, &layout, options).unwrap();
     let n = layout.point_count();

@@ -49,4 +49,4 @@ pub use reader::{summarize, CacheReader};
 pub use recover::{recover, Recovery, RecoveryWarning};
 pub use sample::{interpolate, Interpolation, Sample, Shutter};
 pub use summary::CacheSummary;
-pub use writer::{partial_path, CacheWriter, Compression, WriterOptions};
+pub use writer::{partial_path, CacheWriter, Compression, Precision, WriterOptions};

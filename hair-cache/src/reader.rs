@@ -14,6 +14,7 @@ use mcap::McapError;
 use crate::error::CacheError;
 use crate::layout::{self, CacheHeader, CacheLayout, Frame, LeReader, MetadataError};
 use crate::summary::{CacheSummary, SummaryInput};
+use crate::writer::Precision;
 
 /// The summary of the finished cache at `path` (what `hairsys cache info` prints).
 pub fn summarize(path: impl AsRef<Path>) -> Result<CacheSummary, CacheError> {
@@ -40,6 +41,8 @@ pub struct CacheReader {
     cached_chunk: Option<(usize, Vec<ChunkMessage>)>,
     /// Id of the frame channel (0 without frames).
     frame_channel: u16,
+    /// How the frames are stored, from the frame channel's message encoding.
+    precision: Precision,
     compression: String,
     buf: Vec<u8>,
 }
@@ -101,6 +104,7 @@ impl CacheReader {
             frame_chunks: Vec::new(),
             cached_chunk: None,
             frame_channel: 0,
+            precision: Precision::F32,
             compression: String::new(),
             buf: Vec::new(),
         };
@@ -136,6 +140,13 @@ impl CacheReader {
     /// The strand layout (offsets, segment rest lengths in m, point radii in m).
     pub fn layout(&self) -> &CacheLayout {
         &self.layout
+    }
+
+    /// How the frames are stored: [`Precision::F32`] (exact) or [`Precision::Quantized16`]
+    /// (lossy, see [`crate::layout#quantized-frame-payload`]). Frames are decoded to `f32`
+    /// either way. [`Precision::F32`] for a cache without frames.
+    pub fn precision(&self) -> Precision {
+        self.precision
     }
 
     /// Number of frames stored.
@@ -197,7 +208,7 @@ impl CacheReader {
                 "the index lists frame {frame} but its chunk does not hold it"
             )));
         };
-        let decoded = layout::decode_frame(payload, self.layout.point_count())
+        let decoded = layout::decode_frame_as(self.precision, payload, self.layout.point_count())
             .map_err(|e| damaged(&self.path, e))?;
         if decoded.frame != frame {
             return Err(self.damaged(format!(
@@ -380,13 +391,15 @@ impl CacheReader {
             // A run that wrote no frame has no channel.
             return self.check_message_count(0);
         };
-        if channel.message_encoding != layout::FRAME_MESSAGE_ENCODING {
+        let Some(precision) = Precision::from_message_encoding(&channel.message_encoding) else {
             return Err(self.damaged(format!(
-                "the frame channel has message encoding {:?}, expected {:?}",
+                "the frame channel has message encoding {:?}, expected {:?} or {:?}",
                 channel.message_encoding,
-                layout::FRAME_MESSAGE_ENCODING
+                layout::FRAME_MESSAGE_ENCODING,
+                layout::FRAME_Q16_MESSAGE_ENCODING
             )));
-        }
+        };
+        self.precision = precision;
         self.frame_channel = channel.id;
         // (log_time, chunk) of every frame message, from the chunks' message indexes.
         let mut times = Vec::new();

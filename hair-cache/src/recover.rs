@@ -17,7 +17,7 @@ use crate::error::CacheError;
 use crate::layout::{self, CacheHeader, CacheLayout, Frame, MetadataError};
 use crate::reader::{attachment_data, damaged};
 use crate::summary::CacheSummary;
-use crate::writer::{CacheWriter, WriterOptions};
+use crate::writer::{CacheWriter, Precision, WriterOptions};
 
 /// The frames recovered from a cache file, and what was lost.
 #[derive(Debug, Clone, PartialEq)]
@@ -28,8 +28,13 @@ pub struct Recovery {
     pub header: CacheHeader,
     /// The strand layout, from the layout attachment.
     pub layout: CacheLayout,
-    /// Every frame of every complete chunk, in file order (increasing frame numbers).
+    /// Every frame of every complete chunk, in file order (increasing frame numbers), decoded
+    /// to `f32` whatever their precision.
     pub frames: Vec<Frame>,
+    /// How the frames were stored (from the frame channel's message encoding);
+    /// [`Precision::F32`] when no chunk declared the frame channel. Pass it in the
+    /// [`WriterOptions`] of [`Recovery::write`] or of a resumed run to keep the file's precision.
+    pub precision: Precision,
     /// What was lost; `None` when every chunk of the file was complete (only the summary was
     /// missing, or the file was finished).
     pub warning: Option<RecoveryWarning>,
@@ -105,7 +110,7 @@ pub fn recover(path: impl AsRef<Path>) -> Result<Recovery, CacheError> {
     let mut header: Option<CacheHeader> = None;
     let mut counts = None;
     let mut cache_layout: Option<CacheLayout> = None;
-    let mut frame_channel: Option<u16> = None;
+    let mut frame_channel: Option<(u16, Precision)> = None;
     let mut frames: Vec<Frame> = Vec::new();
     let mut losses = Vec::new();
     let mut lost_bytes = 0u64;
@@ -256,17 +261,18 @@ pub fn recover(path: impl AsRef<Path>) -> Result<Recovery, CacheError> {
         header,
         layout: cache_layout,
         frames,
+        precision: frame_channel.map_or(Precision::F32, |c| c.1),
         warning,
     })
 }
 
 /// The frames of one chunk record body, CRC-checked and decoded; `channel` is the frame
-/// channel's id once a chunk has declared it.
+/// channel's id and precision (from its message encoding) once a chunk has declared it.
 fn chunk_frames(
     body: &[u8],
     fps: f64,
     points: usize,
-    channel: &mut Option<u16>,
+    channel: &mut Option<(u16, Precision)>,
 ) -> Result<Vec<Frame>, String> {
     let (chunk_header, data) = match mcap::parse_record(op::CHUNK, body) {
         Ok(Record::Chunk { header, data }) => (header, data),
@@ -279,9 +285,23 @@ fn chunk_frames(
     let mut frames = Vec::new();
     for record in records {
         match record.map_err(|e| e.to_string())? {
-            Record::Channel(c) if c.topic == layout::FRAME_TOPIC => chunk_channel = Some(c.id),
-            Record::Message { header, data } if Some(header.channel_id) == chunk_channel => {
-                let frame = layout::decode_frame(&data, points)?;
+            Record::Channel(c) if c.topic == layout::FRAME_TOPIC => {
+                let precision =
+                    Precision::from_message_encoding(&c.message_encoding).ok_or_else(|| {
+                        format!(
+                            "the frame channel has message encoding {:?}, expected {:?} or {:?}",
+                            c.message_encoding,
+                            layout::FRAME_MESSAGE_ENCODING,
+                            layout::FRAME_Q16_MESSAGE_ENCODING
+                        )
+                    })?;
+                chunk_channel = Some((c.id, precision));
+            }
+            Record::Message { header, data }
+                if chunk_channel.is_some_and(|c| c.0 == header.channel_id) =>
+            {
+                let precision = chunk_channel.map_or(Precision::F32, |c| c.1);
+                let frame = layout::decode_frame_as(precision, &data, points)?;
                 if layout::frame_time_ns(frame.frame, fps) != Some(header.log_time) {
                     return Err(format!(
                         "frame {} is logged at {} ns, not at its time",

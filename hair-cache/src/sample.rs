@@ -17,6 +17,17 @@
 //! frame, bit for bit. Times before the first or after the last cached frame are a
 //! [`CacheError::TimeOutOfRange`] naming the cached range.
 //!
+//! # Quantized caches
+//!
+//! Frames of a [`Precision::Quantized16`](crate::Precision::Quantized16) cache are decoded
+//! before sampling, so samples carry their quantization error
+//! ([`crate::layout#quantized-frame-payload`]): per axis, at a frame time the frame's own
+//! (at most half a step, `(max − min) / 131070`, plus the `f32` rounding); between frames, with
+//! `εp` the larger position half step of the two frames and `εv0`, `εv1` their velocity half
+//! steps, at most `εp` for [`Interpolation::Linear`] (a convex blend) and
+//! `εp + (4/27) h (εv0 + εv1)` for [`Interpolation::Hermite`] (its tangent weights are at most
+//! 4/27), plus the rounding to `f32`.
+//!
 //! A motion-blur [`Shutter`] spreads `n` samples over an interval around a frame given in frames,
 //! e.g. `(−0.5, 0.5)` (a 180° shutter centred on the frame) or `(−0.25, 0.25)`.
 

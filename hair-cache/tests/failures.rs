@@ -6,7 +6,9 @@ use std::fs;
 use std::path::Path;
 
 use common::{frame_data, header, layout};
-use hair_cache::{summarize, CacheError, CacheReader, CacheWriter, Compression, WriterOptions};
+use hair_cache::{
+    summarize, CacheError, CacheReader, CacheWriter, Compression, Precision, WriterOptions,
+};
 use nalgebra::Vector3;
 
 fn finished_cache(path: &Path, options: WriterOptions) {
@@ -88,6 +90,7 @@ fn a_flipped_byte_in_a_frame_is_detected() {
             compression,
             chunk_size: 0,
             foxglove: None,
+            precision: Precision::F32,
         };
         finished_cache(&path, options);
         let mut bytes = fs::read(&path).unwrap();

@@ -7,7 +7,7 @@ use std::path::Path;
 use std::process::Command;
 
 use common::{frame_data, header, layout};
-use hair_cache::{CacheWriter, Compression, WriterOptions};
+use hair_cache::{CacheWriter, Compression, Precision, WriterOptions};
 
 const SCRIPT: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -28,7 +28,8 @@ fn check_python() {
     }
 }
 
-fn read_with_python(path: &Path) {
+/// Runs the script on `path`, asserts it accepts the file and returns its standard output.
+fn read_with_python(path: &Path) -> String {
     let out = Command::new("python3")
         .arg(SCRIPT)
         .arg(path)
@@ -42,30 +43,41 @@ fn read_with_python(path: &Path) {
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     );
+    String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
 #[test]
-fn python_mcap_reads_every_compression_and_chunking() {
+fn python_mcap_reads_every_compression_chunking_and_precision() {
     check_python();
     let dir = tempfile::tempdir().unwrap();
     let layout = layout();
-    for compression in [Compression::None, Compression::Lz4, Compression::Zstd] {
-        for (chunk_size, frames) in [(WriterOptions::DEFAULT_CHUNK_SIZE, 30), (0, 5), (2000, 40)] {
-            let path = dir
-                .path()
-                .join(format!("{compression}-{chunk_size}-{frames}.mcap"));
-            let options = WriterOptions {
-                compression,
-                chunk_size,
-                foxglove: None,
-            };
-            let mut writer = CacheWriter::create(&path, &header(), &layout, options).unwrap();
-            for f in 1..=frames {
-                let (x, v) = frame_data(f, layout.point_count());
-                writer.write_frame(f, &x, &v).unwrap();
+    for precision in [Precision::F32, Precision::Quantized16] {
+        for compression in [Compression::None, Compression::Lz4, Compression::Zstd] {
+            for (chunk_size, frames) in
+                [(WriterOptions::DEFAULT_CHUNK_SIZE, 30), (0, 5), (2000, 40)]
+            {
+                let path = dir.path().join(format!(
+                    "{precision}-{compression}-{chunk_size}-{frames}.mcap"
+                ));
+                let options = WriterOptions {
+                    compression,
+                    chunk_size,
+                    foxglove: None,
+                    precision,
+                };
+                let mut writer = CacheWriter::create(&path, &header(), &layout, options).unwrap();
+                for f in 1..=frames {
+                    let (x, v) = frame_data(f, layout.point_count());
+                    writer.write_frame(f, &x, &v).unwrap();
+                }
+                writer.finish().unwrap();
+                let out = read_with_python(&path);
+                assert_eq!(
+                    out.contains("(quantized)"),
+                    precision == Precision::Quantized16,
+                    "{out}"
+                );
             }
-            writer.finish().unwrap();
-            read_with_python(&path);
         }
     }
 }

@@ -6,7 +6,9 @@ use std::fs;
 use std::path::Path;
 
 use common::{bits, frame_data, header, layout};
-use hair_cache::{recover, CacheError, CacheReader, CacheWriter, Compression, WriterOptions};
+use hair_cache::{
+    recover, CacheError, CacheReader, CacheWriter, Compression, Precision, WriterOptions,
+};
 
 /// Writes frames 1..=20 and drops the writer without `finish`; returns the `.partial` bytes.
 fn dropped_run(path: &Path, options: WriterOptions) -> Vec<u8> {
@@ -64,6 +66,7 @@ fn truncated_partial_files_give_back_exactly_their_complete_chunks() {
             compression,
             chunk_size: 1500, // about four frames per chunk
             foxglove: None,
+            precision: Precision::F32,
         };
         let run = dir.path().join(format!("run-{compression}.mcap"));
         let partial = dropped_run(&run, options);
@@ -183,6 +186,7 @@ fn a_file_cut_inside_its_header_or_metadata_is_a_clear_error() {
             compression: Compression::None,
             chunk_size: 1500,
             foxglove: None,
+            precision: Precision::F32,
         },
     );
     let finished_len = 8 + 9; // magic and the header record's opcode and length
@@ -215,6 +219,7 @@ fn a_damaged_chunk_is_skipped_and_named() {
         compression: Compression::None,
         chunk_size: 1500,
         foxglove: None,
+        precision: Precision::F32,
     };
     let mut partial = dropped_run(&run, options);
     let done = dir.path().join("done.mcap");
@@ -251,6 +256,7 @@ fn a_killed_writer_leaves_its_closed_chunks() {
         compression: Compression::Lz4,
         chunk_size: 1500,
         foxglove: None,
+        precision: Precision::F32,
     };
     let mut writer = CacheWriter::create(&run, &header(), &layout, options).unwrap();
     for f in 1..=22 {

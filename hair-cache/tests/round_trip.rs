@@ -6,7 +6,8 @@ use std::fs;
 
 use common::{bits, frame_data, header, layout};
 use hair_cache::{
-    partial_path, summarize, CacheError, CacheReader, CacheWriter, Compression, WriterOptions,
+    partial_path, summarize, CacheError, CacheReader, CacheWriter, Compression, Precision,
+    WriterOptions,
 };
 
 fn write(
@@ -33,6 +34,7 @@ fn layout_and_three_frames_round_trip_bit_exactly() {
                 compression,
                 chunk_size,
                 foxglove: None,
+                precision: Precision::F32,
             };
             let summary = write(&path, options, &[1, 2, 4]);
             assert_eq!(summary.frames, 3);

@@ -6,8 +6,8 @@ use std::path::Path;
 
 use common::{bits, frame_data, header, layout};
 use hair_cache::{
-    interpolate, CacheError, CacheReader, CacheWriter, Compression, Frame, Interpolation, Shutter,
-    WriterOptions,
+    interpolate, CacheError, CacheReader, CacheWriter, Compression, Frame, Interpolation,
+    Precision, Shutter, WriterOptions,
 };
 use nalgebra::Vector3;
 
@@ -44,6 +44,7 @@ fn polynomial_cache(path: &Path, cubic: bool, compression: Compression) {
         compression,
         chunk_size: 1000, // several chunks, so sampling crosses chunk boundaries
         foxglove: None,
+        precision: Precision::F32,
     };
     let mut writer = CacheWriter::create(path, &header(), &layout, options).unwrap();
     for f in 1..=5u32 {
@@ -238,6 +239,7 @@ fn random_reads_in_any_order_match_frame_by_frame() {
         compression: Compression::Lz4,
         chunk_size: 2000,
         foxglove: None,
+        precision: Precision::F32,
     };
     let mut writer = CacheWriter::create(&path, &header(), &layout, options).unwrap();
     for f in 1..=60 {

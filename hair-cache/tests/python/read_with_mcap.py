@@ -5,7 +5,8 @@ Usage: python3 read_with_mcap.py FILE.mcap
 
 Checks the summary (statistics, schema, channel, chunk indexes), the `hairsys` metadata record,
 the `hairsys/layout.bin` attachment, and every frame message decoded per the layout documented
-in hair-cache/src/layout.rs. Exits 0 when everything agrees, 1 with a message otherwise, and 2
+in hair-cache/src/layout.rs: `hairsys.frame.v1` (f32) or `hairsys.frame.q16.v1` (quantized u16,
+decoded as min + q * (max - min) / 65535 in double precision). Exits 0 when everything agrees, 1 with a message otherwise, and 2
 when the `mcap` module is missing.
 """
 
@@ -21,7 +22,9 @@ except ImportError as e:  # pragma: no cover - environment problem
 
 FRAME_TOPIC = "/hairsys/frames"
 FRAME_ENCODING = "hairsys.frame.v1"
-SCHEMA_NAME = "hairsys.Frame"
+FRAME_Q16_ENCODING = "hairsys.frame.q16.v1"
+# Schema name of each frame message encoding.
+SCHEMA_NAMES = {FRAME_ENCODING: "hairsys.Frame", FRAME_Q16_ENCODING: "hairsys.FrameQ16"}
 SCHEMA_ENCODING = "text/plain"
 LAYOUT_NAME = "hairsys/layout.bin"
 
@@ -66,6 +69,36 @@ def decode_frame(data, points):
     return frame, time_s
 
 
+def to_f32(value):
+    """The nearest f32 to a Python float."""
+    return struct.unpack("<f", struct.pack("<f", value))[0]
+
+
+def decode_frame_q16(data, points):
+    """Decodes a quantized payload; returns (frame, time_s, positions, velocities) as flat lists."""
+    check(len(data) == 68 + 12 * points, f"quantized payload of {len(data)} bytes for {points} points")
+    version, frame, time_s, count = struct.unpack_from("<IIdI", data, 0)
+    check(version == 1, f"payload format version {version}")
+    check(count == points, f"frame {frame} has {count} points, layout {points}")
+    bounds = struct.unpack_from("<12f", data, 20)
+    pos_min, pos_max, vel_min, vel_max = bounds[0:3], bounds[3:6], bounds[6:9], bounds[9:12]
+    check(all(math.isfinite(b) for b in bounds), f"frame {frame} has non-finite bounds")
+    check(all(a <= b for a, b in zip(pos_min + vel_min, pos_max + vel_max)),
+          f"frame {frame} has a min above its max")
+    q = struct.unpack_from(f"<{6 * points}H", data, 68)
+
+    def values(qs, lo, hi):
+        # value = min + q * (max - min) / 65535, in double precision (then rounded to f32).
+        return [to_f32(lo[i % 3] + v * (hi[i % 3] - lo[i % 3]) / 65535) for i, v in enumerate(qs)]
+
+    positions = values(q[:3 * points], pos_min, pos_max)
+    velocities = values(q[3 * points:], vel_min, vel_max)
+    for values_, lo, hi in [(positions, pos_min, pos_max), (velocities, vel_min, vel_max)]:
+        for i, v in enumerate(values_):
+            check(lo[i % 3] <= v <= hi[i % 3], f"frame {frame} value {i} out of its bounds")
+    return frame, time_s, positions, velocities
+
+
 def main():
     if len(sys.argv) != 2:
         fail("usage: read_with_mcap.py FILE.mcap")
@@ -101,16 +134,20 @@ def main():
             channels = [c for c in summary.channels.values() if c.topic == FRAME_TOPIC]
             check(len(channels) == 1, f"{len(channels)} frame channels")
             channel = channels[0]
-            check(channel.message_encoding == FRAME_ENCODING, f"encoding {channel.message_encoding}")
+            encoding = channel.message_encoding
+            check(encoding in SCHEMA_NAMES, f"encoding {encoding}")
             schema = summary.schemas[channel.schema_id]
-            check(schema.name == SCHEMA_NAME, f"schema name {schema.name!r}")
+            check(schema.name == SCHEMA_NAMES[encoding], f"schema name {schema.name!r}")
             check(schema.encoding == SCHEMA_ENCODING, f"schema encoding {schema.encoding!r}")
             check(b"little-endian" in schema.data, "schema text does not describe the payload")
             check(len(summary.chunk_indexes) == stats.chunk_count, "chunk indexes vs statistics")
             check(len(summary.chunk_indexes) >= 1, "no chunk index")
 
             for schema, chan, message in reader.iter_messages(topics=[FRAME_TOPIC]):
-                frame, time_s = decode_frame(message.data, points)
+                if encoding == FRAME_Q16_ENCODING:
+                    frame, time_s, _, _ = decode_frame_q16(message.data, points)
+                else:
+                    frame, time_s = decode_frame(message.data, points)
                 check(message.sequence == frame, f"sequence {message.sequence} for frame {frame}")
                 check(time_s == frame / fps, f"frame {frame} time {time_s}")
                 expected_ns = frame_time_ns(frame, fps)
@@ -126,7 +163,8 @@ def main():
               f"statistics count {stats.message_count} messages, read {len(frames)}")
         check(all(b > a for a, b in zip(frames, frames[1:])), "frames do not increase")
         check(all(f >= first_frame for f in frames), "a frame precedes first_frame")
-    print(f"{path}: {len(frames)} frames of {points} points in {strands} strands: ok")
+    kind = " (quantized)" if frames and encoding == FRAME_Q16_ENCODING else ""
+    print(f"{path}: {len(frames)} frames{kind} of {points} points in {strands} strands: ok")
 
 
 if __name__ == "__main__":
