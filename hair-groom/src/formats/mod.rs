@@ -176,6 +176,57 @@ pub(crate) fn point_at(
     }
 }
 
+/// Shared by the formats' round-trip tests.
+#[cfg(test)]
+pub(crate) mod test_support {
+    use nalgebra::Vector3;
+
+    use super::ImportOptions;
+    use crate::formats::obj::UpAxis;
+    use crate::groom::Groom;
+
+    /// Two curves of 2 and 3 points with values a text format must print exactly: −0.0, 1e−30,
+    /// 1e30, an f32 with no short decimal form.
+    pub fn tricky_groom() -> Groom {
+        Groom::new(vec![
+            vec![
+                Vector3::new(0.1, -0.2, 1e-30),
+                Vector3::new(1e30, 2.5, 0.333_333_34),
+            ],
+            vec![
+                Vector3::new(1.0, 2.0, 3.0),
+                Vector3::new(-0.0, 5.0, 6.0),
+                Vector3::new(7.0, 8.0, 9.0),
+            ],
+        ])
+        .unwrap()
+    }
+
+    /// Every coordinate's bits, curve by curve.
+    pub fn bits(g: &Groom) -> Vec<u32> {
+        g.curves()
+            .iter()
+            .flatten()
+            .flat_map(|p| p.iter().map(|c| c.to_bits()).collect::<Vec<_>>())
+            .collect()
+    }
+
+    /// Asserts that `round_trip` (write, then read back) returns `groom` bit for bit, for both up
+    /// axes.
+    pub fn assert_round_trip(groom: &Groom, round_trip: impl Fn(&Groom, &ImportOptions) -> Groom) {
+        for up_axis in [UpAxis::Z, UpAxis::Y] {
+            let back = round_trip(
+                groom,
+                &ImportOptions {
+                    scale: 1.0,
+                    up_axis,
+                },
+            );
+            assert_eq!(bits(&back), bits(groom), "up axis {up_axis:?}");
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

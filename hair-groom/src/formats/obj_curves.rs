@@ -164,6 +164,7 @@ fn encode(groom: &Groom, opts: &ImportOptions) -> String {
 mod tests {
     use super::*;
     use crate::formats::obj::UpAxis;
+    use crate::formats::test_support::{assert_round_trip, tricky_groom};
 
     fn parse_err(text: &str) -> String {
         parse(text, Path::new("c.obj"), &ImportOptions::default())
@@ -173,26 +174,10 @@ mod tests {
 
     #[test]
     fn write_then_read_is_bit_exact() {
-        let g = Groom::new(vec![
-            vec![
-                Vector3::new(0.1, -0.2, 1e-30),
-                Vector3::new(1e30, 2.5, 0.333_333_34),
-            ],
-            vec![
-                Vector3::new(1.0, 2.0, 3.0),
-                Vector3::new(-0.0, 5.0, 6.0),
-                Vector3::new(7.0, 8.0, 9.0),
-            ],
-        ])
-        .unwrap();
-        for up_axis in [UpAxis::Z, UpAxis::Y] {
-            let opts = ImportOptions {
-                scale: 1.0,
-                up_axis,
-            };
-            let back = parse(&encode(&g, &opts), Path::new("m.obj"), &opts).unwrap();
-            assert_eq!(back, g);
-        }
+        assert_round_trip(&tricky_groom(), |g, opts| {
+            let text = encode(g, opts);
+            parse(&text, Path::new("m.obj"), opts).unwrap_or_else(|e| panic!("{e}\n{text}"))
+        });
     }
 
     #[test]

@@ -387,6 +387,7 @@ fn encode(groom: &Groom, opts: &ImportOptions) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::formats::test_support::{assert_round_trip, tricky_groom};
 
     fn parse_err(text: &str) -> String {
         parse(text, Path::new("h.usda"), &ImportOptions::default())
@@ -396,27 +397,10 @@ mod tests {
 
     #[test]
     fn write_then_read_is_bit_exact() {
-        let g = Groom::new(vec![
-            vec![
-                Vector3::new(0.1, -0.2, 1e-30),
-                Vector3::new(1e30, 2.5, 0.333_333_34),
-            ],
-            vec![
-                Vector3::new(1.0, 2.0, 3.0),
-                Vector3::new(-0.0, 5.0, 6.0),
-                Vector3::new(7.0, 8.0, 9.0),
-            ],
-        ])
-        .unwrap();
-        for up_axis in [UpAxis::Z, UpAxis::Y] {
-            let opts = ImportOptions {
-                scale: 1.0,
-                up_axis,
-            };
-            let text = encode(&g, &opts);
-            let back = parse(&text, Path::new("m.usda"), &opts).unwrap();
-            assert_eq!(back, g, "{text}");
-        }
+        assert_round_trip(&tricky_groom(), |g, opts| {
+            let text = encode(g, opts);
+            parse(&text, Path::new("m.usda"), opts).unwrap_or_else(|e| panic!("{e}\n{text}"))
+        });
     }
 
     #[test]
