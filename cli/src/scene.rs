@@ -252,6 +252,15 @@ pub enum UpAxisValue {
     Z,
 }
 
+impl From<UpAxisValue> for UpAxis {
+    fn from(v: UpAxisValue) -> Self {
+        match v {
+            UpAxisValue::Y => UpAxis::Y,
+            UpAxisValue::Z => UpAxis::Z,
+        }
+    }
+}
+
 /// `[hair]`: hair generated on the scalp (see [`GenerateOptions`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -582,19 +591,10 @@ impl SceneFile {
                     path,
                     scale,
                     up_axis,
-                } => {
-                    let opts = ObjOptions {
-                        scale: *scale,
-                        up_axis: match up_axis {
-                            UpAxisValue::Y => UpAxis::Y,
-                            UpAxisValue::Z => UpAxis::Z,
-                        },
-                    };
-                    let full = self.base_dir.join(path);
-                    let mesh = hair_groom::load_obj(&full, &opts)
-                        .map_err(|e| err(format!("shape: {e}")))?;
-                    ColliderShape::Mesh(mesh)
-                }
+                } => ColliderShape::Mesh(
+                    self.load_obj(path, *scale, *up_axis)
+                        .map_err(|e| err(format!("shape: {e}")))?,
+                ),
             };
             let collider = Collider {
                 shape,
@@ -634,18 +634,25 @@ impl SceneFile {
                 path,
                 scale,
                 up_axis,
-            } => {
-                let opts = ObjOptions {
-                    scale: *scale,
-                    up_axis: match up_axis {
-                        UpAxisValue::Y => UpAxis::Y,
-                        UpAxisValue::Z => UpAxis::Z,
-                    },
-                };
-                let full = self.base_dir.join(path);
-                Some(hair_groom::load_obj(&full, &opts).map_err(|e| err(e.to_string()))?)
-            }
+            } => Some(
+                self.load_obj(path, *scale, *up_axis)
+                    .map_err(|e| err(e.to_string()))?,
+            ),
         })
+    }
+
+    /// Loads an OBJ mesh named in the scene (path relative to the scene file).
+    fn load_obj(
+        &self,
+        path: &Path,
+        scale: f32,
+        up_axis: UpAxisValue,
+    ) -> Result<TriMesh, hair_groom::GroomError> {
+        let opts = ObjOptions {
+            scale,
+            up_axis: up_axis.into(),
+        };
+        hair_groom::load_obj(&self.base_dir.join(path), &opts)
     }
 }
 

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use hair_core::{Anchor, StrandInput, TriMesh};
 use hair_groom::{
     Curl, Distance, GrowDirection, Guide, GuideOptions, ImportOptions, InterpolateOptions, Region,
-    SnapOptions, UpAxis,
+    SnapOptions,
 };
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -157,10 +157,7 @@ pub fn build(
 ) -> Result<GuidedHair, String> {
     let (guides_list, source) = match &guides.file {
         Some(file) => {
-            let up_axis = match guides.up_axis {
-                UpAxisValue::Y => UpAxis::Y,
-                UpAxisValue::Z => UpAxis::Z,
-            };
+            let up_axis = guides.up_axis.into();
             let path = base_dir.join(file);
             let groom = hair_groom::read_groom(
                 &path,
