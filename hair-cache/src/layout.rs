@@ -533,13 +533,20 @@ pub(crate) fn encode_frame(
     }
 }
 
-/// Parses a frame payload of a cache with `points` points.
-pub(crate) fn decode_frame(bytes: &[u8], points: usize) -> Result<Frame, String> {
-    let mut r = LeReader::new(bytes);
+/// Reads the header shared by both frame encodings (version, frame, time, point count) and
+/// checks it and the payload length (`expected_len` bytes) against a layout of `points` points.
+/// Returns the frame number and time (s); `what` names the encoding in errors.
+fn decode_frame_header(
+    r: &mut LeReader,
+    what: &str,
+    points: usize,
+    expected_len: usize,
+) -> Result<(u32, f64), String> {
+    let len = r.bytes.len();
     let version = r.u32()?;
     if version != FORMAT_VERSION {
         return Err(format!(
-            "frame payload has format version {version}, expected {FORMAT_VERSION}"
+            "{what} payload has format version {version}, expected {FORMAT_VERSION}"
         ));
     }
     let frame = r.u32()?;
@@ -550,13 +557,18 @@ pub(crate) fn decode_frame(bytes: &[u8], points: usize) -> Result<Frame, String>
             "frame {frame} has {count} points, the layout {points}"
         ));
     }
-    if bytes.len() != frame_payload_len(points) {
+    if len != expected_len {
         return Err(format!(
-            "frame {frame} payload has {} bytes, {points} points need {}",
-            bytes.len(),
-            frame_payload_len(points)
+            "{what} {frame} payload has {len} bytes, {points} points need {expected_len}"
         ));
     }
+    Ok((frame, time))
+}
+
+/// Parses a frame payload of a cache with `points` points.
+pub(crate) fn decode_frame(bytes: &[u8], points: usize) -> Result<Frame, String> {
+    let mut r = LeReader::new(bytes);
+    let (frame, time) = decode_frame_header(&mut r, "frame", points, frame_payload_len(points))?;
     let vectors = |data: &[u8]| -> Vec<Vector3<f32>> {
         data.chunks_exact(12)
             .map(|c| {
@@ -655,27 +667,12 @@ pub(crate) fn encode_frame_q16(
 /// points.
 pub(crate) fn decode_frame_q16(bytes: &[u8], points: usize) -> Result<Frame, String> {
     let mut r = LeReader::new(bytes);
-    let version = r.u32()?;
-    if version != FORMAT_VERSION {
-        return Err(format!(
-            "quantized frame payload has format version {version}, expected {FORMAT_VERSION}"
-        ));
-    }
-    let frame = r.u32()?;
-    let time = r.f64()?;
-    let count = r.u32()? as usize;
-    if count != points {
-        return Err(format!(
-            "frame {frame} has {count} points, the layout {points}"
-        ));
-    }
-    if bytes.len() != frame_q16_payload_len(points) {
-        return Err(format!(
-            "quantized frame {frame} payload has {} bytes, {points} points need {}",
-            bytes.len(),
-            frame_q16_payload_len(points)
-        ));
-    }
+    let (frame, time) = decode_frame_header(
+        &mut r,
+        "quantized frame",
+        points,
+        frame_q16_payload_len(points),
+    )?;
     let mut bounds = [[0f32; 3]; 4];
     for b in &mut bounds {
         for c in b.iter_mut() {
