@@ -1,16 +1,17 @@
 //! The parity scene with its head as collider (`scenes/parity_collide.toml`: 20,000 strands of
-//! 1.5 m, 340,000 points, on a UV-sphere head of radius 1 m that moves 1 m and turns 30°, 3
-//! collision steps per frame): no hair point is inside the head at any frame.
+//! 1.5 m, 340,000 points, on a UV-sphere head of radius 1 m that moves 1 m and turns 30°, one
+//! collision step per frame): no hair point is inside the head at any frame.
 //!
 //! Reference: an independent parry check — the head mesh as an oriented parry `TriMesh` posed
 //! at each frame, every free point's signed distance by point projection. The solver keeps point
 //! centres one hair radius (5 mm) off the surface; the test prints the smallest gap and requires
 //! it to be ≥ 0. Also run on `scenes/parity_sphere_collider.toml` (the head as an analytic
-//! sphere, 1 step per frame), checked against the same mesh: the sphere encloses the mesh, so its
-//! hair must be outside the mesh too. (At 1 step per frame the mesh collider was measured to let
-//! whipping tips end a frame up to 2.8 mm inside; see the scene file.) The mesh case is
-//! `#[ignore]`d for time (about 10 s): `cargo test -p hairsys-tests --test collision_parity_head
-//! -- --ignored`.
+//! sphere), checked against the same mesh: the sphere encloses the mesh, so its hair must be
+//! outside the mesh too. Whipping tips slide 20–35 cm over the head within one step; before the
+//! contact sphere took the smooth (vertex-interpolated) normal instead of the facet's, that let
+//! them end frames up to 2.8 mm inside the mesh at one step per frame (measured 3.0 mm clear
+//! since). The mesh case is `#[ignore]`d for time (about 20 s): `cargo test -p hairsys-tests
+//! --test collision_parity_head -- --ignored`.
 
 use std::path::PathBuf;
 
@@ -97,7 +98,7 @@ fn parity_scene_with_a_sphere_head_keeps_every_point_outside_it() {
     check("parity_sphere_collider.toml");
 }
 
-/// About 10 s in the (optimised) test profile on 2 cores: run it with `--ignored`.
+/// About 20 s in the (optimised) test profile on a loaded machine: run it with `--ignored`.
 #[test]
 #[ignore]
 fn parity_scene_with_its_head_mesh_keeps_every_point_outside_it() {

@@ -50,8 +50,10 @@ fn default_scene_collision_keys_parse_when_uncommented() {
     let start = DEFAULT_SCENE
         .find("# [scalp.collider]")
         .expect("the default scene documents [scalp.collider]");
+    // The collision block runs to the next blank line (other commented sections follow it).
     let uncommented: String = DEFAULT_SCENE[start..]
         .lines()
+        .take_while(|l| !l.trim().is_empty())
         .map(|l| l.trim_start_matches("# "))
         .map(|l| format!("{l}\n"))
         .collect();

@@ -161,6 +161,13 @@ pub(crate) struct PreparedMesh {
     pub kind: MeshKind,
     /// Smallest normal curvature per triangle, 1/m (> 0 convex along the winding normal).
     pub curvature: Vec<f32>,
+    /// Smooth (area-weighted) unit normal per vertex, along the winding normal.
+    pub vertex_normals: Vec<Vector3<f32>>,
+    /// Per triangle and edge `k` (vertices `k`, `k + 1`): the smallest index of a triangle
+    /// using that edge.
+    pub edge_owner: Vec<[u32; 3]>,
+    /// Per vertex: the smallest index of a triangle using it (`u32::MAX` if none).
+    pub vertex_owner: Vec<u32>,
 }
 
 /// Fraction by which estimated curvatures are moved to the conservative side (see
@@ -248,13 +255,65 @@ pub(crate) fn prepare_mesh(mesh: &TriMesh) -> PreparedMesh {
             reason: parts.join(", "),
         }
     };
-    let curvature = min_curvatures(&vertices, &triangles);
+    let vertex_normals = smooth_normals(&vertices, &triangles);
+    let curvature = min_curvatures(&vertices, &triangles, &vertex_normals);
+    let (edge_owner, vertex_owner) = feature_owners(vertices.len(), &triangles);
     PreparedMesh {
         vertices,
         triangles,
         kind,
         curvature,
+        vertex_normals,
+        edge_owner,
+        vertex_owner,
     }
+}
+
+/// The triangle that speaks for each edge and vertex: the smallest index of the triangles using
+/// it. A point nearest to an edge or a vertex is nearest to all their triangles alike; contact
+/// detection names this one, so its answer does not depend on which of them a search met first.
+fn feature_owners(vertex_count: usize, triangles: &[[u32; 3]]) -> (Vec<[u32; 3]>, Vec<u32>) {
+    let mut edge: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut vertex_owner = vec![u32::MAX; vertex_count];
+    for (t, tri) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            let owner = edge.entry((a.min(b), a.max(b))).or_insert(t as u32);
+            *owner = (*owner).min(t as u32);
+            let v = &mut vertex_owner[tri[k] as usize];
+            *v = (*v).min(t as u32);
+        }
+    }
+    let edge_owner = triangles
+        .iter()
+        .map(|tri| {
+            std::array::from_fn(|k| {
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                edge[&(a.min(b), a.max(b))]
+            })
+        })
+        .collect();
+    (edge_owner, vertex_owner)
+}
+
+/// Area-weighted unit normal of every vertex, along the triangles' winding (zero for a vertex
+/// of zero-area triangles only).
+fn smooth_normals(vertices: &[Vector3<f32>], triangles: &[[u32; 3]]) -> Vec<Vector3<f32>> {
+    let mut normals = vec![Vector3::zeros(); vertices.len()];
+    for t in triangles {
+        let [a, b, c] = t.map(|i| vertices[i as usize]);
+        let n = (b - a).cross(&(c - a));
+        for &i in t {
+            normals[i as usize] += n;
+        }
+    }
+    for n in &mut normals {
+        let len = n.norm();
+        if len > 0.0 {
+            *n /= len;
+        }
+    }
+    normals
 }
 
 /// A cautious smallest normal curvature of each triangle (1/m, signed: > 0 where the surface bends
@@ -273,21 +332,11 @@ pub(crate) fn prepare_mesh(mesh: &TriMesh) -> PreparedMesh {
 /// whipping tips sliding 30 cm per step 8 mm in, hence the neighbourhood minimum and the
 /// caution). On a mesh with sharp edges the smooth normals spread the edges' bend over the flat
 /// faces next to them, where the sphere can then dip below a face by up to `κ s²/2`.
-fn min_curvatures(vertices: &[Vector3<f32>], triangles: &[[u32; 3]]) -> Vec<f32> {
-    let mut normals = vec![Vector3::zeros(); vertices.len()];
-    for t in triangles {
-        let [a, b, c] = t.map(|i| vertices[i as usize]);
-        let n = (b - a).cross(&(c - a));
-        for &i in t {
-            normals[i as usize] += n;
-        }
-    }
-    for n in &mut normals {
-        let len = n.norm();
-        if len > 0.0 {
-            *n /= len;
-        }
-    }
+fn min_curvatures(
+    vertices: &[Vector3<f32>],
+    triangles: &[[u32; 3]],
+    normals: &[Vector3<f32>],
+) -> Vec<f32> {
     let own: Vec<f32> = triangles
         .iter()
         .map(|t| {

@@ -38,6 +38,7 @@ use rapier3d::geometry::{
 };
 
 use crate::error::{HairError, Result};
+use crate::mesh::TriMesh;
 use crate::strands::Scalp;
 
 use super::collider::{prepare_mesh, Collider, ColliderShape, MeshKind};
@@ -59,6 +60,18 @@ pub(crate) enum Surface {
     Shell,
 }
 
+/// What contact detection needs of a mesh besides parry's shape (all empty for analytic shapes).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct MeshTopology {
+    /// Smooth unit normal per vertex, body space.
+    pub vertex_normals: Vec<Vector3<f32>>,
+    /// Per triangle and edge `k` (vertices `k`, `k + 1`): the smallest index of a triangle
+    /// using that edge.
+    pub edge_owner: Vec<[u32; 3]>,
+    /// Per vertex: the smallest index of a triangle using it.
+    pub vertex_owner: Vec<u32>,
+}
+
 /// One collider's data besides its rapier shape.
 #[derive(Debug, Clone)]
 pub(crate) struct Entry {
@@ -73,6 +86,8 @@ pub(crate) struct Entry {
     pub mesh_kind: Option<MeshKind>,
     /// Smallest curvature per mesh triangle, 1/m (empty for analytic shapes).
     pub curvature: Vec<f32>,
+    /// Smooth normals and feature owners of a mesh (empty for analytic shapes).
+    pub topology: MeshTopology,
     /// The narrow-phase shortcut of a solid mesh.
     pub fast: Option<FastProjection>,
     /// Largest distance of a shape point from the body origin, m.
@@ -183,10 +198,27 @@ impl Colliders {
         };
         check_pose(self.len(), &scalp.body)?;
         let body_space = mesh.transformed(&scalp.body.inverse());
-        let collider = Collider::mesh(body_space)
+        self.insert_scalp_rest(body_space, scalp.body, thickness, friction)
+    }
+
+    /// Adds the scalp as a collider from its rest mesh `rest` (body space, m), posed at `body`
+    /// (the scalp's body transform at the current frame); otherwise like
+    /// [`Colliders::insert_scalp`]. The shape is then the same bits whatever frame the set is
+    /// built at (the posed mesh brought back to body space is rounded differently at every
+    /// frame), so a run resumed from a later frame collides with exactly the shape of the
+    /// uninterrupted run.
+    pub fn insert_scalp_rest(
+        &mut self,
+        rest: TriMesh,
+        body: Isometry3<f32>,
+        thickness: f32,
+        friction: f32,
+    ) -> Result<ColliderId> {
+        check_pose(self.len(), &body)?;
+        let collider = Collider::mesh(rest)
             .with_thickness(thickness)
             .with_friction(friction);
-        self.insert_entry(collider, scalp.body, true)
+        self.insert_entry(collider, body, true)
     }
 
     fn insert_entry(
@@ -198,13 +230,16 @@ impl Colliders {
         let index = self.len();
         collider.validate(index)?;
         check_pose(index, &pose)?;
-        let (shape, surface, mesh_kind, bounding_radius, curvature) = match &collider.shape {
+        let (shape, surface, mesh_kind, bounding_radius, curvature, topology) = match &collider
+            .shape
+        {
             ColliderShape::Sphere { radius } => (
                 SharedShape::ball(*radius),
                 Surface::Solid,
                 None,
                 *radius,
                 Vec::new(),
+                MeshTopology::default(),
             ),
             ColliderShape::Capsule {
                 half_height,
@@ -215,6 +250,7 @@ impl Colliders {
                 None,
                 half_height + radius,
                 Vec::new(),
+                MeshTopology::default(),
             ),
             ColliderShape::Mesh(mesh) => {
                 let prepared = prepare_mesh(mesh);
@@ -240,6 +276,11 @@ impl Colliders {
                     Some(prepared.kind),
                     radius,
                     prepared.curvature,
+                    MeshTopology {
+                        vertex_normals: prepared.vertex_normals,
+                        edge_owner: prepared.edge_owner,
+                        vertex_owner: prepared.vertex_owner,
+                    },
                 )
             }
         };
@@ -270,6 +311,7 @@ impl Colliders {
             surface,
             mesh_kind,
             curvature,
+            topology,
             fast,
             bounding_radius,
             start: pose,

@@ -27,9 +27,11 @@
 //!    distance to the triangle the point projected on last time bounds the distance to the mesh,
 //!    and parry's BVH search starting from that bound visits only the nodes nearer than it; near a
 //!    convex part of a solid mesh that triangle often certifies the answer by itself
-//!    ([`super::fast_projection`]) and no search runs. (Which of two equally near triangles is
-//!    found can depend on that hint; the hint depends only on the point's own history, so results
-//!    do not depend on the thread count.)
+//!    ([`super::fast_projection`]) and no search runs. The hint only saves work: the contact is
+//!    recomputed from the feature found (face, edge or vertex, an edge or vertex named by its
+//!    lowest-numbered triangle), so it is the same bits with or without the memory — a run
+//!    resumed from a cache, which starts without it, continues exactly as the uninterrupted run
+//!    (and results do not depend on the thread count).
 //!
 //! A contact keeps, for the nearest collider (smallest signed distance), the surface element the
 //! response works with (see [`super::penalty`]): where the surface is flat (or the point is deeper
@@ -38,8 +40,9 @@
 //! grown by the thickness, negative = penetration); where it is curved, the sphere of its smallest
 //! curvature `κ` tangent there (centre `p − n/κ`, radius `1/κ` grown by thickness and hair radius;
 //! exact for sphere colliders and capsule caps, estimated per triangle for meshes, see
-//! [`super::collider`]; a sphere whose centre lies farther from the body origin than the shape
-//! itself becomes a plane). The sphere's centre moves with the collider's material point there
+//! [`super::collider`]; on a mesh `n` is the smooth normal interpolated from the vertex normals,
+//! not the facet's, see `smooth_normal`; a sphere whose centre lies farther from the body origin
+//! than the shape itself becomes a plane). The sphere's centre moves with the collider's material point there
 //! and the plane with the material point at the projection (velocities from the start-of-step
 //! to the end-of-step pose); the projection's velocity is also kept for friction, with the
 //! collider's friction coefficient. Points without a contact get a plane offset so large that the
@@ -52,8 +55,8 @@ use rapier3d::geometry::Aabb;
 use rapier3d::pipeline::QueryFilter;
 use rayon::prelude::*;
 
-use super::collider_set::{Colliders, Surface};
-use super::fast_projection::FastProjection;
+use super::collider_set::{Colliders, MeshTopology, Surface};
+use super::fast_projection::{FastProjection, Feature};
 use super::math::{from_glam, to_glam};
 
 /// Plane offset of a point without a contact, m: the response's distance test never passes.
@@ -156,6 +159,8 @@ struct StepCollider<'a> {
     friction: f32,
     /// Smallest curvature per mesh triangle, 1/m (empty for analytic shapes).
     curvature: &'a [f32],
+    /// Smooth normals and feature owners of a mesh (empty for analytic shapes).
+    topology: &'a MeshTopology,
     /// Largest distance of the shape from its body origin, m: contact spheres whose centre lies
     /// farther are replaced by planes (their linearised motion under rotation would err more).
     reach: f32,
@@ -233,6 +238,7 @@ pub(crate) fn detect(
                 thickness: e.thickness,
                 friction: e.friction,
                 curvature: &e.curvature,
+                topology: &e.topology,
                 reach: e.bounding_radius,
                 fast: e.fast.as_ref(),
             }
@@ -396,9 +402,9 @@ pub(crate) fn detect(
                         rho - grow
                     };
                     let centre = if hit.curvature > 0.0 {
-                        hit.local_point - hit.local_normal * rho
+                        hit.local_point - hit.smooth_normal * rho
                     } else {
-                        hit.local_point + hit.local_normal * rho
+                        hit.local_point + hit.smooth_normal * rho
                     };
                     if rho < FLAT
                         && rho_grown > 0.0
@@ -435,6 +441,12 @@ struct Hit {
     signed: f32,
     /// Outward unit normal, body space.
     local_normal: Vector3<f32>,
+    /// Unit normal of the smooth surface the shape stands for at the projection, on the point's
+    /// side, body space: on a mesh interpolated from its vertex normals (a facet's own normal
+    /// tilts away from the surface it approximates by up to half the angle between neighbouring
+    /// facets, and a contact sphere tangent to the facet would cut into the surface by that angle
+    /// times the distance slid, see [`smooth_normal`]); `local_normal` elsewhere.
+    smooth_normal: Vector3<f32>,
     /// The projection, body space, m.
     local_point: Vector3<f32>,
     /// Smallest curvature of the surface there, 1/m: > 0 bending away from the point's side
@@ -466,21 +478,7 @@ fn project(
         // Near a convex part of a solid mesh, the last triangle may certify the answer.
         if let (Some(fast), Some(t)) = (col.fast, hint) {
             if let Some(f) = fast.project(mesh, t, &p.coords) {
-                return if f.height > q {
-                    Err((f.height, Some(f.triangle)))
-                } else {
-                    Ok(Hit {
-                        signed: f.height,
-                        local_normal: f.normal,
-                        local_point: f.point,
-                        curvature: col
-                            .curvature
-                            .get(f.triangle as usize)
-                            .copied()
-                            .unwrap_or(0.0),
-                        triangle: f.triangle,
-                    })
-                };
+                return mesh_hit(col, mesh, &p.coords, f.triangle, f.feature, false, q);
             }
         }
         // The hint triangle's distance bounds the mesh's; a little more keeps that triangle
@@ -502,54 +500,13 @@ fn project(
         let Some((proj, (tri, location))) = found else {
             return Err((q, None));
         };
-        let point = from_glam(proj.point);
-        let delta = p.coords - point;
-        let dist = delta.norm();
+        let feature = match location {
+            TrianglePointLocation::OnEdge(e, _) => Feature::Edge(e),
+            TrianglePointLocation::OnVertex(v) => Feature::Vertex(v),
+            _ => Feature::Face,
+        };
         let inside = col.surface == Surface::Solid && proj.is_inside;
-        if !inside && dist > q {
-            return Err((dist, Some(tri)));
-        }
-        let local_normal = if dist > NORMAL_EPS {
-            if inside {
-                -delta / dist
-            } else {
-                delta / dist
-            }
-        } else {
-            // On the surface: the feature's (pseudo-)normal.
-            let face = from_glam(mesh.triangle(tri).scaled_normal());
-            let pseudo = mesh
-                .pseudo_normals_if_oriented()
-                .and_then(|pn| match location {
-                    TrianglePointLocation::OnEdge(e, _) => pn
-                        .edges_pseudo_normal
-                        .get(tri as usize)
-                        .map(|n| from_glam(n[e as usize])),
-                    TrianglePointLocation::OnVertex(v) => {
-                        let idx = mesh.indices()[tri as usize][v as usize];
-                        pn.vertices_pseudo_normal
-                            .get(idx as usize)
-                            .map(|n| from_glam(*n))
-                    }
-                    _ => None,
-                });
-            unit_or_z(pseudo.unwrap_or(face))
-        };
-        // Triangle curvature is along the winding normal; from the back of a shell it flips.
-        let face = from_glam(mesh.triangle(tri).scaled_normal());
-        let kappa = col.curvature.get(tri as usize).copied().unwrap_or(0.0);
-        let curvature = if face.dot(&local_normal) < 0.0 {
-            -kappa
-        } else {
-            kappa
-        };
-        return Ok(Hit {
-            signed: if inside { -dist } else { dist },
-            local_normal,
-            local_point: point,
-            curvature,
-            triangle: tri,
-        });
+        return mesh_hit(col, mesh, &p.coords, tri, feature, inside, q);
     }
     // Analytic shapes: exact and cheap, no distance limit needed.
     let proj = col.shape.project_local_point(pg, false);
@@ -585,10 +542,156 @@ fn project(
     Ok(Hit {
         signed: if proj.is_inside { -dist } else { dist },
         local_normal,
+        smooth_normal: local_normal,
         local_point: point,
         curvature,
         triangle: 0,
     })
+}
+
+/// The hit of body-space point `p` projecting on `feature` of triangle `tri` (found by the
+/// shortcut or by parry's search; `inside`: parry found it inside a solid), or, if it is not
+/// inside and farther than `q` (m), its distance with the triangle as a hint.
+///
+/// The answer depends only on the feature, never on how it was found: the projection is
+/// recomputed here by one formula per kind of feature (an edge from its lower-numbered vertex),
+/// and a point nearest to an edge or a vertex is given to its owner triangle (the smallest index
+/// using it, see `collider::feature_owners`), whose curvature and smooth normal the contact then
+/// uses. The search is warm-started from per-point memory a resumed run does not have; this keeps
+/// a resumed run's contacts, and so its frames, bit-identical to an uninterrupted run's.
+fn mesh_hit(
+    col: &StepCollider,
+    mesh: &parry3d::shape::TriMesh,
+    p: &Vector3<f32>,
+    tri: u32,
+    feature: Feature,
+    inside: bool,
+    q: f32,
+) -> Result<Hit, (f32, Option<u32>)> {
+    let idx = mesh.indices()[tri as usize];
+    let vertex = |i: u32| from_glam(mesh.vertices()[i as usize]);
+    let topology = col.topology;
+    let (point, owner) = match feature {
+        Feature::Face => {
+            let [a, b, c] = idx.map(vertex);
+            let n = unit_or_z((b - a).cross(&(c - a)));
+            (p - n * n.dot(&(p - a)), tri)
+        }
+        Feature::Edge(k) => {
+            let (u, v) = (idx[k as usize], idx[(k as usize + 1) % 3]);
+            let (a, b) = (vertex(u.min(v)), vertex(u.max(v)));
+            let ab = b - a;
+            let length2 = ab.norm_squared();
+            let s = if length2 > 0.0 {
+                ((p - a).dot(&ab) / length2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let owner = topology
+                .edge_owner
+                .get(tri as usize)
+                .map_or(tri, |o| o[k as usize]);
+            (a + ab * s, owner)
+        }
+        Feature::Vertex(k) => {
+            let v = idx[k as usize];
+            let owner = topology.vertex_owner.get(v as usize).copied();
+            (vertex(v), owner.unwrap_or(tri))
+        }
+    };
+    let delta = p - point;
+    let dist = delta.norm();
+    if !inside && dist > q {
+        return Err((dist, Some(owner)));
+    }
+    let face = from_glam(mesh.triangle(owner).scaled_normal());
+    let local_normal = if dist > NORMAL_EPS {
+        if inside {
+            -delta / dist
+        } else {
+            delta / dist
+        }
+    } else {
+        // On the surface: the feature's (pseudo-)normal.
+        let pseudo = mesh
+            .pseudo_normals_if_oriented()
+            .and_then(|pn| match feature {
+                Feature::Edge(k) => pn
+                    .edges_pseudo_normal
+                    .get(tri as usize)
+                    .map(|n| from_glam(n[k as usize])),
+                Feature::Vertex(k) => pn
+                    .vertices_pseudo_normal
+                    .get(idx[k as usize] as usize)
+                    .map(|n| from_glam(*n)),
+                Feature::Face => None,
+            });
+        unit_or_z(pseudo.unwrap_or(face))
+    };
+    // Triangle curvature is along the winding normal; from the back of a shell it flips.
+    let kappa = col.curvature.get(owner as usize).copied().unwrap_or(0.0);
+    let curvature = if face.dot(&local_normal) < 0.0 {
+        -kappa
+    } else {
+        kappa
+    };
+    Ok(Hit {
+        signed: if inside { -dist } else { dist },
+        local_normal,
+        smooth_normal: smooth_normal(col, mesh, owner, &point, &local_normal),
+        local_point: point,
+        curvature,
+        triangle: owner,
+    })
+}
+
+/// The smooth normal at `point` (body space, on triangle `tri` of `mesh`): the triangle's vertex
+/// normals interpolated with the point's barycentric coordinates, on the side of `side` (the
+/// projection's normal, pointing to the hair point). Falls back to `side` where the vertex normals
+/// give no direction.
+///
+/// This is the normal of the contact sphere (see the module docs). A facet of a tessellated
+/// curved surface is tilted against that surface by up to half the angle between neighbouring
+/// facets (2.8° on a 64 × 32 UV sphere); a sphere tangent to the facet lets hair that slides a
+/// distance `s` within the step reach up to that angle × `s` into the surface (measured: tips
+/// whipping 30 cm per step ended 3 mm inside the parity head). The sphere through the projection
+/// with the interpolated normal follows the surface the facets approximate instead; it lies below
+/// the facets by at most their sagitta near the vertices, which the hair radius covers.
+fn smooth_normal(
+    col: &StepCollider,
+    mesh: &parry3d::shape::TriMesh,
+    tri: u32,
+    point: &Vector3<f32>,
+    side: &Vector3<f32>,
+) -> Vector3<f32> {
+    let (Some(idx), false) = (
+        mesh.indices().get(tri as usize),
+        col.topology.vertex_normals.is_empty(),
+    ) else {
+        return *side;
+    };
+    let [a, b, c] = idx.map(|i| from_glam(mesh.vertices()[i as usize]));
+    let [na, nb, nc] = idx.map(|i| col.topology.vertex_normals[i as usize]);
+    let (e0, e1, e2) = (b - a, c - a, point - a);
+    let (d00, d01, d11) = (e0.dot(&e0), e0.dot(&e1), e1.dot(&e1));
+    let (d20, d21) = (e2.dot(&e0), e2.dot(&e1));
+    let det = d00 * d11 - d01 * d01;
+    if det.is_nan() || det <= 0.0 {
+        return *side;
+    }
+    let v = ((d11 * d20 - d01 * d21) / det).clamp(0.0, 1.0);
+    let w = ((d00 * d21 - d01 * d20) / det).clamp(0.0, 1.0 - v);
+    let n = na * (1.0 - v - w) + nb * v + nc * w;
+    let len = n.norm();
+    if len.is_nan() || len <= 1e-6 {
+        return *side;
+    }
+    let n = n / len;
+    if n.dot(side) < 0.0 {
+        -n
+    } else {
+        n
+    }
 }
 
 /// Nearest point of a capsule's axis segment to `point` (body space), or the origin for other
@@ -612,5 +715,135 @@ fn unit_or_z(v: Vector3<f32>) -> Vector3<f32> {
         v / n
     } else {
         Vector3::z()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contacts::Collider;
+    use crate::mesh::TriMesh;
+
+    /// A latitude–longitude sphere of radius 1, outward triangles.
+    fn uv_sphere(segments: u32, rings: u32) -> TriMesh {
+        use std::f32::consts::PI;
+        let mut p = vec![Vector3::z()];
+        for i in 1..rings {
+            let th = PI * i as f32 / rings as f32;
+            for j in 0..segments {
+                let ph = 2.0 * PI * j as f32 / segments as f32;
+                p.push(Vector3::new(
+                    th.sin() * ph.cos(),
+                    th.sin() * ph.sin(),
+                    th.cos(),
+                ));
+            }
+        }
+        p.push(-Vector3::z());
+        let bottom = p.len() as u32 - 1;
+        let ring = |i: u32, j: u32| 1 + (i - 1) * segments + j % segments;
+        let mut t = Vec::new();
+        for j in 0..segments {
+            t.push([0, ring(1, j), ring(1, j + 1)]);
+            t.push([bottom, ring(rings - 1, j + 1), ring(rings - 1, j)]);
+        }
+        for i in 1..rings - 1 {
+            for j in 0..segments {
+                let (a, b) = (ring(i, j), ring(i, j + 1));
+                let (c, d) = (ring(i + 1, j), ring(i + 1, j + 1));
+                t.push([a, c, d]);
+                t.push([a, d, b]);
+            }
+        }
+        TriMesh::new(p, t).unwrap()
+    }
+
+    /// 300 two-point strands (a kinematic root and a free point at the same place) 0.2 m above
+    /// a faceted unit sphere in directions spread over it, moving at 3 m/s so that each is
+    /// within its query radius; returns their contacts.
+    fn contacts_above(colliders: &mut Colliders) -> PointContacts {
+        let count = 300;
+        let mut positions = Vec::new();
+        for s in 0..count {
+            let z = 1.0 - 2.0 * (s as f32 + 0.5) / count as f32;
+            let phi = s as f32 * 2.399_963;
+            let ring = (1.0 - z * z).sqrt();
+            let x = Vector3::new(ring * phi.cos(), ring * phi.sin(), z) * 1.2;
+            positions.extend([x, x]);
+        }
+        let offsets: Vec<u32> = (0..=count as u32).map(|s| 2 * s).collect();
+        let velocities = vec![Vector3::new(3.0, 0.0, 0.0); positions.len()];
+        let radii = vec![5e-3; positions.len()];
+        let inv_mass: Vec<f32> = (0..positions.len()).map(|i| (i % 2) as f32).collect();
+        let blocks = [0..count / 2, count / 2..count];
+        let input = DetectInput {
+            offsets: &offsets,
+            positions: &positions,
+            velocities: &velocities,
+            radii: &radii,
+            inv_mass: &inv_mass,
+            blocks: &blocks,
+            step_dt: 1.0 / 24.0,
+            gravity: 0.0,
+        };
+        let mut out = PointContacts::default();
+        let found = detect(colliders, 0.0, 1.0, &input, &mut out);
+        assert_eq!(found, count);
+        out
+    }
+
+    #[test]
+    fn contact_sphere_on_a_faceted_sphere_holds_the_mesh_within_its_sagitta() {
+        // Every vertex lies within the contact sphere (radius less the hair radius) up to the
+        // facets' sagitta, wherever on a facet the point projects. A sphere tangent to the facet
+        // itself, tilted against the surface it approximates, left vertices up to 4× farther
+        // out, which let hair sliding 30 cm in a step into the parity scene's head.
+        let mesh = uv_sphere(32, 16);
+        let sagitta = mesh
+            .triangles()
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| mesh.positions()[i as usize]);
+                1.0 - (b - a).cross(&(c - a)).normalize().dot(&a).abs()
+            })
+            .fold(0.0f32, f32::max);
+        let mut colliders = Colliders::new();
+        colliders
+            .insert(Collider::mesh(mesh.clone()), Isometry3::identity())
+            .unwrap();
+        let out = contacts_above(&mut colliders);
+        let mut worst = f32::NEG_INFINITY;
+        for i in (1..out.size.len()).step_by(2) {
+            assert!(out.curved[i], "point {i}: a curved contact");
+            let reach = out.size[i] - 5e-3;
+            for v in mesh.positions() {
+                worst = worst.max((v - out.anchor[i]).norm() - reach);
+            }
+        }
+        assert!(
+            worst <= sagitta * 1.01,
+            "a vertex lies {worst} m outside the contact sphere (sagitta {sagitta} m)"
+        );
+    }
+
+    #[test]
+    fn contacts_do_not_depend_on_the_warm_start() {
+        // The first detection has no memory (parry's search), the second starts from the
+        // triangles found (the shortcut): the same bits.
+        let mut colliders = Colliders::new();
+        colliders
+            .insert(Collider::mesh(uv_sphere(32, 16)), Isometry3::identity())
+            .unwrap();
+        let cold = contacts_above(&mut colliders);
+        let warm = contacts_above(&mut colliders);
+        let bits = |c: &PointContacts| {
+            let v = |x: &Vector3<f32>| x.map(f32::to_bits);
+            (
+                c.anchor.iter().map(v).collect::<Vec<_>>(),
+                c.size.iter().map(|s| s.to_bits()).collect::<Vec<_>>(),
+                c.anchor_velocity.iter().map(v).collect::<Vec<_>>(),
+            )
+        };
+        assert!(bits(&cold) == bits(&warm));
     }
 }

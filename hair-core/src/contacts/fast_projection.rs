@@ -17,6 +17,11 @@
 //!
 //! When the foot falls outside `T`, the search walks to the neighbour across the edge it fell
 //! behind (at most [`WALK`] times: hair moves little per step) and tries the certificate there.
+//! On a convex body a point behind the edge it just crossed, seen from both its triangles, lies
+//! in that edge's region (far from a coarse convex mesh, as often as in a face's) when its
+//! projection on the edge falls between the edge's ends; beyond an end, that vertex is the answer
+//! if the point makes an obtuse angle with every edge leaving it (the body lies in the cone of
+//! those edges). Anything else is left to parry's search.
 //! Each try costs a plane distance and a barycentric check (a few dozen flops) where parry's BVH
 //! search from the root costs a few hundred nanoseconds. It is the same answer, not an
 //! approximation (up to which of two equally near triangles is named).
@@ -62,18 +67,28 @@ pub(crate) struct FastProjection {
     cap: f32,
     /// Does the mesh bound a convex body (every vertex convex, one connected piece)?
     convex_body: bool,
+    /// The vertices joined to each vertex by an edge: those of vertex `v` are
+    /// `adjacent[adjacent_start[v]..adjacent_start[v + 1]]`.
+    adjacent: Arc<[u32]>,
+    /// Start of each vertex's run in `adjacent` (one more entry than vertices).
+    adjacent_start: Arc<[u32]>,
 }
 
-/// A point's projection on a mesh triangle through the shortcut, body space.
+/// Where on a mesh triangle a point projects: inside it, on its edge `k` (vertices `k`, `k + 1`)
+/// or on its vertex `k`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Feature {
+    Face,
+    Edge(u32),
+    Vertex(u32),
+}
+
+/// Where a point projects on a mesh, found through the shortcut.
 pub(crate) struct FastHit {
-    /// The foot of the point on the triangle, m.
-    pub point: Vector3<f32>,
-    /// The triangle's outward unit normal.
-    pub normal: Vector3<f32>,
-    /// Height of the point above the triangle, m (> 0).
-    pub height: f32,
     /// The triangle it projects on.
     pub triangle: u32,
+    /// Where on it.
+    pub feature: Feature,
 }
 
 impl FastProjection {
@@ -135,7 +150,21 @@ impl FastProjection {
             .map(|_| AtomicU32::new(UNKNOWN))
             .collect();
         let convex_body = convex_vertex.iter().all(|&c| c) && connected(&neighbours);
+        let mut around = vec![Vec::new(); vertices.len()];
+        for &(a, b) in edges.keys() {
+            around[a as usize].push(b);
+            around[b as usize].push(a);
+        }
+        let mut adjacent_start = vec![0u32];
+        let mut adjacent = Vec::new();
+        for list in &mut around {
+            list.sort_unstable();
+            adjacent.extend_from_slice(list);
+            adjacent_start.push(adjacent.len() as u32);
+        }
         Self {
+            adjacent: adjacent.into(),
+            adjacent_start: adjacent_start.into(),
             convex,
             neighbours,
             half_clearance,
@@ -144,10 +173,11 @@ impl FastProjection {
         }
     }
 
-    /// The exact projection of body-space point `p` on `mesh`, if triangle `t` or one a short
-    /// walk away certifies it.
+    /// Where body-space point `p` projects on `mesh` (the triangle, and the edge if on one), if
+    /// triangle `t` or one a short walk away certifies it.
     pub fn project(&self, mesh: &TriMesh, t: u32, p: &Vector3<f32>) -> Option<FastHit> {
         let mut t = t;
+        let mut previous = u32::MAX;
         for _ in 0..=WALK {
             if !*self.convex.get(t as usize)? {
                 return None;
@@ -171,14 +201,45 @@ impl FastProjection {
                 let (u, v) = (corners[k], corners[(k + 1) % 3]);
                 (v - u).cross(&(foot - u)).dot(&normal) < 0.0
             });
+            if let (Some(k), true) = (behind, self.convex_body) {
+                let (a, b) = (corners[k], corners[(k + 1) % 3]);
+                let ab = b - a;
+                let s = (p - a).dot(&ab) / ab.norm_squared();
+                // Beyond an end of the edge: that vertex, if the point lies in its region.
+                let end = if s <= 0.0 {
+                    Some(k)
+                } else if s >= 1.0 {
+                    Some((k + 1) % 3)
+                } else {
+                    None
+                };
+                if let Some(e) = end {
+                    if self.vertex_region(mesh, mesh.indices()[t as usize][e], p) {
+                        return Some(FastHit {
+                            triangle: t,
+                            feature: Feature::Vertex(e as u32),
+                        });
+                    }
+                } else if self.neighbours[t as usize][k] == previous
+                    && (p - a - ab * s).norm() > 0.0
+                {
+                    // Behind the edge it came across: behind it seen from both its triangles,
+                    // so in the edge's region.
+                    return Some(FastHit {
+                        triangle: t,
+                        feature: Feature::Edge(k as u32),
+                    });
+                }
+            }
             match behind {
-                Some(k) => t = self.neighbours[t as usize][k],
+                Some(k) => {
+                    previous = t;
+                    t = self.neighbours[t as usize][k];
+                }
                 None if self.convex_body || height <= self.half_clearance(mesh, t) => {
                     return Some(FastHit {
-                        point: foot,
-                        normal,
-                        height,
                         triangle: t,
+                        feature: Feature::Face,
                     })
                 }
                 None => return None,
@@ -188,6 +249,20 @@ impl FastProjection {
             }
         }
         None
+    }
+
+    /// Is vertex `v` of a convex body the nearest point to `p`? It is when `p − v` makes an
+    /// obtuse (or right) angle with every edge leaving `v`: the body lies in the cone of those
+    /// edges.
+    fn vertex_region(&self, mesh: &TriMesh, v: u32, p: &Vector3<f32>) -> bool {
+        let at = from_glam(mesh.vertices()[v as usize]);
+        let d = p - at;
+        let run =
+            self.adjacent_start[v as usize] as usize..self.adjacent_start[v as usize + 1] as usize;
+        d.norm_squared() > 0.0
+            && self.adjacent[run]
+                .iter()
+                .all(|&w| d.dot(&(from_glam(mesh.vertices()[w as usize]) - at)) <= 0.0)
     }
 
     /// Half the clearance of triangle `t`, m, computed on first use.
@@ -274,6 +349,23 @@ mod tests {
         TriMesh::with_flags(v, t, TriMeshFlags::ORIENTED).unwrap()
     }
 
+    /// The nearest point to `p` on the triangle or edge the shortcut named.
+    fn nearest_on(mesh: &TriMesh, hit: &FastHit, p: &Vector3<f32>) -> Vector3<f32> {
+        let tri = mesh.triangle(hit.triangle);
+        let c = [from_glam(tri.a), from_glam(tri.b), from_glam(tri.c)];
+        match hit.feature {
+            Feature::Edge(k) => {
+                let (a, b) = (c[k as usize], c[(k as usize + 1) % 3]);
+                a + (b - a) * ((p - a).dot(&(b - a)) / (b - a).norm_squared())
+            }
+            Feature::Vertex(k) => c[k as usize],
+            Feature::Face => {
+                let n = (c[1] - c[0]).cross(&(c[2] - c[0])).normalize();
+                p - n * n.dot(&(p - c[0]))
+            }
+        }
+    }
+
     #[test]
     fn shortcut_agrees_with_parry_where_it_answers() {
         let mesh = octahedron();
@@ -290,12 +382,29 @@ mod tests {
                     assert!(hit.triangle < 8);
                     answered += 1;
                     assert!(!exact.is_inside);
-                    assert!((hit.height - exact_dist).abs() < 1e-5, "{k} {t}");
-                    assert!((hit.point - from_glam(exact.point)).norm() < 1e-5);
+                    let point = nearest_on(&mesh, &hit, &p);
+                    assert!(((point - p).norm() - exact_dist).abs() < 1e-5, "{k} {t}");
+                    assert!((point - from_glam(exact.point)).norm() < 1e-5);
                 }
             }
         }
         assert!(answered > 100, "the shortcut answered {answered} times");
+    }
+
+    #[test]
+    fn points_in_edge_and_vertex_regions_of_a_convex_body_project_there() {
+        // Nearest to the middle of the edge from +x to +y, starting from the face above it.
+        let mesh = octahedron();
+        let fast = FastProjection::new(&mesh, 0.5);
+        let p = Vector3::new(0.8, 0.8, 0.0);
+        let hit = fast.project(&mesh, 0, &p).expect("the edge answers");
+        assert!(matches!(hit.feature, Feature::Edge(_)));
+        assert!((nearest_on(&mesh, &hit, &p) - Vector3::new(0.5, 0.5, 0.0)).norm() < 1e-6);
+        // Nearest to the vertex +x.
+        let p = Vector3::new(2.0, 0.1, 0.05);
+        let hit = fast.project(&mesh, 0, &p).expect("the vertex answers");
+        assert!(matches!(hit.feature, Feature::Vertex(_)));
+        assert_eq!(nearest_on(&mesh, &hit, &p), Vector3::x());
     }
 
     #[test]
