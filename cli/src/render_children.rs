@@ -3,17 +3,23 @@
 //! USD `BasisCurves` (`.usda`) or Cem Yuksel's `.hair`.
 //!
 //! The scene that made a cache travels inside it (metadata `scene_toml`), so the children's roots
-//! (mesh samples, root frames) come from that scene: the same scalp, at the sampled time.
+//! (mesh samples, root frames) come from that scene: the same scalp, at the sampled time. The
+//! scene's `[children]` section (see [`crate::scene_children`]) gives the child settings; the
+//! command's flags ([`ChildOverrides`]) override it.
 
 use std::path::{Path, PathBuf};
 
 use hair_cache::{CacheReader, Interpolation};
 use hair_core::{Anchor, MeshSample};
 use hair_render::export::usd::{self, Motion, MotionSample, UsdOptions};
-use hair_render::{generate, ChildBuffers, ChildSettings, Lod, Parents, ScalpRoots};
+use hair_render::{
+    generate, ChildBuffers, ChildCount, ChildMode, ChildSettings, DisplayLod, Lod, Parents,
+    ScalpRoots,
+};
 use nalgebra::Vector3;
 
 use crate::scene::{SceneFile, Simulation};
+use crate::scene_children::DEFAULT_NEIGHBOURS;
 
 /// Output format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -36,14 +42,80 @@ pub struct ExportOptions {
     pub shutter: (f64, f64),
     /// Motion samples over the shutter (1 = no motion blur).
     pub motion_samples: usize,
-    /// Child count and shape.
-    pub settings: ChildSettings,
-    /// Render or display level of detail.
-    pub lod: Lod,
+    /// Child settings given on the command line, overriding the scene's `[children]`.
+    pub children: ChildOverrides,
+    /// Display level of detail (the scene's `[children] display`) instead of render.
+    pub display: bool,
     /// Output format.
     pub format: Format,
     /// Output path.
     pub out: PathBuf,
+}
+
+/// Child settings that override the scene's `[children]` section (`None`: the scene's value, or
+/// the library default without one).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ChildOverrides {
+    /// Children per parent or in all.
+    pub count: Option<ChildCount>,
+    /// Interpolated (true) or simple (false) children.
+    pub interpolated: Option<bool>,
+    /// Parents blended per interpolated child.
+    pub neighbours: Option<u32>,
+    /// Radius of the root disc around each parent, m.
+    pub spread: Option<f32>,
+    /// Clump factor.
+    pub clump: Option<f32>,
+    /// Curl radius, m.
+    pub curl_radius: Option<f32>,
+    /// Curl frequency, turns per meter.
+    pub curl_frequency: Option<f32>,
+    /// Seed.
+    pub seed: Option<u64>,
+}
+
+impl ChildOverrides {
+    /// `base` with every given override applied.
+    pub fn apply(&self, mut base: ChildSettings) -> Result<ChildSettings, String> {
+        if let Some(c) = self.count {
+            base.count = c;
+        }
+        let current = match base.mode {
+            ChildMode::Interpolated { neighbours } => Some(neighbours),
+            ChildMode::Simple => None,
+        };
+        base.mode = match (self.interpolated, self.neighbours, current) {
+            (Some(false), Some(_), _) => {
+                return Err("--neighbours applies to --mode interpolated only".into())
+            }
+            (Some(false), None, _) => ChildMode::Simple,
+            (None, Some(_), None) => {
+                return Err("--neighbours needs interpolated children: add --mode interpolated (or                             mode = \"interpolated\" in the scene's [children])"
+                    .into())
+            }
+            (_, Some(n), _) => ChildMode::Interpolated { neighbours: n },
+            (Some(true), None, n) => ChildMode::Interpolated {
+                neighbours: n.unwrap_or(DEFAULT_NEIGHBOURS),
+            },
+            (None, None, _) => base.mode,
+        };
+        if let Some(v) = self.spread {
+            base.spread = v;
+        }
+        if let Some(v) = self.clump {
+            base.shape.clump.factor = v;
+        }
+        if let Some(v) = self.curl_radius {
+            base.shape.curl.radius = v;
+        }
+        if let Some(v) = self.curl_frequency {
+            base.shape.curl.frequency = v;
+        }
+        if let Some(v) = self.seed {
+            base.seed = v;
+        }
+        Ok(base)
+    }
 }
 
 /// What was written.
@@ -87,6 +159,18 @@ pub fn export(opts: &ExportOptions, mut on_sample: impl FnMut()) -> Result<Expor
         }
     };
     let sim = scene.build().map_err(|e| e.to_string())?;
+    let (base, display) = match &scene.scene.children {
+        Some(section) => section
+            .settings()
+            .map_err(|e| format!("{}: {e}", scene.origin))?,
+        None => (ChildSettings::default(), DisplayLod::default()),
+    };
+    let settings = opts.children.apply(base)?;
+    let lod = if opts.display {
+        Lod::Display(display)
+    } else {
+        Lod::Render
+    };
     let fps = sim.settings.fps as f64;
     let frame = match (&reader, opts.frame) {
         (Some(_), Some(f)) => f,
@@ -110,7 +194,7 @@ pub fn export(opts: &ExportOptions, mut on_sample: impl FnMut()) -> Result<Expor
         };
         samples.push((
             time_code,
-            children_at(&sim, &positions, time_code as f32, opts)?,
+            children_at(&sim, &positions, time_code as f32, &settings, lod)?,
         ));
         on_sample();
     }
@@ -174,7 +258,8 @@ fn children_at(
     sim: &Simulation,
     positions: &[Vector3<f32>],
     frame: f32,
-    opts: &ExportOptions,
+    settings: &ChildSettings,
+    lod: Lod,
 ) -> Result<ChildBuffers, String> {
     let scalp = sim.scalp_at(frame);
     let roots = sim.strands.root_frames(&scalp);
@@ -201,5 +286,5 @@ fn children_at(
             })
             .map_err(err)?;
     }
-    generate(&parents, &opts.settings, opts.lod).map_err(err)
+    generate(&parents, settings, lod).map_err(err)
 }

@@ -1,7 +1,8 @@
 //! Child generation throughput (child points per second) and `.usda`/`.hair` export speed.
 //!
 //! 10 000 bent parents of 5 points, 100 children each, subdivided 4× → 1 M children × 17 points,
-//! with clumping, curl and all three roughness kinds on (the target: ≥ 50 M points/s).
+//! with clumping, curl and all three roughness kinds on (the target: ≥ 50 M points/s),
+//! simple and interpolated (4 parents blended per child, roots in 3 mm discs).
 
 use std::hint::black_box;
 
@@ -9,7 +10,8 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use hair_render::export::hair::write_hair;
 use hair_render::export::usd::{write_usda, Motion, UsdOptions};
 use hair_render::{
-    generate, ChildCount, ChildSettings, Clump, Curl, Lod, Parents, Roughness, Shape,
+    generate, generate_into, ChildCount, ChildMode, ChildSettings, Clump, Curl, Lod, Parents,
+    Roughness, Shape,
 };
 use nalgebra::Vector3;
 
@@ -62,6 +64,21 @@ fn bench(c: &mut Criterion) {
     group.throughput(Throughput::Elements(1_000_000 * 17));
     group.bench_function("generate 1M x 17 points shaped", |b| {
         b.iter(|| black_box(generate(&parents, &s, Lod::Render).unwrap()))
+    });
+    let mut reused = generate(&parents, &s, Lod::Render).unwrap();
+    group.bench_function("generate 1M x 17 points shaped into reused buffers", |b| {
+        b.iter(|| {
+            generate_into(&parents, &s, Lod::Render, &mut reused).unwrap();
+            black_box(reused.points.len())
+        })
+    });
+    let interpolated = ChildSettings {
+        mode: ChildMode::Interpolated { neighbours: 4 },
+        spread: 0.003,
+        ..s
+    };
+    group.bench_function("generate 1M x 17 points shaped interpolated", |b| {
+        b.iter(|| black_box(generate(&parents, &interpolated, Lod::Render).unwrap()))
     });
     let small = generate(&parents, &settings(10), Lod::Render).unwrap();
     group.throughput(Throughput::Elements(small.point_count() as u64));

@@ -5,7 +5,7 @@
 //!
 //! - [`Parents`]: parent polylines at one instant (flat positions + offsets, as
 //!   `hair_core::StrandSet` and the cache hold them), their root frames and scalp attributes;
-//! - [`generate`] with [`ChildSettings`] (count, spread, seed, subdivision, [`Shape`]: clump,
+//! - [`generate`] with [`ChildSettings`] (mode, count, spread, seed, subdivision, [`Shape`]: clump,
 //!   curl, roughness, length variation, taper) and a [`Lod`] (render, or display: a fraction of
 //!   the children with fewer points) → [`ChildBuffers`], flat arrays a host renderer consumes;
 //! - [`export`]: USD `BasisCurves` (`.usda`, with time samples or velocities for motion blur)
@@ -26,10 +26,12 @@
 //! assert_eq!(children.point_count(), 40 * 17); // 4 segments × 4 pieces + 1
 //! ```
 //!
-//! Not built yet: *interpolated* children (between several parents); only *simple* children
-//! (grouped around one parent, the distribution seed 001 prefers) are generated.
+//! Two distributions ([`ChildMode`]): *simple* children grouped around one parent (the
+//! distribution seed 001 prefers) and *interpolated* children rooted between parents, each a blend
+//! of its nearest parents.
 
 pub mod buffers;
+pub mod cards;
 pub mod children;
 pub mod error;
 pub mod export;
@@ -41,7 +43,8 @@ pub mod shape;
 pub mod subdivide;
 
 pub use buffers::{ChildBuffers, Extent};
-pub use children::{generate, ChildCount, ChildSettings};
+pub use cards::{build_cards, CardMesh, CardSettings};
+pub use children::{generate, generate_into, ChildCount, ChildMode, ChildSettings};
 pub use error::{RenderError, Result};
 pub use lod::{DisplayLod, Lod};
 pub use parents::{Parents, ScalpRoots};

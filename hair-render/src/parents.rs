@@ -47,6 +47,27 @@ pub(crate) struct ParentRoot {
     pub color: Option<[f32; 3]>,
 }
 
+impl ScalpRoots<'_> {
+    /// Frame, UV and color of the scalp at `sample` (a valid sample of the mesh).
+    pub(crate) fn point(&self, sample: &MeshSample) -> ParentRoot {
+        let color = self.colors.map(|c| {
+            let tri = self.mesh.triangles()[sample.triangle as usize];
+            let mut rgb = [0.0; 3];
+            for (&v, w) in tri.iter().zip(sample.weights) {
+                for k in 0..3 {
+                    rgb[k] += c[v as usize][k] * w;
+                }
+            }
+            rgb
+        });
+        ParentRoot {
+            frame: self.mesh.evaluate(sample),
+            uv: self.mesh.sample_uv(sample),
+            color,
+        }
+    }
+}
+
 impl<'a> Parents<'a> {
     /// Parents from flat world positions (meters) and strand offsets (`offsets[0] = 0`, one more
     /// entry than parents, the last equal to `positions.len()`). Every parent needs ≥ 2 points,
@@ -191,25 +212,20 @@ impl<'a> Parents<'a> {
         self.scalp.is_some_and(|s| s.mesh.uvs().is_some())
     }
 
+    /// The scalp the parents are rooted on, if given.
+    pub(crate) fn scalp(&self) -> Option<ScalpRoots<'a>> {
+        self.scalp
+    }
+
+    /// Parent `p`'s mesh sample on the scalp, if it has one.
+    pub(crate) fn sample(&self, p: usize) -> Option<MeshSample> {
+        self.scalp.and_then(|s| s.samples[p])
+    }
+
     /// Root frame and attributes of parent `p`.
     pub(crate) fn root(&self, p: usize) -> ParentRoot {
-        let sample = self.scalp.and_then(|s| s.samples[p].map(|m| (s, m)));
-        if let Some((scalp, sample)) = sample {
-            let color = scalp.colors.map(|c| {
-                let tri = scalp.mesh.triangles()[sample.triangle as usize];
-                let mut rgb = [0.0; 3];
-                for (&v, w) in tri.iter().zip(sample.weights) {
-                    for k in 0..3 {
-                        rgb[k] += c[v as usize][k] * w;
-                    }
-                }
-                rgb
-            });
-            return ParentRoot {
-                frame: scalp.mesh.evaluate(&sample),
-                uv: scalp.mesh.sample_uv(&sample),
-                color,
-            };
+        if let (Some(scalp), Some(sample)) = (self.scalp, self.sample(p)) {
+            return scalp.point(&sample);
         }
         let frame = match self.root_frames {
             Some(f) => f[p],

@@ -75,6 +75,21 @@ impl ParentPath {
     }
 }
 
+impl ParentPath {
+    /// Point at fractional point index `x` (linear between points; `x` clamped to the path).
+    #[inline(always)]
+    pub fn point_at(&self, x: f32) -> Vector3<f32> {
+        let last = self.points.len() - 1;
+        let x = x.clamp(0.0, last as f32);
+        let j = (x as usize).min(last.saturating_sub(1));
+        let f = x - j as f32;
+        if f == 0.0 {
+            return self.points[j];
+        }
+        self.points[j] * (1.0 - f) + self.points[j + 1] * f
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -355,3 +355,36 @@ fn bad_settings_name_the_parameter() {
         .to_string();
     assert!(e.contains("1 spread radii for 3 parents"), "{e}");
 }
+
+#[test]
+fn generate_into_reused_buffers_equals_generate() {
+    let (positions, offsets) = scene();
+    let parents = Parents::new(&positions, &offsets).unwrap();
+    let big = ChildSettings {
+        count: ChildCount::PerParent(30),
+        shape: shaped(),
+        ..Default::default()
+    };
+    let small = ChildSettings {
+        count: ChildCount::PerParent(7),
+        seed: 3,
+        ..big
+    };
+    // Buffers left over from another export (more curves, and UVs the new parents lack).
+    let mut out = ChildBuffers {
+        root_uv: Some(vec![0.5; 4]),
+        ..generate(&parents, &big, Lod::Render).unwrap()
+    };
+    hair_render::generate_into(&parents, &small, Lod::Render, &mut out).unwrap();
+    assert_eq!(out, generate(&parents, &small, Lod::Render).unwrap());
+    hair_render::generate_into(&parents, &big, Lod::Render, &mut out).unwrap();
+    assert_eq!(out, generate(&parents, &big, Lod::Render).unwrap());
+    // A refused request leaves the buffers as they were.
+    let before = out.clone();
+    let bad = ChildSettings {
+        count: ChildCount::PerParent(0),
+        ..big
+    };
+    assert!(hair_render::generate_into(&parents, &bad, Lod::Render, &mut out).is_err());
+    assert_eq!(out, before);
+}

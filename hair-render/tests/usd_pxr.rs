@@ -12,7 +12,8 @@ use common::{bent, flatten};
 use hair_core::{MeshSample, TriMesh};
 use hair_render::export::usd::{export_usda, velocities, Motion, MotionSample, UsdOptions};
 use hair_render::{
-    generate, ChildBuffers, ChildCount, ChildSettings, Clump, Curl, Lod, Parents, ScalpRoots, Shape,
+    generate, ChildBuffers, ChildCount, ChildMode, ChildSettings, Clump, Curl, Lod, Parents,
+    ScalpRoots, Shape,
 };
 use nalgebra::{Vector2, Vector3};
 
@@ -194,6 +195,27 @@ fn usda_with_velocities_and_without_uvs_opens_in_pixar_usd() {
     )
     .unwrap();
     run_checker(&path, &expected(&frame, &[], Some(&v)));
+}
+
+#[test]
+fn usda_with_interpolated_children_opens_in_pixar_usd() {
+    let s = ChildSettings {
+        mode: ChildMode::Interpolated { neighbours: 2 },
+        spread: 0.3,
+        ..settings()
+    };
+    let frame = children_at(0.0, &s, true);
+    // Interpolated roots are spread over the scalp: each child has its own UV.
+    let st = frame.root_uv.as_ref().unwrap();
+    assert_ne!(st[..2], st[2..4]);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("interpolated.usda");
+    let opts = UsdOptions {
+        time_code: 12.0,
+        ..Default::default()
+    };
+    export_usda(&path, &frame, &Motion::None, &opts).unwrap();
+    run_checker(&path, &expected(&frame, &[], None));
 }
 
 #[test]

@@ -1,12 +1,17 @@
 //! Children on request: how many, where, and the one generation pass for every level of detail.
 //!
 //! [`generate`] takes parents at one instant ([`Parents`]: a cached frame, a sub-frame sample or
-//! the rest state), [`ChildSettings`] and a [`Lod`], and returns [`ChildBuffers`]. Per parent it
-//! subdivides the polyline ([`crate::subdivide`]), builds the transported frames
-//! (`path`) and grows each child ([`simple`]). Parents run in parallel on the caller's
-//! rayon pool; the output does not depend on the thread count. Memory is the output plus one
-//! parent path per thread.
+//! the rest state), [`ChildSettings`] and a [`Lod`], and returns [`ChildBuffers`]. Two
+//! distributions ([`ChildMode`]): [`simple`] children grouped around one parent, and
+//! [`interpolated`] children blended from several parents. Both grow through one kernel (`grow`):
+//! what the children of a parent share is tabulated once per parent, and every child is written
+//! straight into its place in the output (offsets known from the counts), so memory is the output
+//! plus, per thread, one parent path (simple) or every parent's path (interpolated). Parents run
+//! in parallel on the caller's rayon pool; the output does not depend on the thread count.
 
+mod grow;
+pub mod interpolated;
+mod neighbours;
 pub mod simple;
 
 use rayon::prelude::*;
@@ -19,6 +24,21 @@ use crate::path::ParentPath;
 use crate::rng::{ChildRng, Purpose};
 use crate::shape::Shape;
 use crate::subdivide::{catmull_rom, subdivided_len};
+use grow::{Profile, Scratch};
+use interpolated::{Interpolator, MAX_NEIGHBOURS};
+
+/// How children are distributed and shaped from their parents.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ChildMode {
+    /// Grouped around one parent, following its path ([`simple`]).
+    #[default]
+    Simple,
+    /// Rooted between parents, shaped as a blend of the nearest ones ([`interpolated`]).
+    Interpolated {
+        /// Parents blended per child, 1–8 (4 is a good start).
+        neighbours: u32,
+    },
+}
 
 /// How many children to make.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -57,10 +77,13 @@ pub struct ChildSettings {
     pub subdivisions: u32,
     /// Clump, curl, roughness, length variation and taper.
     pub shape: Shape,
+    /// Simple or interpolated children.
+    pub mode: ChildMode,
 }
 
 impl Default for ChildSettings {
-    /// 10 children per parent in a 5 mm disc, seed 0, 4 pieces per segment, default shape.
+    /// 10 simple children per parent in a 5 mm disc, seed 0, 4 pieces per segment, default
+    /// shape.
     fn default() -> Self {
         Self {
             count: ChildCount::PerParent(10),
@@ -68,6 +91,7 @@ impl Default for ChildSettings {
             seed: 0,
             subdivisions: 4,
             shape: Shape::default(),
+            mode: ChildMode::Simple,
         }
     }
 }
@@ -96,6 +120,15 @@ impl ChildSettings {
             ));
         }
         check_subdivisions("subdivisions", self.subdivisions)?;
+        if let ChildMode::Interpolated { neighbours } = self.mode {
+            if !(1..=MAX_NEIGHBOURS).contains(&neighbours) {
+                return Err(parameter(
+                    "neighbours",
+                    neighbours,
+                    "blend 1 to 8 parents per interpolated child (e.g. 4)",
+                ));
+            }
+        }
         self.shape.validate()
     }
 }
@@ -103,6 +136,20 @@ impl ChildSettings {
 /// Generates the children of `parents` at level `lod`. Refuses bad settings (naming the
 /// parameter) and a total of more than 2³² − 1 curves.
 pub fn generate(parents: &Parents, settings: &ChildSettings, lod: Lod) -> Result<ChildBuffers> {
+    let mut out = ChildBuffers::default();
+    generate_into(parents, settings, lod, &mut out)?;
+    Ok(out)
+}
+
+/// [`generate`] into `out`, reusing its allocations: a host that generates children frame after
+/// frame with the same counts writes into the same memory, with no new pages to map and clear.
+/// Every array of `out` is overwritten (resized to the new counts); on error `out` is unchanged.
+pub fn generate_into(
+    parents: &Parents,
+    settings: &ChildSettings,
+    lod: Lod,
+    out: &mut ChildBuffers,
+) -> Result<()> {
     settings.validate()?;
     lod.validate()?;
     let np = parents.len();
@@ -124,60 +171,191 @@ pub fn generate(parents: &Parents, settings: &ChildSettings, lod: Lod) -> Result
     let total_points: usize = (0..np).map(|p| shown[p] as usize * per_child[p]).sum();
     let curves = curves as usize;
 
-    let mut out = ChildBuffers {
-        vertex_counts: Vec::with_capacity(curves),
-        points: vec![0.0; 3 * total_points],
-        widths: vec![0.0; total_points],
-        parent: Vec::with_capacity(curves),
-        random: Vec::with_capacity(curves),
-        root_uv: parents.has_uvs().then(|| Vec::with_capacity(2 * curves)),
-        color: parents.has_colors().then(|| Vec::with_capacity(3 * curves)),
+    // Every element is written below, so sizes that already fit are left as they are.
+    fit(&mut out.vertex_counts, curves);
+    fit(&mut out.points, 3 * total_points);
+    fit(&mut out.widths, total_points);
+    fit(&mut out.parent, curves);
+    fit(&mut out.random, curves);
+    let optional = |v: &mut Option<Vec<f32>>, wanted: bool, len: usize| {
+        if wanted {
+            fit(v.get_or_insert_with(Vec::new), len);
+        } else {
+            *v = None;
+        }
     };
-    for p in 0..np {
-        let root = parents.root(p);
-        for k in 0..shown[p] {
-            out.vertex_counts.push(per_child[p] as u32);
-            out.parent.push(p as u32);
-            let rng = ChildRng::new(settings.seed, p as u32, k);
-            out.random.push(rng.unit(Purpose::Value, 0));
-            if let Some(uv) = &mut out.root_uv {
-                let v = root.uv.unwrap_or_default();
-                uv.extend_from_slice(&[v.x, v.y]);
+    optional(&mut out.root_uv, parents.has_uvs(), 2 * curves);
+    optional(&mut out.color, parents.has_colors(), 3 * curves);
+    let jobs = Job::split(out, &shown, &per_child);
+    let seed = settings.seed;
+    match settings.mode {
+        ChildMode::Simple => jobs.into_par_iter().for_each_init(
+            || {
+                (
+                    ParentPath::default(),
+                    Profile::default(),
+                    Scratch::default(),
+                )
+            },
+            |(path, profile, scratch), mut job| {
+                let p = job.parent;
+                path.points.clear();
+                catmull_rom(parents.points(p), steps, &mut path.points);
+                let root = parents.root(p);
+                path.build_frames(&root.frame);
+                let spread = parents.spread(p, settings.spread);
+                profile.build(&settings.shape, per_child[p]);
+                for k in 0..job.children() {
+                    let rng = ChildRng::new(seed, p as u32, k as u32);
+                    let (pts, wid) = job.curve(k, &rng, &root);
+                    simple::grow_simple(
+                        path,
+                        profile,
+                        spread,
+                        &settings.shape,
+                        &rng,
+                        scratch,
+                        pts,
+                        wid,
+                    );
+                }
+            },
+        ),
+        ChildMode::Interpolated { neighbours } => {
+            let interp = Interpolator::new(parents, steps, neighbours as usize);
+            jobs.into_par_iter().for_each_init(
+                || (Profile::default(), (Scratch::default(), Vec::new())),
+                |(profile, scratch), mut job| {
+                    let p = job.parent;
+                    let spread = parents.spread(p, settings.spread);
+                    profile.build(&settings.shape, interp.path(p).points.len());
+                    for k in 0..job.children() {
+                        let rng = ChildRng::new(seed, p as u32, k as u32);
+                        let n = job.points_per_child;
+                        let (pts, wid) = job.slices(k);
+                        let root = interp.grow(
+                            p,
+                            profile,
+                            spread,
+                            &settings.shape,
+                            &rng,
+                            scratch,
+                            pts,
+                            wid,
+                        );
+                        job.attributes(k, n, &rng, &root);
+                    }
+                },
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Makes `v` `len` long. Without the capacity, a new zeroed allocation: its pages are mapped
+/// lazily, by the worker that first writes them, instead of zeroed here on one thread.
+fn fit<T: Copy + Default>(v: &mut Vec<T>, len: usize) {
+    if v.capacity() < len {
+        *v = vec![T::default(); len];
+    } else {
+        v.resize(len, T::default());
+    }
+}
+
+/// One parent's disjoint share of the output buffers.
+struct Job<'a> {
+    parent: usize,
+    points_per_child: usize,
+    points: &'a mut [f32],
+    widths: &'a mut [f32],
+    counts: &'a mut [u32],
+    parents: &'a mut [u32],
+    random: &'a mut [f32],
+    uv: Option<&'a mut [f32]>,
+    color: Option<&'a mut [f32]>,
+}
+
+/// Splits the first `n` items off `slice`.
+fn take<'a, T>(slice: &mut &'a mut [T], n: usize) -> &'a mut [T] {
+    let (a, b) = std::mem::take(slice).split_at_mut(n);
+    *slice = b;
+    a
+}
+
+impl<'a> Job<'a> {
+    /// One job per parent with children, over `out` laid out by `shown` and `per_child`.
+    fn split(out: &'a mut ChildBuffers, shown: &[u32], per_child: &[usize]) -> Vec<Job<'a>> {
+        let mut points = out.points.as_mut_slice();
+        let mut widths = out.widths.as_mut_slice();
+        let mut counts = out.vertex_counts.as_mut_slice();
+        let mut parents = out.parent.as_mut_slice();
+        let mut random = out.random.as_mut_slice();
+        let mut uv = out.root_uv.as_deref_mut();
+        let mut color = out.color.as_deref_mut();
+        let mut jobs = Vec::with_capacity(shown.len());
+        for (p, (&c, &n)) in shown.iter().zip(per_child).enumerate() {
+            if c == 0 {
+                continue;
             }
-            if let Some(c) = &mut out.color {
-                c.extend_from_slice(&root.color.unwrap_or([1.0; 3]));
-            }
+            let c = c as usize;
+            jobs.push(Job {
+                parent: p,
+                points_per_child: n,
+                points: take(&mut points, 3 * c * n),
+                widths: take(&mut widths, c * n),
+                counts: take(&mut counts, c),
+                parents: take(&mut parents, c),
+                random: take(&mut random, c),
+                uv: uv.as_mut().map(|s| take(s, 2 * c)),
+                color: color.as_mut().map(|s| take(s, 3 * c)),
+            });
+        }
+        jobs
+    }
+
+    /// Number of children of this job.
+    fn children(&self) -> usize {
+        self.counts.len()
+    }
+
+    /// Points and widths of child `k`.
+    fn slices(&mut self, k: usize) -> (&mut [f32], &mut [f32]) {
+        let n = self.points_per_child;
+        (
+            &mut self.points[3 * k * n..3 * (k + 1) * n],
+            &mut self.widths[k * n..(k + 1) * n],
+        )
+    }
+
+    /// Writes child `k`'s per-curve attributes (`n` points, root `root`).
+    fn attributes(
+        &mut self,
+        k: usize,
+        n: usize,
+        rng: &ChildRng,
+        root: &crate::parents::ParentRoot,
+    ) {
+        self.counts[k] = n as u32;
+        self.parents[k] = self.parent as u32;
+        self.random[k] = rng.unit(Purpose::Value, 0);
+        if let Some(uv) = self.uv.as_deref_mut() {
+            let v = root.uv.unwrap_or_default();
+            uv[2 * k..2 * k + 2].copy_from_slice(&[v.x, v.y]);
+        }
+        if let Some(c) = self.color.as_deref_mut() {
+            c[3 * k..3 * k + 3].copy_from_slice(&root.color.unwrap_or([1.0; 3]));
         }
     }
 
-    // One disjoint slice of points and widths per parent, grown in parallel.
-    let mut jobs = Vec::with_capacity(np);
-    let (mut pts, mut wid) = (out.points.as_mut_slice(), out.widths.as_mut_slice());
-    for p in 0..np {
-        let n = shown[p] as usize * per_child[p];
-        let (a, rest_p) = pts.split_at_mut(3 * n);
-        let (b, rest_w) = wid.split_at_mut(n);
-        pts = rest_p;
-        wid = rest_w;
-        jobs.push((p, a, b));
+    /// Writes child `k`'s attributes and returns its points and widths.
+    fn curve(
+        &mut self,
+        k: usize,
+        rng: &ChildRng,
+        root: &crate::parents::ParentRoot,
+    ) -> (&mut [f32], &mut [f32]) {
+        let n = self.points_per_child;
+        self.attributes(k, n, rng, root);
+        self.slices(k)
     }
-    jobs.into_par_iter().for_each_init(
-        || (ParentPath::default(), simple::Profile::default()),
-        |(path, profile), (p, pts, wid)| {
-            if wid.is_empty() {
-                return;
-            }
-            path.points.clear();
-            catmull_rom(parents.points(p), steps, &mut path.points);
-            path.build_frames(&parents.root(p).frame);
-            let spread = parents.spread(p, settings.spread);
-            let n = per_child[p];
-            profile.build(&settings.shape, n);
-            for (k, (cp, cw)) in pts.chunks_mut(3 * n).zip(wid.chunks_mut(n)).enumerate() {
-                let rng = ChildRng::new(settings.seed, p as u32, k as u32);
-                simple::grow(path, profile, spread, &settings.shape, &rng, cp, cw);
-            }
-        },
-    );
-    Ok(out)
 }

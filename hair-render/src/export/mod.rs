@@ -1,10 +1,14 @@
 //! Exporters of [`crate::ChildBuffers`], one file per format: [`usd`] (`BasisCurves` in `.usda`
-//! text) and [`hair`] (Cem Yuksel's `.hair`). The only module of the crate that does I/O.
+//! text) and [`hair`] (Cem Yuksel's `.hair`); and of hair cards ([`crate::CardMesh`]):
+//! [`cards_usd`] (`Mesh` in `.usda`) and [`cards_obj`] (OBJ). The only module of the crate that
+//! does I/O.
 //!
 //! Each format writes to any `Write` (`write_*`) or to a path (`export_*`). A path is written as
 //! `<path>.partial` beside it and renamed into place only when complete, so a failed export leaves
 //! neither a half-written file nor a clobbered previous one; the partial file is removed on error.
 
+pub mod cards_obj;
+pub mod cards_usd;
 pub mod hair;
 pub mod usd;
 

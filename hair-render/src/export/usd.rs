@@ -15,7 +15,8 @@
 //! Motion blur ([`Motion`]): either `points.timeSamples` at several time codes over the shutter
 //! (children regenerated from parents sampled at each time, same topology), with the stage's
 //! `startTimeCode`/`endTimeCode` spanning them; or `velocities` (m/s per point) on the one frame.
-//! Every float is written as the shortest decimal that reads back to the same `f32`.
+//! Every float is written as the shortest decimal that reads back to the same `f32` (`zmij`),
+//! into a block buffer: no `format!` per value.
 
 use std::io::Write;
 use std::path::Path;
@@ -114,9 +115,7 @@ pub fn write_usda<W: Write>(
     writeln!(out, "    uniform token type = \"linear\"")?;
     writeln!(out, "    uniform token wrap = \"nonperiodic\"")?;
     write!(out, "    int[] curveVertexCounts = ")?;
-    write_list(&mut out, &children.vertex_counts, 1, |o, v| {
-        write!(o, "{}", v[0])
-    })?;
+    write_ints(&mut out, &children.vertex_counts)?;
     write!(out, "\n    point3f[] points = ")?;
     write_vec3s(&mut out, &children.points)?;
     match motion {
@@ -142,15 +141,11 @@ pub fn write_usda<W: Write>(
         "\n    float3[] extent = [({a:?}, {b:?}, {c:?}), ({d:?}, {e:?}, {f:?})]"
     )?;
     write!(out, "\n    float[] widths = ")?;
-    write_list(&mut out, &children.widths, 1, |o, v| {
-        write!(o, "{:?}", v[0])
-    })?;
+    write_floats(&mut out, &children.widths, 1)?;
     write!(out, " (\n        interpolation = \"vertex\"\n    )")?;
     if let Some(st) = &children.root_uv {
         write!(out, "\n    texCoord2f[] primvars:st = ")?;
-        write_list(&mut out, st, 2, |o, v| {
-            write!(o, "({:?}, {:?})", v[0], v[1])
-        })?;
+        write_floats(&mut out, st, 2)?;
         write!(out, " (\n        interpolation = \"uniform\"\n    )")?;
     }
     if let Some(rgb) = &children.color {
@@ -159,12 +154,10 @@ pub fn write_usda<W: Write>(
         write!(out, " (\n        interpolation = \"uniform\"\n    )")?;
     }
     write!(out, "\n    float[] primvars:random = ")?;
-    write_list(&mut out, &children.random, 1, |o, v| {
-        write!(o, "{:?}", v[0])
-    })?;
+    write_floats(&mut out, &children.random, 1)?;
     write!(out, " (\n        interpolation = \"uniform\"\n    )")?;
     write!(out, "\n    int[] primvars:parent = ")?;
-    write_list(&mut out, &children.parent, 1, |o, v| write!(o, "{}", v[0]))?;
+    write_ints(&mut out, &children.parent)?;
     writeln!(out, " (\n        interpolation = \"uniform\"\n    )\n}}")?;
     Ok(())
 }
@@ -254,27 +247,105 @@ fn check(children: &ChildBuffers, motion: &Motion, opts: &UsdOptions) -> Result<
     Ok(extent)
 }
 
-/// Writes `[a, b, …]` of `values` taken `stride` at a time by `item`.
-fn write_list<W: Write, T>(
-    out: &mut W,
-    values: &[T],
-    stride: usize,
-    mut item: impl FnMut(&mut W, &[T]) -> std::io::Result<()>,
-) -> Result<()> {
-    out.write_all(b"[")?;
-    for (k, v) in values.chunks_exact(stride).enumerate() {
-        if k > 0 {
-            out.write_all(b", ")?;
+/// Bytes of a long list, built in a buffer and written out in blocks of about 256 KiB.
+struct Block<'w, W: Write> {
+    out: &'w mut W,
+    buf: Vec<u8>,
+    num: zmij::Buffer,
+}
+
+impl<'w, W: Write> Block<'w, W> {
+    const SIZE: usize = 256 << 10;
+
+    fn new(out: &'w mut W) -> Self {
+        Self {
+            out,
+            buf: Vec::with_capacity(Self::SIZE + 256),
+            num: zmij::Buffer::new(),
         }
-        item(out, v)?;
     }
-    out.write_all(b"]")?;
+
+    /// Appends the shortest decimal that reads back to the same `f32`.
+    #[inline(always)]
+    fn float(&mut self, v: f32) {
+        self.buf.extend_from_slice(self.num.format(v).as_bytes());
+    }
+
+    /// Appends `v` in decimal.
+    #[inline(always)]
+    fn int(&mut self, mut v: u32) {
+        let mut digits = [0u8; 10];
+        let mut i = digits.len();
+        loop {
+            i -= 1;
+            digits[i] = b'0' + (v % 10) as u8;
+            v /= 10;
+            if v == 0 {
+                break;
+            }
+        }
+        self.buf.extend_from_slice(&digits[i..]);
+    }
+
+    /// Writes the buffer out once it is full.
+    #[inline(always)]
+    fn spill(&mut self) -> std::io::Result<()> {
+        if self.buf.len() >= Self::SIZE {
+            self.out.write_all(&self.buf)?;
+            self.buf.clear();
+        }
+        Ok(())
+    }
+
+    fn finish(self) -> std::io::Result<()> {
+        self.out.write_all(&self.buf)
+    }
+}
+
+/// Writes `[a, b, …]` of integers.
+fn write_ints<W: Write>(out: &mut W, values: &[u32]) -> Result<()> {
+    let mut b = Block::new(out);
+    b.buf.push(b'[');
+    for (k, &v) in values.iter().enumerate() {
+        if k > 0 {
+            b.buf.extend_from_slice(b", ");
+        }
+        b.int(v);
+        b.spill()?;
+    }
+    b.buf.push(b']');
+    b.finish()?;
+    Ok(())
+}
+
+/// Writes floats taken `arity` at a time: `[a, b, …]` for 1, `[(a, b), …]` for 2 or 3.
+fn write_floats<W: Write>(out: &mut W, values: &[f32], arity: usize) -> Result<()> {
+    let mut b = Block::new(out);
+    b.buf.push(b'[');
+    for (k, v) in values.chunks_exact(arity).enumerate() {
+        if k > 0 {
+            b.buf.extend_from_slice(b", ");
+        }
+        if arity == 1 {
+            b.float(v[0]);
+        } else {
+            b.buf.push(b'(');
+            for (i, &x) in v.iter().enumerate() {
+                if i > 0 {
+                    b.buf.extend_from_slice(b", ");
+                }
+                b.float(x);
+            }
+            b.buf.push(b')');
+        }
+        b.spill()?;
+    }
+    b.buf.push(b']');
+    b.finish()?;
     Ok(())
 }
 
 /// Writes interleaved x y z as `[(x, y, z), …]`.
 fn write_vec3s<W: Write>(out: &mut W, xyz: &[f32]) -> Result<()> {
-    write_list(out, xyz, 3, |o, v| {
-        write!(o, "({:?}, {:?}, {:?})", v[0], v[1], v[2])
-    })
+    write_floats(out, xyz, 3)
 }

@@ -11,8 +11,6 @@
 //! The noise is a function of the child's identity and its arc length, not of the point index,
 //! so the display level's fewer points lie on the render level's curve.
 
-use nalgebra::Vector3;
-
 use crate::error::{check_range, Result};
 use crate::rng::{ChildRng, Purpose};
 
@@ -102,50 +100,111 @@ impl Roughness {
         )
     }
 
-    /// Offset (meters) of a child (`rng`, endpoint direction `end` from
-    /// [`Roughness::endpoint_direction`]) at arc length `arc` (m), with endpoint profile
-    /// `end_profile`, `ramp` ∈ [0, 1] near the root and the frame's `u`, `w`.
-    #[allow(clippy::too_many_arguments)]
+    /// Adds the roughness of the child drawn by `rng` at arc lengths `arc` (m) to the frame
+    /// components `a` (along u) and `b` (along w), meters, scaled by the root ramp `ramp`;
+    /// `end_profile` is [`Roughness::endpoint_profile`] at each point. One pass per kind, so each
+    /// loop is short and free of the others' dependencies.
     #[inline(always)]
-    pub(crate) fn offset(
+    pub(crate) fn add(
         &self,
         rng: &ChildRng,
-        end: (f32, f32),
-        end_profile: f32,
-        arc: f32,
-        ramp: f32,
-        u: &Vector3<f32>,
-        w: &Vector3<f32>,
-    ) -> Vector3<f32> {
-        let (mut a, mut b) = (end.0 * end_profile, end.1 * end_profile);
+        end_profile: &[f32],
+        arc: &[f32],
+        ramp: &[f32],
+        a: &mut [f32],
+        b: &mut [f32],
+    ) {
+        let n = a.len();
+        let (arc, ramp, end_profile, b) = (&arc[..n], &ramp[..n], &end_profile[..n], &mut b[..n]);
+        if self.endpoint > 0.0 {
+            let (ea, eb) = self.endpoint_direction(rng);
+            for i in 0..n {
+                let k = end_profile[i] * ramp[i];
+                a[i] += ea * k;
+                b[i] += eb * k;
+            }
+        }
         if self.uniform > 0.0 {
-            let (x, y) = noise(rng, Purpose::UniformNoise, arc / self.uniform_size, false);
-            a += x * self.uniform;
-            b += y * self.uniform;
+            let inv = 1.0 / self.uniform_size;
+            let amp = self.uniform;
+            for i in 0..n {
+                let (x, y) = linear_noise(rng, Purpose::UniformNoise, arc[i] * inv);
+                a[i] += x * amp * ramp[i];
+                b[i] += y * amp * ramp[i];
+            }
         }
         if self.smooth > 0.0 {
-            let (x, y) = noise(rng, Purpose::SmoothNoise, arc / self.smooth_size, true);
-            a += x * self.smooth;
-            b += y * self.smooth;
+            let inv = 1.0 / self.smooth_size;
+            let amp = self.smooth;
+            let mut lattice = Lattice::default();
+            for i in 0..n {
+                let (x, y) = lattice.smooth(rng, Purpose::SmoothNoise, arc[i] * inv);
+                a[i] += x * amp * ramp[i];
+                b[i] += y * amp * ramp[i];
+            }
         }
-        (u * a + w * b) * ramp
     }
 }
 
-/// Two channels of 1D value noise in [−1, 1] at lattice coordinate `x ≥ 0`, interpolated
-/// linearly or by smoothstep.
+/// Two channels of linearly interpolated 1D value noise in [−1, 1] at lattice coordinate `x` in
+/// [0, 2³¹). Short-wavelength noise moves to a new cell at almost every point, so both ends are
+/// hashed every time, without a branch.
 #[inline(always)]
-fn noise(rng: &ChildRng, purpose: Purpose, x: f32, smooth: bool) -> (f32, f32) {
-    let j = x.floor();
-    let mut f = x - j;
-    if smooth {
-        f = f * f * (3.0 - 2.0 * f);
+fn linear_noise(rng: &ChildRng, purpose: Purpose, x: f32) -> (f32, f32) {
+    // x ≥ 0: truncation is the floor (a 32-bit cast, no libm call, no range branch).
+    let cell = x as i32;
+    let f = x - cell as f32;
+    let j = cell as u64;
+    let lo = rng.signed_pair(purpose, j);
+    let hi = rng.signed_pair(purpose, j + 1);
+    (lo.0 + (hi.0 - lo.0) * f, lo.1 + (hi.1 - lo.1) * f)
+}
+
+/// Two channels of smoothstep-interpolated 1D value noise in [−1, 1] on the integer lattice,
+/// keeping the values at the ends of the last cell looked up (a child's points walk up its length,
+/// so each lattice value is hashed about once). The values depend only on the child and the
+/// lattice index, so the result is the same whatever order points are asked in.
+#[derive(Debug, Clone, Copy)]
+struct Lattice {
+    /// Index of the cell whose end values are held (`u64::MAX`: none yet).
+    cell: u64,
+    /// Values at `cell` and `cell + 1`.
+    lo: (f32, f32),
+    hi: (f32, f32),
+}
+
+impl Default for Lattice {
+    fn default() -> Self {
+        Self {
+            cell: u64::MAX,
+            lo: (0.0, 0.0),
+            hi: (0.0, 0.0),
+        }
     }
-    let j = j as u64;
-    let v = |k: u64| rng.signed(purpose, k);
-    let a = v(2 * j) + (v(2 * j + 2) - v(2 * j)) * f;
-    let b = v(2 * j + 1) + (v(2 * j + 3) - v(2 * j + 1)) * f;
-    (a, b)
+}
+
+impl Lattice {
+    /// Noise at lattice coordinate `x` in [0, 2³¹).
+    #[inline(always)]
+    fn smooth(&mut self, rng: &ChildRng, purpose: Purpose, x: f32) -> (f32, f32) {
+        let cell = x as i32;
+        let f = x - cell as f32;
+        let f = f * f * (3.0 - 2.0 * f);
+        let j = cell as u64;
+        if j != self.cell {
+            self.lo = if j == self.cell.wrapping_add(1) {
+                self.hi
+            } else {
+                rng.signed_pair(purpose, j)
+            };
+            self.hi = rng.signed_pair(purpose, j + 1);
+            self.cell = j;
+        }
+        (
+            self.lo.0 + (self.hi.0 - self.lo.0) * f,
+            self.lo.1 + (self.hi.1 - self.lo.1) * f,
+        )
+    }
 }
 
 #[cfg(test)]
@@ -153,7 +212,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn noise_is_bounded_and_continuous() {
+    fn noise_is_bounded_continuous_and_independent_of_the_order_of_points() {
         let rng = ChildRng::new(1, 2, 3);
         let r = Roughness {
             uniform: 0.001,
@@ -161,15 +220,23 @@ mod tests {
             endpoint: 0.003,
             ..Default::default()
         };
-        let (u, w) = (Vector3::x(), Vector3::y());
-        let end = r.endpoint_direction(&rng);
-        let mut prev = r.offset(&rng, end, 0.0, 0.0, 1.0, &u, &w);
-        for i in 1..=1000 {
-            let arc = i as f32 * 1e-4;
-            let o = r.offset(&rng, end, r.endpoint_profile(arc / 0.1), arc, 1.0, &u, &w);
-            assert!(o.norm() <= (0.006f32 * 2.0).sqrt() * 1.5);
-            assert!((o - prev).norm() < 2e-4, "jump at {i}");
-            prev = o;
+        let arc: Vec<f32> = (0..=1000).map(|i| i as f32 * 1e-4).collect();
+        let prof: Vec<f32> = arc.iter().map(|s| r.endpoint_profile(s / 0.1)).collect();
+        let ramp = vec![1.0; arc.len()];
+        let (mut a, mut b) = (vec![0.0; arc.len()], vec![0.0; arc.len()]);
+        r.add(&rng, &prof, &arc, &ramp, &mut a, &mut b);
+        for i in 0..arc.len() {
+            assert!(a[i].hypot(b[i]) <= (0.006f32 * 2.0).sqrt() * 1.5);
+            if i > 0 {
+                assert!(
+                    (a[i] - a[i - 1]).hypot(b[i] - b[i - 1]) < 2e-4,
+                    "jump at {i}"
+                );
+            }
+            // The point alone (nothing memoised) gives the same value.
+            let (mut x, mut y) = ([0.0], [0.0]);
+            r.add(&rng, &prof[i..], &arc[i..], &ramp[i..], &mut x, &mut y);
+            assert_eq!((a[i], b[i]), (x[0], y[0]), "at {i}");
         }
     }
 }

@@ -1,0 +1,320 @@
+//! Interpolated children: between several parents.
+//!
+//! **Roots.** Each child still has a home parent (its identity is (seed, home parent, index), so
+//! counts per parent or in total, determinism and the display prefix work as for simple
+//! children). Its root is drawn uniformly in the disc of the spread radius around the home
+//! parent's root, in the root frame's tangent plane, like a simple child's; on a scalp the point
+//! is then moved onto the mesh (the triangle around the home root's triangle that contains its
+//! projection, or the nearest one, weights clamped), and the mesh gives the child's position, root
+//! frame, UV and vertex color. For interpolated children the spread is best about the spacing of
+//! the parents, so children fill the scalp between them.
+//!
+//! **Shape.** The child's path is a weighted blend of its `k` nearest parents (by root distance),
+//! each taken as offsets from its own root, resampled by point index to the home parent's point
+//! count, turned by the smallest rotation taking that parent's surface normal onto the child's,
+//! and added to the child's root: `c(x) = r + Σ w_j R_j (P_j(x_j) − P_j(0))`. Weights are
+//! Franke–Little inverse distance weights `w_j ∝ ((R − d_j)/(R d_j))²` with `R` the distance to
+//! the (k+1)-th nearest parent (or `2 d_k` when there are only `k`), so a parent's weight falls
+//! to 0 as it leaves the neighbourhood; a child rooted within 1 µm of a parent takes that
+//! parent's shape alone. The nearest parents are searched among the `k + 8` nearest of the home
+//! parent (a grid search, module `neighbours`), exact for children within the home parent's
+//! neighbourhood.
+//!
+//! **Shaping.** Clumping draws the child towards its home parent's path (`factor = 1` puts its
+//! tip on the home parent's tip); curl and roughness use the home parent's transported frames;
+//! length variation, taper and level of detail are those of simple children (the same kernel).
+
+use hair_core::{MeshSample, RootFrame, TriMesh};
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use rayon::prelude::*;
+
+use crate::children::grow::{grow, Profile, Scratch};
+use crate::children::neighbours::nearest;
+use crate::children::simple::disc_offset;
+use crate::parents::{ParentRoot, Parents};
+use crate::path::ParentPath;
+use crate::rng::ChildRng;
+use crate::shape::Shape;
+use crate::subdivide::catmull_rom;
+
+/// Most parents a child blends (the largest accepted `neighbours`).
+pub const MAX_NEIGHBOURS: u32 = 8;
+/// Candidates searched per home parent beyond the `k + 1` a child needs.
+const EXTRA_CANDIDATES: usize = 7;
+/// A child rooted closer than this to a parent (m) takes that parent's shape alone.
+const SAME_ROOT: f32 = 1e-6;
+
+/// One parent's share of a child.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Share {
+    /// The parent.
+    parent: u32,
+    /// Point-index ratio from the home parent's path to this parent's.
+    ratio: f32,
+    /// The parent's root point, meters.
+    root: Vector3<f32>,
+    /// Weight times the rotation from the parent's normal to the child's.
+    rotation: Matrix3<f32>,
+}
+
+/// Everything interpolated children of any parent need: every parent's path and root, the
+/// candidate neighbours of every parent, the scalp's vertex → triangles map.
+pub(crate) struct Interpolator<'a> {
+    parents: &'a Parents<'a>,
+    paths: Vec<ParentPath>,
+    roots: Vec<ParentRoot>,
+    candidates: Vec<u32>,
+    m: usize,
+    k: usize,
+    around: Option<VertexTriangles>,
+}
+
+impl<'a> Interpolator<'a> {
+    /// Prepares `parents` subdivided with `steps` for children blending `k ≥ 1` parents.
+    pub(crate) fn new(parents: &'a Parents<'a>, steps: u32, k: usize) -> Self {
+        let np = parents.len();
+        let roots: Vec<ParentRoot> = (0..np).map(|p| parents.root(p)).collect();
+        let paths: Vec<ParentPath> = (0..np)
+            .into_par_iter()
+            .map(|p| {
+                let mut path = ParentPath::default();
+                catmull_rom(parents.points(p), steps, &mut path.points);
+                path.build_frames(&roots[p].frame);
+                path
+            })
+            .collect();
+        let k = k.min(np);
+        let m = (k + 1 + EXTRA_CANDIDATES).min(np);
+        let starts: Vec<Vector3<f32>> = paths.iter().map(|p| p.points[0]).collect();
+        let candidates = nearest(&starts, m);
+        let around = parents
+            .scalp()
+            .filter(|s| s.samples.iter().any(Option::is_some))
+            .map(|s| VertexTriangles::new(s.mesh));
+        Self {
+            parents,
+            paths,
+            roots,
+            candidates,
+            m,
+            k,
+            around,
+        }
+    }
+
+    /// The subdivided path of parent `p`.
+    pub(crate) fn path(&self, p: usize) -> &ParentPath {
+        &self.paths[p]
+    }
+
+    /// Writes the child of home parent `p` drawn by `rng` (root disc of radius `spread`, m) into
+    /// `points` and `widths`; returns its root (frame, UV, color). `scratch` is working space.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn grow(
+        &self,
+        p: usize,
+        profile: &Profile,
+        spread: f32,
+        shape: &Shape,
+        rng: &ChildRng,
+        scratch: &mut (Scratch, Vec<Share>),
+        points: &mut [f32],
+        widths: &mut [f32],
+    ) -> ParentRoot {
+        let (scratch, shares) = scratch;
+        let root = self.child_root(p, spread, rng);
+        self.shares(p, &root.frame, shares);
+        let origin = root.frame.origin;
+        let paths = &self.paths;
+        grow(
+            &self.paths[p],
+            profile,
+            shape,
+            rng,
+            scratch,
+            points,
+            widths,
+            |at| {
+                let mut c = origin - at.base;
+                for s in shares.iter() {
+                    let q = paths[s.parent as usize].point_at(at.x * s.ratio) - s.root;
+                    c += s.rotation * q;
+                }
+                c
+            },
+        );
+        root
+    }
+
+    /// The child's root: in the home parent's disc, moved onto the scalp when the home parent is
+    /// rooted on it.
+    fn child_root(&self, p: usize, spread: f32, rng: &ChildRng) -> ParentRoot {
+        let home = &self.roots[p];
+        let (a, b) = disc_offset(spread, rng);
+        let x = self.paths[p].points[0] + home.frame.rotation * Vector3::new(a, b, 0.0);
+        if let (Some(scalp), Some(sample), Some(around)) =
+            (self.parents.scalp(), self.parents.sample(p), &self.around)
+        {
+            let snapped = around.snap(scalp.mesh, sample.triangle as usize, &x);
+            return scalp.point(&snapped);
+        }
+        ParentRoot {
+            frame: RootFrame {
+                origin: x,
+                rotation: home.frame.rotation,
+            },
+            uv: home.uv,
+            color: home.color,
+        }
+    }
+
+    /// The parents a child at `frame` blends, with weights and rotations, into `shares`.
+    fn shares(&self, p: usize, frame: &RootFrame, shares: &mut Vec<Share>) {
+        let m = self.m;
+        let mut near = [(0.0f32, 0u32); MAX_NEIGHBOURS as usize + 1 + EXTRA_CANDIDATES];
+        for (slot, &c) in near.iter_mut().zip(&self.candidates[p * m..(p + 1) * m]) {
+            *slot = ((self.paths[c as usize].points[0] - frame.origin).norm(), c);
+        }
+        let near = &mut near[..m];
+        near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let k = self.k;
+        let mut weights = [0.0f32; MAX_NEIGHBOURS as usize];
+        let used = if near[0].0 < SAME_ROOT {
+            weights[0] = 1.0;
+            1
+        } else {
+            let r = if m > k {
+                near[k].0
+            } else {
+                2.0 * near[k - 1].0
+            };
+            let mut sum = 0.0;
+            for (w, &(d, _)) in weights.iter_mut().zip(near.iter()).take(k) {
+                *w = if d < r {
+                    ((r - d) / (r * d)).powi(2)
+                } else {
+                    0.0
+                };
+                sum += *w;
+            }
+            if sum > 0.0 && sum.is_finite() {
+                weights[..k].iter_mut().for_each(|w| *w /= sum);
+            } else {
+                weights[..k].iter_mut().for_each(|w| *w = 1.0 / k as f32);
+            }
+            k
+        };
+        let normal = frame.rotation * Vector3::z();
+        let home_len = (self.paths[p].points.len() - 1) as f32;
+        shares.clear();
+        for (&(_, j), &w) in near.iter().zip(&weights).take(used) {
+            if w == 0.0 {
+                continue;
+            }
+            let jn = self.roots[j as usize].frame.rotation * Vector3::z();
+            let turn = if (jn - normal).norm_squared() < 1e-12 {
+                Matrix3::identity()
+            } else {
+                UnitQuaternion::rotation_between(&jn, &normal)
+                    .map_or_else(Matrix3::identity, |q| q.to_rotation_matrix().into_inner())
+            };
+            let path = &self.paths[j as usize];
+            shares.push(Share {
+                parent: j,
+                ratio: (path.points.len() - 1) as f32 / home_len,
+                root: path.points[0],
+                rotation: turn * w,
+            });
+        }
+    }
+}
+
+/// The triangles around each vertex of a mesh (compressed rows).
+struct VertexTriangles {
+    offsets: Vec<u32>,
+    triangles: Vec<u32>,
+}
+
+impl VertexTriangles {
+    fn new(mesh: &TriMesh) -> Self {
+        let nv = mesh.positions().len();
+        let mut offsets = vec![0u32; nv + 1];
+        for tri in mesh.triangles() {
+            for &v in tri {
+                offsets[v as usize + 1] += 1;
+            }
+        }
+        for v in 0..nv {
+            offsets[v + 1] += offsets[v];
+        }
+        let mut fill = offsets.clone();
+        let mut triangles = vec![0u32; offsets[nv] as usize];
+        for (t, tri) in mesh.triangles().iter().enumerate() {
+            for &v in tri {
+                triangles[fill[v as usize] as usize] = t as u32;
+                fill[v as usize] += 1;
+            }
+        }
+        Self { offsets, triangles }
+    }
+
+    /// The sample on the triangles sharing a vertex with `home` nearest `x`: the one whose plane
+    /// holds the projection of `x` inside it (nearest plane first), else the one `x` is least
+    /// outside of, with its barycentric weights clamped.
+    fn snap(&self, mesh: &TriMesh, home: usize, x: &Vector3<f32>) -> MeshSample {
+        let mut best: Option<((bool, f32), MeshSample)> = None;
+        for &v in &mesh.triangles()[home] {
+            let (a, b) = (self.offsets[v as usize], self.offsets[v as usize + 1]);
+            for &t in &self.triangles[a as usize..b as usize] {
+                let Some((w, plane)) = barycentric(mesh, t as usize, x) else {
+                    continue;
+                };
+                let outside = -w.iter().copied().fold(f32::INFINITY, f32::min);
+                let key = if outside <= 0.0 {
+                    (false, plane)
+                } else {
+                    (true, outside)
+                };
+                let better = best.as_ref().is_none_or(|(k, s)| {
+                    (!key.0 && k.0) || (key.0 == k.0 && (key.1, t) < (k.1, s.triangle))
+                });
+                if better {
+                    let c = w.map(|x| x.max(0.0));
+                    let sum = c[0] + c[1] + c[2];
+                    best = Some((
+                        key,
+                        MeshSample {
+                            triangle: t,
+                            weights: c.map(|x| x / sum),
+                        },
+                    ));
+                }
+            }
+        }
+        best.map_or(
+            MeshSample {
+                triangle: home as u32,
+                weights: [1.0 / 3.0; 3],
+            },
+            |(_, s)| s,
+        )
+    }
+}
+
+/// Barycentric weights of `x` projected onto triangle `t`'s plane, and its distance to that plane
+/// (m); `None` for a degenerate triangle.
+fn barycentric(mesh: &TriMesh, t: usize, x: &Vector3<f32>) -> Option<([f32; 3], f32)> {
+    let [a, b, c] = mesh.corners(t);
+    let (e0, e1, d) = (b - a, c - a, x - a);
+    let (d00, d01, d11) = (e0.dot(&e0), e0.dot(&e1), e1.dot(&e1));
+    let (d20, d21) = (d.dot(&e0), d.dot(&e1));
+    let den = d00 * d11 - d01 * d01;
+    if den <= f32::EPSILON * d00 * d11 || den <= 0.0 {
+        return None;
+    }
+    let v = (d11 * d20 - d01 * d21) / den;
+    let w = (d00 * d21 - d01 * d20) / den;
+    let n = e0.cross(&e1);
+    let plane = (d.dot(&n) / n.norm()).abs();
+    Some(([1.0 - v - w, v, w], plane))
+}
