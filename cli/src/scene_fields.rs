@@ -1,0 +1,266 @@
+//! The `[hair_hair]` and `[[fields]]` scene sections: voxel hair–hair interaction (seed 001,
+//! "Hair-Hair collision"; see `hair_core::volume`) and force fields (Blender's effectors; see
+//! `hair_core::fields`).
+//!
+//! ```toml
+//! [hair_hair]
+//! cell_size = 0.01        # m, edge of a grid cell
+//! friction = 0.3          # 0–1: velocity moved this far towards the grid velocity per step
+//! repulsion = 0.3         # m²/s², push out of cells denser than the target (0 = off)
+//! target_density = 0.3    # hair volume fraction (0–1) above which repulsion acts
+//!
+//! [[fields]]
+//! type = "wind"           # "wind", "vortex", "turbulence", "drag" or "force"
+//! strength = 2.0          # or keys: [[1, 0.0], [24, 2.0]] as [frame, value]
+//! direction = [1, 0, 0]   # wind flow; vortex and tube axis
+//! center = [0, 0, 0]      # m: vortex axis, point force, falloff origin
+//! noise = 0.3             # wind only: relative variation of the speed
+//! seed = 1                # wind noise, turbulence
+//! falloff = { shape = "sphere", power = 2, min_distance = 0.1, max_distance = 1.0 }
+//! ```
+//!
+//! Strength units by type: air speed in m/s for wind, vortex and turbulence (they push hair
+//! through `[physics] air_drag`), a rate in 1/s for drag, m/s² for a point force (negative
+//! attracts). Turbulence also takes `size` (m, feature size) and `flow` (feature sizes per
+//! second the pattern drifts).
+
+use hair_core::{
+    Falloff, FalloffShape, FieldKind, ForceField, HairError, HairHairSettings, Solver, Strength,
+    VoxelGrid,
+};
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+use crate::scene::Simulation;
+
+/// `[hair_hair]`: voxel hair–hair interaction.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HairHairSection {
+    /// Edge length of a grid cell, m.
+    pub cell_size: f32,
+    /// Fraction (0–1) of the way velocities move towards the grid velocity per collision step.
+    #[serde(default)]
+    pub friction: f32,
+    /// Repulsion strength, m²/s² (0 = off).
+    #[serde(default)]
+    pub repulsion: f32,
+    /// Hair volume fraction (0–1) above which repulsion pushes hair apart.
+    #[serde(default = "default_target")]
+    pub target_density: f32,
+}
+
+fn default_target() -> f32 {
+    HairHairSettings::default().target_density
+}
+
+impl HairHairSection {
+    /// The settings, validated; errors name the key and the fix.
+    pub fn settings(&self) -> Result<HairHairSettings, String> {
+        let s = HairHairSettings {
+            cell_size: self.cell_size,
+            friction: self.friction,
+            repulsion: self.repulsion,
+            target_density: self.target_density,
+        };
+        s.validate().map_err(|e| format!("[hair_hair] {e}"))?;
+        Ok(s)
+    }
+}
+
+/// Field types of `[[fields]] type`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FieldType {
+    /// Air flowing along `direction` (strength: air speed, m/s).
+    Wind,
+    /// Air turning around the axis (strength: air speed, m/s).
+    Vortex,
+    /// Air in a smooth seeded noise field (strength: air speed, m/s).
+    Turbulence,
+    /// Extra drag (strength: rate, 1/s).
+    Drag,
+    /// Point force from `center` (strength: m/s², negative attracts).
+    Force,
+}
+
+/// A strength: a number, or `[frame, value]` keys.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum StrengthValue {
+    /// The same at every frame.
+    Constant(f32),
+    /// `[[frame, value], …]`, linear in between, held outside.
+    Keys(Vec<[f32; 2]>),
+}
+
+/// `falloff = { … }` of a field.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FalloffSection {
+    /// `"none"`, `"sphere"` (distance from `center`) or `"tube"` (distance from the axis).
+    #[serde(default)]
+    pub shape: FalloffShapeValue,
+    /// Exponent: the factor is `(1 + d − min_distance)^−power`.
+    #[serde(default)]
+    pub power: f32,
+    /// Full strength within this distance, m.
+    #[serde(default)]
+    pub min_distance: f32,
+    /// No effect beyond this distance, m.
+    #[serde(default)]
+    pub max_distance: Option<f32>,
+}
+
+/// Falloff shapes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FalloffShapeValue {
+    /// Full strength everywhere.
+    #[default]
+    None,
+    /// By distance from the center.
+    Sphere,
+    /// By distance from the axis.
+    Tube,
+}
+
+/// `[[fields]]`: one force field.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FieldSection {
+    /// Name shown in errors (optional).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub name: String,
+    /// What the field does.
+    #[serde(rename = "type")]
+    pub kind: FieldType,
+    /// Strength (units by type, see the module doc).
+    pub strength: StrengthValue,
+    /// Center, m.
+    #[serde(default)]
+    pub center: [f32; 3],
+    /// Direction (wind flow, vortex and tube axis); normalised.
+    #[serde(default = "up")]
+    pub direction: [f32; 3],
+    /// Wind only: relative amplitude of the speed's variation.
+    #[serde(default)]
+    pub noise: Option<f32>,
+    /// Seed of the wind's noise or of the turbulence.
+    #[serde(default)]
+    pub seed: u64,
+    /// Turbulence only: feature size, m.
+    #[serde(default)]
+    pub size: Option<f32>,
+    /// Turbulence only: drift of the pattern, feature sizes per second.
+    #[serde(default)]
+    pub flow: Option<f32>,
+    /// Distance falloff (absent: none).
+    #[serde(default)]
+    pub falloff: Option<FalloffSection>,
+}
+
+fn up() -> [f32; 3] {
+    [0.0, 0.0, 1.0]
+}
+
+impl FieldSection {
+    /// The library field, validated; errors name `[[fields]] #index`, the key and the fix.
+    pub fn field(&self, index: usize) -> Result<ForceField, String> {
+        let label = if self.name.is_empty() {
+            format!("[[fields]] #{index}")
+        } else {
+            format!("[[fields]] #{index} ({})", self.name)
+        };
+        let only = |key: &str, kind: &str| {
+            Err(format!(
+                "{label}: `{key}` applies to type = \"{kind}\" only; remove it"
+            ))
+        };
+        if self.noise.is_some() && self.kind != FieldType::Wind {
+            return only("noise", "wind");
+        }
+        if self.kind != FieldType::Turbulence {
+            if self.size.is_some() {
+                return only("size", "turbulence");
+            }
+            if self.flow.is_some() {
+                return only("flow", "turbulence");
+            }
+        }
+        let kind = match self.kind {
+            FieldType::Wind => FieldKind::Wind {
+                noise: self.noise.unwrap_or(0.0),
+                seed: self.seed,
+            },
+            FieldType::Vortex => FieldKind::Vortex,
+            FieldType::Turbulence => FieldKind::Turbulence {
+                size: self.size.ok_or_else(|| {
+                    format!("{label}: turbulence needs `size`, its feature size in m (e.g. 0.1)")
+                })?,
+                flow: self.flow.unwrap_or(0.0),
+                seed: self.seed,
+            },
+            FieldType::Drag => FieldKind::Drag,
+            FieldType::Force => FieldKind::Force,
+        };
+        let f = self.falloff.unwrap_or(FalloffSection {
+            shape: FalloffShapeValue::None,
+            power: 0.0,
+            min_distance: 0.0,
+            max_distance: None,
+        });
+        let mut field = ForceField {
+            kind,
+            center: Vector3::from(self.center),
+            direction: Vector3::from(self.direction),
+            strength: match &self.strength {
+                StrengthValue::Constant(s) => Strength::Constant(*s),
+                StrengthValue::Keys(k) => Strength::Keys(k.iter().map(|&[f, v]| (f, v)).collect()),
+            },
+            falloff: Falloff {
+                shape: match f.shape {
+                    FalloffShapeValue::None => FalloffShape::None,
+                    FalloffShapeValue::Sphere => FalloffShape::Sphere,
+                    FalloffShapeValue::Tube => FalloffShape::Tube,
+                },
+                power: f.power,
+                min_distance: f.min_distance,
+                max_distance: f.max_distance,
+            },
+        };
+        field
+            .validate(index)
+            .map_err(|e| format!("{label}: {}", field_message(&e)))?;
+        Ok(field)
+    }
+}
+
+/// A library error about a field, with the key as the scene file spells it.
+fn field_message(e: &HairError) -> String {
+    match e {
+        HairError::Parameter { name, value, fix } => {
+            let key = name.split_once('.').map_or(name.as_str(), |(_, k)| k);
+            format!("{key} = {value}: {fix}")
+        }
+        other => other.to_string(),
+    }
+}
+
+/// Checks that the hair-hair grid of `cell_size` fits in memory over the hair at rest.
+pub fn check_grid(settings: &HairHairSettings, positions: &[Vector3<f32>]) -> Result<(), String> {
+    VoxelGrid::check(settings.cell_size, positions).map_err(|e| format!("[hair_hair] {e}"))
+}
+
+impl Simulation {
+    /// `solver` with the scene's hair–hair interaction and force fields switched on.
+    pub fn with_interactions(&self, mut solver: Solver) -> Result<Solver, HairError> {
+        if let Some(h) = self.hair_hair {
+            solver = solver.with_hair_hair(h, &self.strands)?;
+        }
+        if !self.fields.is_empty() {
+            solver = solver.with_fields(self.fields.clone())?;
+        }
+        Ok(solver)
+    }
+}
