@@ -2,11 +2,13 @@
 //!
 //! 2,000 strands of 16 segments (34,000 points) hang from a fixed scalp; one frame of 32
 //! substeps is timed, with stretch + bend + goal + gravity + drag, with and without the damping
-//! sub-loop (10 Jacobi iterations), at 48 fps so dt is half the stability bound. Run: `cargo bench -p hair-core --bench strand_step`.
+//! sub-loop (10 Jacobi iterations), and with the sub-loop and the inextensibility projection, at
+//! 48 fps so dt is half the stability bound. Run: `cargo bench -p hair-core --bench strand_step`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use hair_core::{
-    Anchor, HairParams, RootFrame, Scalp, Solver, SolverSettings, StrandInput, StrandSet, Substeps,
+    Anchor, HairParams, Inextensibility, RootFrame, Scalp, Solver, SolverSettings, StrandInput,
+    StrandSet, Substeps,
 };
 use nalgebra::Vector3;
 
@@ -45,7 +47,11 @@ fn bench(c: &mut Criterion) {
         (base.point_count() as u64) * SUBSTEPS as u64,
     ));
     group.sample_size(20);
-    for (name, iterations) in [("no damping", 0), ("damping 10 Jacobi", 10)] {
+    for (name, iterations, projection) in [
+        ("no damping", 0, false),
+        ("damping 10 Jacobi", 10, false),
+        ("damping 10 Jacobi + inextensibility projection", 10, true),
+    ] {
         let params = HairParams {
             goal_stiffness: 0.5,
             stretch_stiffness: 40.0,
@@ -62,6 +68,11 @@ fn bench(c: &mut Criterion) {
         group.bench_function(BenchmarkId::from_parameter(name), |b| {
             let mut set = base.clone();
             let mut solver = Solver::new(settings, params, &set, &scalp, 0).expect("valid setup");
+            if projection {
+                solver = solver
+                    .with_inextensibility(Inextensibility::default())
+                    .expect("valid projection");
+            }
             b.iter(|| solver.step_frame(&mut set, &scalp).expect("stable"));
         });
     }

@@ -1,0 +1,243 @@
+//! The bench's charts, PNG through plotters' bitmap backend. Text is drawn with ab_glyph from the
+//! bundled DejaVu Sans (`cli/assets/`, Bitstream Vera licence beside it), so no system font
+//! library is needed.
+
+use std::path::Path;
+use std::sync::Once;
+
+use plotters::prelude::*;
+use plotters::style::{register_font, FontStyle};
+
+use super::stability::{Grid, FPS};
+use super::{BenchError, BenchReport};
+
+static FONT: Once = Once::new();
+
+/// Registers the bundled font as "sans-serif" (once per process).
+fn font() {
+    FONT.call_once(|| {
+        // The font is compiled in and known to parse; a failure would only lose the labels.
+        let _ = register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            include_bytes!("../../assets/DejaVuSans.ttf"),
+        );
+    });
+}
+
+const COLORS: [RGBColor; 6] = [
+    RGBColor(214, 39, 40),
+    RGBColor(31, 119, 180),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(23, 190, 207),
+];
+
+fn err(path: &Path) -> impl Fn(String) -> BenchError + '_ {
+    move |message| BenchError::Write {
+        path: path.to_path_buf(),
+        message,
+    }
+}
+
+/// A tick label: plain above 1, scientific below.
+fn tick(v: f64) -> String {
+    if v >= 1.0 {
+        format!("{v:.0}")
+    } else {
+        format!("{v:.0e}")
+    }
+}
+
+/// A log range covering `values` (positive ones), padded by a factor 2 each side.
+fn log_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if lo.is_finite() {
+        lo / 2.0..hi * 2.0
+    } else {
+        1e-3..1.0
+    }
+}
+
+/// Error against cost, log–log, one panel per case, one series per method; `auto` marked.
+pub fn pareto(r: &BenchReport, path: &Path) -> Result<(), BenchError> {
+    font();
+    let e = err(path);
+    let root = BitMapBackend::new(path, (1600, 1200)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| e(format!("{x:?}")))?;
+    let panels = root.split_evenly((2, 2));
+    let mut methods: Vec<&str> = Vec::new();
+    for run in &r.runs {
+        if !methods.contains(&run.method.as_str()) {
+            methods.push(&run.method);
+        }
+    }
+    for ((case, title), panel) in r.cases.iter().zip(&panels) {
+        let runs: Vec<_> = r.runs.iter().filter(|x| &x.case == case).collect();
+        let stable = || runs.iter().filter_map(|x| x.stable().map(|s| (x, s)));
+        let xr = log_range(stable().map(|(_, (c, _))| c.ms_per_frame));
+        let yr = log_range(stable().map(|(_, (_, er))| er.position_rms));
+        let mut chart = ChartBuilder::on(panel)
+            .caption(title, ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(45)
+            .y_label_area_size(75)
+            .build_cartesian_2d(xr.log_scale(), yr.log_scale())
+            .map_err(|x| e(format!("{x:?}")))?;
+        chart
+            .configure_mesh()
+            .x_desc("cost: ms per frame")
+            .y_desc("position RMS error vs reference (m)")
+            .x_labels(6)
+            .y_labels(8)
+            .x_label_formatter(&|v| tick(*v))
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .label_style(("sans-serif", 14))
+            .draw()
+            .map_err(|x| e(format!("{x:?}")))?;
+        for (i, m) in methods.iter().enumerate() {
+            let color = COLORS[i % COLORS.len()];
+            let pts: Vec<(f64, f64)> = stable()
+                .filter(|(x, _)| x.method == *m && !x.auto)
+                .map(|(_, (c, er))| (c.ms_per_frame, er.position_rms))
+                .filter(|&(_, y)| y > 0.0)
+                .collect();
+            chart
+                .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))
+                .map_err(|x| e(format!("{x:?}")))?
+                .label(*m)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(3))
+                });
+            chart
+                .draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))
+                .map_err(|x| e(format!("{x:?}")))?;
+        }
+        for (x, (c, er)) in stable().filter(|(x, _)| x.auto) {
+            let p = (c.ms_per_frame, er.position_rms);
+            chart
+                .draw_series([EmptyElement::at(p)
+                    + Cross::new((0, 0), 9, BLACK.stroke_width(3))
+                    + Text::new(
+                        format!("auto ({} substeps)", x.substeps),
+                        (10, -18),
+                        ("sans-serif", 15),
+                    )])
+                .map_err(|x| e(format!("{x:?}")))?;
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .label_font(("sans-serif", 13))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(|x| e(format!("{x:?}")))?;
+    }
+    root.present().map_err(|x| e(format!("{x:?}")))
+}
+
+/// Stretch stiffness × substeps per frame, stable (green dot) or unstable (red cross), one panel
+/// per method, with the predicted bound (line) and the observed boundary (triangles).
+pub fn stability_map(r: &BenchReport, grid: &Grid, path: &Path) -> Result<(), BenchError> {
+    font();
+    let e = err(path);
+    let root = BitMapBackend::new(path, (1500, 1400)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| e(format!("{x:?}")))?;
+    let rows = r.stability.len().div_ceil(2);
+    let panels = root.split_evenly((rows, 2));
+    let xr = log_range(grid.substeps.iter().map(|&s| s as f64));
+    // Room below the lowest row for the legend.
+    let yr = log_range(grid.stiffness.iter().copied());
+    let yr = yr.start / 20.0..yr.end;
+    for (m, panel) in r.stability.iter().zip(&panels) {
+        let mut chart = ChartBuilder::on(panel)
+            .caption(&m.method, ("sans-serif", 19))
+            .margin(10)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d(xr.clone().log_scale(), yr.clone().log_scale())
+            .map_err(|x| e(format!("{x:?}")))?;
+        chart
+            .configure_mesh()
+            .x_desc(format!("substeps per frame at {FPS} fps"))
+            .y_desc("stretch stiffness k (N/m)")
+            .x_label_formatter(&|v| format!("{v:.0}"))
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .label_style(("sans-serif", 13))
+            .draw()
+            .map_err(|x| e(format!("{x:?}")))?;
+        let cells = grid.stiffness.iter().enumerate().flat_map(|(row, &k)| {
+            grid.substeps
+                .iter()
+                .enumerate()
+                .map(move |(c, &s)| (row, c, s as f64, k))
+        });
+        let green = RGBColor(44, 160, 44);
+        let red = RGBColor(214, 39, 40);
+        chart
+            .draw_series(
+                cells
+                    .clone()
+                    .filter(|&(row, c, ..)| m.stable[row][c])
+                    .map(|(_, _, s, k)| Circle::new((s, k), 4, green.filled())),
+            )
+            .map_err(|x| e(format!("{x:?}")))?
+            .label("stable")
+            .legend(move |(x, y)| Circle::new((x + 10, y), 4, green.filled()));
+        chart
+            .draw_series(
+                cells
+                    .filter(|&(row, c, ..)| !m.stable[row][c])
+                    .map(|(_, _, s, k)| Cross::new((s, k), 4, red.stroke_width(2))),
+            )
+            .map_err(|x| e(format!("{x:?}")))?
+            .label("unstable")
+            .legend(move |(x, y)| Cross::new((x + 10, y), 4, red.stroke_width(2)));
+        let predicted: Vec<(f64, f64)> = grid
+            .stiffness
+            .iter()
+            .zip(&m.predicted_dt)
+            .filter(|(_, dt)| dt.is_finite())
+            .map(|(&k, dt)| (1.0 / (FPS * dt), k))
+            .collect();
+        if !predicted.is_empty() {
+            chart
+                .draw_series(LineSeries::new(predicted, BLACK.stroke_width(2)))
+                .map_err(|x| e(format!("{x:?}")))?
+                .label("predicted bound dt = 2/ω")
+                .legend(|(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(2))
+                });
+        }
+        let observed: Vec<(f64, f64)> = grid
+            .stiffness
+            .iter()
+            .zip(&m.observed_dt)
+            .filter_map(|(&k, dt)| dt.filter(|d| d.is_finite()).map(|d| (1.0 / (FPS * d), k)))
+            .collect();
+        chart
+            .draw_series(
+                observed
+                    .iter()
+                    .map(|&p| TriangleMarker::new(p, 6, BLUE.filled())),
+            )
+            .map_err(|x| e(format!("{x:?}")))?
+            .label("observed boundary")
+            .legend(|(x, y)| TriangleMarker::new((x + 10, y), 6, BLUE.filled()));
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::LowerRight)
+            .label_font(("sans-serif", 12))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(|x| e(format!("{x:?}")))?;
+    }
+    root.present().map_err(|x| e(format!("{x:?}")))
+}

@@ -1,0 +1,143 @@
+//! What a bench run measures: positions at the case's sample frames (for the error against the
+//! reference), the largest segment stretch, the energy at the end, the deepest penetration into
+//! the head, and the cost.
+//!
+//! - **position error**: RMS over every free point and every sample frame of `|x − x_ref|`, m;
+//! - **max stretch**: largest `len/rest − 1` of any segment at the end of any frame;
+//! - **energy drift**: `(E(T) − E_ref(T)) / Σ m g L`, total mechanical energy at the last frame
+//!   against the reference's, as a fraction of the case's energy scale (for the undamped pendulum
+//!   `E_ref(T) = E(0)` to within the reference's own error, so this is the drift);
+//! - **max penetration**: deepest free point centre inside the closed scalp at any frame end, m;
+//! - **cost**: wall-clock ms per frame of the solver alone, and point-substeps per second.
+
+use std::time::{Duration, Instant};
+
+use hair_core::{energy, Colliders, HairError, Solver};
+use nalgebra::Vector3;
+use serde::Serialize;
+
+use super::cases::Case;
+
+/// Wall-clock cost of a run (solver only).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Cost {
+    /// Milliseconds per frame.
+    pub ms_per_frame: f64,
+    /// Points × substeps advanced per second.
+    pub point_substeps_per_s: f64,
+}
+
+/// The observed history of one run.
+#[derive(Debug, Clone)]
+pub struct Trace {
+    /// Positions at each of the case's sample frames (m).
+    pub samples: Vec<Vec<Vector3<f32>>>,
+    /// Largest relative segment elongation at any frame end.
+    pub max_stretch: f32,
+    /// Total mechanical energy at the last frame, J.
+    pub energy_end: f64,
+    /// Deepest free point inside the head at any frame end, m (0 without a head).
+    pub max_penetration: f32,
+    /// Substeps per frame the solver used.
+    pub substeps: u32,
+    /// Cost.
+    pub cost: Cost,
+}
+
+/// Runs `case` with `solver` (built for the case's first frame) to its last frame.
+pub fn drive(case: &Case, mut solver: Solver) -> Result<Trace, HairError> {
+    let sim = &case.sim;
+    let mut strands = sim.strands.clone();
+    let mut colliders: Colliders = sim.colliders_at(sim.first_frame as f32)?;
+    let mut samples = Vec::with_capacity(case.samples.len());
+    let (mut max_stretch, mut max_penetration) = (0.0f32, 0.0f32);
+    let mut solve = Duration::ZERO;
+    let mut point_substeps = 0u64;
+    let mut substeps = 0;
+    for frame in sim.first_frame + 1..=sim.last_frame {
+        let scalp = sim.scalp_at(frame as f32);
+        sim.pose_colliders(&mut colliders, frame as f32)?;
+        let t0 = Instant::now();
+        let report = solver.step_frame_with_colliders(&mut strands, &scalp, &mut colliders)?;
+        solve += t0.elapsed();
+        point_substeps += report.point_substeps;
+        substeps = substeps.max(report.substeps * report.steps);
+        max_stretch = max_stretch.max(report.max_stretch);
+        if let Some(head) = &case.head {
+            max_penetration = max_penetration.max(head.max_depth(
+                &scalp,
+                &strands.positions,
+                strands.inverse_masses(),
+            ));
+        }
+        if case.samples.contains(&frame) {
+            samples.push(strands.positions.clone());
+        }
+    }
+    let frames = (sim.last_frame - sim.first_frame) as f64;
+    let seconds = solve.as_secs_f64().max(1e-9);
+    Ok(Trace {
+        samples,
+        max_stretch,
+        energy_end: energy(&strands, solver.params(), solver.roots()).total(),
+        max_penetration,
+        substeps,
+        cost: Cost {
+            ms_per_frame: 1e3 * seconds / frames,
+            point_substeps_per_s: point_substeps as f64 / seconds,
+        },
+    })
+}
+
+/// Largest relative segment elongation a run may end a frame with and still count as stable:
+/// beyond it (a segment twice its rest length) the run has blown up even if the solver's own
+/// checks (non-finite values, runaway energy) have not caught it yet.
+pub const BLOWN_UP_STRETCH: f32 = 1.0;
+
+/// Why `trace` counts as blown up, if it does (see [`BLOWN_UP_STRETCH`]).
+pub fn blown_up(trace: &Trace) -> Option<String> {
+    (trace.max_stretch > BLOWN_UP_STRETCH).then(|| {
+        format!(
+            "a segment reached {:.0}× its rest length",
+            1.0 + trace.max_stretch
+        )
+    })
+}
+
+/// RMS distance between the free points of `a` and `b` over all sample frames, m.
+pub fn rms_difference(case: &Case, a: &Trace, b: &Trace) -> f64 {
+    let free = case.sim.strands.inverse_masses();
+    let (mut sum, mut count) = (0.0f64, 0usize);
+    for (xa, xb) in a.samples.iter().zip(&b.samples) {
+        for ((pa, pb), &w) in xa.iter().zip(xb).zip(free) {
+            if w > 0.0 {
+                sum += (pa - pb).cast::<f64>().norm_squared();
+                count += 1;
+            }
+        }
+    }
+    (sum / count.max(1) as f64).sqrt()
+}
+
+/// Errors of one stable run against its reference.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Errors {
+    /// Position RMS error, m.
+    pub position_rms: f64,
+    /// Largest relative segment elongation (0.01 = 1 %).
+    pub max_stretch: f32,
+    /// Energy at the end against the reference's, as a fraction of `Σ m g L`.
+    pub energy_drift: f64,
+    /// Deepest point inside the head, m.
+    pub max_penetration: f32,
+}
+
+/// Compares `run` with `reference`.
+pub fn errors(case: &Case, run: &Trace, reference: &Trace) -> Errors {
+    Errors {
+        position_rms: rms_difference(case, run, reference),
+        max_stretch: run.max_stretch,
+        energy_drift: (run.energy_end - reference.energy_end) / case.energy_scale.max(1e-30),
+        max_penetration: run.max_penetration,
+    }
+}

@@ -1,0 +1,370 @@
+//! `hairsys bench`: speed against accuracy, and where each method fails.
+//!
+//! Every [`Method`] runs every reference case ([`cases`]) at 1, 2, 4 … substeps per frame; each
+//! run gives its cost (ms/frame, point-substeps/s) and its errors ([`metrics`]) against the
+//! **reference**: the same case run by the method's reference (the same model advanced by
+//! semi-implicit Euler) at [`REFERENCE_FACTOR`] times the finest substep charted. The reference
+//! counts as **converged** when halving its step changes it (position RMS over the sample
+//! frames) by less than the smallest error charted against it; the report states both numbers
+//! for each reference. `substeps = "auto"` is run too and marked on the chart.
+//!
+//! The **stability map** ([`stability`]) runs a probe strand over a grid of stretch stiffness
+//! × substeps per method and draws the predicted bound `dt < 2/ω` on it.
+//!
+//! Output ([`report`], [`charts`]): `pareto.png` (error against cost, log–log, one panel per
+//! case, one series per method), `stability_map.png`, `bench.md` (the tables) and `bench.json`
+//! (every number) in the output directory.
+
+pub mod cases;
+pub mod charts;
+pub mod methods;
+pub mod metrics;
+pub mod report;
+pub mod stability;
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use hair_core::HairError;
+use serde::Serialize;
+
+use crate::progress::Progress;
+use crate::scene::SceneError;
+use cases::Case;
+use methods::{MassSpring, Method};
+use metrics::{blown_up, errors, rms_difference, Cost, Errors, Trace};
+use stability::{Grid, MethodMap};
+
+/// The reference runs at this many times the finest substep count charted.
+pub const REFERENCE_FACTOR: u32 = 8;
+
+/// A stable run is repeated until the solver has spent this long on it (ms); its cost is the
+/// fastest repetition.
+const MIN_TIMED_MS: f64 = 20.0;
+
+/// What `hairsys bench` was asked to do.
+#[derive(Debug, Clone)]
+pub struct BenchOptions {
+    /// Small cases and grids (seconds instead of minutes).
+    pub quick: bool,
+    /// Directory for the charts and tables (created if missing).
+    pub out: PathBuf,
+    /// One JSON object per run and the summary as JSON on stdout.
+    pub json: bool,
+    /// Print nothing but errors.
+    pub quiet: bool,
+}
+
+/// Why the bench could not finish.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    /// A case's scene did not build.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// A run failed otherwise than by instability (which is a result, not an error).
+    #[error("bench: {0}")]
+    Solver(#[from] HairError),
+    /// The output could not be written.
+    #[error("cannot write {path}: {message}; check the --out directory is writable")]
+    Write {
+        /// File being written.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+}
+
+/// How one run ended.
+#[derive(Debug, Clone, Serialize)]
+#[serde(tag = "status", rename_all = "lowercase")]
+pub enum Outcome {
+    /// It finished: its cost and its errors against the reference.
+    Stable {
+        /// Cost.
+        cost: Cost,
+        /// Errors against the reference.
+        errors: Errors,
+    },
+    /// The solver stopped it (blow-up detected), or it ended a frame with a segment stretched
+    /// beyond [`metrics::BLOWN_UP_STRETCH`].
+    Unstable {
+        /// The solver's message.
+        message: String,
+    },
+}
+
+/// One run of one method on one case.
+#[derive(Debug, Clone, Serialize)]
+pub struct Run {
+    /// Case name.
+    pub case: String,
+    /// Method name.
+    pub method: String,
+    /// Substeps per frame (for `auto`: the count it chose).
+    pub substeps: u32,
+    /// Substep, s.
+    pub dt: f64,
+    /// True for the `substeps = "auto"` run.
+    pub auto: bool,
+    /// Result.
+    pub outcome: Outcome,
+}
+
+impl Run {
+    /// Cost and errors, if it was stable.
+    pub fn stable(&self) -> Option<(&Cost, &Errors)> {
+        match &self.outcome {
+            Outcome::Stable { cost, errors } => Some((cost, errors)),
+            Outcome::Unstable { .. } => None,
+        }
+    }
+}
+
+/// How well a reference is converged.
+#[derive(Debug, Clone, Serialize)]
+pub struct Convergence {
+    /// Case name.
+    pub case: String,
+    /// The reference method.
+    pub reference: String,
+    /// Its substeps per frame.
+    pub substeps: u32,
+    /// Position RMS difference between the reference and the same at half the substeps, m.
+    pub halving_change: f64,
+    /// Smallest position error charted against this reference, m.
+    pub smallest_error: f64,
+    /// `halving_change < smallest_error`.
+    pub converged: bool,
+}
+
+/// Everything the bench measured.
+#[derive(Debug, Clone, Serialize)]
+pub struct BenchReport {
+    /// Quick mode.
+    pub quick: bool,
+    /// Cases: name and description.
+    pub cases: Vec<(String, String)>,
+    /// Methods: name and the model components each runs on the head case.
+    pub methods: Vec<(String, String)>,
+    /// Every run, `auto` ones included.
+    pub runs: Vec<Run>,
+    /// The references and their convergence.
+    pub references: Vec<Convergence>,
+    /// Stiffnesses of the stability map rows, N/m.
+    pub stability_stiffness: Vec<f64>,
+    /// Substeps per frame of the stability map columns (at [`stability::FPS`]).
+    pub stability_substeps: Vec<u32>,
+    /// The stability map of each method.
+    pub stability: Vec<MethodMap>,
+    /// Wall-clock time of the whole bench, s.
+    pub seconds: f64,
+}
+
+/// Substeps per frame charted: 1, 2, 4 … 512 (… 256 with `quick`). Finer steps than these
+/// reach the f32 floor of the positions: the reference itself changes by about 10⁻⁵ m when its
+/// step is halved at 4096 substeps per frame, whatever the case.
+pub fn ladder(quick: bool) -> Vec<u32> {
+    let top = if quick { 8 } else { 9 };
+    (0..=top).map(|e| 1 << e).collect()
+}
+
+#[derive(Serialize)]
+struct Event<'a> {
+    event: &'a str,
+    case: &'a str,
+    method: &'a str,
+    substeps: u32,
+    status: &'a str,
+}
+
+fn outcome(result: Result<Trace, HairError>) -> Result<Result<Trace, String>, HairError> {
+    match result {
+        Ok(t) => Ok(blown_up(&t).map_or(Ok(t), Err)),
+        Err(e @ HairError::Unstable { .. }) => Ok(Err(e.to_string())),
+        Err(e) => Err(e),
+    }
+}
+
+/// Runs every method on `case`: the references first, then the ladder and `auto`.
+pub fn bench_case(
+    case: &Case,
+    methods: &[Box<dyn Method>],
+    ladder: &[u32],
+    progress: &Progress,
+) -> Result<(Vec<Run>, Vec<Convergence>), BenchError> {
+    let finest = *ladder.last().unwrap_or(&1);
+    let n_ref = finest * REFERENCE_FACTOR;
+    let step_dt = 1.0 / case.sim.settings.fps as f64;
+    let mut references: BTreeMap<String, (Trace, f64)> = BTreeMap::new();
+    for m in methods {
+        let r = m.reference();
+        if references.contains_key(&r.name()) {
+            continue;
+        }
+        let fine = r.run(case, Some(n_ref))?;
+        let half = r.run(case, Some(n_ref / 2))?;
+        let change = rms_difference(case, &fine, &half);
+        for n in [n_ref, n_ref / 2] {
+            progress.tick(&Event {
+                event: "reference",
+                case: case.name,
+                method: &r.name(),
+                substeps: n,
+                status: "stable",
+            });
+        }
+        references.insert(r.name(), (fine, change));
+    }
+    let mut runs = Vec::new();
+    let mut record = |m: &dyn Method, substeps: Option<u32>| -> Result<(), BenchError> {
+        let reference = &references[&m.reference().name()].0;
+        let result = outcome(m.run(case, substeps))?;
+        let (n, outcome) = match result {
+            Ok(trace) => {
+                // Short runs are timed again, keeping the fastest: one run of a tiny case is
+                // mostly timer noise.
+                let mut cost = trace.cost;
+                let mut spent = cost.ms_per_frame * case.frames() as f64;
+                while spent < MIN_TIMED_MS {
+                    let again = m.run(case, substeps)?.cost;
+                    spent += again.ms_per_frame * case.frames() as f64;
+                    if again.ms_per_frame < cost.ms_per_frame {
+                        cost = again;
+                    }
+                }
+                (
+                    trace.substeps,
+                    Outcome::Stable {
+                        cost,
+                        errors: errors(case, &trace, reference),
+                    },
+                )
+            }
+            Err(message) => (substeps.unwrap_or(0), Outcome::Unstable { message }),
+        };
+        progress.tick(&Event {
+            event: "run",
+            case: case.name,
+            method: &m.name(),
+            substeps: n,
+            status: if matches!(outcome, Outcome::Stable { .. }) {
+                "stable"
+            } else {
+                "unstable"
+            },
+        });
+        runs.push(Run {
+            case: case.name.into(),
+            method: m.name(),
+            substeps: n,
+            dt: step_dt / n.max(1) as f64,
+            auto: substeps.is_none(),
+            outcome,
+        });
+        Ok(())
+    };
+    for m in methods {
+        for &s in ladder {
+            record(m.as_ref(), Some(s))?;
+        }
+    }
+    record(&MassSpring::DEFAULT, None)?;
+    let convergence = references
+        .into_iter()
+        .map(|(name, (_, change))| {
+            let smallest = runs
+                .iter()
+                .filter(|r| !r.auto)
+                .filter(|r| {
+                    methods
+                        .iter()
+                        .any(|m| m.name() == r.method && m.reference().name() == name)
+                })
+                .filter_map(|r| r.stable().map(|(_, e)| e.position_rms))
+                .filter(|&e| e > 0.0)
+                .fold(f64::INFINITY, f64::min);
+            Convergence {
+                case: case.name.into(),
+                reference: name,
+                substeps: n_ref,
+                halving_change: change,
+                smallest_error: smallest,
+                converged: change < smallest,
+            }
+        })
+        .collect();
+    Ok((runs, convergence))
+}
+
+/// Runs the whole bench and writes its charts and tables into `opts.out`.
+pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
+    let t0 = Instant::now();
+    // Fail before minutes of work, not after.
+    report::create_dir(&opts.out)?;
+    let cases = cases::all(opts.quick)?;
+    let methods = MassSpring::all();
+    let ladder = ladder(opts.quick);
+    let grid = Grid::new(opts.quick);
+    let per_case = methods.len() * ladder.len() + 1 + 2 * methods.len();
+    let total = cases.len() * per_case + methods.len() * grid.stiffness.len();
+    let progress = Progress::new(total as u64, opts.quiet, opts.json, "bench");
+    let mut runs = Vec::new();
+    let mut references = Vec::new();
+    for case in &cases {
+        let (r, c) = bench_case(case, &methods, &ladder, &progress)?;
+        runs.extend(r);
+        references.extend(c);
+    }
+    let mut maps = Vec::new();
+    for m in &methods {
+        maps.push(stability::map(m.as_ref(), &grid, || {
+            progress.tick(&Event {
+                event: "stability-row",
+                case: "probe",
+                method: &m.name(),
+                substeps: 0,
+                status: "done",
+            })
+        })?);
+    }
+    progress.finish();
+    let head = cases.last().expect("the cases are not empty");
+    let components = methods
+        .iter()
+        .map(|m| Ok((m.name(), m.components(head)?.join(", "))))
+        .collect::<Result<Vec<_>, HairError>>()?;
+    let report = BenchReport {
+        quick: opts.quick,
+        methods: components,
+        cases: cases
+            .iter()
+            .map(|c| (c.name.to_string(), c.title.to_string()))
+            .collect(),
+        runs,
+        references,
+        stability_stiffness: grid.stiffness.clone(),
+        stability_substeps: grid.substeps.clone(),
+        stability: maps,
+        seconds: t0.elapsed().as_secs_f64(),
+    };
+    report::write_all(&report, &grid, &opts.out)?;
+    Ok(report)
+}
+
+/// `hairsys bench`: runs the bench and prints where its files went (or the report as JSON).
+pub fn cli(opts: &BenchOptions) -> Result<(), String> {
+    let report = run(opts).map_err(|e| e.to_string())?;
+    if opts.json {
+        let json = serde_json::to_string(&report).map_err(|e| e.to_string())?;
+        println!("{json}");
+    } else if !opts.quiet {
+        println!(
+            "bench done in {:.0} s: {} in {}",
+            report.seconds,
+            report::FILES.join(", "),
+            opts.out.display()
+        );
+    }
+    Ok(())
+}
