@@ -1,0 +1,245 @@
+//! `hairsys render-children cards`: the hair cards of a `model = "strips"` scene (seed 000) from
+//! a cached frame — with motion-blur samples over a shutter, read from the cache exactly like
+//! `render-children export` — or from the scene's rest state, written as a USD `Mesh` (`.usda`,
+//! `st` per vertex, all samples as `points.timeSamples`) or OBJ (the centre sample).
+//!
+//! The strips are grown again from the scene (the one stored in the cache, or `--scene`), and
+//! their edge strands take the cached positions (strip `k` = strands `2k`, `2k + 1`). With
+//! `[scalp.collider]` the rest scalp is the head every card vertex is kept out of.
+
+use std::path::{Path, PathBuf};
+
+use hair_cache::{CacheReader, Interpolation};
+use hair_core::strips::HeadShape;
+use hair_render::export::cards_obj::export_cards_obj;
+use hair_render::export::cards_usd::{export_cards_usda, CardSample, CardUsdOptions};
+use hair_render::{build_cards, CardMesh, CardSettings};
+
+use crate::scene::SceneFile;
+
+/// Card output format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum CardsFormat {
+    /// USD Mesh (.usda) with st and motion samples.
+    Usd,
+    /// Wavefront OBJ with vt (the centre sample only).
+    Obj,
+}
+
+fn parse_shutter(s: &str) -> Result<(f64, f64), String> {
+    let (a, b) = s
+        .split_once(',')
+        .ok_or_else(|| format!("`{s}` is not OPEN,CLOSE, e.g. -0.25,0.25"))?;
+    let num = |t: &str| {
+        t.trim()
+            .parse::<f64>()
+            .map_err(|_| format!("`{t}` is not a number"))
+    };
+    Ok((num(a)?, num(b)?))
+}
+
+/// Arguments of `render-children cards`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct CardsArgs {
+    /// Cache to read (the scene stored in it gives the strips); without it, the rest state.
+    #[arg(long)]
+    pub cache: Option<PathBuf>,
+    /// Scene file: the rest state to export without --cache, or a scene overriding the cache's.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// Frame to export (with --cache).
+    #[arg(long)]
+    pub frame: Option<u32>,
+    /// Shutter interval OPEN,CLOSE in frames around the frame.
+    #[arg(long, value_parser = parse_shutter, default_value = "-0.25,0.25", allow_hyphen_values = true)]
+    pub shutter: (f64, f64),
+    /// Motion samples over the shutter (USD time samples); 1 = no motion blur.
+    #[arg(long, default_value_t = 1)]
+    pub motion_samples: usize,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = CardsFormat::Usd)]
+    pub format: CardsFormat,
+    /// Rows of vertices per edge segment along a card.
+    #[arg(long, default_value_t = 4)]
+    pub rows_per_segment: u32,
+    /// Vertices across a card (≥ 2).
+    #[arg(long, default_value_t = 3)]
+    pub columns: u32,
+    /// Gap kept between card vertices and the head, m (with [scalp.collider]).
+    #[arg(long, default_value_t = 1e-3)]
+    pub clearance: f32,
+    /// Output file (.usda for usd, .obj for obj).
+    #[arg(short, long)]
+    pub out: PathBuf,
+    /// Print a JSON summary on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Print nothing but errors.
+    #[arg(long, conflicts_with = "json")]
+    pub quiet: bool,
+}
+
+/// What was written.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct CardsSummary {
+    /// Output path.
+    pub out: String,
+    /// Cards (strips) written.
+    pub cards: usize,
+    /// Hairs the cards stand for.
+    pub represented_hairs: u64,
+    /// Vertices per time sample.
+    pub vertices: usize,
+    /// Quads.
+    pub quads: usize,
+    /// Time samples written (1 without motion blur and for OBJ).
+    pub time_samples: usize,
+}
+
+/// Builds and writes the cards of `args`.
+pub fn export_cards(args: &CardsArgs) -> Result<CardsSummary, String> {
+    if args.motion_samples == 0 {
+        return Err("--motion-samples 0: use at least 1 sample".into());
+    }
+    let (open, close) = args.shutter;
+    if !(open.is_finite() && close.is_finite() && open <= close) {
+        return Err(format!(
+            "--shutter {open},{close}: give OPEN,CLOSE in frames with OPEN ≤ CLOSE"
+        ));
+    }
+    let (scene, mut reader) = match &args.cache {
+        Some(cache) => {
+            let reader = CacheReader::open(cache).map_err(|e| e.to_string())?;
+            let scene = match &args.scene {
+                Some(path) => SceneFile::load(path).map_err(|e| e.to_string())?,
+                None => {
+                    let base = cache.parent().map(Path::to_path_buf).unwrap_or_default();
+                    let origin = format!("{} (scene stored in the cache)", cache.display());
+                    SceneFile::parse(&reader.header().scene_toml, &origin, base)
+                        .map_err(|e| e.to_string())?
+                }
+            };
+            (scene, Some(reader))
+        }
+        None => {
+            let Some(path) = &args.scene else {
+                return Err("give --cache or --scene: the cards of which strips?".into());
+            };
+            (SceneFile::load(path).map_err(|e| e.to_string())?, None)
+        }
+    };
+    let sim = scene.build().map_err(|e| e.to_string())?;
+    let (Some(section), Some(mesh)) = (&scene.scene.strips, sim.rest_mesh()) else {
+        return Err(format!(
+            "{}: cards need a scene with [solver] model = \"strips\" and a [strips] section",
+            scene.origin
+        ));
+    };
+    let mut strips = section.build(mesh)?;
+    let head = match sim.scalp_collider {
+        Some(_) => Some(HeadShape::new(mesh).map_err(|e| e.to_string())?),
+        None => None,
+    };
+    let settings = CardSettings {
+        rows_per_segment: args.rows_per_segment,
+        columns: args.columns,
+        clearance: args.clearance,
+    };
+    let fps = sim.settings.fps as f64;
+    let frame = match (&reader, args.frame) {
+        (Some(_), Some(f)) => f,
+        (Some(_), None) => return Err("--cache needs --frame N: the frame to export".into()),
+        (None, Some(_)) => {
+            return Err("--frame needs --cache: without a cache the rest state is exported".into())
+        }
+        (None, None) => sim.first_frame,
+    };
+    let n = args.motion_samples;
+    let offsets: Vec<f64> = if n == 1 {
+        vec![0.5 * (open + close)]
+    } else {
+        (0..n)
+            .map(|i| open + (close - open) * i as f64 / (n - 1) as f64)
+            .collect()
+    };
+    let mut samples: Vec<(f64, CardMesh)> = Vec::with_capacity(n);
+    for offset in offsets {
+        let time_code = frame as f64 + offset;
+        if let Some(r) = reader.as_mut() {
+            let positions = r
+                .sample(time_code / fps, Interpolation::Hermite)
+                .map_err(|e| e.to_string())?
+                .positions;
+            if positions.len() != strips.strands.point_count() {
+                return Err(format!(
+                    "the cache has {} points per frame but the scene's strips have {}; export \
+                     with the scene that made the cache",
+                    positions.len(),
+                    strips.strands.point_count()
+                ));
+            }
+            strips.strands.positions = positions;
+        }
+        let scalp = sim.scalp_at(time_code as f32);
+        let cards =
+            build_cards(&strips, &scalp, &settings, head.as_ref()).map_err(|e| e.to_string())?;
+        samples.push((time_code, cards));
+    }
+    let centre = &samples[samples.len() / 2].1;
+    let time_samples = match args.format {
+        CardsFormat::Obj => {
+            export_cards_obj(&args.out, centre).map_err(|e| e.to_string())?;
+            1
+        }
+        CardsFormat::Usd => {
+            let motion: Vec<CardSample> = if samples.len() > 1 {
+                samples
+                    .iter()
+                    .map(|(time_code, mesh)| CardSample {
+                        time_code: *time_code,
+                        mesh,
+                    })
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            let opts = CardUsdOptions {
+                frames_per_second: fps,
+                time_code: frame as f64,
+                ..CardUsdOptions::default()
+            };
+            export_cards_usda(&args.out, centre, &motion, &opts).map_err(|e| e.to_string())?;
+            samples.len()
+        }
+    };
+    Ok(CardsSummary {
+        out: args.out.display().to_string(),
+        cards: centre.cards,
+        represented_hairs: strips.represented_hairs(),
+        vertices: centre.positions.len(),
+        quads: centre.quads.len(),
+        time_samples,
+    })
+}
+
+/// Runs `render-children cards` and prints its summary (text, JSON or nothing).
+pub fn run(args: &CardsArgs) -> Result<(), String> {
+    let summary = export_cards(args)?;
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string(&summary).map_err(|e| e.to_string())?
+        );
+    } else if !args.quiet {
+        println!(
+            "wrote {}: {} cards ({} hairs), {} vertices, {} quads, {} time sample(s)",
+            summary.out,
+            summary.cards,
+            summary.represented_hairs,
+            summary.vertices,
+            summary.quads,
+            summary.time_samples
+        );
+    }
+    Ok(())
+}
