@@ -6,9 +6,9 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 use hair_cache::foxglove::FoxgloveOptions;
 use hair_cache::{CacheReader, Compression, Interpolation, Precision, WriterOptions};
-use hair_render::{ChildCount, ChildSettings, DisplayLod, Lod};
+use hair_render::ChildCount;
 use hairsys::progress::Progress;
-use hairsys::render_children::{export, ExportOptions, Format};
+use hairsys::render_children::{export, ChildOverrides, ExportOptions, Format};
 use hairsys::scene::{SceneFile, DEFAULT_SCENE};
 use hairsys::simulate::{simulate, SimulateOptions};
 use serde_json::json;
@@ -77,6 +77,21 @@ enum Command {
         #[command(subcommand)]
         command: GroomCommand,
     },
+    /// Speed against accuracy: reference cases, the Pareto chart, the stability map.
+    Bench {
+        /// Small cases and grids (seconds instead of minutes).
+        #[arg(long)]
+        quick: bool,
+        /// Directory for pareto.png, stability_map.png, bench.md and bench.json.
+        #[arg(long)]
+        out: PathBuf,
+        /// Print nothing but errors.
+        #[arg(long, conflicts_with = "json")]
+        quiet: bool,
+        /// Print one JSON object per run and the report as JSON on stdout.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 #[derive(Subcommand)]
@@ -84,6 +99,9 @@ enum RenderCommand {
     /// Generate children from a cached frame (with motion-blur samples over a shutter) or from the
     /// scene's rest state, and write them as USD BasisCurves or .hair.
     Export(Box<ExportArgs>),
+    /// Hair cards of a `model = "strips"` scene (seed 000) from a cached frame (with motion-blur
+    /// samples) or the rest state, as a USD Mesh with st or OBJ with vt.
+    Cards(Box<hairsys::render_cards::CardsArgs>),
 }
 
 #[derive(clap::Args)]
@@ -103,30 +121,37 @@ struct ExportArgs {
     /// Motion samples over the shutter (USD time samples); 1 = no motion blur.
     #[arg(long, default_value_t = 1)]
     motion_samples: usize,
-    /// Children per parent strand.
+    /// Children per parent strand [scene [children] per_parent, else 10].
     #[arg(long, conflicts_with = "count")]
     children_per_parent: Option<u32>,
-    /// Total number of children, spread over the parents.
+    /// Total number of children, spread over the parents [scene [children] count].
     #[arg(long)]
     count: Option<u64>,
-    /// Display level of detail (10 % of the children, fewer points) instead of render.
+    /// Simple (around one parent) or interpolated (between parents) children [scene, else simple].
+    #[arg(long, value_enum)]
+    mode: Option<ChildModeArg>,
+    /// Parents blended per interpolated child, 1–8 [scene, else 4].
+    #[arg(long)]
+    neighbours: Option<u32>,
+    /// Display level of detail (the scene's [children] display, else 10 % of the children with
+    /// the parents' points) instead of render.
     #[arg(long)]
     display: bool,
-    /// Radius of the disc children are spread over around their parent's root, m.
-    #[arg(long, default_value_t = 0.005)]
-    spread: f32,
-    /// Clump factor: 1 draws child tips onto the parent's tip, 0 none.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    clump: f32,
-    /// Curl radius, m (0 = no curl).
-    #[arg(long, default_value_t = 0.0)]
-    curl_radius: f32,
-    /// Curl frequency, turns per meter of hair.
-    #[arg(long, default_value_t = 0.0)]
-    curl_frequency: f32,
-    /// Seed of the children's random values.
-    #[arg(long, default_value_t = 0)]
-    seed: u64,
+    /// Radius of the disc children are rooted in around their parent's root, m [scene, else 0.005].
+    #[arg(long)]
+    spread: Option<f32>,
+    /// Clump factor: 1 draws child tips onto the parent's tip, 0 none [scene, else 0].
+    #[arg(long, allow_hyphen_values = true)]
+    clump: Option<f32>,
+    /// Curl radius, m (0 = no curl) [scene, else 0].
+    #[arg(long)]
+    curl_radius: Option<f32>,
+    /// Curl frequency, turns per meter of hair [scene, else 0].
+    #[arg(long)]
+    curl_frequency: Option<f32>,
+    /// Seed of the children's random values [scene, else 0].
+    #[arg(long)]
+    seed: Option<u64>,
     /// Output format.
     #[arg(long, value_enum, default_value_t = FormatArg::Usd)]
     format: FormatArg,
@@ -139,6 +164,15 @@ struct ExportArgs {
     /// Print a JSON summary on stdout.
     #[arg(long)]
     json: bool,
+}
+
+/// Child distribution.
+#[derive(Clone, Copy, ValueEnum)]
+enum ChildModeArg {
+    /// Grouped around one parent.
+    Simple,
+    /// Between several parents.
+    Interpolated,
 }
 
 /// Children output format.
@@ -331,8 +365,26 @@ fn main() -> ExitCode {
                     sim.last_frame,
                     sim.settings.fps
                 );
+                if sim.model == hair_core::StrandModel::Rod {
+                    println!(
+                        "  model: {} (a = {} m, b/a = {}, E = {} Pa)",
+                        sim.model.name(),
+                        sim.rod.semi_major_axis,
+                        sim.rod.axis_ratio,
+                        sim.rod.youngs_modulus
+                    );
+                }
                 if let Some(guides) = &sim.guides_report {
                     println!("  guides: {guides}");
+                }
+                if let Some(h) = &sim.hair_hair {
+                    println!(
+                        "  hair-hair: {} m cells, friction {}, repulsion {} m²/s² above volume fraction {}",
+                        h.cell_size, h.friction, h.repulsion, h.target_density
+                    );
+                }
+                if !sim.fields.is_empty() {
+                    println!("  force fields: {}", sim.fields.len());
                 }
                 0
             }
@@ -376,6 +428,9 @@ fn main() -> ExitCode {
         Command::RenderChildren {
             command: RenderCommand::Export(args),
         } => report(export_children(*args)),
+        Command::RenderChildren {
+            command: RenderCommand::Cards(args),
+        } => report(hairsys::render_cards::run(&args)),
         Command::Groom {
             command: GroomCommand::Export { scene, out },
         } => report(export_guides(&scene, &out)),
@@ -388,6 +443,17 @@ fn main() -> ExitCode {
                     json,
                 },
         } => report(groom_info(&file, scale, up_axis, json)),
+        Command::Bench {
+            quick,
+            out,
+            quiet,
+            json,
+        } => report(hairsys::bench::cli(&hairsys::bench::BenchOptions {
+            quick,
+            out,
+            json,
+            quiet,
+        })),
     };
     ExitCode::from(code as u8)
 }
@@ -427,31 +493,27 @@ fn report(result: Result<(), String>) -> i32 {
 /// `render-children export`.
 fn export_children(a: ExportArgs) -> Result<(), String> {
     let count = match (a.children_per_parent, a.count) {
-        (_, Some(n)) => ChildCount::Total(n),
-        (Some(n), None) => ChildCount::PerParent(n),
-        (None, None) => ChildSettings::default().count,
+        (_, Some(n)) => Some(ChildCount::Total(n)),
+        (Some(n), None) => Some(ChildCount::PerParent(n)),
+        (None, None) => None,
     };
-    let mut settings = ChildSettings {
-        count,
-        spread: a.spread,
-        seed: a.seed,
-        ..ChildSettings::default()
-    };
-    settings.shape.clump.factor = a.clump;
-    settings.shape.curl.radius = a.curl_radius;
-    settings.shape.curl.frequency = a.curl_frequency;
     let opts = ExportOptions {
         cache: a.cache,
         scene: a.scene,
         frame: a.frame,
         shutter: a.shutter,
         motion_samples: a.motion_samples,
-        settings,
-        lod: if a.display {
-            Lod::Display(DisplayLod::default())
-        } else {
-            Lod::Render
+        children: ChildOverrides {
+            count,
+            interpolated: a.mode.map(|m| matches!(m, ChildModeArg::Interpolated)),
+            neighbours: a.neighbours,
+            spread: a.spread,
+            clump: a.clump,
+            curl_radius: a.curl_radius,
+            curl_frequency: a.curl_frequency,
+            seed: a.seed,
         },
+        display: a.display,
         format: match a.format {
             FormatArg::Usd => Format::Usd,
             FormatArg::Hair => Format::Hair,
@@ -617,7 +679,11 @@ fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
             "event": "frame",
             "frame": r.frame,
             "max_stretch": r.max_stretch,
-            "ms": (r.times.roots + r.times.strands + r.times.contacts).as_secs_f64() * 1e3,
+            "ms": (r.times.roots + r.times.strands + r.times.contacts + r.times.volume + r.times.fields)
+                .as_secs_f64()
+                * 1e3,
+            "hair_hair_ms": r.times.volume.as_secs_f64() * 1e3,
+            "fields_ms": r.times.fields.as_secs_f64() * 1e3,
         }))
     });
     progress.finish();

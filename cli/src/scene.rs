@@ -4,14 +4,16 @@
 //! motion, generated hair and/or explicit strands given as point lists, physics parameters, the
 //! solver's time stepping, and the colliders hair collides with: `[scalp.collider]` (the scalp
 //! mesh, for its own hair), `[[colliders]]` (spheres, capsules and OBJ meshes with keyframed rigid
-//! motion, thickness and friction) and `[contacts]` (see `hair_core::ContactSettings`). Unknown keys are rejected; every error names the file, the field
+//! motion, thickness and friction) and `[contacts]` (see `hair_core::ContactSettings`), voxel
+//! hair–hair interaction `[hair_hair]` and force fields `[[fields]]` (see [`crate::scene_fields`]). Unknown keys are rejected; every error names the file, the field
 //! and the fix. `hairsys scene init` prints the built-in default scene with every key commented.
 
 use std::path::{Path, PathBuf};
 
 use hair_core::{
     Anchor, Collider, ColliderId, ColliderShape, Colliders, ContactSettings, HairError, HairParams,
-    Integrator, RootFrame, Scalp, SolverSettings, StrandInput, StrandSet, Substeps, TriMesh,
+    Integrator, RodParams, RootFrame, Scalp, SolverSettings, StrandInput, StrandModel, StrandSet,
+    Substeps, TriMesh,
 };
 use hair_groom::{GenerateOptions, ObjOptions, Region, UpAxis};
 use nalgebra::Vector3;
@@ -19,6 +21,7 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 use crate::motion::RigidMotion;
+use crate::scene_fields::{self, FieldSection, HairHairSection};
 use crate::scene_guides::{self, GuidesSection, SimHairsSection};
 
 /// The built-in default scene, fully commented (printed by `hairsys scene init`).
@@ -69,6 +72,24 @@ pub struct Scene {
     /// [`ContactSettings`]); absent = the defaults.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contacts: Option<ContactSettings>,
+    /// `[rod]`: material and projection of the rod model (see [`RodParams`]); only with
+    /// `[solver] model = "rod"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rod: Option<RodParams>,
+    /// `[hair_hair]`: voxel hair–hair friction and repulsion (see [`scene_fields`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hair_hair: Option<HairHairSection>,
+    /// `[[fields]]`: force fields (wind, vortex, turbulence, drag, force; see [`scene_fields`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub fields: Vec<FieldSection>,
+    /// `[children]`: render children for `hairsys render-children export` (see
+    /// [`crate::scene_children`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub children: Option<crate::scene_children::ChildrenSection>,
+    /// `[strips]`: the hair-strip model (see [`crate::scene_strips`]); only with
+    /// `[solver] model = "strips"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub strips: Option<crate::scene_strips::StripsSection>,
 }
 
 /// `[scene]`.
@@ -113,6 +134,14 @@ pub struct SolverSection {
     pub damping_iterations: u32,
     /// Strain limit after each substep (0 = inextensible); absent = off.
     pub max_strain: Option<f32>,
+    /// Strand model: `"mass-spring"` (default) or `"rod"` (seed 002's discrete rod, material
+    /// in `[rod]`).
+    #[serde(skip_serializing_if = "StrandModel::is_mass_spring")]
+    pub model: StrandModel,
+    /// Inextensibility projection after each substep (seed 002, "Constraints"; mass-spring model
+    /// only): segment lengths restored, stretching velocities removed. Off by default.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub inextensibility: bool,
 }
 
 impl Default for SolverSection {
@@ -123,6 +152,8 @@ impl Default for SolverSection {
             substeps: SubstepsValue::Word("auto".into()),
             damping_iterations: 10,
             max_strain: None,
+            model: StrandModel::MassSpring,
+            inextensibility: false,
         }
     }
 }
@@ -388,7 +419,13 @@ impl SceneFile {
     /// comments do not change it but any change to what is simulated does.
     pub fn hash(&self) -> Result<String, SceneError> {
         let mut h = Sha256::new();
-        h.update(serde_json::to_vec(&self.scene).expect("a scene always serialises"));
+        // `[children]` shapes render children only, never the simulation: a cache stays valid
+        // for resuming when the children settings change.
+        let simulated = Scene {
+            children: None,
+            ..self.scene.clone()
+        };
+        h.update(serde_json::to_vec(&simulated).expect("a scene always serialises"));
         if let ScalpMesh::Obj { path, .. } = &self.scene.scalp.mesh {
             let full = self.base_dir.join(path);
             let bytes = std::fs::read(&full).map_err(|e| self.error(format!(
@@ -465,6 +502,17 @@ impl SceneFile {
         s.physics
             .validate()
             .map_err(|e| err(format!("[physics] {e}")))?;
+        match (s.solver.model, &s.rod) {
+            (StrandModel::MassSpring, Some(_)) => {
+                return Err(err(
+                    "[rod] is given but [solver] model = \"mass-spring\"; set model = \"rod\" \
+                     or remove [rod]"
+                        .into(),
+                ))
+            }
+            (_, Some(rod)) => rod.validate().map_err(|e| err(format!("[rod] {e}")))?,
+            _ => {}
+        }
         s.scalp
             .motion
             .validate()
@@ -530,6 +578,8 @@ impl SceneFile {
                 .push(input)
                 .map_err(|e| err(format!("[[strands]] #{i}: {e}")))?;
         }
+        let strips =
+            crate::scene_strips::build_into(s, rest_mesh.as_ref(), &mut strands).map_err(err)?;
         if strands.is_empty() {
             return Err(err(
                 "the scene has no hair: add a [hair] section or [[strands]]".into(),
@@ -539,12 +589,43 @@ impl SceneFile {
         if let Some(c) = &s.contacts {
             c.validate().map_err(|e| err(format!("[contacts] {e}")))?;
         }
+        if let Some(c) = &s.children {
+            c.settings().map_err(err)?;
+        }
         if s.scalp.collider.is_some() && rest_mesh.is_none() {
             return Err(err(
                 "[scalp.collider] makes the scalp mesh a collider, but [scalp.mesh] kind = \"none\"; \
                  choose a scalp mesh or remove [scalp.collider]"
                     .into(),
             ));
+        }
+        let hair_hair = s
+            .hair_hair
+            .as_ref()
+            .map(|h| h.settings())
+            .transpose()
+            .map_err(err)?;
+        let fields = s
+            .fields
+            .iter()
+            .enumerate()
+            .map(|(i, f)| f.field(i))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(err)?;
+        if s.solver.model == StrandModel::Rod && (hair_hair.is_some() || !fields.is_empty()) {
+            return Err(err(
+                "[hair_hair] and [[fields]] act on the mass-spring model only; remove them or \
+                 set [solver] model = \"mass-spring\""
+                    .into(),
+            ));
+        }
+        if let Some(i) = fields.iter().position(|f| f.moves_air()) {
+            if s.physics.air_drag <= 0.0 {
+                return Err(err(format!(
+                    "[[fields]] #{i}: wind, vortex and turbulence move the air, which pushes hair \
+                     through [physics] air_drag = 0; set air_drag > 0"
+                )));
+            }
         }
         let mut sim = Simulation {
             strands,
@@ -559,12 +640,24 @@ impl SceneFile {
             contact_settings: s.contacts.unwrap_or_default(),
             guides_report: guided.as_ref().map(|g| g.report.clone()),
             guides: guided.map(|g| g.guides).unwrap_or_default(),
+            hair_hair,
+            fields,
+            model: s.solver.model,
+            rod: s.rod.unwrap_or_default(),
+            inextensibility: s
+                .solver
+                .inextensibility
+                .then(hair_core::Inextensibility::default),
+            strips,
         };
         let scalp = sim.scalp_at(first as f32);
         sim.strands
             .validate_anchors(&scalp)
             .map_err(|e| err(e.to_string()))?;
         sim.strands.reset_to_rest(&scalp);
+        if let Some(h) = &sim.hair_hair {
+            scene_fields::check_grid(h, &sim.strands.positions).map_err(err)?;
+        }
         // Build the colliders once so that every collider error shows at load time.
         sim.colliders_at(first as f32)
             .map_err(|e| err(sim.collider_message(&e)))?;
@@ -755,9 +848,33 @@ pub struct Simulation {
     pub guides: Vec<hair_groom::Guide>,
     /// What `[guides]` and `[sim_hairs]` built, in words (snap distances included).
     pub guides_report: Option<String>,
+    /// `[hair_hair]`, if on.
+    pub hair_hair: Option<hair_core::HairHairSettings>,
+    /// `[[fields]]`, validated, in file order.
+    pub fields: Vec<hair_core::ForceField>,
+    /// `[solver] model`: which strand solver runs.
+    pub model: StrandModel,
+    /// `[rod]` (the defaults when absent); used when `model` is the rod.
+    pub rod: RodParams,
+    /// `[solver] inextensibility`: the projection of the mass-spring model, if on.
+    pub inextensibility: Option<hair_core::Inextensibility>,
+    /// `[strips]` settings when `[solver] model = "strips"` (strip `k` = strands `2k`, `2k + 1`).
+    pub strips: Option<hair_core::strips::StripSettings>,
 }
 
 impl Simulation {
+    /// `solver` with the scene's inextensibility projection (`[solver] inextensibility`) on, if
+    /// the scene asks for it.
+    pub fn with_inextensibility(
+        &self,
+        solver: hair_core::Solver,
+    ) -> Result<hair_core::Solver, HairError> {
+        match self.inextensibility {
+            Some(p) => solver.with_inextensibility(p),
+            None => Ok(solver),
+        }
+    }
+
     /// The scalp mesh at rest (before the scalp's motion), if the scene has one.
     pub fn rest_mesh(&self) -> Option<&TriMesh> {
         self.rest_mesh.as_ref()
@@ -777,7 +894,16 @@ impl Simulation {
             set.insert(c.collider.clone(), c.motion.at(frame))?;
         }
         if let Some(sc) = &self.scalp_collider {
-            set.insert_scalp(&self.scalp_at(frame), sc.thickness, sc.friction)?;
+            // From the rest mesh, so a resumed run builds the same shape bits.
+            match &self.rest_mesh {
+                Some(rest) => set.insert_scalp_rest(
+                    rest.clone(),
+                    self.motion.at(frame),
+                    sc.thickness,
+                    sc.friction,
+                )?,
+                None => set.insert_scalp(&self.scalp_at(frame), sc.thickness, sc.friction)?,
+            };
         }
         Ok(set)
     }

@@ -5,9 +5,10 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use hair_cache::{CacheHeader, CacheLayout, CacheSummary, CacheWriter, WriterOptions};
-use hair_core::{FrameReport, Solver};
+use hair_core::{FrameReport, ProjectionReport, Solver, StrandModel};
 use serde::Serialize;
 
+use crate::model::ModelSolver;
 use crate::resume::resume;
 use crate::scene::{SceneError, SceneFile};
 
@@ -87,6 +88,10 @@ pub struct RunSummary {
     pub dt: f64,
     /// Stability bound 2/ω, s.
     pub dt_bound: f64,
+    /// Strand model that ran: `"mass-spring"` or `"rod"`.
+    pub model: &'static str,
+    /// The rod model's projection figures over the run (absent for mass-spring).
+    pub projection: Option<ProjectionReport>,
     /// Model components that ran.
     pub components: Vec<&'static str>,
     /// Mean wall-clock time per simulated frame, ms (solver only).
@@ -99,6 +104,11 @@ pub struct RunSummary {
     pub strands_ms_per_frame: f64,
     /// Mean time per frame detecting contacts, ms (0 without colliders).
     pub contacts_ms_per_frame: f64,
+    /// Mean time per frame in the hair–hair voxel grid (build, friction, repulsion), ms (0 when
+    /// off).
+    pub hair_hair_ms_per_frame: f64,
+    /// Mean time per frame evaluating force fields, ms (0 without fields).
+    pub fields_ms_per_frame: f64,
     /// Mean number of points with a contact per collision step.
     pub contact_points_per_step: f64,
     /// Most collision steps any frame took (more than `[solver] steps` when colliders moved
@@ -153,14 +163,22 @@ pub fn simulate(
         scene: scene_name.clone(),
         source,
     };
-    let mut solver = Solver::new(
-        sim.settings,
-        sim.params,
-        &sim.strands,
-        &sim.scalp_at(sim.first_frame as f32),
-        sim.first_frame,
-    )
-    .map_err(solver_err)?;
+    let mut solver = match sim.model {
+        StrandModel::MassSpring => ModelSolver::MassSpring(Box::new(
+            Solver::new(
+                sim.settings,
+                sim.params,
+                &sim.strands,
+                &sim.scalp_at(sim.first_frame as f32),
+                sim.first_frame,
+            )
+            .and_then(|s| sim.with_interactions(s))
+            .and_then(|s| sim.with_inextensibility(s))
+            .map_err(solver_err)?,
+        )),
+        StrandModel::Rod => ModelSolver::rod(&sim).map_err(solver_err)?,
+        StrandModel::Strips => ModelSolver::strips(&sim).map_err(solver_err)?,
+    };
     let mut components = solver.components(&sim.strands).0;
     // Colliders at the first frame, posed again for every frame (the scalp collider follows the
     // scalp by itself).
@@ -174,6 +192,7 @@ pub fn simulate(
     let mut extra = BTreeMap::new();
     extra.insert("components".to_string(), components.join(","));
     extra.insert("substeps".to_string(), solver.substeps().to_string());
+    extra.insert("model".to_string(), solver.model().name().to_string());
     extra.insert(
         "integrator".to_string(),
         format!("{:?}", sim.settings.integrator),
@@ -213,6 +232,7 @@ pub fn simulate(
     let (mut solve_time, mut cache_time) = (Duration::ZERO, Duration::ZERO);
     let (mut roots_time, mut strands_time) = (Duration::ZERO, Duration::ZERO);
     let mut contacts_time = Duration::ZERO;
+    let (mut volume_time, mut fields_time) = (Duration::ZERO, Duration::ZERO);
     let (mut contact_points, mut collision_steps, mut max_steps) = (0u64, 0u64, 0u32);
     let mut point_substeps = 0u64;
     let mut max_stretch = 0.0f32;
@@ -228,6 +248,8 @@ pub fn simulate(
         roots_time += report.times.roots;
         strands_time += report.times.strands;
         contacts_time += report.times.contacts;
+        volume_time += report.times.volume;
+        fields_time += report.times.fields;
         contact_points += report.contact_points;
         collision_steps += report.steps as u64;
         max_steps = max_steps.max(report.steps);
@@ -249,13 +271,17 @@ pub fn simulate(
         threads,
         substeps: solver.substeps(),
         dt: solver.dt(),
-        dt_bound: solver.bound().dt_max,
+        dt_bound: solver.dt_bound(),
+        model: solver.model().name(),
+        projection: solver.projection(),
         components,
         ms_per_frame: per_frame(solve_time),
         cache_ms_per_frame: per_frame(cache_time),
         roots_ms_per_frame: per_frame(roots_time),
         strands_ms_per_frame: per_frame(strands_time),
         contacts_ms_per_frame: per_frame(contacts_time),
+        hair_hair_ms_per_frame: per_frame(volume_time),
+        fields_ms_per_frame: per_frame(fields_time),
         contact_points_per_step: contact_points as f64 / collision_steps.max(1) as f64,
         max_collision_steps: max_steps,
         point_substeps_per_s: point_substeps as f64 / solve_time.as_secs_f64().max(1e-12),
@@ -294,8 +320,31 @@ impl std::fmt::Display for RunSummary {
                 self.contacts_ms_per_frame, self.contact_points_per_step, self.max_collision_steps
             )?;
         }
+        if self.hair_hair_ms_per_frame > 0.0 || self.fields_ms_per_frame > 0.0 {
+            writeln!(
+                f,
+                "  hair-hair grid {:.2} ms/frame, force fields {:.2} ms/frame",
+                self.hair_hair_ms_per_frame, self.fields_ms_per_frame
+            )?;
+        }
         if let Some(frame) = self.resumed_from {
             writeln!(f, "  resumed from frame {frame}")?;
+        }
+        writeln!(f, "  model: {}", self.model)?;
+        if let Some(p) = &self.projection {
+            writeln!(
+                f,
+                "  projection: {:.2} iterations per projection on average, at most {}; residual up \
+                 to {:.1e} (tolerance {:.0e}); max strain {:.1e}",
+                p.mean_iterations(),
+                p.max_iterations,
+                p.residual,
+                p.tolerance,
+                p.max_strain
+            )?;
+            if let Some(w) = p.warning() {
+                writeln!(f, "  warning: {w}")?;
+            }
         }
         writeln!(f, "  max stretch: {:.3} %", self.max_stretch * 100.0)?;
         writeln!(f, "  components: {}", self.components.join(", "))?;

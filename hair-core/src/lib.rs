@@ -2,7 +2,10 @@
 //!
 //! The simulation level of hairsys: strands stored structure-of-arrays ([`StrandSet`]), scalp
 //! meshes with stable surface samples ([`TriMesh`], [`MeshSample`], [`RootFrame`]), the
-//! mass-spring strand [`Solver`] and hair–object collision ([`contacts`]: [`Colliders`]). Units are SI (m, s, kg), Z up.
+//! mass-spring strand [`Solver`], the discrete-rod strand solver of seed 002 ([`rod`]:
+//! [`RodSolver`]), the hair-strip model of seed 000 ([`strips`]: edge strands in pairs
+//! bounding ribbons) and hair–object collision ([`contacts`]: [`Colliders`]),
+//! voxel hair–hair interaction ([`volume`]) and force fields ([`fields`]). Units are SI (m, s, kg), Z up.
 //!
 //! This crate does no file or terminal I/O and keeps no global state: a host (the `hairsys` CLI
 //! or a DCC plugin) sets the scalp for each frame, calls [`Solver::step_frame`] and reads the
@@ -25,17 +28,24 @@
 
 pub mod contacts;
 pub mod error;
+pub mod fields;
 pub mod frames;
 pub mod mesh;
+pub mod rod;
 pub mod solver;
 pub mod strands;
+pub mod strips;
+pub mod volume;
 
 pub use contacts::{Collider, ColliderId, ColliderShape, Colliders, ContactSettings, MeshKind};
 pub use error::{HairError, Result};
+pub use fields::{Falloff, FalloffShape, FieldKind, ForceField, Strength};
 pub use mesh::{MeshSample, RootFrame, TriMesh};
+pub use rod::{ProjectionReport, RodFrameReport, RodParams, RodSolver, StrandModel};
 pub use solver::energy::{energy, Energy};
 pub use solver::{
-    FrameReport, HairParams, Integrator, PhaseTimes, Solver, SolverSettings, StabilityBound,
-    Substeps,
+    FrameReport, HairParams, Inextensibility, Integrator, PhaseTimes, Solver, SolverSettings,
+    StabilityBound, Substeps,
 };
 pub use strands::{Anchor, Scalp, StrandInput, StrandSet};
+pub use volume::{HairHairSettings, VoxelGrid};

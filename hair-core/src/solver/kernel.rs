@@ -22,6 +22,7 @@ use crate::frames::RestDirection;
 use crate::mesh::RootFrame;
 
 use super::damping::damp_segments;
+use super::inextensible::{project, Inextensibility, ProjectionScratch};
 use super::lanes::{div_or_zero, splat, F, LANES, Q4, V3};
 use super::params::{HairParams, Integrator};
 
@@ -46,6 +47,8 @@ pub(crate) struct StepConstants {
     pub max_length_ratio: Option<f32>,
     /// Largest push-out speed of a point inside a collider, m/s.
     pub max_push_speed: f32,
+    /// The inextensibility projection after each substep, if on (see `super::inextensible`).
+    pub inextensible: Option<Inextensibility>,
 }
 
 impl StepConstants {
@@ -77,6 +80,7 @@ impl StepConstants {
             integrator,
             max_length_ratio: max_strain.map(|e| 1.0 + e),
             max_push_speed: f32::INFINITY,
+            inextensible: None,
         }
     }
 }
@@ -92,6 +96,9 @@ pub(crate) struct StrandView<'a> {
     pub bend_rest: &'a [RestDirection],
     /// This step's contacts of the strand's points, if any point has one.
     pub contacts: Option<ContactSlice<'a>>,
+    /// External acceleration per point for this step (force fields, hair–hair repulsion),
+    /// m/s², constant over the substeps; `None` costs nothing.
+    pub accel: Option<&'a [Vector3<f32>]>,
 }
 
 /// One strand's contacts of a step (see [`crate::contacts::detect`]), per point.
@@ -142,12 +149,18 @@ pub(crate) struct Scratch {
     push: Vec<V3>,
     /// Does any strand of the group have a contact this step?
     has_contacts: bool,
+    /// External acceleration per point (only filled when `has_accel`), m/s².
+    accel: Vec<V3>,
+    /// Do the strands of the group have an external acceleration this step?
+    has_accel: bool,
     /// Points with a contact in at least one lane (when `has_contacts`).
     contact_points: Vec<usize>,
     q_start: Q4,
     q_end: Q4,
     o_start: V3,
     o_end: V3,
+    /// Buffers of the inextensibility projection.
+    projection: ProjectionScratch,
 }
 
 fn refit<T: Copy + Default>(buf: &mut Vec<T>, len: usize) {
@@ -230,6 +243,14 @@ impl Scratch {
             if c.damp_fraction > 0.0 {
                 let w = lanes1(&|s| s.inv_mass[j] + s.inv_mass[j + 1]);
                 self.damp_coef[j + 1] = div_or_zero(splat(c.damp_fraction), w, 0.0);
+            }
+        }
+        self.has_accel = views[0].accel.is_some();
+        if self.has_accel {
+            refit(&mut self.accel, n);
+            let zero = Vector3::zeros();
+            for i in 0..n {
+                self.accel[i] = lanes3(&|s| s.accel.map_or(zero, |a| a[i]));
             }
         }
         self.has_contacts = views.iter().any(|s| s.contacts.is_some());
@@ -449,6 +470,11 @@ pub(crate) fn step_group(
             let a = g.force[i] * g.inv_mass[i] + (gravity - g.v[i] * drag) * g.free[i];
             g.v[i] += a * dt;
         }
+        if g.has_accel {
+            for i in 0..n {
+                g.v[i] += g.accel[i] * (dt * g.free[i]);
+            }
+        }
         // Pinned points get the velocity of their prescribed motion over this substep.
         for &i in &g.pinned {
             let goal = origin + rot.mul(&g.rest_local[i]);
@@ -498,6 +524,16 @@ pub(crate) fn step_group(
         for &i in &g.pinned {
             let goal = origin + rot.mul(&g.rest_local[i]);
             g.x[i] = V3::select(g.free[i].simd_gt(zero), &g.x[i], &goal);
+        }
+        if let Some(p) = &c.inextensible {
+            project(
+                &mut g.x,
+                &mut g.v,
+                &g.inv_mass,
+                &g.rest_length,
+                p,
+                &mut g.projection,
+            );
         }
         if let Some(ratio) = c.max_length_ratio {
             limit_strain(g, splat(ratio), inv_dt);

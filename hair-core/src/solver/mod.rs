@@ -4,9 +4,12 @@
 //!
 //! One **frame** (1/fps s) is split into `steps` **collision steps**. Once per step the roots are
 //! evaluated on the scalp (the scalp given for the frame's end, interpolated from the previous
-//! frame's), and the per-step work is done: with colliders
-//! ([`Solver::step_frame_with_colliders`]), contact detection (see [`crate::contacts`]; hair–hair
-//! grids will join here). Then every
+//! frame's), and the per-step work is done: force fields are evaluated in batch over all points
+//! ([`Solver::with_fields`], [`crate::fields`]) and the hair–hair voxel grid is built
+//! ([`Solver::with_hair_hair`], [`crate::volume`]): both give each point an acceleration held
+//! constant over the step's substeps, and hair–hair friction blends velocities once, before
+//! contact detection (whose margins follow the velocities); then, with colliders
+//! ([`Solver::step_frame_with_colliders`]), contact detection (see [`crate::contacts`]). Then every
 //! strand, independently and in parallel (rayon), runs `substeps` **force substeps** of
 //! semi-implicit Euler, `v += dt·a(x, v); x += dt·v`, with:
 //!
@@ -14,14 +17,18 @@
 //! - bending springs towards the rest direction in the previous segment's frame (see
 //!   [`crate::frames`]); the root frame precedes segment 0, holding it to the scalp,
 //! - goal springs towards the animated rest position, weighted per point,
-//! - gravity and linear air drag.
+//! - gravity and linear air drag,
+//! - the step's external acceleration (force fields, hair–hair repulsion), if any.
 //!
 //! The root and any pinned point are kinematic: they follow their animated rest position and get
 //! the velocity that motion implies. After each substep's velocity update comes the **damping
 //! sub-loop** on relative velocity along each segment ([`damping`]), then the **contact
 //! response** of points with a contact this step (Choe et al. 2005, see [`crate::contacts`]),
-//! then the position update. A frame whose colliders turn fast runs more collision steps of
-//! fewer substeps each (the substep never gets longer).
+//! then the position update, and, if the host switched it on
+//! ([`Solver::with_inextensibility`]), the **inextensibility projection** of seed 002 (segment
+//! lengths restored, stretching velocities removed; see [`inextensible`]). A frame whose
+//! colliders turn fast runs more collision steps of fewer substeps each (the substep never gets
+//! longer).
 //!
 //! # Stability
 //! `substeps = auto` takes the count from [`StabilityBound`]. After every step each strand is
@@ -31,6 +38,7 @@
 
 mod damping;
 pub mod energy;
+pub mod inextensible;
 mod kernel;
 pub(crate) mod lanes;
 pub mod params;
@@ -38,7 +46,7 @@ pub mod stability;
 
 use std::time::{Duration, Instant};
 
-use nalgebra::UnitQuaternion;
+use nalgebra::{UnitQuaternion, Vector3};
 use rayon::prelude::*;
 
 use crate::error::{HairError, Result};
@@ -47,6 +55,9 @@ use crate::strands::{Scalp, StrandSet};
 
 use crate::contacts::detect::{detect, DetectInput, PointContacts};
 use crate::contacts::Colliders;
+use crate::fields::{self, FieldInput, ForceField};
+use crate::volume::{HairHair, HairHairSettings};
+pub use inextensible::Inextensibility;
 use kernel::{step_group, ContactSlice, Scratch, StepConstants, StrandView};
 use lanes::LANES;
 pub use params::{HairParams, Integrator, SolverSettings, Substeps};
@@ -73,6 +84,10 @@ pub struct PhaseTimes {
     pub strands: Duration,
     /// Contact detection (zero without colliders).
     pub contacts: Duration,
+    /// Hair–hair voxel grid: building it, friction and repulsion (zero when off).
+    pub volume: Duration,
+    /// Force fields, evaluated in batch over all points (zero without fields).
+    pub fields: Duration,
 }
 
 /// What one frame did.
@@ -111,6 +126,14 @@ pub struct Solver {
     contacts: PointContacts,
     /// Smallest radius of a free point, m (∞ without free points).
     min_radius: f32,
+    /// Voxel hair–hair interaction, if on.
+    hair_hair: Option<HairHair>,
+    /// Force fields (validated), in evaluation order.
+    fields: Vec<ForceField>,
+    /// External acceleration per point of the current step, m/s² (empty when nothing adds one).
+    external: Vec<Vector3<f32>>,
+    /// The inextensibility projection, if on.
+    inextensible: Option<Inextensibility>,
 }
 
 /// Outcome of one strand's step, folded per block in strand order.
@@ -153,7 +176,117 @@ impl Solver {
                 .zip(strands.inverse_masses())
                 .filter(|(_, &w)| w > 0.0)
                 .fold(f32::INFINITY, |a, (&r, _)| a.min(r)),
+            inextensible: None,
+            hair_hair: None,
+            fields: Vec::new(),
+            external: Vec::new(),
         })
+    }
+
+    /// Switches on voxel hair–hair interaction (friction and repulsion through a grid rebuilt
+    /// every collision step, see [`crate::volume`]) for `strands`. Off by default, and then it
+    /// costs nothing.
+    pub fn with_hair_hair(
+        mut self,
+        settings: HairHairSettings,
+        strands: &StrandSet,
+    ) -> Result<Self> {
+        self.hair_hair = Some(HairHair::new(settings, strands)?);
+        Ok(self)
+    }
+
+    /// Hair–hair settings in use, if on.
+    pub fn hair_hair(&self) -> Option<&HairHairSettings> {
+        self.hair_hair.as_ref().map(|h| h.settings())
+    }
+
+    /// Hair–hair settings for a host to change between frames (friction, repulsion…), if on;
+    /// they are validated again at the next step.
+    pub fn hair_hair_mut(&mut self) -> Option<&mut HairHairSettings> {
+        self.hair_hair.as_mut().map(|h| h.settings_mut())
+    }
+
+    /// Adds force fields (see [`crate::fields`]), evaluated in batch once per collision step.
+    /// Each is validated (errors name `fields[i].parameter`); fields that move the air need
+    /// `air_drag > 0`.
+    pub fn with_fields(mut self, fields: Vec<ForceField>) -> Result<Self> {
+        self.fields = fields;
+        self.validate_fields()?;
+        Ok(self)
+    }
+
+    /// The force fields, for a host to change between frames (strength per frame, position…);
+    /// they are validated again at the next frame.
+    pub fn fields_mut(&mut self) -> &mut [ForceField] {
+        &mut self.fields
+    }
+
+    fn validate_fields(&mut self) -> Result<()> {
+        let drag = self.params.air_drag;
+        for (i, f) in self.fields.iter_mut().enumerate() {
+            f.validate(i)?;
+            if f.moves_air() && drag <= 0.0 {
+                return Err(HairError::Parameter {
+                    name: format!("fields[{i}]"),
+                    value: format!("{:?} with air_drag = 0", f.kind),
+                    fix: "wind, vortex and turbulence move the air, which pushes hair through \
+                          the air drag: set [physics] air_drag > 0"
+                        .into(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Computes this step's external acceleration (fields and repulsion) into `self.external`
+    /// and applies hair–hair friction to the velocities; leaves `self.external` empty when
+    /// nothing acts.
+    fn external_forces(
+        &mut self,
+        strands: &mut StrandSet,
+        frame: f32,
+        step_dt: f64,
+        times: &mut PhaseTimes,
+    ) -> Result<()> {
+        self.external.clear();
+        if self.fields.is_empty() && self.hair_hair.is_none() {
+            return Ok(());
+        }
+        self.external
+            .resize(strands.point_count(), Vector3::zeros());
+        if !self.fields.is_empty() {
+            let t = Instant::now();
+            let input = FieldInput {
+                positions: &strands.positions,
+                velocities: &strands.velocities,
+                frame,
+                time: frame / self.settings.fps,
+                air_drag: self.params.air_drag,
+                step_dt: step_dt as f32,
+            };
+            fields::evaluate(&self.fields, &input, &mut self.external);
+            times.fields += t.elapsed();
+        }
+        if let Some(h) = &mut self.hair_hair {
+            let t = Instant::now();
+            h.step(strands, &mut self.external, &self.blocks)?;
+            times.volume += t.elapsed();
+        }
+        Ok(())
+    }
+
+    /// Switches on the inextensibility projection of seed 002 ("Constraints") after every
+    /// substep: segment lengths restored to within `projection.tolerance`, velocities corrected
+    /// (see [`inextensible`]). Off by default, and then it costs nothing.
+    pub fn with_inextensibility(mut self, projection: Inextensibility) -> Result<Self> {
+        projection.validate()?;
+        self.inextensible = Some(projection);
+        Ok(self)
+    }
+
+    /// The inextensibility projection in use, if on.
+    pub fn inextensibility(&self) -> Option<Inextensibility> {
+        self.inextensible
     }
 
     /// Force substeps per collision step in use.
@@ -194,7 +327,10 @@ impl Solver {
     /// Model components this solver runs (a component whose coefficient is 0 costs nothing).
     pub fn components(&self, strands: &StrandSet) -> Components {
         let p = &self.params;
-        let mut c = vec!["stretch"];
+        let mut c = Vec::new();
+        if p.stretch_stiffness > 0.0 {
+            c.push("stretch");
+        }
         if p.bend_stiffness > 0.0 {
             c.push("bend");
         }
@@ -214,6 +350,29 @@ impl Solver {
             Some(0.0) => c.push("inextensibility"),
             Some(_) => c.push("strain limit"),
             None => {}
+        }
+        if self.inextensible.is_some() {
+            c.push("inextensibility projection");
+        }
+        if let Some(h) = self.hair_hair() {
+            if h.friction > 0.0 {
+                c.push("hair-hair friction");
+            }
+            if h.repulsion > 0.0 {
+                c.push("hair-hair repulsion");
+            }
+        }
+        for f in &self.fields {
+            let name = match f.kind {
+                fields::FieldKind::Wind { .. } => "wind",
+                fields::FieldKind::Vortex => "vortex",
+                fields::FieldKind::Turbulence { .. } => "turbulence",
+                fields::FieldKind::Drag => "drag field",
+                fields::FieldKind::Force => "force field",
+            };
+            if !c.contains(&name) {
+                c.push(name);
+            }
         }
         Components(c)
     }
@@ -251,6 +410,7 @@ impl Solver {
         mut colliders: Option<&mut Colliders>,
     ) -> Result<FrameReport> {
         let frame = self.frame + 1;
+        self.validate_fields()?;
         let t0 = Instant::now();
         let mut end_roots = strands.root_frames(scalp);
         // q and −q are the same rotation, but interpolating from the previous frame's quaternion
@@ -292,6 +452,7 @@ impl Solver {
         if let Some(c) = colliders.as_deref() {
             consts.max_push_speed = c.settings.max_push_speed;
         }
+        consts.inextensible = self.inextensible;
         let mut max_stretch = 0.0f32;
         let mut contact_points = 0u64;
         for step in 0..steps {
@@ -311,6 +472,9 @@ impl Solver {
                 .map(|(p, e)| p.interpolate(e, b))
                 .collect();
             times.roots += t1.elapsed();
+            // Hair–hair friction changes velocities, so it comes before contact detection,
+            // whose margins follow them.
+            self.external_forces(strands, self.frame as f32 + a, step_dt, &mut times)?;
             let contacts = match colliders.as_deref_mut() {
                 Some(c) => {
                     let t3 = Instant::now();
@@ -415,6 +579,7 @@ impl Solver {
                                     friction: &c.friction[p.clone()],
                                 }
                             }),
+                            accel: (!self.external.is_empty()).then(|| &self.external[p.clone()]),
                         });
                     }
                     step_group(
