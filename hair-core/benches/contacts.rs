@@ -20,36 +20,6 @@ use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 const STRANDS: usize = 2_000;
 const SEGMENTS: usize = 16;
 
-/// A latitude–longitude sphere of radius `r` (m), outward triangles.
-fn uv_sphere(r: f32, segments: u32, rings: u32) -> TriMesh {
-    use std::f32::consts::PI;
-    let mut p = vec![Vector3::new(0.0, 0.0, r)];
-    for i in 1..rings {
-        let th = PI * i as f32 / rings as f32;
-        for j in 0..segments {
-            let ph = 2.0 * PI * j as f32 / segments as f32;
-            p.push(r * Vector3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos()));
-        }
-    }
-    p.push(Vector3::new(0.0, 0.0, -r));
-    let bottom = p.len() as u32 - 1;
-    let ring = |i: u32, j: u32| 1 + (i - 1) * segments + j % segments;
-    let mut t = Vec::new();
-    for j in 0..segments {
-        t.push([0, ring(1, j), ring(1, j + 1)]);
-        t.push([bottom, ring(rings - 1, j + 1), ring(rings - 1, j)]);
-    }
-    for i in 1..rings - 1 {
-        for j in 0..segments {
-            let (a, b) = (ring(i, j), ring(i, j + 1));
-            let (c, d) = (ring(i + 1, j), ring(i + 1, j + 1));
-            t.push([a, c, d]);
-            t.push([a, d, b]);
-        }
-    }
-    TriMesh::new(p, t).expect("valid sphere")
-}
-
 /// Strands growing straight out of the upper part of the unit sphere, 1.5 mm off its surface.
 fn strands() -> StrandSet {
     let mut set = StrandSet::new();
@@ -89,7 +59,7 @@ fn bench(c: &mut Criterion) {
     let base = strands();
     let scalp = Scalp::fixed();
     let pose = |frame: u32| Isometry3::translation(0.3 * (frame as f32 * 0.2).sin(), 0.0, 0.0);
-    let mesh = uv_sphere(1.0, 64, 32);
+    let mesh = TriMesh::uv_sphere(1.0, 64, 32).expect("valid sphere");
     let setups: Vec<(&str, Option<Collider>)> = vec![
         ("no collider", None),
         ("sphere mesh 4032 triangles", Some(Collider::mesh(mesh))),

@@ -12,6 +12,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{HairError, Result};
 
+mod lat_long;
+
 /// A triangle mesh in meters. Vertex positions may be replaced every frame
 /// ([`TriMesh::set_positions`]); the topology (triangles) is fixed at construction.
 #[derive(Debug, Clone)]

@@ -1,19 +1,15 @@
 //! Procedural meshes in meters, Z up: a UV sphere (benchmark and test scalps) and the built-in
 //! default head.
 //!
-//! Both are latitude–longitude grids closed at each pole by a triangle fan, so no triangle is
-//! degenerate, with outward-facing (counter-clockwise) triangles. Their per-vertex UVs are an
-//! azimuthal projection about the top pole, which needs no seam: the top pole (the crown) maps
-//! to (0.5, 0.5), the polar angle θ to the distance 0.5·θ/π from it, the azimuth to the
-//! direction (+X towards u = 1, −Y, the front, towards v = 0). The bottom pole maps to (0.5, 0),
-//! so the UVs of the bottom fan (the neck) are distorted.
-
-use std::f64::consts::PI;
+//! Both are latitude–longitude grids of `hair-core` ([`TriMesh::lat_long`]): closed at each pole
+//! by a triangle fan, outward-facing (counter-clockwise) triangles, with per-vertex UVs from an
+//! azimuthal projection about the top pole (the crown at (0.5, 0.5), −Y, the front, towards
+//! v = 0).
 
 use hair_core::TriMesh;
-use nalgebra::{Vector2, Vector3};
+use nalgebra::Vector3;
 
-use crate::error::{parameter, GroomError};
+use crate::error::GroomError;
 
 /// A sphere of `radius` (m) centred at the origin with `segments` vertices around each ring and
 /// `rings` bands from pole to pole: `segments · (rings − 1) + 2` vertices and
@@ -22,39 +18,7 @@ use crate::error::{parameter, GroomError};
 /// Needs a finite `radius` > 0, `segments` ≥ 3 and `rings` ≥ 2; very fine grids are refused if a
 /// triangle would be numerically degenerate.
 pub fn uv_sphere(radius: f32, segments: u32, rings: u32) -> Result<TriMesh, GroomError> {
-    if !(radius.is_finite() && radius > 0.0) {
-        return Err(parameter("radius", radius, "must be a finite number > 0 m"));
-    }
-    if segments < 3 {
-        return Err(parameter(
-            "segments",
-            segments,
-            "must be ≥ 3 (vertices around a ring)",
-        ));
-    }
-    if rings < 2 {
-        return Err(parameter(
-            "rings",
-            rings,
-            "must be ≥ 2 (bands from pole to pole)",
-        ));
-    }
-    let vertices = u64::from(segments) * u64::from(rings - 1) + 2;
-    if vertices > u64::from(u32::MAX) {
-        return Err(parameter(
-            "segments",
-            segments,
-            "segments · (rings − 1) + 2 vertices must fit in 32-bit indices: use fewer",
-        ));
-    }
-    let r = f64::from(radius);
-    lat_long(segments, rings, |theta, phi| {
-        Vector3::new(
-            r * theta.sin() * phi.cos(),
-            r * theta.sin() * phi.sin(),
-            r * theta.cos(),
-        )
-    })
+    Ok(TriMesh::uv_sphere(radius, segments, rings)?)
 }
 
 /// Half width (X) of the built-in head, m.
@@ -71,7 +35,7 @@ const FACE_FLATTENING: f64 = 0.15;
 /// its crown at z = 0.22 m. 64 × 32 grid: 1 986 vertices, 3 968 triangles, with UVs (crown at
 /// (0.5, 0.5), see the module docs).
 pub fn builtin_head() -> TriMesh {
-    lat_long(64, 32, |theta, phi| {
+    TriMesh::lat_long(64, 32, |theta, phi| {
         let y = HEAD_HALF_DEPTH * theta.sin() * phi.sin();
         // Scale the front smoothly: the factor is 1 at y = 0 and 1 − FACE_FLATTENING at the tip,
         // keeping the surface C¹ and the mapping monotone (no fold-over).
@@ -89,53 +53,11 @@ pub fn builtin_head() -> TriMesh {
     .expect("the built-in head's fixed shape is a valid mesh (tested)")
 }
 
-/// A closed latitude–longitude mesh: `shape(θ, φ)` gives the position (m) at polar angle θ
-/// (0 at the top pole, π at the bottom) and azimuth φ (from +X towards +Y).
-fn lat_long(
-    segments: u32,
-    rings: u32,
-    shape: impl Fn(f64, f64) -> Vector3<f64>,
-) -> Result<TriMesh, GroomError> {
-    let mut positions = Vec::new();
-    let mut uvs = Vec::new();
-    let mut push = |theta: f64, phi: f64| {
-        positions.push(shape(theta, phi).cast::<f32>());
-        let d = 0.5 * theta / PI;
-        uvs.push(Vector2::new(0.5 + d * phi.cos(), 0.5 + d * phi.sin()).cast::<f32>());
-    };
-    push(0.0, 0.0);
-    for i in 1..rings {
-        let theta = PI * f64::from(i) / f64::from(rings);
-        for j in 0..segments {
-            push(theta, 2.0 * PI * f64::from(j) / f64::from(segments));
-        }
-    }
-    push(PI, -0.5 * PI);
-
-    let bottom = segments * (rings - 1) + 1;
-    // Vertex j of ring i (1-based rings), wrapping around the ring.
-    let ring = |i: u32, j: u32| 1 + (i - 1) * segments + j % segments;
-    let mut triangles = Vec::with_capacity(2 * (segments * (rings - 1)) as usize);
-    for j in 0..segments {
-        triangles.push([0, ring(1, j), ring(1, j + 1)]);
-    }
-    for i in 1..rings - 1 {
-        for j in 0..segments {
-            let (a, b) = (ring(i, j), ring(i, j + 1));
-            let (c, d) = (ring(i + 1, j), ring(i + 1, j + 1));
-            triangles.push([a, c, d]);
-            triangles.push([a, d, b]);
-        }
-    }
-    for j in 0..segments {
-        triangles.push([bottom, ring(rings - 1, j + 1), ring(rings - 1, j)]);
-    }
-    Ok(TriMesh::new(positions, triangles)?.with_uvs(uvs)?)
-}
-
 #[cfg(test)]
 mod tests {
     use std::collections::HashMap;
+
+    use nalgebra::Vector2;
 
     use super::*;
 
@@ -197,20 +119,6 @@ mod tests {
         assert_eq!(mesh.triangles().len(), 6);
         assert_closed(&mesh);
         assert_outward(&mesh, Vector3::zeros());
-    }
-
-    #[test]
-    fn bad_sphere_parameters_are_named() {
-        for (r, s, n, name) in [
-            (0.0, 8, 4, "radius"),
-            (f32::NAN, 8, 4, "radius"),
-            (1.0, 2, 4, "segments"),
-            (1.0, 8, 1, "rings"),
-            (1.0, u32::MAX, u32::MAX, "segments"),
-        ] {
-            let err = uv_sphere(r, s, n).unwrap_err();
-            assert!(err.to_string().contains(&format!("`{name}`")), "{err}");
-        }
     }
 
     #[test]

@@ -9,7 +9,9 @@
 
 use std::path::PathBuf;
 
-use hair_core::Solver;
+mod common;
+
+use common::collide::{free_points, hanging_strand, run_with_colliders};
 use hairsys::scene::SceneFile;
 
 fn scene() -> String {
@@ -40,13 +42,7 @@ motion = { interpolation = "linear", keys = [
     );
     for k in 0..16 {
         let (x, y) = (-0.06 + 0.04 * (k % 4) as f32, -0.06 + 0.04 * (k / 4) as f32);
-        let points: Vec<String> = (0..=16)
-            .map(|i| format!("[{x}, {y}, {}]", -0.025 * i as f32))
-            .collect();
-        text += &format!(
-            "\n[[strands]]\npoints = [{}]\nradius = 0.002\n",
-            points.join(", ")
-        );
+        text += &hanging_strand(x, y);
     }
     text
 }
@@ -55,38 +51,17 @@ motion = { interpolation = "linear", keys = [
 fn ball_at_one_meter_per_frame_keeps_hair_outside() {
     let scene = SceneFile::parse(&scene(), "fast_ball.toml", PathBuf::from(".")).unwrap();
     let mut sim = scene.build().unwrap();
-    let first = sim.first_frame;
-    let mut colliders = sim.colliders_at(first as f32).unwrap();
-    let mut solver = Solver::new(
-        sim.settings,
-        sim.params,
-        &sim.strands,
-        &sim.scalp_at(first as f32),
-        first,
-    )
-    .unwrap();
     let (mut worst, mut near, mut max_steps) = (f32::INFINITY, 0usize, 0u32);
-    for frame in first + 1..=sim.last_frame {
-        sim.pose_colliders(&mut colliders, frame as f32).unwrap();
-        let scalp = sim.scalp_at(frame as f32);
-        let report = solver
-            .step_frame_with_colliders(&mut sim.strands, &scalp, &mut colliders)
-            .unwrap();
+    let last = sim.last_frame;
+    run_with_colliders(&mut sim, last, |frame, sim, _, report| {
         max_steps = max_steps.max(report.steps);
         let centre = sim.colliders[0].motion.at(frame as f32).translation.vector;
-        for (x, &w) in sim
-            .strands
-            .positions
-            .iter()
-            .zip(sim.strands.inverse_masses())
-        {
-            if w > 0.0 {
-                let gap = (x - centre).norm() - 0.1;
-                worst = worst.min(gap);
-                near += usize::from(gap < 0.01);
-            }
+        for x in free_points(&sim.strands) {
+            let gap = (x - centre).norm() - 0.1;
+            worst = worst.min(gap);
+            near += usize::from(gap < 0.01);
         }
-    }
+    });
     println!(
         "ball at 1 m/frame: {max_steps} collision step(s) per frame; {near} point-frames within \
          1 cm of the ball; smallest gap between a point centre and the ball {:.3} mm (target: \

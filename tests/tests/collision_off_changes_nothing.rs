@@ -3,7 +3,10 @@
 //! colliders (the kernel's contact pass runs only for groups with a contact, and the moving head
 //! with its hair is otherwise untouched).
 
-use hair_core::{Collider, Colliders, Solver};
+mod common;
+
+use common::solver_at_first_frame;
+use hair_core::{Collider, Colliders};
 use hairsys::scene::{SceneFile, Simulation};
 use nalgebra::Isometry3;
 
@@ -34,14 +37,7 @@ fn run(colliders: Option<Colliders>) -> (Vec<[u32; 6]>, u64) {
     let scene = SceneFile::parse(SCENE, "off.toml", ".".into()).unwrap();
     let mut sim: Simulation = scene.build().unwrap();
     let first = sim.first_frame;
-    let mut solver = Solver::new(
-        sim.settings,
-        sim.params,
-        &sim.strands,
-        &sim.scalp_at(first as f32),
-        first,
-    )
-    .unwrap();
+    let mut solver = solver_at_first_frame(&sim);
     let mut set = colliders;
     let mut contacts = 0;
     for frame in first + 1..=sim.last_frame {

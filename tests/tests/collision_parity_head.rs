@@ -15,13 +15,10 @@
 
 use std::path::PathBuf;
 
-use hair_core::Solver;
+mod common;
+
+use common::collide::{run_with_colliders, Gap, ParryHead};
 use hairsys::scene::SceneFile;
-use nalgebra::{Point3, Vector3};
-use parry3d::math::Vector;
-use parry3d::query::PointQuery;
-use parry3d::shape::{TriMesh, TriMeshFlags};
-use rayon::prelude::*;
 
 /// Runs `name` and returns the smallest signed distance (m) of a free point to the head mesh over
 /// all frames, and the largest number of collision steps of a frame.
@@ -30,53 +27,14 @@ fn worst_gap(name: &str) -> (f32, u32) {
         .join("../scenes")
         .join(name);
     let mut sim = SceneFile::load(&path).unwrap().build().unwrap();
-    let first = sim.first_frame;
-    let mut colliders = sim.colliders_at(first as f32).unwrap();
-    let mut solver = Solver::new(
-        sim.settings,
-        sim.params,
-        &sim.strands,
-        &sim.scalp_at(first as f32),
-        first,
-    )
-    .unwrap();
-    let head = hair_groom::uv_sphere(1.0, 64, 32).unwrap();
-    let to_parry = |v: &Vector3<f32>| Vector::new(v.x, v.y, v.z);
-    let mesh = TriMesh::with_flags(
-        head.positions().iter().map(to_parry).collect(),
-        head.triangles().to_vec(),
-        TriMeshFlags::ORIENTED,
-    )
-    .unwrap();
-    let (mut worst, mut steps) = (f32::INFINITY, 0);
-    for frame in first + 1..=sim.last_frame {
-        let scalp = sim.scalp_at(frame as f32);
-        sim.pose_colliders(&mut colliders, frame as f32).unwrap();
-        let report = solver
-            .step_frame_with_colliders(&mut sim.strands, &scalp, &mut colliders)
-            .unwrap();
+    let head = ParryHead::new(&hair_groom::uv_sphere(1.0, 64, 32).unwrap());
+    let (mut gap, mut steps) = (Gap::NONE, 0);
+    let last = sim.last_frame;
+    run_with_colliders(&mut sim, last, |_, sim, scalp, report| {
         steps = steps.max(report.steps);
-        let inverse = scalp.body.inverse();
-        let frame_worst = sim
-            .strands
-            .positions
-            .par_iter()
-            .zip(sim.strands.inverse_masses())
-            .filter(|(_, &w)| w > 0.0)
-            .map(|(x, _)| {
-                let local = to_parry(&(inverse * Point3::from(*x)).coords);
-                let proj = mesh.project_local_point(local, false);
-                let d = (local - proj.point).length();
-                if proj.is_inside {
-                    -d
-                } else {
-                    d
-                }
-            })
-            .reduce(|| f32::INFINITY, f32::min);
-        worst = worst.min(frame_worst);
-    }
-    (worst, steps)
+        gap = gap.merge(head.free_point_gap(&scalp.body, &sim.strands));
+    });
+    (gap.smallest, steps)
 }
 
 fn check(name: &str) {

@@ -8,75 +8,23 @@
 //! Scene: the built-in head as its own collider turning at 10 rad/s, hair flung around it (the
 //! mesh is not convex, so both the warm-started shortcut and parry's search answer contacts).
 
-use std::path::PathBuf;
+mod common;
 
-use hair_core::Solver;
-use hairsys::scene::{SceneFile, Simulation};
+use common::collide::{run_with_colliders, turning_head_scene, SPRING_PHYSICS};
+use hairsys::scene::Simulation;
 use nalgebra::Vector3;
-
-const SCENE: &str = r#"
-[scene]
-name = "head turning at 10 rad/s, resumed"
-fps = 24.0
-frames = [1, 13]
-
-[physics]
-stretch_stiffness = 40.0
-bend_stiffness = 0.5
-stretch_damping = 1000.0
-air_drag = 2.0
-
-[scalp.mesh]
-kind = "builtin-head"
-
-[scalp.collider]
-thickness = 0.0
-friction = 0.3
-
-[scalp.motion]
-interpolation = "linear"
-keys = [
-    { frame = 1,  rotation_deg = [0.0, 0.0, 0.0] },
-    { frame = 25, rotation_deg = [0.0, 0.0, 572.9578] },
-]
-
-[hair]
-count = 300
-length = 0.2
-segments = 12
-seed = 3
-radius = 0.002
-mass_per_length = 0.001
-length_variation = 0.2
-region = { direction = [0.0, 0.3, 1.0], max_angle_deg = 95.0 }
-"#;
 
 type State = (Vec<Vector3<f32>>, Vec<Vector3<f32>>);
 
 /// Runs `sim` from its first frame to `last`, returning the state after each frame.
 fn run(sim: &mut Simulation, last: u32) -> Vec<State> {
-    let first = sim.first_frame;
-    let mut colliders = sim.colliders_at(first as f32).unwrap();
-    let mut solver = Solver::new(
-        sim.settings,
-        sim.params,
-        &sim.strands,
-        &sim.scalp_at(first as f32),
-        first,
-    )
-    .unwrap();
     let mut states = Vec::new();
-    for frame in first + 1..=last {
-        let scalp = sim.scalp_at(frame as f32);
-        sim.pose_colliders(&mut colliders, frame as f32).unwrap();
-        solver
-            .step_frame_with_colliders(&mut sim.strands, &scalp, &mut colliders)
-            .unwrap();
+    run_with_colliders(sim, last, |_, sim, _, _| {
         states.push((
             sim.strands.positions.clone(),
             sim.strands.velocities.clone(),
         ));
-    }
+    });
     states
 }
 
@@ -88,7 +36,7 @@ fn bits(v: &[Vector3<f32>]) -> Vec<[u32; 3]> {
 
 #[test]
 fn resumed_collider_run_is_bit_identical_to_an_uninterrupted_one() {
-    let scene = SceneFile::parse(SCENE, "resume.toml", PathBuf::from(".")).unwrap();
+    let scene = turning_head_scene("head turning at 10 rad/s, resumed", 13, 300, SPRING_PHYSICS);
     let mut whole = scene.build().unwrap();
     let (last, cut) = (whole.last_frame, 7);
     let reference = run(&mut whole, last);

@@ -14,7 +14,10 @@
 
 use std::path::PathBuf;
 
-use hair_core::{MeshKind, Solver};
+mod common;
+
+use common::collide::{free_points, hanging_strand, run_with_colliders};
+use hair_core::MeshKind;
 use hairsys::scene::SceneFile;
 
 const PLATE_OBJ: &str = "\
@@ -57,13 +60,7 @@ motion = { interpolation = "linear", keys = [
             -0.1 + 0.2 * (k % 6) as f32 / 5.0,
             -0.1 + 0.2 * (k / 6) as f32 / 3.0,
         );
-        let points: Vec<String> = (0..=16)
-            .map(|i| format!("[{x}, {y}, {}]", -0.025 * i as f32))
-            .collect();
-        text += &format!(
-            "\n[[strands]]\npoints = [{}]\nradius = 0.002\n",
-            points.join(", ")
-        );
+        text += &hanging_strand(x, y);
     }
     text
 }
@@ -75,28 +72,15 @@ fn thin_plate_at_one_meter_per_frame_is_not_tunnelled() {
     std::fs::write(dir.join("plate.obj"), PLATE_OBJ).unwrap();
     let scene = SceneFile::parse(&scene(), "thin_plate.toml", PathBuf::from(&dir)).unwrap();
     let mut sim = scene.build().unwrap();
-    let first = sim.first_frame;
-    let mut colliders = sim.colliders_at(first as f32).unwrap();
+    let colliders = sim.colliders_at(sim.first_frame as f32).unwrap();
     let Some(MeshKind::Shell { reason }) = colliders.mesh_kind(hair_core::ColliderId(0)) else {
         panic!("an open plate is a shell");
     };
     assert!(reason.contains("boundary edges"), "{reason}");
-    let mut solver = Solver::new(
-        sim.settings,
-        sim.params,
-        &sim.strands,
-        &sim.scalp_at(first as f32),
-        first,
-    )
-    .unwrap();
     let clearance = 0.003 + 0.002;
     let (mut worst, mut max_steps, mut hit) = (f32::INFINITY, 0u32, false);
-    for frame in first + 1..=sim.last_frame {
-        sim.pose_colliders(&mut colliders, frame as f32).unwrap();
-        let scalp = sim.scalp_at(frame as f32);
-        let report = solver
-            .step_frame_with_colliders(&mut sim.strands, &scalp, &mut colliders)
-            .unwrap();
+    let last = sim.last_frame;
+    run_with_colliders(&mut sim, last, |frame, sim, _, report| {
         max_steps = max_steps.max(report.steps);
         let plate_z = sim.colliders[0]
             .motion
@@ -104,20 +88,12 @@ fn thin_plate_at_one_meter_per_frame_is_not_tunnelled() {
             .translation
             .vector
             .z;
-        for (x, &w) in sim
-            .strands
-            .positions
-            .iter()
-            .zip(sim.strands.inverse_masses())
-        {
-            if w == 0.0 {
-                continue;
-            }
+        for x in free_points(&sim.strands) {
             let above = x.z - (plate_z + clearance);
             worst = worst.min(above);
             hit |= above < 1e-3;
         }
-    }
+    });
     let lowest = sim
         .strands
         .positions

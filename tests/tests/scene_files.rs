@@ -7,7 +7,6 @@ mod common;
 use std::path::PathBuf;
 
 use common::*;
-use hair_core::Solver;
 use hairsys::scene::{SceneFile, Simulation};
 
 fn load(name: &str) -> Simulation {
@@ -17,22 +16,10 @@ fn load(name: &str) -> Simulation {
     SceneFile::load(&path).unwrap().build().unwrap()
 }
 
-fn solver_for(sim: &Simulation) -> Solver {
-    let scalp = sim.scalp_at(sim.first_frame as f32);
-    Solver::new(
-        sim.settings,
-        sim.params,
-        &sim.strands,
-        &scalp,
-        sim.first_frame,
-    )
-    .unwrap()
-}
-
 #[test]
 fn pendulum_scene_swings_with_two_pi_sqrt_l_over_g() {
     let mut sim = load("pendulum.toml");
-    let mut solver = solver_for(&sim);
+    let mut solver = solver_at_first_frame(&sim);
     let scalp = sim.scalp_at(0.0);
     let fps = sim.settings.fps as f64;
     let mut samples = vec![(0.0, sim.strands.positions[1].x as f64)];
@@ -51,7 +38,7 @@ fn pendulum_scene_swings_with_two_pi_sqrt_l_over_g() {
 #[test]
 fn catenary_scene_settles_to_the_catenary() {
     let mut sim = load("catenary.toml");
-    let mut solver = solver_for(&sim);
+    let mut solver = solver_at_first_frame(&sim);
     let scalp = sim.scalp_at(0.0);
     for _ in sim.first_frame..sim.last_frame {
         solver.step_frame(&mut sim.strands, &scalp).unwrap();

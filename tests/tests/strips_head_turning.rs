@@ -6,15 +6,17 @@
 //! Reference: an independent check with parry — the head as an oriented parry `TriMesh` posed at
 //! each frame's transform, each card vertex's signed distance to it by point projection.
 
+mod common;
+
+use common::collide::{Gap, ParryHead};
 use hair_core::strips::{
     HeadShape, RootAngleLimit, StripGrowth, StripSet, StripSettings, StripSolver,
 };
 use hair_core::{Colliders, HairParams, Scalp, SolverSettings, TriMesh};
-use hair_render::{build_cards, CardMesh, CardSettings};
-use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
+use hair_render::{build_cards, CardSettings};
+use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 use parry3d::math::Vector;
 use parry3d::query::PointQuery;
-use parry3d::shape::{TriMesh as ParryMesh, TriMeshFlags};
 
 /// Every 6th triangle of the head whose normal points up or back (the scalp), at most `max`.
 fn scalp_triangles(head: &TriMesh, max: usize) -> Vec<u32> {
@@ -30,35 +32,9 @@ fn scalp_triangles(head: &TriMesh, max: usize) -> Vec<u32> {
         .collect()
 }
 
-fn parry_head(head: &TriMesh) -> ParryMesh {
-    let v = head
-        .positions()
-        .iter()
-        .map(|p| Vector::new(p.x, p.y, p.z))
-        .collect();
-    ParryMesh::with_flags(v, head.triangles().to_vec(), TriMeshFlags::ORIENTED).unwrap()
-}
-
-/// Smallest signed distance (m, negative inside) of any card vertex to the head posed at `body`,
-/// and the number of vertices inside.
-fn worst_gap(mesh: &ParryMesh, body: &Isometry3<f32>, cards: &CardMesh) -> (f32, usize) {
-    let inverse = body.inverse();
-    let (mut worst, mut inside) = (f32::INFINITY, 0);
-    for x in &cards.positions {
-        let l = inverse * Point3::from(*x);
-        let p = Vector::new(l.x, l.y, l.z);
-        let proj = mesh.project_local_point(p, false);
-        let d = (p - proj.point).length();
-        let signed = if proj.is_inside { -d } else { d };
-        worst = worst.min(signed);
-        inside += proj.is_inside as usize;
-    }
-    (worst, inside)
-}
-
 /// The seed's surface over the first segment of every strip: uniform Catmull–Rom with the chord
 /// as root tangent, linear across; returns the vertices above the root row that are inside.
-fn seed_first_segment_inside(mesh: &ParryMesh, strips: &StripSet) -> usize {
+fn seed_first_segment_inside(head: &ParryHead, strips: &StripSet) -> usize {
     let hermite =
         |p0: Vector3<f32>, m0: Vector3<f32>, p1: Vector3<f32>, m1: Vector3<f32>, t: f32| {
             let (t2, t3) = (t * t, t * t * t);
@@ -76,7 +52,7 @@ fn seed_first_segment_inside(mesh: &ParryMesh, strips: &StripSet) -> usize {
             let t = step as f32 / 6.0;
             for c in 0..4 {
                 let x = edge(l, t).lerp(&edge(r, t), c as f32 / 3.0);
-                inside += mesh.contains_local_point(Vector::new(x.x, x.y, x.z)) as usize;
+                inside += head.mesh.contains_local_point(Vector::new(x.x, x.y, x.z)) as usize;
             }
         }
     }
@@ -93,7 +69,7 @@ fn scalp_at(head: &TriMesh, body: Isometry3<f32>) -> Scalp {
 #[test]
 fn cards_lying_along_the_scalp_keep_every_surface_vertex_outside_the_head() {
     let head = hair_groom::builtin_head();
-    let parry = parry_head(&head);
+    let parry = ParryHead::new(&head);
     let shape = HeadShape::new(&head).unwrap();
     let growth = StripGrowth {
         length: 0.12,
@@ -115,7 +91,7 @@ fn cards_lying_along_the_scalp_keep_every_surface_vertex_outside_the_head() {
         for i in range.start + 1..range.end {
             let guess = prev + back * 0.03;
             let l = Vector::new(guess.x, guess.y, guess.z);
-            let proj = parry.project_local_point(l, false);
+            let proj = parry.mesh.project_local_point(l, false);
             let on = Vector3::new(proj.point.x, proj.point.y, proj.point.z);
             let out = (on - Vector3::new(0.0, 0.0, 0.11)).normalize();
             strips.strands.positions[i] = on + out * 0.002;
@@ -128,10 +104,16 @@ fn cards_lying_along_the_scalp_keep_every_surface_vertex_outside_the_head() {
         clearance: 1e-3,
     };
     let naive = build_cards(&strips, &scalp, &settings, None).unwrap();
-    let (naive_gap, naive_inside) = worst_gap(&parry, &body, &naive);
+    let Gap {
+        smallest: naive_gap,
+        inside: naive_inside,
+    } = parry.gap(&body, &naive.positions);
     let seed_inside = seed_first_segment_inside(&parry, &strips);
     let cards = build_cards(&strips, &scalp, &settings, Some(&shape)).unwrap();
-    let (gap, inside) = worst_gap(&parry, &body, &cards);
+    let Gap {
+        smallest: gap,
+        inside,
+    } = parry.gap(&body, &cards.positions);
     println!(
         "{} cards lying on the scalp: the seed's surface (chord tangent at the root) has \
          {seed_inside} vertices inside between root and second point; ours without the push-out \
@@ -153,7 +135,7 @@ fn cards_lying_along_the_scalp_keep_every_surface_vertex_outside_the_head() {
 #[test]
 fn head_turning_at_ten_rad_per_s_keeps_every_ribbon_vertex_outside() {
     let head = hair_groom::builtin_head();
-    let parry = parry_head(&head);
+    let parry = ParryHead::new(&head);
     let growth = StripGrowth {
         length: 0.2,
         segments: 10,
@@ -213,18 +195,17 @@ fn head_turning_at_ten_rad_per_s_keeps_every_ribbon_vertex_outside() {
             .unwrap();
         near += report.near_head as u32;
         let mesh = build_cards(&strips, &scalp, &cards, solver.head()).unwrap();
-        let (gap, inside) = worst_gap(&parry, &scalp.body, &mesh);
+        let Gap {
+            smallest: gap,
+            inside,
+        } = parry.gap(&scalp.body, &mesh.positions);
         assert_eq!(
             inside, 0,
             "frame {frame}: {inside} ribbon vertices inside, worst {gap} m"
         );
         worst = worst.min(gap);
-        naive_inside += worst_gap(
-            &parry,
-            &scalp.body,
-            &build_cards(&strips, &scalp, &cards, None).unwrap(),
-        )
-        .1;
+        let naive = build_cards(&strips, &scalp, &cards, None).unwrap();
+        naive_inside += parry.gap(&scalp.body, &naive.positions).inside;
     }
     println!(
         "{} strips ({} hairs) at 10 rad/s: smallest ribbon gap {:.3} mm over 24 frames; {near} \

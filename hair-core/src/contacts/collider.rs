@@ -399,39 +399,9 @@ mod tests {
         assert_eq!(inward.triangles[0], [0, 2, 1]);
     }
 
-    /// A latitude–longitude sphere of `radius` (m), outward winding, poles as fans.
-    fn lat_long_sphere(radius: f32, segments: u32, rings: u32) -> TriMesh {
-        use std::f32::consts::PI;
-        let mut p = vec![Vector3::new(0.0, 0.0, radius)];
-        for i in 1..rings {
-            let th = PI * i as f32 / rings as f32;
-            for j in 0..segments {
-                let ph = 2.0 * PI * j as f32 / segments as f32;
-                p.push(radius * Vector3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos()));
-            }
-        }
-        p.push(Vector3::new(0.0, 0.0, -radius));
-        let bottom = p.len() as u32 - 1;
-        let ring = |i: u32, j: u32| 1 + (i - 1) * segments + j % segments;
-        let mut t = Vec::new();
-        for j in 0..segments {
-            t.push([0, ring(1, j), ring(1, j + 1)]);
-            t.push([bottom, ring(rings - 1, j + 1), ring(rings - 1, j)]);
-        }
-        for i in 1..rings - 1 {
-            for j in 0..segments {
-                let (a, b) = (ring(i, j), ring(i, j + 1));
-                let (c, d) = (ring(i + 1, j), ring(i + 1, j + 1));
-                t.push([a, c, d]);
-                t.push([a, d, b]);
-            }
-        }
-        TriMesh::new(p, t).unwrap()
-    }
-
     #[test]
     fn curvature_of_a_fine_sphere_is_cautiously_below_one_over_its_radius() {
-        let prepared = prepare_mesh(&lat_long_sphere(0.5, 64, 32));
+        let prepared = prepare_mesh(&TriMesh::uv_sphere(0.5, 64, 32).unwrap());
         assert_eq!(prepared.kind, MeshKind::Solid { flipped: false });
         let (lo, hi) = prepared
             .curvature

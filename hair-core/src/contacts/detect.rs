@@ -724,40 +724,6 @@ mod tests {
     use crate::contacts::Collider;
     use crate::mesh::TriMesh;
 
-    /// A latitude–longitude sphere of radius 1, outward triangles.
-    fn uv_sphere(segments: u32, rings: u32) -> TriMesh {
-        use std::f32::consts::PI;
-        let mut p = vec![Vector3::z()];
-        for i in 1..rings {
-            let th = PI * i as f32 / rings as f32;
-            for j in 0..segments {
-                let ph = 2.0 * PI * j as f32 / segments as f32;
-                p.push(Vector3::new(
-                    th.sin() * ph.cos(),
-                    th.sin() * ph.sin(),
-                    th.cos(),
-                ));
-            }
-        }
-        p.push(-Vector3::z());
-        let bottom = p.len() as u32 - 1;
-        let ring = |i: u32, j: u32| 1 + (i - 1) * segments + j % segments;
-        let mut t = Vec::new();
-        for j in 0..segments {
-            t.push([0, ring(1, j), ring(1, j + 1)]);
-            t.push([bottom, ring(rings - 1, j + 1), ring(rings - 1, j)]);
-        }
-        for i in 1..rings - 1 {
-            for j in 0..segments {
-                let (a, b) = (ring(i, j), ring(i, j + 1));
-                let (c, d) = (ring(i + 1, j), ring(i + 1, j + 1));
-                t.push([a, c, d]);
-                t.push([a, d, b]);
-            }
-        }
-        TriMesh::new(p, t).unwrap()
-    }
-
     /// 300 two-point strands (a kinematic root and a free point at the same place) 0.2 m above
     /// a faceted unit sphere in directions spread over it, moving at 3 m/s so that each is
     /// within its query radius; returns their contacts.
@@ -798,7 +764,7 @@ mod tests {
         // facets' sagitta, wherever on a facet the point projects. A sphere tangent to the facet
         // itself, tilted against the surface it approximates, left vertices up to 4× farther
         // out, which let hair sliding 30 cm in a step into the parity scene's head.
-        let mesh = uv_sphere(32, 16);
+        let mesh = TriMesh::uv_sphere(1.0, 32, 16).unwrap();
         let sagitta = mesh
             .triangles()
             .iter()
@@ -832,7 +798,10 @@ mod tests {
         // triangles found (the shortcut): the same bits.
         let mut colliders = Colliders::new();
         colliders
-            .insert(Collider::mesh(uv_sphere(32, 16)), Isometry3::identity())
+            .insert(
+                Collider::mesh(TriMesh::uv_sphere(1.0, 32, 16).unwrap()),
+                Isometry3::identity(),
+            )
             .unwrap();
         let cold = contacts_above(&mut colliders);
         let warm = contacts_above(&mut colliders);

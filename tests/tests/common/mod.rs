@@ -1,12 +1,16 @@
 //! Helpers shared by the physics validation tests: strand builders, parameter sets with every
-//! model component off unless asked for, and small analytic tools (zero crossings, chain normal
-//! modes, the catenary).
+//! model component off unless asked for, a solver for a scene, and small analytic tools (zero
+//! crossings, chain normal modes, the catenary). [`collide`] holds the collision tests' scene,
+//! run loop and inside/outside reference.
 #![allow(dead_code)]
+
+pub mod collide;
 
 use hair_core::{
     Anchor, HairError, HairParams, Integrator, RootFrame, Scalp, Solver, SolverSettings,
     StrandInput, StrandSet, Substeps,
 };
+use hairsys::scene::Simulation;
 use nalgebra::{DMatrix, UnitQuaternion, Vector3};
 
 /// Standard gravity used by every test, m/s² (magnitude of `HairParams::default().gravity`).
@@ -86,6 +90,19 @@ pub fn anchor_along(origin: Vector3<f32>, normal: Vector3<f32>) -> Anchor {
     let rotation =
         UnitQuaternion::rotation_between(&Vector3::z(), &normal).expect("normal not opposite to z");
     Anchor::Body(RootFrame { origin, rotation })
+}
+
+/// A mass-spring solver for `sim` with the hair at rest at its first frame.
+pub fn solver_at_first_frame(sim: &Simulation) -> Solver {
+    let first = sim.first_frame;
+    Solver::new(
+        sim.settings,
+        sim.params,
+        &sim.strands,
+        &sim.scalp_at(first as f32),
+        first,
+    )
+    .unwrap()
 }
 
 /// Builds a set from inputs, placed at rest on `scalp`.
