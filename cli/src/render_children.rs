@@ -18,7 +18,7 @@ use hair_render::{
 };
 use nalgebra::Vector3;
 
-use crate::scene::{SceneFile, Simulation};
+use crate::scene::{ScalpMesh, SceneFile, Simulation};
 use crate::scene_children::DEFAULT_NEIGHBOURS;
 
 /// Output format.
@@ -159,6 +159,7 @@ pub fn export(opts: &ExportOptions, mut on_sample: impl FnMut()) -> Result<Expor
         }
     };
     let sim = scene.build().map_err(|e| e.to_string())?;
+    let colors = scalp_colors(&scene)?;
     let (base, display) = match &scene.scene.children {
         Some(section) => section
             .settings()
@@ -194,7 +195,14 @@ pub fn export(opts: &ExportOptions, mut on_sample: impl FnMut()) -> Result<Expor
         };
         samples.push((
             time_code,
-            children_at(&sim, &positions, time_code as f32, &settings, lod)?,
+            children_at(
+                &sim,
+                &positions,
+                colors.as_deref(),
+                time_code as f32,
+                &settings,
+                lod,
+            )?,
         ));
         on_sample();
     }
@@ -253,10 +261,60 @@ fn shutter_offsets((open, close): (f64, f64), n: usize) -> Result<Vec<f64>, Stri
         .collect())
 }
 
-/// Children of the simulation level at `positions`, rooted on the scalp at `frame`.
+/// The per-vertex colors (`v x y z r g b`) of the scene's OBJ scalp, in the vertex order of the
+/// scalp mesh the scene builds; `None` for another scalp or an OBJ without colors on every vertex.
+fn scalp_colors(scene: &SceneFile) -> Result<Option<Vec<[f32; 3]>>, String> {
+    let ScalpMesh::Obj { path, .. } = &scene.scene.scalp.mesh else {
+        return Ok(None);
+    };
+    let path = scene.base_dir.join(path);
+    // The options `hair_groom::load_obj` reads the scalp with, so the vertices come in its order.
+    let load = tobj::LoadOptions {
+        single_index: true,
+        triangulate: true,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    let failed = |e: &dyn std::fmt::Display| {
+        format!(
+            "[scalp.mesh] {}: cannot read its vertex colors ({e})",
+            path.display()
+        )
+    };
+    let file = std::fs::File::open(&path).map_err(|e| failed(&e))?;
+    // Material libraries are not needed (nor opened, as by `hair_groom::load_obj`).
+    let (models, _) = tobj::load_obj_buf(&mut std::io::BufReader::new(file), &load, |_| {
+        Err(tobj::LoadError::OpenFileFailed)
+    })
+    .map_err(|e| failed(&e))?;
+    let mut colors = Vec::new();
+    for model in &models {
+        let mesh = &model.mesh;
+        if mesh.vertex_color.len() != mesh.positions.len() {
+            return Ok(None);
+        }
+        colors.extend(
+            mesh.vertex_color
+                .chunks_exact(3)
+                .map(|c| [c[0], c[1], c[2]]),
+        );
+    }
+    if let Some(i) = colors.iter().position(|c| !c.iter().all(|x| x.is_finite())) {
+        return Err(format!(
+            "[scalp.mesh] {}: vertex {i} has a non-finite color {:?}; fix its `v x y z r g b` line",
+            path.display(),
+            colors[i]
+        ));
+    }
+    Ok(Some(colors))
+}
+
+/// Children of the simulation level at `positions`, rooted on the scalp at `frame` (its vertex
+/// colors, if given, color the children's roots).
 fn children_at(
     sim: &Simulation,
     positions: &[Vector3<f32>],
+    colors: Option<&[[f32; 3]]>,
     frame: f32,
     settings: &ChildSettings,
     lod: Lod,
@@ -282,7 +340,7 @@ fn children_at(
             .with_scalp(ScalpRoots {
                 mesh,
                 samples: &samples,
-                colors: None,
+                colors,
             })
             .map_err(err)?;
     }

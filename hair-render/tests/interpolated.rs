@@ -1,6 +1,7 @@
 //! Interpolated children (between several parents): a child at a parent's root is that parent,
-//! translated copies of one shape give translated children, roots and attributes come from the
-//! scalp, clumping draws tips onto the home parent, determinism by seed.
+//! translated copies of one shape give translated children, parents of other point counts blend
+//! by length fraction, roots and attributes come from the scalp, clumping draws tips onto the
+//! home parent, determinism by seed.
 
 mod common;
 
@@ -131,6 +132,58 @@ fn interpolated_children_blend_between_parents() {
         longest - shortest > 0.03,
         "lengths vary between the parents"
     );
+}
+
+#[test]
+fn parents_with_other_point_counts_blend_by_length_fraction() {
+    // Two straight 10 cm parents 1 cm apart, of 5 and 9 points: resampled by point index to the
+    // home parent's count, both are the same straight line, so every child (short or not) is a
+    // straight vertical line from its root with evenly spaced points.
+    let strands = vec![
+        straight(Vector3::zeros(), 5, 0.1),
+        straight(Vector3::new(0.01, 0.0, 0.0), 9, 0.1),
+    ];
+    let (positions, offsets) = flatten(&strands);
+    let parents = Parents::new(&positions, &offsets).unwrap();
+    for variation in [0.0, 0.3] {
+        let settings = ChildSettings {
+            mode: ChildMode::Interpolated { neighbours: 2 },
+            subdivisions: 1,
+            ..interpolated(
+                ChildCount::PerParent(40),
+                0.01,
+                Shape {
+                    length_variation: variation,
+                    ..Shape::default()
+                },
+            )
+        };
+        let c = generate(&parents, &settings, Lod::Render).unwrap();
+        let s = starts(&c);
+        let (mut worst, mut shortest, mut longest) = (0.0f32, f32::MAX, 0.0f32);
+        for k in 0..c.curve_count() {
+            let n = s[k + 1] - s[k];
+            let (root, tip) = (point(&c, s[k]), point(&c, s[k + 1] - 1));
+            shortest = shortest.min(tip.z - root.z);
+            longest = longest.max(tip.z - root.z);
+            for i in 0..n {
+                let want = root + (tip - root) * (i as f32 / (n - 1) as f32);
+                worst = worst.max((point(&c, s[k] + i) - want).norm());
+                worst = worst.max((point(&c, s[k] + i).xy() - root.xy()).norm());
+            }
+        }
+        println!(
+            "5- and 9-point parents, length variation {variation}: off the line {worst:.3e} m, \
+             lengths {shortest:.4}–{longest:.4} m"
+        );
+        assert!(worst < 1e-6, "{worst}");
+        assert!(longest <= 0.1 + 1e-6, "{longest}");
+        if variation == 0.0 {
+            assert!(shortest >= 0.1 - 1e-6, "{shortest}");
+        } else {
+            assert!(shortest >= 0.07 - 1e-6 && longest - shortest > 0.01);
+        }
+    }
 }
 
 /// A flat 10 cm square scalp at z = 0 whose UV is (x, y) / 0.1 and whose color is red in x,

@@ -16,7 +16,10 @@
 //! Franke–Little inverse distance weights `w_j ∝ ((R − d_j)/(R d_j))²` with `R` the distance to
 //! the (k+1)-th nearest parent (or `2 d_k` when there are only `k`), so a parent's weight falls
 //! to 0 as it leaves the neighbourhood; a child rooted within 1 µm of a parent takes that
-//! parent's shape alone. The nearest parents are searched among the `k + 8` nearest of the home
+//! parent's shape alone. The blend is linear, so it is formed once per child at the home parent's
+//! points (`k` multiply-adds per point and axis over lane-padded arrays of offsets tabulated once
+//! per home parent) and interpolated along the child, instead of blending `k` parents
+//! at every child point. The nearest parents are searched among the `k + 8` nearest of the home
 //! parent (a grid search, module `neighbours`), exact for children within the home parent's
 //! neighbourhood.
 //!
@@ -27,6 +30,7 @@
 use hair_core::{MeshSample, RootFrame, TriMesh};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use rayon::prelude::*;
+use wide::f32x8;
 
 use crate::children::grow::{grow, Profile, Scratch};
 use crate::children::neighbours::nearest;
@@ -47,14 +51,87 @@ const SAME_ROOT: f32 = 1e-6;
 /// One parent's share of a child.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Share {
-    /// The parent.
-    parent: u32,
-    /// Point-index ratio from the home parent's path to this parent's.
-    ratio: f32,
-    /// The parent's root point, meters.
-    root: Vector3<f32>,
-    /// Weight times the rotation from the parent's normal to the child's.
-    rotation: Matrix3<f32>,
+    /// The parent's slot among the home parent's candidates (its rows in [`Blend::table`]).
+    slot: u32,
+    /// The parent's weight.
+    weight: f32,
+    /// Weight times the rotation from the parent's normal to the child's; `None` when the normals
+    /// agree (the rotation is the identity: 3 multiply-adds per point instead of 9).
+    rotation: Option<Matrix3<f32>>,
+}
+
+/// Lanes of the blend loops: point arrays are padded to a multiple of this.
+const LANES: usize = 8;
+
+/// Per-thread working space of interpolated children: the home parent's candidate offsets
+/// resampled to its point count (built once per home parent), one child's shares and its blended
+/// offset curve.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Blend {
+    /// Lane groups per row: the home parent's point count over [`LANES`], rounded up.
+    chunks: usize,
+    /// Per candidate slot, three rows (x, y, z) of `chunks` lane groups of offsets from the
+    /// candidate's root, meters, at the home parent's point indices (zero padded).
+    table: Vec<f32x8>,
+    /// The root points of the home parent's candidates, by slot, meters.
+    roots: Vec<Vector3<f32>>,
+    /// The current child's shares.
+    shares: Vec<Share>,
+    /// The current child's blended offsets `Σ w_j R_j (P_j − P_j(0))`, three rows of `chunks`.
+    curve: Vec<f32x8>,
+    /// The current child's root plus its blended offsets, at the home parent's points, meters.
+    points: Vec<Vector3<f32>>,
+}
+
+impl Blend {
+    /// Blends the rows of every share into `curve`: per lane group and axis, `3k` multiply-adds
+    /// on [`LANES`] points at once.
+    #[inline(always)]
+    fn blend(&mut self) {
+        let c = self.chunks;
+        self.curve.clear();
+        self.curve.resize(3 * c, f32x8::ZERO);
+        let (ox, oyz) = self.curve.split_at_mut(c);
+        let (oy, oz) = oyz.split_at_mut(c);
+        for s in &self.shares {
+            let rows = &self.table[3 * s.slot as usize * c..][..3 * c];
+            let (x, yz) = rows.split_at(c);
+            let (y, z) = yz.split_at(c);
+            match s.rotation {
+                None => {
+                    let w = f32x8::splat(s.weight);
+                    for i in 0..c {
+                        ox[i] += w * x[i];
+                        oy[i] += w * y[i];
+                        oz[i] += w * z[i];
+                    }
+                }
+                Some(m) => {
+                    let m = m.map(f32x8::splat);
+                    for i in 0..c {
+                        let (x, y, z) = (x[i], y[i], z[i]);
+                        ox[i] += m[(0, 0)] * x + m[(0, 1)] * y + m[(0, 2)] * z;
+                        oy[i] += m[(1, 0)] * x + m[(1, 1)] * y + m[(1, 2)] * z;
+                        oz[i] += m[(2, 0)] * x + m[(2, 1)] * y + m[(2, 2)] * z;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Writes `origin` plus the blended offset at each of the home parent's `n` points into
+    /// `points`.
+    #[inline(always)]
+    fn place(&mut self, origin: &Vector3<f32>, n: usize) {
+        let c = self.chunks;
+        let (x, yz) = self.curve.split_at(c);
+        let (y, z) = yz.split_at(c);
+        self.points.clear();
+        self.points.extend((0..n).map(|i| {
+            let (g, l) = (i / LANES, i % LANES);
+            origin + Vector3::new(x[g].as_array()[l], y[g].as_array()[l], z[g].as_array()[l])
+        }));
+    }
 }
 
 /// Everything interpolated children of any parent need: every parent's path and root, the
@@ -63,6 +140,8 @@ pub(crate) struct Interpolator<'a> {
     parents: &'a Parents<'a>,
     paths: Vec<ParentPath>,
     roots: Vec<ParentRoot>,
+    /// Every parent's root normal (its root frame's z axis).
+    normals: Vec<Vector3<f32>>,
     candidates: Vec<u32>,
     m: usize,
     k: usize,
@@ -83,6 +162,10 @@ impl<'a> Interpolator<'a> {
                 path
             })
             .collect();
+        let normals = roots
+            .iter()
+            .map(|r| r.frame.rotation * Vector3::z())
+            .collect();
         let k = k.min(np);
         let m = (k + 1 + EXTRA_CANDIDATES).min(np);
         let starts: Vec<Vector3<f32>> = paths.iter().map(|p| p.points[0]).collect();
@@ -95,6 +178,7 @@ impl<'a> Interpolator<'a> {
             parents,
             paths,
             roots,
+            normals,
             candidates,
             m,
             k,
@@ -107,8 +191,41 @@ impl<'a> Interpolator<'a> {
         &self.paths[p]
     }
 
+    /// Tabulates, into `blend`, the offsets from their roots of home parent `p`'s candidate
+    /// parents resampled by point index to `p`'s point count: once per home parent, shared by
+    /// all its children.
+    pub(crate) fn prepare(&self, p: usize, blend: &mut Blend) {
+        let n = self.paths[p].points.len();
+        let c = n.div_ceil(LANES);
+        let m = self.m;
+        blend.chunks = c;
+        blend.table.clear();
+        blend.table.resize(3 * m * c, f32x8::ZERO);
+        blend.roots.clear();
+        let home_len = (n - 1) as f32;
+        for (slot, &j) in self.candidates[p * m..(p + 1) * m].iter().enumerate() {
+            let path = &self.paths[j as usize];
+            let root = path.points[0];
+            blend.roots.push(root);
+            let ratio = (path.points.len() - 1) as f32 / home_len;
+            let rows = &mut blend.table[3 * slot * c..3 * (slot + 1) * c];
+            for i in 0..n {
+                let q = if ratio == 1.0 {
+                    path.points[i]
+                } else {
+                    path.point_at(i as f32 * ratio)
+                } - root;
+                let (g, l) = (i / LANES, i % LANES);
+                for (axis, v) in q.iter().enumerate() {
+                    rows[axis * c + g].as_mut_array()[l] = *v;
+                }
+            }
+        }
+    }
+
     /// Writes the child of home parent `p` drawn by `rng` (root disc of radius `spread`, m) into
-    /// `points` and `widths`; returns its root (frame, UV, color). `scratch` is working space.
+    /// `points` and `widths`; returns its root (frame, UV, color). `blend` holds `p`'s table
+    /// ([`Interpolator::prepare`]); `scratch` is working space.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn grow(
         &self,
@@ -117,15 +234,19 @@ impl<'a> Interpolator<'a> {
         spread: f32,
         shape: &Shape,
         rng: &ChildRng,
-        scratch: &mut (Scratch, Vec<Share>),
+        scratch: &mut Scratch,
+        blend: &mut Blend,
         points: &mut [f32],
         widths: &mut [f32],
     ) -> ParentRoot {
-        let (scratch, shares) = scratch;
         let root = self.child_root(p, spread, rng);
-        self.shares(p, &root.frame, shares);
-        let origin = root.frame.origin;
-        let paths = &self.paths;
+        self.shares(p, &root.frame, blend);
+        // The blend is linear, so blending the k parents once at the home parent's points and
+        // interpolating the result along the child equals blending at every child point.
+        blend.blend();
+        let last = self.paths[p].points.len() - 1;
+        blend.place(&root.frame.origin, last + 1);
+        let placed = &blend.points;
         grow(
             &self.paths[p],
             profile,
@@ -134,13 +255,12 @@ impl<'a> Interpolator<'a> {
             scratch,
             points,
             widths,
-            |at| {
-                let mut c = origin - at.base;
-                for s in shares.iter() {
-                    let q = paths[s.parent as usize].point_at(at.x * s.ratio) - s.root;
-                    c += s.rotation * q;
-                }
-                c
+            |pt| {
+                // Paths have ≥ 2 points; at f = 0 the blend below is exactly `placed[j]`.
+                let x = pt.x.clamp(0.0, last as f32);
+                let j = (x as usize).min(last - 1);
+                let f = x - j as f32;
+                placed[j] * (1.0 - f) + placed[j + 1] * f - pt.base
             },
         );
         root
@@ -168,28 +288,44 @@ impl<'a> Interpolator<'a> {
         }
     }
 
-    /// The parents a child at `frame` blends, with weights and rotations, into `shares`.
-    fn shares(&self, p: usize, frame: &RootFrame, shares: &mut Vec<Share>) {
+    /// The parents a child at `frame` blends, with weights and rotations, into `blend.shares`
+    /// (`blend` holds the home parent's candidate roots).
+    fn shares(&self, p: usize, frame: &RootFrame, blend: &mut Blend) {
         let m = self.m;
-        let mut near = [(0.0f32, 0u32); MAX_NEIGHBOURS as usize + 1 + EXTRA_CANDIDATES];
-        for (slot, &c) in near.iter_mut().zip(&self.candidates[p * m..(p + 1) * m]) {
-            *slot = ((self.paths[c as usize].points[0] - frame.origin).norm(), c);
+        // (squared distance bits, slot): squares are ≥ 0, so their bits sort as the distances.
+        let mut near = [0u64; MAX_NEIGHBOURS as usize + 1 + EXTRA_CANDIDATES];
+        for (slot, (key, root)) in near.iter_mut().zip(&blend.roots).enumerate() {
+            let d2 = (root - frame.origin).norm_squared();
+            *key = (u64::from(d2.to_bits()) << 32) | slot as u64;
         }
         let near = &mut near[..m];
-        near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        // Candidates come by distance from the home root, which the child is near: almost
+        // sorted already, so an insertion sort moves little.
+        for i in 1..m {
+            let v = near[i];
+            let mut j = i;
+            while j > 0 && near[j - 1] > v {
+                near[j] = near[j - 1];
+                j -= 1;
+            }
+            near[j] = v;
+        }
+        let distance = |key: u64| f32::from_bits((key >> 32) as u32).sqrt();
+        let slot = |key: u64| (key & u64::from(u32::MAX)) as usize;
         let k = self.k;
         let mut weights = [0.0f32; MAX_NEIGHBOURS as usize];
-        let used = if near[0].0 < SAME_ROOT {
+        let used = if distance(near[0]) < SAME_ROOT {
             weights[0] = 1.0;
             1
         } else {
             let r = if m > k {
-                near[k].0
+                distance(near[k])
             } else {
-                2.0 * near[k - 1].0
+                2.0 * distance(near[k - 1])
             };
             let mut sum = 0.0;
-            for (w, &(d, _)) in weights.iter_mut().zip(near.iter()).take(k) {
+            for (w, &key) in weights.iter_mut().zip(near.iter()).take(k) {
+                let d = distance(key);
                 *w = if d < r {
                     ((r - d) / (r * d)).powi(2)
                 } else {
@@ -205,25 +341,24 @@ impl<'a> Interpolator<'a> {
             k
         };
         let normal = frame.rotation * Vector3::z();
-        let home_len = (self.paths[p].points.len() - 1) as f32;
+        let shares = &mut blend.shares;
         shares.clear();
-        for (&(_, j), &w) in near.iter().zip(&weights).take(used) {
+        for (&key, &w) in near.iter().zip(&weights).take(used) {
             if w == 0.0 {
                 continue;
             }
-            let jn = self.roots[j as usize].frame.rotation * Vector3::z();
-            let turn = if (jn - normal).norm_squared() < 1e-12 {
-                Matrix3::identity()
+            let j = self.candidates[p * m + slot(key)] as usize;
+            let jn = self.normals[j];
+            let rotation = if (jn - normal).norm_squared() < 1e-12 {
+                None
             } else {
                 UnitQuaternion::rotation_between(&jn, &normal)
-                    .map_or_else(Matrix3::identity, |q| q.to_rotation_matrix().into_inner())
+                    .map(|q| q.to_rotation_matrix().into_inner() * w)
             };
-            let path = &self.paths[j as usize];
             shares.push(Share {
-                parent: j,
-                ratio: (path.points.len() - 1) as f32 / home_len,
-                root: path.points[0],
-                rotation: turn * w,
+                slot: slot(key) as u32,
+                weight: w,
+                rotation,
             });
         }
     }

@@ -6,8 +6,9 @@
 //! [`interpolated`] children blended from several parents. Both grow through one kernel (`grow`):
 //! what the children of a parent share is tabulated once per parent, and every child is written
 //! straight into its place in the output (offsets known from the counts), so memory is the output
-//! plus, per thread, one parent path (simple) or every parent's path (interpolated). Parents run
-//! in parallel on the caller's rayon pool; the output does not depend on the thread count.
+//! plus, per thread, one parent path (simple) or every parent's path (shared) and the current
+//! parent's candidates' offsets (interpolated). Parents run in parallel on the caller's rayon
+//! pool; the output does not depend on the thread count.
 
 mod grow;
 pub mod interpolated;
@@ -25,7 +26,7 @@ use crate::rng::{ChildRng, Purpose};
 use crate::shape::Shape;
 use crate::subdivide::{catmull_rom, subdivided_len};
 use grow::{Profile, Scratch};
-use interpolated::{Interpolator, MAX_NEIGHBOURS};
+use interpolated::{Blend, Interpolator, MAX_NEIGHBOURS};
 
 /// How children are distributed and shaped from their parents.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -224,11 +225,12 @@ pub fn generate_into(
         ChildMode::Interpolated { neighbours } => {
             let interp = Interpolator::new(parents, steps, neighbours as usize);
             jobs.into_par_iter().for_each_init(
-                || (Profile::default(), (Scratch::default(), Vec::new())),
-                |(profile, scratch), mut job| {
+                || (Profile::default(), Scratch::default(), Blend::default()),
+                |(profile, scratch, blend), mut job| {
                     let p = job.parent;
                     let spread = parents.spread(p, settings.spread);
                     profile.build(&settings.shape, interp.path(p).points.len());
+                    interp.prepare(p, blend);
                     for k in 0..job.children() {
                         let rng = ChildRng::new(seed, p as u32, k as u32);
                         let n = job.points_per_child;
@@ -240,6 +242,7 @@ pub fn generate_into(
                             &settings.shape,
                             &rng,
                             scratch,
+                            blend,
                             pts,
                             wid,
                         );

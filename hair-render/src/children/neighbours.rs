@@ -31,6 +31,8 @@ pub(crate) fn nearest(roots: &[Vector3<f32>], m: usize) -> Vec<u32> {
         grid.entry(cell(r)).or_default().push(i as u32);
     }
     let reach = cell(&hi).into_iter().max().unwrap_or(0) + 1;
+    // By squared distance, ties by index.
+    let order = |a: &(f32, u32), b: &(f32, u32)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
     let mut out = vec![0u32; n * m];
     out.par_chunks_mut(m).enumerate().for_each_init(
         Vec::new,
@@ -55,7 +57,8 @@ pub(crate) fn nearest(roots: &[Vector3<f32>], m: usize) -> Vec<u32> {
                     }
                 }
                 if found.len() >= m {
-                    found.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                    // The m nearest so far (in any order), the m-th nearest last.
+                    found.select_nth_unstable_by(m - 1, order);
                     found.truncate(m);
                     // Roots in rings beyond r are at least r·h away.
                     let bound = r as f32 * h;
@@ -64,7 +67,7 @@ pub(crate) fn nearest(roots: &[Vector3<f32>], m: usize) -> Vec<u32> {
                     }
                 }
             }
-            found.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            found.sort_unstable_by(order);
             // Itself first even when another root coincides with it.
             if let Some(k) = found.iter().position(|f| f.1 as usize == p) {
                 found[..=k].rotate_right(1);
