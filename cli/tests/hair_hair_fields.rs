@@ -109,7 +109,10 @@ fn zero_cell_size_is_refused() {
 }
 
 #[test]
-fn cell_size_too_small_for_memory_names_the_bytes_it_needs() {
+/// The grid is sparse, so a tiny cell is refused by the span its brick keys can address (the
+/// byte limit on occupied bricks is pinned in hair-core's `hair_hair` tests); the message states
+/// both limits and a cell size that fits.
+fn cell_size_too_small_for_the_grid_names_what_it_needs() {
     run_bad(
         "hh-tiny-cell",
         &SCENE.replace("cell_size = 0.02", "cell_size = 1e-6"),

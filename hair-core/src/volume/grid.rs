@@ -1,25 +1,55 @@
 //! The voxel grid of hair–hair interaction: point mass, momentum and volume splatted trilinearly
-//! onto the nodes of a dense grid over the hair's bounding box.
+//! onto the nodes of a **sparse** grid, stored as bricks of [`BRICK`]³ nodes allocated only where
+//! points splat. Memory and cost follow the occupied cells, not the hair's bounding box: two
+//! clumps 10 m apart cost what each clump costs alone.
 //!
-//! **Deterministic splat without atomics.** Points are binned by the z-slab of their cell
-//! ([`SLAB`] cell layers per slab, a constant, so the binning never depends on the thread count),
-//! keeping point order within a slab. A point of slab `k` writes node layers `kS ..= (k+1)S`, so
-//! even slabs touch disjoint node ranges, and so do odd slabs: the even slabs splat in parallel,
-//! then the odd slabs. Every node therefore sums its contributions in one fixed order (its even
-//! slab's points in point order, then its odd slab's), bit-identical for any number of threads.
+//! **Layout.** Node `(i, j, k)` sits at `origin + cell·(i, j, k)`, the origin a cell and a half
+//! below the hair's bounding box, so the cells (and every trilinear weight) are those of a dense
+//! grid over that box. A brick holds nodes `BRICK·b ..< BRICK·(b + 1)` per axis and is named by a
+//! key packing its three coordinates in 16 bits each (z highest), so a grid spans at most
+//! [`MAX_NODES_PER_AXIS`] nodes per axis. Grid coordinates are computed in f64, so the weights
+//! keep their precision far from the origin.
+//!
+//! **Build, per step.**
+//! 1. Every point's base cell (the cell holding it) gives its *source* brick and its *spill* (the
+//!    axes along which its stencil leaves that brick); the pairs `(source key and spill, point)`
+//!    are sorted (a stable merge sort that runs through the last step's, nearly sorted, order),
+//!    so each source brick lists its points by spill, then in point order.
+//! 2. A point's 2 × 2 × 2 stencil reaches the next brick along an axis only from the last cell
+//!    layer of its source brick; the allocated bricks are the sources plus those neighbours
+//!    (sorted and deduplicated keys). Their storage is a `Vec` reused between steps.
+//! 3. **Deterministic splat without atomics**: every brick *gathers* into its own nodes from the
+//!    (up to 8) source bricks whose points reach it (only the points that spill towards it), in
+//!    a fixed order of sources, then by spill, then in point order. Bricks fill in parallel and
+//!    every node sums its contributions in one fixed order, bit-identical for any thread count.
+//!
+//! Sampling at a point of the build uses the bricks linked to its source (no search); at any
+//! other position it finds them by binary search in the sorted keys (a missing brick reads as
+//! empty). The grid is refused when its occupied bricks would take more than
+//! [`MAX_GRID_BYTES`] or its span more than [`MAX_NODES_PER_AXIS`] nodes; the error names both
+//! figures and the smallest cell size (within a factor 1.25) that fits.
 
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use crate::error::{HairError, Result};
 
-/// Cell layers along z per slab of the deterministic splat.
-const SLAB: usize = 4;
+/// Nodes per brick edge.
+pub const BRICK: usize = 4;
+
+/// Nodes per brick.
+const BRICK_NODES: usize = BRICK * BRICK * BRICK;
+
+/// Bits per axis of a brick key.
+const KEY_BITS: u32 = 16;
+
+/// Most grid nodes along one axis (bricks are keyed with 16 bits per axis): 262 m at 1 mm cells.
+pub const MAX_NODES_PER_AXIS: u64 = (BRICK as u64) << KEY_BITS;
 
 /// Empty cells kept around the hair's bounding box on every side.
-const MARGIN_CELLS: f32 = 1.0;
+const MARGIN_CELLS: u64 = 1;
 
-/// Largest grid a step may allocate, bytes (node data only).
+/// Largest node storage a step may allocate, bytes (the occupied bricks' node data).
 pub const MAX_GRID_BYTES: u64 = 1 << 30;
 
 /// Channels per node: mass (kg), momentum (kg·m/s, 3), hair volume (m³).
@@ -28,20 +58,44 @@ const CHANNELS: usize = 5;
 /// Bytes per node.
 const NODE_BYTES: u64 = (CHANNELS * std::mem::size_of::<f32>()) as u64;
 
-/// A dense grid over the hair's bounding box plus a margin, rebuilt every collision step.
+/// Bytes per brick.
+const BRICK_BYTES: u64 = NODE_BYTES * BRICK_NODES as u64;
+
+/// A sparse grid over the hair, rebuilt every collision step (see the module doc).
 ///
-/// Node `(i, j, k)` sits at `origin + cell·(i, j, k)`. Each node holds the hair mass (kg),
-/// momentum (kg·m/s) and volume (m³) splatted onto it with trilinear weights.
+/// Each allocated node holds the hair mass (kg), momentum (kg·m/s) and volume (m³) splatted onto
+/// it with trilinear weights.
 #[derive(Debug, Clone, Default)]
 pub struct VoxelGrid {
-    origin: Vector3<f32>,
+    /// Node (0, 0, 0), m.
+    origin: Vector3<f64>,
     cell: f32,
-    inv_cell: f32,
-    dims: [usize; 3],
+    inv_cell: f64,
+    /// Nodes per axis of the span (the bounding box plus margins).
+    dims: [u64; 3],
+    /// Base cell and position within it (0–1 per axis) of every point.
+    cells: Vec<([u32; 3], [f32; 3])>,
+    /// `(source brick key · 8 + spill, point index)`, sorted (see [`spill`]); kept between
+    /// steps, where it is nearly sorted already.
+    order: Vec<(u64, u32)>,
+    /// Distinct source brick keys, sorted.
+    sources: Vec<u64>,
+    /// Where the points of source `s` with spill `m` start in `order`: entry `8·s + m` (one more
+    /// entry: the end).
+    source_start: Vec<u32>,
+    /// Source index of every point.
+    point_source: Vec<u32>,
+    /// Keys of the allocated bricks, sorted.
+    bricks: Vec<u64>,
+    /// Per source, the index in `bricks` of the source plus `d` for `d` in {0, 1}³ (bit `a` of
+    /// the entry's index: +1 along axis `a`), [`NO_BRICK`] where none is allocated.
+    links: Vec<[u32; 8]>,
+    /// Per brick, the source at the brick minus `d` (indexed as in `links`) whose points reach
+    /// it, [`NO_BRICK`] where none does.
+    feeds: Vec<[u32; 8]>,
+    /// Node data, [`BRICK`]³ nodes per brick in the order of `bricks`; node `(i, j, k)` of a
+    /// brick at `i + BRICK·(j + BRICK·k)`.
     nodes: Vec<[f32; CHANNELS]>,
-    /// Point indices binned by slab, and where each slab starts in it.
-    order: Vec<u32>,
-    slab_start: Vec<u32>,
 }
 
 /// What the grid says at one point.
@@ -54,6 +108,17 @@ pub struct GridSample {
     /// Gradient of the density in excess of the target, 1/m (zero where the density around is
     /// below the target).
     pub excess_gradient: Vector3<f32>,
+}
+
+/// The hair splatted onto one grid node.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GridNode {
+    /// Mass, kg.
+    pub mass: f32,
+    /// Momentum, kg·m/s.
+    pub momentum: Vector3<f32>,
+    /// Hair volume, m³.
+    pub volume: f32,
 }
 
 /// Point data splatted onto the grid (all slices one value per point).
@@ -69,180 +134,348 @@ pub struct SplatInput<'a> {
     pub volumes: &'a [f32],
 }
 
-impl VoxelGrid {
-    /// Node data bytes a grid of cell size `cell` (m) over the box `lo..hi` (m) would need.
-    pub fn bytes_for(lo: &Vector3<f32>, hi: &Vector3<f32>, cell: f32) -> (u64, [u64; 3]) {
-        let dims: [u64; 3] = std::array::from_fn(|a| {
-            let extent = ((hi[a] - lo[a]) as f64).max(0.0);
-            (extent / cell as f64).ceil() as u64 + 2 * MARGIN_CELLS as u64 + 2
-        });
-        let nodes = dims[0].saturating_mul(dims[1]).saturating_mul(dims[2]);
-        (nodes.saturating_mul(NODE_BYTES), dims)
-    }
+/// What a grid of one cell size over given points would take.
+#[derive(Debug, Clone, Copy)]
+struct Usage {
+    /// Nodes per axis of the span.
+    dims: [u64; 3],
+    /// Occupied bricks (`None` when the span is beyond the keys).
+    bricks: Option<u64>,
+}
 
-    /// Rebuilds the grid with cell size `cell` (m) over the bounding box of `input.positions`
-    /// and splats every point. Refuses a grid over [`MAX_GRID_BYTES`], naming the nodes and bytes
-    /// it would need and the smallest cell size that fits.
+impl Usage {
+    fn fits(&self) -> bool {
+        self.dims.iter().all(|&d| d <= MAX_NODES_PER_AXIS)
+            && self
+                .bricks
+                .is_some_and(|b| b.saturating_mul(BRICK_BYTES) <= MAX_GRID_BYTES)
+    }
+}
+
+/// A link to a brick that is not allocated.
+const NO_BRICK: u32 = u32::MAX;
+
+/// The axes along which the stencil of a point in base cell `c` reaches the next brick (bit `a`
+/// set when `c` is in its brick's last layer along axis `a`).
+fn spill(c: [u32; 3]) -> u64 {
+    (0..3).fold(0, |m, a| {
+        m | (((c[a] as usize % BRICK == BRICK - 1) as u64) << a)
+    })
+}
+
+/// The key of brick `b` (coordinates below 2^16).
+fn key(b: [u32; 3]) -> u64 {
+    ((b[2] as u64) << (2 * KEY_BITS)) | ((b[1] as u64) << KEY_BITS) | b[0] as u64
+}
+
+/// The brick coordinates of `key`.
+fn unkey(key: u64) -> [u32; 3] {
+    let mask = (1u64 << KEY_BITS) - 1;
+    [
+        (key & mask) as u32,
+        ((key >> KEY_BITS) & mask) as u32,
+        (key >> (2 * KEY_BITS)) as u32,
+    ]
+}
+
+/// Index of node `n` (global node coordinates) within its brick.
+fn local(n: [u32; 3]) -> usize {
+    let b = BRICK as u32;
+    ((n[0] % b) + b * ((n[1] % b) + b * (n[2] % b))) as usize
+}
+
+impl VoxelGrid {
+    /// Rebuilds the grid with cell size `cell` (m) over the points of `input` and splats every
+    /// point. Refuses a grid whose occupied bricks need more than [`MAX_GRID_BYTES`] or whose
+    /// span exceeds [`MAX_NODES_PER_AXIS`], naming both and a cell size that fits.
     pub fn build(&mut self, cell: f32, input: &SplatInput) -> Result<()> {
-        let n = input.positions.len();
-        let (lo, hi) = bounds(input.positions);
-        let dims = Self::check_fits(cell, &lo, &hi)?;
-        self.cell = cell;
-        self.inv_cell = 1.0 / cell;
-        self.origin = lo - Vector3::repeat(cell * (MARGIN_CELLS + 0.5));
-        self.dims = dims;
-        let layer = dims[0] * dims[1];
+        self.plan_checked(cell, input.positions)?;
         self.nodes.clear();
-        self.nodes.resize(layer * dims[2], [0.0; CHANNELS]);
-        self.splat_all(n, input);
+        self.nodes
+            .resize(self.bricks.len() * BRICK_NODES, [0.0; CHANNELS]);
+        self.splat_all(input);
         Ok(())
     }
 
-    /// Checks that a grid of cell size `cell` (m) over the bounding box of `positions` fits in
-    /// [`MAX_GRID_BYTES`]; the error names the nodes and bytes it would need and a cell size
-    /// that fits.
+    /// Checks that a grid of cell size `cell` (m) over `positions` fits (see [`Self::build`]);
+    /// the error names the nodes and bytes it would need and a cell size that fits.
     pub fn check(cell: f32, positions: &[Vector3<f32>]) -> Result<()> {
-        let (lo, hi) = bounds(positions);
-        Self::check_fits(cell, &lo, &hi).map(|_| ())
+        VoxelGrid::default().plan_checked(cell, positions)
     }
 
-    fn check_fits(cell: f32, lo: &Vector3<f32>, hi: &Vector3<f32>) -> Result<[usize; 3]> {
-        let (bytes, dims) = Self::bytes_for(lo, hi, cell);
-        if bytes > MAX_GRID_BYTES || !cell.is_finite() || cell <= 0.0 {
-            let extent = hi - lo;
-            let nodes = dims[0].saturating_mul(dims[1]).saturating_mul(dims[2]);
-            let volume = (extent.x.max(cell) * extent.y.max(cell) * extent.z.max(cell)) as f64;
-            let fit = (volume * NODE_BYTES as f64 / MAX_GRID_BYTES as f64).cbrt();
+    /// Lays out the grid over `positions` (bricks found, no node data) or refuses it.
+    fn plan_checked(&mut self, cell: f32, positions: &[Vector3<f32>]) -> Result<()> {
+        if !cell.is_finite() || cell <= 0.0 {
             return Err(HairError::Parameter {
                 name: "hair_hair.cell_size".into(),
                 value: format!("{cell} m"),
-                fix: format!(
-                    "the hair's bounding box ({:.3} × {:.3} × {:.3} m) would need {} × {} × {} = \
-                     {nodes} grid nodes ({bytes} bytes), over the limit of {MAX_GRID_BYTES} bytes; \
-                     use a cell size of at least {:.2e} m",
-                    extent.x,
-                    extent.y,
-                    extent.z,
-                    dims[0],
-                    dims[1],
-                    dims[2],
-                    fit * 1.01
-                ),
+                fix: "use a cell size > 0 m (a few hair radii to a few cm)".into(),
             });
         }
-        Ok(dims.map(|d| d as usize))
-    }
-
-    /// Splats `n` points into the cleared nodes (see the module doc for the order).
-    fn splat_all(&mut self, n: usize, input: &SplatInput) {
-        let dims = self.dims;
-        let layer = dims[0] * dims[1];
-        // Bin points by slab (counting sort, stable).
-        let slabs = (dims[2] - 1).div_ceil(SLAB);
-        let mut order = std::mem::take(&mut self.order);
-        let mut starts = std::mem::take(&mut self.slab_start);
-        let mut nodes = std::mem::take(&mut self.nodes);
-        let this = &*self;
-        let slab_of = |x: &Vector3<f32>| this.base_cell(x).0[2] / SLAB;
-        starts.clear();
-        starts.resize(slabs + 1, 0);
-        for x in input.positions {
-            starts[slab_of(x) + 1] += 1;
+        let usage = self.plan(cell, positions);
+        if usage.fits() {
+            return Ok(());
         }
-        for s in 0..slabs {
-            starts[s + 1] += starts[s];
-        }
-        order.clear();
-        order.resize(n, 0);
-        let mut next = starts.clone();
-        for (i, x) in input.positions.iter().enumerate() {
-            let s = slab_of(x);
-            order[next[s] as usize] = i as u32;
-            next[s] += 1;
-        }
-
-        // Even slabs, then odd slabs: each chunk of 2·SLAB layers holds one slab's writes.
-        let chunk = 2 * SLAB * layer;
-        for parity in 0..2 {
-            let skip = parity * SLAB * layer;
-            if skip >= nodes.len() {
+        // The smallest cell size (in steps of 1.25) that fits, starting where the span fits.
+        let (lo, hi) = bounds(positions);
+        let extent = hi - lo;
+        let widest = extent.max() as f64;
+        let slots = (MAX_NODES_PER_AXIS - 2 * MARGIN_CELLS - 3) as f64;
+        let mut fit = (cell as f64).max(widest / slots * 1.001) as f32;
+        let mut scratch = VoxelGrid::default();
+        for _ in 0..200 {
+            if scratch.plan(fit, positions).fits() {
                 break;
             }
-            nodes[skip..]
-                .par_chunks_mut(chunk)
-                .enumerate()
-                .for_each(|(c, out)| {
-                    let slab = 2 * c + parity;
-                    if slab < slabs {
-                        let points = &order[starts[slab] as usize..starts[slab + 1] as usize];
-                        this.splat(points, slab * SLAB * layer, out, input);
-                    }
-                });
+            fit *= 1.25;
         }
+        let [nx, ny, nz] = usage.dims;
+        let occupied = match usage.bricks {
+            Some(b) => format!(
+                " and its points occupy {b} bricks of {BRICK}³ = {} grid nodes ({} bytes)",
+                b.saturating_mul(BRICK_NODES as u64),
+                b.saturating_mul(BRICK_BYTES)
+            ),
+            None => String::new(),
+        };
+        Err(HairError::Parameter {
+            name: "hair_hair.cell_size".into(),
+            value: format!("{cell} m"),
+            fix: format!(
+                "the hair's bounding box ({:.3} × {:.3} × {:.3} m) spans {nx} × {ny} × {nz} grid \
+                 nodes{occupied}; a grid may span at most {MAX_NODES_PER_AXIS} grid nodes per \
+                 axis and its occupied bricks may take at most {MAX_GRID_BYTES} bytes; use a \
+                 cell size of at least {fit:.2e} m",
+                extent.x, extent.y, extent.z
+            ),
+        })
+    }
+
+    /// Lays out the grid with cell size `cell` (m, > 0) over `positions`: base cells, sorted
+    /// sources and allocated brick keys (these only when the span fits the keys).
+    fn plan(&mut self, cell: f32, positions: &[Vector3<f32>]) -> Usage {
+        let (lo, hi) = bounds(positions);
+        let cell64 = cell as f64;
+        self.cell = cell;
+        self.inv_cell = 1.0 / cell64;
+        self.origin = lo.cast::<f64>() - Vector3::repeat(cell64 * (MARGIN_CELLS as f64 + 0.5));
+        self.dims = std::array::from_fn(|a| {
+            let extent = (hi[a] as f64 - lo[a] as f64).max(0.0);
+            let cells = (extent / cell64).ceil();
+            // Saturates far beyond the limit (the conversion clamps to u64::MAX).
+            (cells as u64).saturating_add(2 * MARGIN_CELLS + 2)
+        });
+        self.bricks.clear();
+        if self.dims.iter().any(|&d| d > MAX_NODES_PER_AXIS) {
+            return Usage {
+                dims: self.dims,
+                bricks: None,
+            };
+        }
+        let mut cells = std::mem::take(&mut self.cells);
+        let this = &*self;
+        positions
+            .par_iter()
+            .map(|x| this.base_cell(x))
+            .collect_into_vec(&mut cells);
+        let n = positions.len();
+        let mut order = std::mem::take(&mut self.order);
+        if order.len() != n {
+            order.clear();
+            order.extend((0..n as u32).map(|i| (0, i)));
+        }
+        order.par_iter_mut().for_each(|(k, i)| {
+            let c = cells[*i as usize].0;
+            *k = (key(c.map(|c| c / BRICK as u32)) << 3) | spill(c);
+        });
+        // The pairs are distinct, so the sorted order is unique whatever the thread count; the
+        // last step's order is nearly sorted for this one, which the merge sort runs through.
+        order.par_sort();
+        // Sources, their points by spill, and the neighbours their points reach.
+        self.sources.clear();
+        self.source_start.clear();
+        self.point_source.resize(n, 0);
+        let mut at = 0;
+        while at < n {
+            let k = order[at].0 >> 3;
+            let source = self.sources.len() as u32;
+            self.sources.push(k);
+            let mut reach = 0;
+            for m in 0..8 {
+                self.source_start.push(at as u32);
+                while at < n && order[at].0 == (k << 3) | m {
+                    self.point_source[order[at].1 as usize] = source;
+                    reach |= m;
+                    at += 1;
+                }
+            }
+            let b = unkey(k);
+            for d in (0..8).filter(|d| d & !reach == 0) {
+                self.bricks
+                    .push(key(std::array::from_fn(|a| b[a] + ((d >> a) as u32 & 1))));
+            }
+        }
+        self.source_start.push(n as u32);
+        self.bricks.sort_unstable();
+        self.bricks.dedup();
+        let bricks = &self.bricks;
+        let starts = &self.source_start;
+        self.links.clear();
+        self.links
+            .extend(self.sources.iter().enumerate().map(|(s, &k)| {
+                let b = unkey(k);
+                // The axes some point of this source spills along.
+                let reach = (0..8)
+                    .filter(|m| starts[8 * s + m] < starts[8 * s + m + 1])
+                    .fold(0, |r, m| r | m);
+                std::array::from_fn(|d| {
+                    if d & !reach != 0 {
+                        return NO_BRICK;
+                    }
+                    let next = key(std::array::from_fn(|a| b[a] + ((d >> a) as u32 & 1)));
+                    bricks.binary_search(&next).map_or(NO_BRICK, |i| i as u32)
+                })
+            }));
+        self.feeds.clear();
+        self.feeds.resize(self.bricks.len(), [NO_BRICK; 8]);
+        for (s, links) in self.links.iter().enumerate() {
+            for (d, &b) in links.iter().enumerate() {
+                if b != NO_BRICK {
+                    self.feeds[b as usize][d] = s as u32;
+                }
+            }
+        }
+        self.cells = cells;
         self.order = order;
-        self.slab_start = starts;
+        Usage {
+            dims: self.dims,
+            bricks: Some(self.bricks.len() as u64),
+        }
+    }
+
+    /// Splats every point into the cleared bricks (see the module doc for the order).
+    fn splat_all(&mut self, input: &SplatInput) {
+        let mut nodes = std::mem::take(&mut self.nodes);
+        let this = &*self;
+        nodes
+            .par_chunks_mut(BRICK_NODES)
+            .zip(&self.bricks)
+            .zip(&self.feeds)
+            .for_each(|((out, &brick), feeds)| this.gather(brick, feeds, out, input));
         self.nodes = nodes;
     }
 
-    /// Splats `points` (indices into `p`) into `out`, which starts at global node `first`.
-    fn splat(&self, points: &[u32], first: usize, out: &mut [[f32; CHANNELS]], p: &SplatInput) {
-        for &i in points {
-            let i = i as usize;
-            let (c, f) = self.base_cell(&p.positions[i]);
-            let m = p.masses[i];
-            let mv = p.velocities[i] * m;
-            let vol = p.volumes[i];
-            for (node, w) in self.stencil(c, f) {
-                let o = &mut out[node - first];
-                o[0] += w * m;
-                o[1] += w * mv.x;
-                o[2] += w * mv.y;
-                o[3] += w * mv.z;
-                o[4] += w * vol;
+    /// Sums into `out`, the nodes of `brick`, the contributions of the points whose stencil
+    /// reaches it: source bricks `brick − d` for `d` in {0, 1}³ in a fixed order, the points of
+    /// each source that spill along `d` by spill and then in point order.
+    fn gather(&self, brick: u64, feeds: &[u32; 8], out: &mut [[f32; CHANNELS]], p: &SplatInput) {
+        let b = unkey(brick);
+        for (along, &s) in feeds.iter().enumerate() {
+            if s == NO_BRICK {
+                continue;
+            }
+            let s = s as usize;
+            for m in (0..8).filter(|m| m & along == along) {
+                let range = self.source_start[8 * s + m] as usize
+                    ..self.source_start[8 * s + m + 1] as usize;
+                for &(_, i) in &self.order[range] {
+                    self.splat_point(i as usize, b, out, p);
+                }
             }
         }
     }
 
-    /// The cell containing `x` (clamped into the grid) and the position within it (0–1 per axis).
-    fn base_cell(&self, x: &Vector3<f32>) -> ([usize; 3], [f32; 3]) {
-        let mut c = [0usize; 3];
+    /// Adds point `i`'s stencil nodes that lie in brick `b` to `out`, the brick's nodes.
+    fn splat_point(&self, i: usize, b: [u32; 3], out: &mut [[f32; CHANNELS]], p: &SplatInput) {
+        let (c, f) = self.cells[i];
+        let m = p.masses[i];
+        let mv = p.velocities[i] * m;
+        let vol = p.volumes[i];
+        for (corner, w) in stencil(f) {
+            let n: [u32; 3] = std::array::from_fn(|a| c[a] + corner[a]);
+            if (0..3).any(|a| n[a] / BRICK as u32 != b[a]) {
+                continue;
+            }
+            let o = &mut out[local(n)];
+            o[0] += w * m;
+            o[1] += w * mv.x;
+            o[2] += w * mv.y;
+            o[3] += w * mv.z;
+            o[4] += w * vol;
+        }
+    }
+
+    /// The cell containing `x` (clamped into the span) and the position within it (0–1 per
+    /// axis).
+    fn base_cell(&self, x: &Vector3<f32>) -> ([u32; 3], [f32; 3]) {
+        let mut c = [0u32; 3];
         let mut f = [0.0f32; 3];
         for a in 0..3 {
-            let u = (x[a] - self.origin[a]) * self.inv_cell;
-            let top = (self.dims[a] - 2) as f32;
+            let u = (x[a] as f64 - self.origin[a]) * self.inv_cell;
+            let top = (self.dims[a] - 2) as f64;
             let u = if u.is_finite() {
                 u.clamp(0.0, top)
             } else {
                 0.0
             };
             // u ≥ 0, so truncation is the floor (and needs no libm call).
-            let i = (u as usize).min(self.dims[a] - 2);
-            c[a] = i;
-            f[a] = u - i as f32;
+            let i = (u as u64).min(self.dims[a] - 2);
+            c[a] = i as u32;
+            f[a] = (u - i as f64) as f32;
         }
         (c, f)
-    }
-
-    /// The 8 nodes around cell `c` with the trilinear weights of position `f` in it.
-    fn stencil(&self, c: [usize; 3], f: [f32; 3]) -> impl Iterator<Item = (usize, f32)> {
-        let [nx, ny, _] = self.dims;
-        (0..8).map(move |corner| {
-            let (dx, dy, dz) = (corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
-            let w = |d: usize, t: f32| if d == 1 { t } else { 1.0 - t };
-            let node = ((c[2] + dz) * ny + c[1] + dy) * nx + c[0] + dx;
-            (node, w(dx, f[0]) * w(dy, f[1]) * w(dz, f[2]))
-        })
     }
 
     /// Samples the grid at `x`: mass-weighted velocity, volume fraction, and the gradient of the
     /// volume fraction in excess of `target` (trilinear within the cell).
     pub fn sample(&self, x: &Vector3<f32>, target: f32) -> GridSample {
         let (c, f) = self.base_cell(x);
-        let inv_volume = self.inv_cell.powi(3);
+        // Most stencils lie in the base cell's brick: look it up once.
+        let base = c.map(|c| c / BRICK as u32);
+        let base_index = self.bricks.binary_search(&key(base)).ok();
+        self.sample_cell(c, f, target, |d| {
+            if d == 0 {
+                base_index
+            } else {
+                let brick = key(std::array::from_fn(|a| base[a] + ((d >> a) as u32 & 1)));
+                self.bricks.binary_search(&brick).ok()
+            }
+        })
+    }
+
+    /// [`Self::sample`] at point `i` of the last build, where the grid already knows the point's
+    /// cell and bricks (no search).
+    pub fn sample_point(&self, i: usize, target: f32) -> GridSample {
+        let (c, f) = self.cells[i];
+        let links = &self.links[self.point_source[i] as usize];
+        self.sample_cell(c, f, target, |d| {
+            let index = links[d];
+            (index != NO_BRICK).then_some(index as usize)
+        })
+    }
+
+    /// Samples cell `c` at position `f` in it; `find` gives the index in `bricks` of the brick
+    /// `d` (bit `a`: +1 along axis `a`) from the cell's own.
+    fn sample_cell(
+        &self,
+        c: [u32; 3],
+        f: [f32; 3],
+        target: f32,
+        find: impl Fn(usize) -> Option<usize>,
+    ) -> GridSample {
+        let inv_cell = self.inv_cell as f32;
+        let inv_volume = inv_cell.powi(3);
         let (mut m, mut p, mut density) = (0.0f32, Vector3::zeros(), 0.0f32);
         let mut grad = Vector3::zeros();
-        for (corner, (node, w)) in self.stencil(c, f).enumerate() {
-            let o = &self.nodes[node];
+        for (d, w) in stencil(f) {
+            let n: [u32; 3] = std::array::from_fn(|a| c[a] + d[a]);
+            let next = (0..3).fold(0, |off, a| {
+                off | ((d[a] == 1 && c[a] as usize % BRICK == BRICK - 1) as usize) << a
+            });
+            let Some(b) = find(next) else {
+                continue;
+            };
+            let o = &self.nodes[b * BRICK_NODES + local(n)];
             m += w * o[0];
             p += Vector3::new(o[1], o[2], o[3]) * w;
             let phi = o[4] * inv_volume;
@@ -250,14 +483,13 @@ impl VoxelGrid {
             let excess = (phi - target).max(0.0);
             if excess > 0.0 {
                 // d/dx of the trilinear weight: ±1/cell times the other two axes' weights.
-                let d = [corner & 1, (corner >> 1) & 1, (corner >> 2) & 1];
                 let wt = |a: usize| if d[a] == 1 { f[a] } else { 1.0 - f[a] };
                 let sign = |a: usize| if d[a] == 1 { 1.0 } else { -1.0 };
                 grad += Vector3::new(
                     sign(0) * wt(1) * wt(2),
                     sign(1) * wt(0) * wt(2),
                     sign(2) * wt(0) * wt(1),
-                ) * (excess * self.inv_cell);
+                ) * (excess * inv_cell);
             }
         }
         GridSample {
@@ -267,14 +499,41 @@ impl VoxelGrid {
         }
     }
 
+    /// The hair at node `index` (node `(i, j, k)` sits at [`Self::origin`] + cell·`(i, j, k)`);
+    /// `None` where no brick was allocated (no point within a cell of it).
+    pub fn node(&self, index: [u32; 3]) -> Option<GridNode> {
+        if index.iter().zip(&self.dims).any(|(&n, &d)| n as u64 >= d) {
+            return None;
+        }
+        let brick = key(index.map(|n| n / BRICK as u32));
+        let b = self.bricks.binary_search(&brick).ok()?;
+        let o = self.nodes.get(b * BRICK_NODES + local(index))?;
+        Some(GridNode {
+            mass: o[0],
+            momentum: Vector3::new(o[1], o[2], o[3]),
+            volume: o[4],
+        })
+    }
+
+    /// Position of node (0, 0, 0), m: a cell and a half below the hair's bounding box.
+    pub fn origin(&self) -> Vector3<f64> {
+        self.origin
+    }
+
     /// Largest node volume fraction of the grid (dimensionless).
     pub fn max_density(&self) -> f32 {
-        let inv_volume = self.inv_cell.powi(3);
+        let inv_volume = (self.inv_cell as f32).powi(3);
         self.nodes.iter().fold(0.0, |a, o| a.max(o[4] * inv_volume))
     }
 
-    /// Nodes per axis.
-    pub fn dims(&self) -> [usize; 3] {
+    /// Nodes allocated by the last build (bricks × [`BRICK`]³).
+    pub fn allocated_nodes(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Nodes per axis of the span the last build covered (bounding box plus margins); a dense
+    /// grid would allocate their product.
+    pub fn span(&self) -> [u64; 3] {
         self.dims
     }
 
@@ -282,6 +541,16 @@ impl VoxelGrid {
     pub fn cell_size(&self) -> f32 {
         self.cell
     }
+}
+
+/// The 8 corners of a cell (offsets 0/1 per axis, x fastest) with the trilinear weights of
+/// position `f` in it.
+fn stencil(f: [f32; 3]) -> impl Iterator<Item = ([u32; 3], f32)> {
+    (0..8u32).map(move |corner| {
+        let d = [corner & 1, (corner >> 1) & 1, (corner >> 2) & 1];
+        let w = |a: usize| if d[a] == 1 { f[a] } else { 1.0 - f[a] };
+        (d, w(0) * w(1) * w(2))
+    })
 }
 
 /// Bounding box of finite points (a box at the origin for none).
@@ -342,6 +611,25 @@ mod tests {
     }
 
     #[test]
+    fn sampling_a_point_by_index_equals_sampling_its_position() {
+        let x: Vec<_> = (0..300)
+            .map(|i| {
+                let t = i as f32 * 0.29;
+                Vector3::new(t.cos() * 0.05, t.sin() * 0.05, 0.001 * i as f32)
+            })
+            .collect();
+        let v: Vec<_> = (0..300)
+            .map(|i| Vector3::new(0.0, 0.01 * i as f32, 1.0))
+            .collect();
+        let (m, vol) = (vec![1e-4; 300], vec![3e-8; 300]);
+        let mut g = VoxelGrid::default();
+        g.build(0.004, &input(&x, &v, &m, &vol)).unwrap();
+        for (i, x) in x.iter().enumerate() {
+            assert_eq!(g.sample_point(i, 0.1), g.sample(x, 0.1), "point {i}");
+        }
+    }
+
+    #[test]
     fn uniform_velocity_is_sampled_back_exactly() {
         let x: Vec<_> = (0..64)
             .map(|i| Vector3::new((i % 4) as f32, ((i / 4) % 4) as f32, (i / 16) as f32) * 0.013)
@@ -355,18 +643,21 @@ mod tests {
     }
 
     #[test]
-    fn too_small_cell_is_refused_with_the_bytes_it_needs() {
+    fn span_beyond_the_brick_keys_is_refused_with_the_nodes_it_needs() {
         let x = [Vector3::zeros(), Vector3::new(1.0, 1.0, 1.0)];
         let z = [Vector3::zeros(); 2];
         let mut g = VoxelGrid::default();
         let e = g
-            .build(1e-4, &input(&x, &z, &[1.0; 2], &[1.0; 2]))
+            .build(1e-6, &input(&x, &z, &[1.0; 2], &[1.0; 2]))
             .unwrap_err();
         let text = e.to_string();
         assert!(
-            text.contains("hair_hair.cell_size") && text.contains("bytes"),
+            text.contains("hair_hair.cell_size") && text.contains("1000005 × 1000005 × 1000005"),
             "{text}"
         );
-        assert!(text.contains("10005 × 10005 × 10005"), "{text}");
+        // The cell size it proposes fits.
+        let fit = text.rsplit("at least ").next().unwrap();
+        let fit: f32 = fit.split(' ').next().unwrap().parse().unwrap();
+        g.build(fit, &input(&x, &z, &[1.0; 2], &[1.0; 2])).unwrap();
     }
 }

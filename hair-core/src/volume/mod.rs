@@ -2,8 +2,9 @@
 //! Henne and Anderson 2005, "Volumetric Methods for Simulation and Rendering of Hair").
 //!
 //! Instead of testing pairs of hairs, every collision step splats each point's mass, momentum
-//! and hair volume (π r² × its share of rest length) trilinearly onto a grid over the hair's
-//! bounding box ([`VoxelGrid`]; memory follows the hair, not the scene). Per free point:
+//! and hair volume (π r² × its share of rest length) trilinearly onto a sparse grid of bricks
+//! allocated only where hair is ([`VoxelGrid`]; memory and cost follow the occupied cells, not the
+//! hair's bounding box or the scene). Per free point:
 //!
 //! - **friction**: the velocity is blended towards the grid velocity (mass-weighted, trilinear)
 //!   by [`HairHairSettings::friction`]: 0.5 moves it half-way once per collision step, the same
@@ -48,7 +49,9 @@ use serde::{Deserialize, Serialize};
 use crate::error::{check_non_negative, check_positive, HairError, Result};
 use crate::strands::StrandSet;
 
-pub use grid::{GridSample, SplatInput, VoxelGrid, MAX_GRID_BYTES};
+pub use grid::{
+    GridNode, GridSample, SplatInput, VoxelGrid, BRICK, MAX_GRID_BYTES, MAX_NODES_PER_AXIS,
+};
 
 /// Settings of voxel hair–hair interaction.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -205,7 +208,7 @@ impl HairHair {
                 if inv_mass[i] == 0.0 || (s.friction == 0.0 && s.repulsion == 0.0) {
                     continue;
                 }
-                let g = grid.sample(&x[i], s.target_density);
+                let g = grid.sample_point(i, s.target_density);
                 if s.friction > 0.0 {
                     if let Some(vg) = g.velocity {
                         *dv = (vg - v[i]) * s.friction;
