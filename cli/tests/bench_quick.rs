@@ -1,5 +1,7 @@
 //! `hairsys bench --quick` through the real binary: it finishes, and writes both charts as PNG
-//! files and a table with a row for every case and method.
+//! files and a table with a row for every case and method (the rod's projection iteration
+//! counts and the strips included), the strips' cost per represented hair and the rod's
+//! tip-moment table.
 
 mod common;
 
@@ -26,8 +28,8 @@ fn bench_quick_writes_pngs_and_a_table_row_per_case_and_method() {
     let runs_section = table
         .split("## Runs")
         .nth(1)
-        .and_then(|rest| rest.split("## Stability").next())
-        .expect("the table has a Runs section before the Stability one");
+        .and_then(|rest| rest.split("\n## ").next())
+        .expect("the table has a Runs section");
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("out/bench.json")).unwrap())
             .unwrap();
@@ -37,6 +39,10 @@ fn bench_quick_writes_pngs_and_a_table_row_per_case_and_method() {
         "semi-implicit Euler, no damping loop",
         "semi-implicit Euler + projection",
         "semi-implicit Euler + projection, no stretch springs",
+        "rod, 1 projection iteration",
+        "rod, 2 projection iterations",
+        "rod, 4 projection iterations",
+        "rod, 8 projection iterations",
     ];
     let ladder = 9; // 1, 2, 4 … 256 substeps per frame
     for case in ["pendulum", "chain", "cantilever", "head"] {
@@ -60,8 +66,57 @@ fn bench_quick_writes_pngs_and_a_table_row_per_case_and_method() {
             "no auto row for {case}"
         );
     }
+    // The strip case runs the strips and the default mass-spring method (its reference) only.
+    for m in ["strips", "semi-implicit Euler"] {
+        let rows = runs_section
+            .lines()
+            .filter(|l| l.starts_with(&format!("| head-strips | {m} | ")))
+            .count();
+        assert_eq!(
+            rows,
+            ladder + usize::from(m == "semi-implicit Euler"),
+            "rows of head-strips / {m}"
+        );
+    }
     let runs = json["runs"].as_array().unwrap();
-    assert_eq!(runs.len(), 4 * (methods.len() * ladder + 1));
+    assert_eq!(
+        runs.len(),
+        4 * (methods.len() * ladder + 1) + 2 * ladder + 1
+    );
+    // Every stable head-case run has a cost per represented hair; rod runs carry their
+    // projection figures.
+    for run in runs.iter().filter(|r| r["status"] == "stable") {
+        let case = run["case"].as_str().unwrap();
+        let method = run["method"].as_str().unwrap();
+        let per_hair = run["cost"]["us_per_represented_hair"].as_f64();
+        assert_eq!(
+            per_hair.is_some(),
+            case.starts_with("head"),
+            "{case} / {method}: cost per represented hair {per_hair:?}"
+        );
+        assert_eq!(
+            run["projection"].is_object(),
+            method.starts_with("rod"),
+            "{case} / {method}: projection figures"
+        );
+    }
+    assert!(table.contains("## Strips: cost per represented hair"));
+    let tip = table
+        .split("## Rod: cantilever under a tip moment")
+        .nth(1)
+        .expect("the table has the rod's tip-moment section");
+    assert!(
+        tip.contains("| at rest |"),
+        "no tip-moment run came to rest"
+    );
+    assert!(
+        json["not_run"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|n| n["case"] == "head-strips" && n["method"] == "rod, 1 projection iteration"),
+        "the report must say which cases a model cannot run"
+    );
     assert!(
         table.contains("counts as **converged** when halving its step"),
         "the table must say what converged means"

@@ -9,7 +9,13 @@
 //! - **cantilever**: a stiff 0.2 m strand held horizontally at its root by the bending springs,
 //!   released under gravity: it droops and rings down;
 //! - **head turn**: the built-in default scene (its hair, physics and solver settings) with the
-//!   head turned 80° and back within half a second, the scalp colliding with its own hair.
+//!   head turned 80° and back within half a second, the scalp colliding with its own hair;
+//! - **head strips**: the same head and turn with seed 000's strips instead of hair (its edge
+//!   strands are the simulated strands), for the strip model against the mass-spring model on
+//!   the same edges.
+//!
+//! The rod's cantilever under a tip moment is measured apart ([`super::tip_moment`]): it needs a
+//! load no scene can express.
 //!
 //! Each case is a [`Simulation`] built through the scene schema, so it is checked exactly like a
 //! scene file, and lists the frames at which positions are compared.
@@ -22,8 +28,11 @@ use parry3d::math::Vector as GlamVector;
 use parry3d::query::PointQuery;
 use parry3d::shape::{TriMesh as ParryMesh, TriMeshFlags};
 
+use hair_core::StrandModel;
+
 use crate::motion::MotionKey;
 use crate::scene::{ScalpCollider, SceneError, SceneFile, Simulation};
+use crate::scene_strips::StripsSection;
 
 /// One reference case.
 pub struct Case {
@@ -39,6 +48,9 @@ pub struct Case {
     pub energy_scale: f64,
     /// The closed scalp as a solid, to measure how deep hair points go into it (head case only).
     pub head: Option<Solid>,
+    /// Hairs the simulated strands stand for, for the cost per represented hair (head cases
+    /// only: a strand is one hair, a strip `hairs_per_strip`).
+    pub represented_hairs: Option<u64>,
 }
 
 impl Case {
@@ -101,6 +113,7 @@ pub fn all(quick: bool) -> Result<Vec<Case>, SceneError> {
         hanging_chain()?,
         cantilever()?,
         head_turn(quick)?,
+        head_strips(quick)?,
     ])
 }
 
@@ -145,6 +158,7 @@ fn case(
         samples,
         energy_scale,
         head,
+        represented_hairs: None,
     }
 }
 
@@ -263,11 +277,58 @@ points = [{}]
 pub fn head_turn(quick: bool) -> Result<Case, SceneError> {
     let mut file = SceneFile::builtin_default();
     file.origin = "<bench case head turn (the built-in default scene)>".into();
-    let scene = &mut file.scene;
-    let (strands, last) = if quick { (16, 13) } else { (256, 25) };
-    if let Some(hair) = scene.hair.as_mut() {
+    let strands = if quick { 16 } else { 256 };
+    if let Some(hair) = file.scene.hair.as_mut() {
         hair.count = strands;
     }
+    let mut case = turning_head(
+        file,
+        quick,
+        "head",
+        "default head scene, head turned 80° and back in 0.5 s",
+    )?;
+    case.represented_hairs = Some(case.sim.strands.len() as u64);
+    Ok(case)
+}
+
+/// The head turn of [`head_turn`] with seed 000's strips (the `[strips]` defaults: edge strands
+/// of 0.2 m in 8 segments, 100 hairs per strip) instead of the default hair: at most 64 strips,
+/// or 8 with `quick`, on every 4th scalp triangle.
+pub fn head_strips(quick: bool) -> Result<Case, SceneError> {
+    let mut file = SceneFile::builtin_default();
+    file.origin = "<bench case head strips (the built-in default scene with [strips])>".into();
+    let scene = &mut file.scene;
+    scene.hair = None;
+    scene.guides = None;
+    scene.sim_hairs = None;
+    scene.strands.clear();
+    scene.solver.model = StrandModel::Strips;
+    let section = StripsSection {
+        every: 4,
+        max_strips: Some(if quick { 8 } else { 64 }),
+        ..StripsSection::default()
+    };
+    let hairs_per_strip = section.hairs_per_strip as u64;
+    scene.strips = Some(section);
+    let mut case = turning_head(
+        file,
+        quick,
+        "head-strips",
+        "default head scene with strips instead of hair, the same turn",
+    )?;
+    case.represented_hairs = Some(case.sim.strands.len() as u64 / 2 * hairs_per_strip);
+    Ok(case)
+}
+
+/// `file` over frames 1–24 (1–12 with `quick`) with the fast turn and the scalp collider.
+fn turning_head(
+    mut file: SceneFile,
+    quick: bool,
+    name: &'static str,
+    title: &'static str,
+) -> Result<Case, SceneError> {
+    let scene = &mut file.scene;
+    let last = if quick { 13 } else { 25 };
     scene.scene.frames = [1, last];
     let key = |frame: f32, yaw: f32| MotionKey {
         frame,
@@ -288,11 +349,5 @@ pub fn head_turn(quick: bool) -> Result<Case, SceneError> {
         None => None,
     };
     let stride = if quick { 2 } else { 3 };
-    Ok(case(
-        "head",
-        "default head scene, head turned 80° and back in 0.5 s",
-        sim,
-        stride,
-        head,
-    ))
+    Ok(case(name, title, sim, stride, head))
 }

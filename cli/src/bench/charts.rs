@@ -25,13 +25,18 @@ fn font() {
     });
 }
 
-const COLORS: [RGBColor; 6] = [
+const COLORS: [RGBColor; 11] = [
     RGBColor(214, 39, 40),
     RGBColor(31, 119, 180),
     RGBColor(44, 160, 44),
     RGBColor(148, 103, 189),
     RGBColor(255, 127, 14),
     RGBColor(23, 190, 207),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(0, 0, 0),
 ];
 
 fn err(path: &Path) -> impl Fn(String) -> BenchError + '_ {
@@ -64,13 +69,15 @@ fn log_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     }
 }
 
-/// Error against cost, log–log, one panel per case, one series per method; `auto` marked.
+/// Error against cost, log–log, one panel per case, one series per method; `auto` marked; the
+/// last panel is the rod's tip-moment case (error against the analytic arc).
 pub fn pareto(r: &BenchReport, path: &Path) -> Result<(), BenchError> {
     font();
     let e = err(path);
-    let root = BitMapBackend::new(path, (1600, 1200)).into_drawing_area();
+    let rows = (r.cases.len() + 1).div_ceil(2);
+    let root = BitMapBackend::new(path, (1600, 600 * rows as u32)).into_drawing_area();
     root.fill(&WHITE).map_err(|x| e(format!("{x:?}")))?;
-    let panels = root.split_evenly((2, 2));
+    let panels = root.split_evenly((rows, 2));
     let mut methods: Vec<&str> = Vec::new();
     for run in &r.runs {
         if !methods.contains(&run.method.as_str()) {
@@ -101,6 +108,9 @@ pub fn pareto(r: &BenchReport, path: &Path) -> Result<(), BenchError> {
             .draw()
             .map_err(|x| e(format!("{x:?}")))?;
         for (i, m) in methods.iter().enumerate() {
+            if !runs.iter().any(|x| x.method == *m) {
+                continue;
+            }
             let color = COLORS[i % COLORS.len()];
             let pts: Vec<(f64, f64)> = stable()
                 .filter(|(x, _)| x.method == *m && !x.auto)
@@ -139,7 +149,76 @@ pub fn pareto(r: &BenchReport, path: &Path) -> Result<(), BenchError> {
             .draw()
             .map_err(|x| e(format!("{x:?}")))?;
     }
+    if let Some(panel) = panels.get(r.cases.len()) {
+        tip_moment_panel(r, panel, &e)?;
+    }
     root.present().map_err(|x| e(format!("{x:?}")))
+}
+
+/// The rod's tip-moment case: error against the analytic arc (over L) against the cost of
+/// relaxing it (ms per simulated second), one series per projection iteration limit.
+fn tip_moment_panel(
+    r: &BenchReport,
+    panel: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
+    e: &impl Fn(String) -> BenchError,
+) -> Result<(), BenchError> {
+    let done: Vec<_> = r
+        .tip_moment
+        .iter()
+        .filter_map(|t| {
+            let cost = t.us_per_substep / t.dt / 1e3;
+            t.error_over_length.map(|err| (t, cost, err))
+        })
+        .collect();
+    let mut chart = ChartBuilder::on(panel)
+        .caption(
+            "rod: cantilever under a tip moment, against the analytic arc",
+            ("sans-serif", 20),
+        )
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(75)
+        .build_cartesian_2d(
+            log_range(done.iter().map(|d| d.1)).log_scale(),
+            log_range(done.iter().map(|d| d.2)).log_scale(),
+        )
+        .map_err(|x| e(format!("{x:?}")))?;
+    chart
+        .configure_mesh()
+        .x_desc("cost: ms per simulated second")
+        .y_desc("largest node error / L")
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .label_style(("sans-serif", 14))
+        .draw()
+        .map_err(|x| e(format!("{x:?}")))?;
+    let mut limits: Vec<u32> = r.tip_moment.iter().map(|t| t.iterations).collect();
+    limits.dedup();
+    for (i, &it) in limits.iter().enumerate() {
+        let color = COLORS[(i + 5) % COLORS.len()];
+        let pts: Vec<(f64, f64)> = done
+            .iter()
+            .filter(|d| d.0.iterations == it)
+            .map(|d| (d.1, d.2))
+            .collect();
+        chart
+            .draw_series(pts.iter().map(|&p| Circle::new(p, 5, color.filled())))
+            .map_err(|x| e(format!("{x:?}")))?
+            .label(format!(
+                "rod, {it} projection iteration{}",
+                if it == 1 { "" } else { "s" }
+            ))
+            .legend(move |(x, y)| Circle::new((x + 10, y), 5, color.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .label_font(("sans-serif", 13))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|x| e(format!("{x:?}")))?;
+    Ok(())
 }
 
 /// Stretch stiffness × substeps per frame, stable (green dot) or unstable (red cross), one panel
@@ -147,9 +226,9 @@ pub fn pareto(r: &BenchReport, path: &Path) -> Result<(), BenchError> {
 pub fn stability_map(r: &BenchReport, grid: &Grid, path: &Path) -> Result<(), BenchError> {
     font();
     let e = err(path);
-    let root = BitMapBackend::new(path, (1500, 1400)).into_drawing_area();
-    root.fill(&WHITE).map_err(|x| e(format!("{x:?}")))?;
     let rows = r.stability.len().div_ceil(2);
+    let root = BitMapBackend::new(path, (1500, 460 * rows as u32)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| e(format!("{x:?}")))?;
     let panels = root.split_evenly((rows, 2));
     let xr = log_range(grid.substeps.iter().map(|&s| s as f64));
     // Room below the lowest row for the legend.
@@ -166,7 +245,7 @@ pub fn stability_map(r: &BenchReport, grid: &Grid, path: &Path) -> Result<(), Be
         chart
             .configure_mesh()
             .x_desc(format!("substeps per frame at {FPS} fps"))
-            .y_desc("stretch stiffness k (N/m)")
+            .y_desc(&m.axis)
             .x_label_formatter(&|v| format!("{v:.0}"))
             .y_label_formatter(&|v| format!("{v:.0e}"))
             .label_style(("sans-serif", 13))

@@ -4,11 +4,15 @@
 //! discrete-rod solver's projection iterations, say) joins as one [`Method`] value per count.
 
 use hair_core::{
-    HairError, HairParams, Inextensibility, Integrator, Solver, SolverSettings, Substeps,
+    HairError, HairParams, Inextensibility, Integrator, RodParams, RodSolver, Solver,
+    SolverSettings, StrandModel, Substeps,
 };
 
 use super::cases::Case;
-use super::metrics::{drive, Trace};
+use super::metrics::{drive, drive_model, Trace};
+use super::stability;
+use crate::model::ModelSolver;
+use crate::scene::SceneError;
 
 /// A way of advancing a case in time.
 pub trait Method: Sync {
@@ -24,6 +28,42 @@ pub trait Method: Sync {
     fn bound(&self, case: &Case) -> Result<f64, HairError>;
     /// The model components it runs on `case`, as the solver reports them.
     fn components(&self, case: &Case) -> Result<Vec<String>, HairError>;
+    /// Why it cannot run `case`, if it cannot (the case is then left out for this method and
+    /// the report says why).
+    fn cannot_run(&self, case: &Case) -> Option<String>;
+    /// The stability map's probe for the row of stiffness `k` (N/m), run for `frames` frames:
+    /// the probe strand with stretch stiffness `k` (see [`stability::probe_case`]).
+    fn probe(&self, k: f64, frames: u32) -> Result<Case, SceneError> {
+        stability::probe_case(k, frames)
+    }
+    /// What the rows of its stability map vary.
+    fn stiffness_axis(&self) -> &'static str {
+        "stretch stiffness k (N/m)"
+    }
+}
+
+/// Settings of `case` with `substeps` per frame (`None`: auto), one collision step per frame.
+fn fixed_settings(case: &Case, substeps: Option<u32>) -> SolverSettings {
+    SolverSettings {
+        steps: 1,
+        substeps: substeps.map_or(Substeps::Auto, Substeps::Fixed),
+        ..case.sim.settings
+    }
+}
+
+/// Names the model components `solver` runs on `case`, with contacts when the case has
+/// colliders.
+fn named_components(case: &Case, solver: &ModelSolver) -> Vec<String> {
+    let mut c: Vec<String> = solver
+        .components(&case.sim.strands)
+        .0
+        .into_iter()
+        .map(String::from)
+        .collect();
+    if case.sim.has_colliders() {
+        c.push("contacts".into());
+    }
+    c
 }
 
 /// hair-core's mass-spring solver in one configuration.
@@ -87,15 +127,13 @@ impl MassSpring {
     fn settings(&self, case: &Case, substeps: Option<u32>) -> SolverSettings {
         let s = case.sim.settings;
         SolverSettings {
-            steps: 1,
-            substeps: substeps.map_or(Substeps::Auto, Substeps::Fixed),
             damping_iterations: if self.damping {
                 s.damping_iterations.max(1)
             } else {
                 0
             },
             integrator: self.integrator,
-            ..s
+            ..fixed_settings(case, substeps)
         }
     }
 
@@ -151,16 +189,164 @@ impl Method for MassSpring {
     }
 
     fn components(&self, case: &Case) -> Result<Vec<String>, HairError> {
-        let solver = self.solver(case, Some(1))?;
-        let mut c: Vec<String> = solver
-            .components(&case.sim.strands)
-            .0
+        let solver = ModelSolver::MassSpring(Box::new(self.solver(case, Some(1))?));
+        Ok(named_components(case, &solver))
+    }
+
+    fn cannot_run(&self, case: &Case) -> Option<String> {
+        // On the strip case only the default runs: it is the reference of the strips' edges.
+        (case.sim.model == StrandModel::Strips && *self != Self::DEFAULT).then(|| {
+            "the strip case compares the strip model with the default mass-spring method only"
+                .into()
+        })
+    }
+}
+
+/// Seed 002's discrete rod ([`RodSolver`]) with a given projection iteration limit; the case's
+/// `[rod]` material (the defaults: a keratin strand of semi-axes 0.25 × 0.2 mm) and its gravity
+/// and air drag. Stretching is a constraint, so the mass-spring stretch, bending and damping
+/// parameters of the case do not apply.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Rod {
+    /// `rod.projection_iterations`: the projection's iteration limit per substep.
+    pub iterations: u32,
+}
+
+impl Rod {
+    /// Iteration limit of the rod's reference (the scene default: converges to its tolerance).
+    pub const REFERENCE_ITERATIONS: u32 = 20;
+
+    /// The rod methods `hairsys bench` compares: 1, 2, 4 and 8 projection iterations.
+    pub fn all() -> Vec<Box<dyn Method>> {
+        [1, 2, 4, 8]
             .into_iter()
-            .map(String::from)
-            .collect();
-        if case.sim.has_colliders() {
-            c.push("contacts".into());
+            .map(|iterations| Box::new(Self { iterations }) as Box<dyn Method>)
+            .collect()
+    }
+
+    fn solver(&self, case: &Case, substeps: Option<u32>) -> Result<RodSolver, HairError> {
+        let sim = &case.sim;
+        RodSolver::new(
+            fixed_settings(case, substeps),
+            sim.params,
+            RodParams {
+                projection_iterations: self.iterations,
+                ..sim.rod
+            },
+            &sim.strands,
+            &sim.scalp_at(sim.first_frame as f32),
+            sim.first_frame,
+        )
+    }
+
+    fn model(&self, case: &Case, substeps: Option<u32>) -> Result<ModelSolver, HairError> {
+        Ok(ModelSolver::Rod(
+            Box::new(self.solver(case, substeps)?),
+            Default::default(),
+        ))
+    }
+}
+
+impl Method for Rod {
+    fn name(&self) -> String {
+        format!(
+            "rod, {} projection iteration{}",
+            self.iterations,
+            if self.iterations == 1 { "" } else { "s" }
+        )
+    }
+
+    fn reference(&self) -> Box<dyn Method> {
+        Box::new(Self {
+            iterations: Self::REFERENCE_ITERATIONS,
+        })
+    }
+
+    fn run(&self, case: &Case, substeps: Option<u32>) -> Result<Trace, HairError> {
+        drive_model(case, self.model(case, substeps)?)
+    }
+
+    fn bound(&self, case: &Case) -> Result<f64, HairError> {
+        Ok(self.solver(case, Some(1))?.dt_max())
+    }
+
+    fn components(&self, case: &Case) -> Result<Vec<String>, HairError> {
+        Ok(named_components(case, &self.model(case, Some(1))?))
+    }
+
+    /// The probe strand with the rod's stiffest bending `E I₂` chosen so that its zig-zag mode
+    /// has the frequency of a stretch spring `k` on the same points: `32 E I₂ / (m l³) = 4 k/m`,
+    /// `E I₂ = k l³/8` (the section's shape as in `[rod]`, Young's modulus scaled). Stretching
+    /// is a constraint for the rod, so bending is what bounds its substep.
+    fn probe(&self, k: f64, frames: u32) -> Result<Case, SceneError> {
+        let mut case = stability::probe_case(k, frames)?;
+        let rod = &mut case.sim.rod;
+        let wanted = k * stability::PROBE_SEGMENT.powi(3) / 8.0;
+        let minor = hair_core::rod::Stiffness::of(rod).minor;
+        rod.youngs_modulus = (rod.youngs_modulus as f64 * wanted / minor) as f32;
+        Ok(case)
+    }
+
+    fn stiffness_axis(&self) -> &'static str {
+        "bending with the frequency of k: E I₂ = k l³/8 (k in N/m)"
+    }
+
+    fn cannot_run(&self, case: &Case) -> Option<String> {
+        if case.sim.model == StrandModel::Strips {
+            return Some("the strip case is the strip model's".into());
         }
+        let goals = case.sim.strands.goal_weights().iter().any(|&w| w > 0.0)
+            && case.sim.params.goal_stiffness > 0.0;
+        goals.then(|| {
+            "the case's strands hold their shape by goal springs, which the rod model does not \
+             have (its shape comes from the rest curvature and the [rod] material)"
+                .into()
+        })
+    }
+}
+
+/// Seed 000's hair strips ([`hair_core::strips::StripSolver`]): the case's edge strands as
+/// mass-spring chains with Provot's strain limit, the root angle limiter and the two-stage head
+/// collision. Its reference is the default mass-spring method on the same edge strands without
+/// the strip passes, so its error is that of the ribbon's edges against the mass-spring model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Strips;
+
+impl Method for Strips {
+    fn name(&self) -> String {
+        "strips".into()
+    }
+
+    fn reference(&self) -> Box<dyn Method> {
+        Box::new(MassSpring::DEFAULT)
+    }
+
+    fn run(&self, case: &Case, substeps: Option<u32>) -> Result<Trace, HairError> {
+        let mut sim = case.sim.clone();
+        sim.settings = fixed_settings(case, substeps);
+        drive_model(case, ModelSolver::strips(&sim)?)
+    }
+
+    fn bound(&self, case: &Case) -> Result<f64, HairError> {
+        MassSpring::DEFAULT.bound(case)
+    }
+
+    fn components(&self, case: &Case) -> Result<Vec<String>, HairError> {
+        let mut c = MassSpring::DEFAULT.components(case)?;
+        c.extend(
+            [
+                "Provot strain limit",
+                "root angle limiter",
+                "two-stage head collision",
+            ]
+            .map(String::from),
+        );
         Ok(c)
+    }
+
+    fn cannot_run(&self, case: &Case) -> Option<String> {
+        (case.sim.model != StrandModel::Strips).then(|| {
+            "the strip model runs on its own strips, grown on the head (case head-strips)".into()
+        })
     }
 }

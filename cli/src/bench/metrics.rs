@@ -12,11 +12,12 @@
 
 use std::time::{Duration, Instant};
 
-use hair_core::{energy, Colliders, HairError, Solver};
+use hair_core::{energy, Colliders, HairError, ProjectionReport, Solver};
 use nalgebra::Vector3;
 use serde::Serialize;
 
 use super::cases::Case;
+use crate::model::ModelSolver;
 
 /// Wall-clock cost of a run (solver only).
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -25,6 +26,10 @@ pub struct Cost {
     pub ms_per_frame: f64,
     /// Points × substeps advanced per second.
     pub point_substeps_per_s: f64,
+    /// Microseconds per frame per hair the case stands for (cases that count their hairs: a
+    /// strand is one hair, a strip its `hairs_per_strip`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub us_per_represented_hair: Option<f64>,
 }
 
 /// The observed history of one run.
@@ -42,10 +47,27 @@ pub struct Trace {
     pub substeps: u32,
     /// Cost.
     pub cost: Cost,
+    /// The rod model's projection figures over the run (`None` for the other models).
+    pub projection: Option<ProjectionReport>,
 }
 
-/// Runs `case` with `solver` (built for the case's first frame) to its last frame.
-pub fn drive(case: &Case, mut solver: Solver) -> Result<Trace, HairError> {
+/// Runs `case` with the mass-spring `solver` (built for the case's first frame) to its last
+/// frame.
+pub fn drive(case: &Case, solver: Solver) -> Result<Trace, HairError> {
+    drive_model(case, ModelSolver::MassSpring(Box::new(solver)))
+}
+
+/// Total mechanical energy of `strands` under `solver`'s model, J.
+fn model_energy(solver: &ModelSolver, strands: &hair_core::StrandSet) -> f64 {
+    match solver {
+        ModelSolver::MassSpring(s) => energy(strands, s.params(), s.roots()).total(),
+        ModelSolver::Rod(s, _) => s.energy(strands).total(),
+        ModelSolver::Strips(s) => energy(strands, s.solver().params(), s.solver().roots()).total(),
+    }
+}
+
+/// Runs `case` with `solver` of any model (built for the case's first frame) to its last frame.
+pub fn drive_model(case: &Case, mut solver: ModelSolver) -> Result<Trace, HairError> {
     let sim = &case.sim;
     let mut strands = sim.strands.clone();
     let mut colliders: Colliders = sim.colliders_at(sim.first_frame as f32)?;
@@ -76,16 +98,21 @@ pub fn drive(case: &Case, mut solver: Solver) -> Result<Trace, HairError> {
     }
     let frames = (sim.last_frame - sim.first_frame) as f64;
     let seconds = solve.as_secs_f64().max(1e-9);
+    let ms_per_frame = 1e3 * seconds / frames;
     Ok(Trace {
         samples,
         max_stretch,
-        energy_end: energy(&strands, solver.params(), solver.roots()).total(),
+        energy_end: model_energy(&solver, &strands),
         max_penetration,
         substeps,
         cost: Cost {
-            ms_per_frame: 1e3 * seconds / frames,
+            ms_per_frame,
             point_substeps_per_s: point_substeps as f64 / seconds,
+            us_per_represented_hair: case
+                .represented_hairs
+                .map(|h| 1e3 * ms_per_frame / h.max(1) as f64),
         },
+        projection: solver.projection(),
     })
 }
 

@@ -2,14 +2,20 @@
 //!
 //! Every [`Method`] runs every reference case ([`cases`]) at 1, 2, 4 … substeps per frame; each
 //! run gives its cost (ms/frame, point-substeps/s) and its errors ([`metrics`]) against the
-//! **reference**: the same case run by the method's reference (the same model advanced by
-//! semi-implicit Euler) at [`REFERENCE_FACTOR`] times the finest substep charted. The reference
-//! counts as **converged** when halving its step changes it (position RMS over the sample
-//! frames) by less than the smallest error charted against it; the report states both numbers
-//! for each reference. `substeps = "auto"` is run too and marked on the chart.
+//! **reference**: the same case run by the method's reference (the same model advanced by its
+//! most accurate method: semi-implicit Euler, the rod with 20 projection iterations, or for the
+//! strips the default mass-spring method on the same edge strands) at [`REFERENCE_FACTOR`]
+//! times the finest substep charted. The reference counts as **converged** when halving its
+//! step changes it (position RMS over the sample frames) by less than the smallest error
+//! charted against it; the report states both numbers for each reference. `substeps = "auto"`
+//! is run too and marked on the chart.
 //!
 //! The **stability map** ([`stability`]) runs a probe strand over a grid of stretch stiffness
-//! × substeps per method and draws the predicted bound `dt < 2/ω` on it.
+//! × substeps per method and draws the predicted bound `dt < 2/ω` on it (for the rod, whose
+//! stretching is a constraint, the rows set its bending to the same frequency).
+//!
+//! Beside the cases, [`tip_moment`] measures the rod's cantilever under a tip moment against
+//! the analytic large-rotation arc.
 //!
 //! Output ([`report`], [`charts`]): `pareto.png` (error against cost, log–log, one panel per
 //! case, one series per method), `stability_map.png`, `bench.md` (the tables) and `bench.json`
@@ -21,18 +27,19 @@ pub mod methods;
 pub mod metrics;
 pub mod report;
 pub mod stability;
+pub mod tip_moment;
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use hair_core::HairError;
+use hair_core::{HairError, ProjectionReport};
 use serde::Serialize;
 
 use crate::progress::Progress;
 use crate::scene::SceneError;
 use cases::Case;
-use methods::{MassSpring, Method};
+use methods::{MassSpring, Method, Rod, Strips};
 use metrics::{blown_up, errors, rms_difference, Cost, Errors, Trace};
 use stability::{Grid, MethodMap};
 
@@ -85,6 +92,9 @@ pub enum Outcome {
         cost: Cost,
         /// Errors against the reference.
         errors: Errors,
+        /// The rod model's projection figures (rod methods only).
+        #[serde(skip_serializing_if = "Option::is_none")]
+        projection: Option<ProjectionReport>,
     },
     /// The solver stopped it (blow-up detected), or it ended a frame with a segment stretched
     /// beyond [`metrics::BLOWN_UP_STRETCH`].
@@ -115,7 +125,7 @@ impl Run {
     /// Cost and errors, if it was stable.
     pub fn stable(&self) -> Option<(&Cost, &Errors)> {
         match &self.outcome {
-            Outcome::Stable { cost, errors } => Some((cost, errors)),
+            Outcome::Stable { cost, errors, .. } => Some((cost, errors)),
             Outcome::Unstable { .. } => None,
         }
     }
@@ -138,6 +148,17 @@ pub struct Convergence {
     pub converged: bool,
 }
 
+/// A method left out of a case, and why.
+#[derive(Debug, Clone, Serialize)]
+pub struct NotRun {
+    /// Case name.
+    pub case: String,
+    /// Method name.
+    pub method: String,
+    /// Why it cannot run the case.
+    pub reason: String,
+}
+
 /// Everything the bench measured.
 #[derive(Debug, Clone, Serialize)]
 pub struct BenchReport {
@@ -151,6 +172,10 @@ pub struct BenchReport {
     pub runs: Vec<Run>,
     /// The references and their convergence.
     pub references: Vec<Convergence>,
+    /// Methods left out of cases they cannot run.
+    pub not_run: Vec<NotRun>,
+    /// The rod's cantilever under a tip moment against the analytic arc.
+    pub tip_moment: Vec<tip_moment::TipMomentRun>,
     /// Stiffnesses of the stability map rows, N/m.
     pub stability_stiffness: Vec<f64>,
     /// Substeps per frame of the stability map columns (at [`stability::FPS`]).
@@ -193,11 +218,16 @@ pub fn bench_case(
     ladder: &[u32],
     progress: &Progress,
 ) -> Result<(Vec<Run>, Vec<Convergence>), BenchError> {
+    let methods: Vec<&dyn Method> = methods
+        .iter()
+        .map(|m| m.as_ref())
+        .filter(|m| m.cannot_run(case).is_none())
+        .collect();
     let finest = *ladder.last().unwrap_or(&1);
     let n_ref = finest * REFERENCE_FACTOR;
     let step_dt = 1.0 / case.sim.settings.fps as f64;
     let mut references: BTreeMap<String, (Trace, f64)> = BTreeMap::new();
-    for m in methods {
+    for m in &methods {
         let r = m.reference();
         if references.contains_key(&r.name()) {
             continue;
@@ -238,6 +268,7 @@ pub fn bench_case(
                     Outcome::Stable {
                         cost,
                         errors: errors(case, &trace, reference),
+                        projection: trace.projection,
                     },
                 )
             }
@@ -264,12 +295,14 @@ pub fn bench_case(
         });
         Ok(())
     };
-    for m in methods {
+    for m in &methods {
         for &s in ladder {
-            record(m.as_ref(), Some(s))?;
+            record(*m, Some(s))?;
         }
     }
-    record(&MassSpring::DEFAULT, None)?;
+    if MassSpring::DEFAULT.cannot_run(case).is_none() {
+        record(&MassSpring::DEFAULT, None)?;
+    }
     let convergence = references
         .into_iter()
         .map(|(name, (_, change))| {
@@ -303,11 +336,36 @@ pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
     // Fail before minutes of work, not after.
     report::create_dir(&opts.out)?;
     let cases = cases::all(opts.quick)?;
-    let methods = MassSpring::all();
+    let mut methods = MassSpring::all();
+    methods.extend(Rod::all());
+    methods.push(Box::new(Strips));
     let ladder = ladder(opts.quick);
     let grid = Grid::new(opts.quick);
-    let per_case = methods.len() * ladder.len() + 1 + 2 * methods.len();
-    let total = cases.len() * per_case + methods.len() * grid.stiffness.len();
+    let probe = stability::probe_case(1.0, 1)?;
+    let mapped: Vec<&dyn Method> = methods
+        .iter()
+        .map(|m| m.as_ref())
+        .filter(|m| m.cannot_run(&probe).is_none())
+        .collect();
+    let mut not_run = Vec::new();
+    let mut total = mapped.len() * grid.stiffness.len() + tip_moment::runs(opts.quick);
+    for case in &cases {
+        let runnable = methods
+            .iter()
+            .filter(|m| {
+                let reason = m.cannot_run(case);
+                if let Some(reason) = &reason {
+                    not_run.push(NotRun {
+                        case: case.name.into(),
+                        method: m.name(),
+                        reason: reason.clone(),
+                    });
+                }
+                reason.is_none()
+            })
+            .count();
+        total += runnable * (ladder.len() + 2) + 1;
+    }
     let progress = Progress::new(total as u64, opts.quiet, opts.json, "bench");
     let mut runs = Vec::new();
     let mut references = Vec::new();
@@ -316,9 +374,18 @@ pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
         runs.extend(r);
         references.extend(c);
     }
+    let tip_moment = tip_moment::bench(opts.quick, || {
+        progress.tick(&Event {
+            event: "tip-moment",
+            case: "tip moment",
+            method: "rod",
+            substeps: 0,
+            status: "done",
+        })
+    });
     let mut maps = Vec::new();
-    for m in &methods {
-        maps.push(stability::map(m.as_ref(), &grid, || {
+    for m in mapped {
+        maps.push(stability::map(m, &grid, || {
             progress.tick(&Event {
                 event: "stability-row",
                 case: "probe",
@@ -329,10 +396,13 @@ pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
         })?);
     }
     progress.finish();
-    let head = cases.last().expect("the cases are not empty");
+    // Components on the last case each method runs (the head, or the head with strips).
     let components = methods
         .iter()
-        .map(|m| Ok((m.name(), m.components(head)?.join(", "))))
+        .filter_map(|m| {
+            let case = cases.iter().rev().find(|c| m.cannot_run(c).is_none())?;
+            Some(m.components(case).map(|c| (m.name(), c.join(", "))))
+        })
         .collect::<Result<Vec<_>, HairError>>()?;
     let report = BenchReport {
         quick: opts.quick,
@@ -343,6 +413,8 @@ pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
             .collect(),
         runs,
         references,
+        not_run,
+        tip_moment,
         stability_stiffness: grid.stiffness.clone(),
         stability_substeps: grid.substeps.clone(),
         stability: maps,

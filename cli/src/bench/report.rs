@@ -5,8 +5,61 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::charts;
+use hair_core::ProjectionReport;
+
 use super::stability::{Grid, FPS};
+use super::tip_moment;
 use super::{BenchError, BenchReport, Outcome, REFERENCE_FACTOR};
+
+/// Largest segment strain the rod's projection may leave before the bench calls it constraint
+/// drift (issue 9's inextensibility test: below 10⁻⁴).
+pub const ROD_STRAIN_LIMIT: f64 = 1e-4;
+
+/// Energy gained against the reference, as a fraction of `Σ m g L`, beyond which a run that
+/// finished is flagged as near-unstable.
+pub const ENERGY_GAIN_LIMIT: f64 = 0.5;
+
+/// The notes column of a finished run: the rod's projection figures, and an energy gain that
+/// betrays a run at the edge of stability.
+fn notes(projection: Option<&ProjectionReport>, energy_drift: f64) -> String {
+    let mut note = projection.map_or(String::new(), projection_note);
+    if energy_drift > ENERGY_GAIN_LIMIT {
+        if !note.is_empty() {
+            note += "; ";
+        }
+        let _ = write!(
+            note,
+            "**energy gain** above {ENERGY_GAIN_LIMIT} m g L: at the edge of stability"
+        );
+    }
+    note
+}
+
+/// The rod's projection figures in words: mean and most iterations, residual, strain, and where
+/// it failed.
+fn projection_note(p: &ProjectionReport) -> String {
+    let mut note = format!(
+        "{:.1} it (max {}), residual {}, strain {}",
+        p.mean_iterations(),
+        p.max_iterations,
+        sci(p.residual),
+        sci(p.max_strain)
+    );
+    if p.unconverged > 0 {
+        let _ = write!(
+            note,
+            "; **not converged** in {} of {} projections",
+            p.unconverged, p.projections
+        );
+    }
+    if p.max_strain > ROD_STRAIN_LIMIT {
+        let _ = write!(
+            note,
+            "; **constraint drift** (strain > {ROD_STRAIN_LIMIT:.0e})"
+        );
+    }
+    note
+}
 
 /// File names written into the output directory.
 pub const FILES: [&str; 4] = ["pareto.png", "stability_map.png", "bench.md", "bench.json"];
@@ -78,11 +131,33 @@ pub fn markdown(r: &BenchReport, grid: &Grid) -> String {
     }
     let _ = writeln!(
         s,
+        "\nThe rod (seed 002) takes its material from the scene's `[rod]` table (the defaults: \
+         keratin, semi-axes 0.25 × 0.2 mm) and only gravity and air drag from `[physics]`: the \
+         mass-spring stretch, bending and damping parameters, goal springs, force fields and \
+         hair–hair interaction do not apply to it, so on the cantilever it is a much softer strand \
+         than the mass-spring one and each model is measured against its own reference. The \
+         rod's iteration limit of its projection is its own axis (one series per limit); its \
+         reference uses {} iterations. The strips (seed 000) run only on the head-strips case, \
+         against the default mass-spring method on the same edge strands.",
+        super::methods::Rod::REFERENCE_ITERATIONS
+    );
+    if !r.not_run.is_empty() {
+        let _ = writeln!(s, "\n### Not run\n");
+        let _ = writeln!(s, "| case | method | why |\n|---|---|---|");
+        for n in &r.not_run {
+            let _ = writeln!(s, "| {} | {} | {} |", n.case, n.method, n.reason);
+        }
+    }
+    let _ = writeln!(
+        s,
         "\n## References\n\nEach method is measured against its **reference**: the same case, \
-         the same model, advanced by semi-implicit Euler at {REFERENCE_FACTOR}× the finest substep \
-         count charted. A reference counts as **converged** when halving its step changes it \
+         the same model, advanced by its most accurate method (mass-spring: semi-implicit Euler; \
+         rod: {} projection iterations; strips: the default mass-spring method on the same edge \
+         strands, without the strip passes) at {REFERENCE_FACTOR}× the finest substep count \
+         charted. A reference counts as **converged** when halving its step changes it \
          (position RMS over the sample frames) by less than the smallest error charted against \
-         it.\n"
+         it.\n",
+        super::methods::Rod::REFERENCE_ITERATIONS
     );
     let _ = writeln!(
         s,
@@ -105,13 +180,21 @@ pub fn markdown(r: &BenchReport, grid: &Grid) -> String {
         s,
         "\n## Runs\n\nPosition error: RMS of `|x − x_ref|` over free points and sample frames. \
          Stretch: largest `len/rest − 1`. Energy drift: `(E(T) − E_ref(T)) / Σ m g L`. \
-         Penetration: deepest point centre inside the head. `auto` marks `substeps = \"auto\"`.\n"
+         Penetration: deepest point centre inside the head. `auto` marks `substeps = \"auto\"`. \
+         µs/frame/hair: cost per frame per hair the simulated strands stand for (head cases). \
+         Notes: for the rod, mean (and most) iterations per projection, largest residual, largest \
+         segment strain; a rod run whose projection stops at its limit, or leaves a strain above \
+         {ROD_STRAIN_LIMIT:.0e}, says so; so does a run that ends with more than \
+         {ENERGY_GAIN_LIMIT} m g L above its reference's energy. A failed run gives its cause.\n"
     );
     let _ = writeln!(
         s,
-        "| case | method | substeps/frame | dt (s) | ms/frame | M point-substeps/s | position error (m) | max stretch (%) | energy drift | max penetration (mm) |"
+        "| case | method | substeps/frame | dt (s) | ms/frame | M point-substeps/s | position error (m) | max stretch (%) | energy drift | max penetration (mm) | µs/frame/hair | notes |"
     );
-    let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    let _ = writeln!(
+        s,
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+    );
     for run in &r.runs {
         let substeps = if run.auto {
             format!("{} (auto)", run.substeps)
@@ -119,10 +202,14 @@ pub fn markdown(r: &BenchReport, grid: &Grid) -> String {
             run.substeps.to_string()
         };
         match &run.outcome {
-            Outcome::Stable { cost, errors } => {
+            Outcome::Stable {
+                cost,
+                errors,
+                projection,
+            } => {
                 let _ = writeln!(
                     s,
-                    "| {} | {} | {} | {} | {:.3} | {:.1} | {} | {:.3} | {} | {:.2} |",
+                    "| {} | {} | {} | {} | {:.3} | {:.1} | {} | {:.3} | {} | {:.2} | {} | {} |",
                     run.case,
                     run.method,
                     substeps,
@@ -133,16 +220,21 @@ pub fn markdown(r: &BenchReport, grid: &Grid) -> String {
                     100.0 * errors.max_stretch,
                     sci(errors.energy_drift),
                     1e3 * errors.max_penetration,
+                    cost.us_per_represented_hair
+                        .map_or(String::new(), |us| format!("{us:.3}")),
+                    notes(projection.as_ref(), errors.energy_drift),
                 );
             }
-            Outcome::Unstable { .. } => {
+            Outcome::Unstable { message } => {
+                let cause: String = message.chars().take(140).collect();
                 let _ = writeln!(
                     s,
-                    "| {} | {} | {} | {} | unstable | | | | | |",
+                    "| {} | {} | {} | {} | unstable | | | | | | | fails: {} |",
                     run.case,
                     run.method,
                     substeps,
-                    sci(run.dt)
+                    sci(run.dt),
+                    cause.replace('|', "/")
                 );
             }
         }
@@ -178,12 +270,16 @@ pub fn markdown(r: &BenchReport, grid: &Grid) -> String {
             .unwrap_or(("none".into(), String::new()));
         let _ = writeln!(s, "| {case} | {a_n} | {a_e} | {f_n} | {f_e} |");
     }
+    strips_table(&mut s, r);
+    tip_moment_table(&mut s, r);
     let _ = writeln!(
         s,
         "\n## Stability\n\nProbe: 16 segments of 1 cm, 10 mg per point, no bending, released \
          horizontally under gravity, {} frames at {FPS} fps. Predicted bound `dt < 2/ω`, \
-         `ω² = 4 (k_stretch + 4 k_bend)/m_min`; observed: the longest substep from which every \
-         shorter one was stable.\n",
+         `ω² = 4 (k_stretch + 4 k_bend)/m_min`; for the rod (whose stretching is a constraint) the \
+         rows set its stiffest bending to the same frequency, `E I₂ = k l³/8`, and its bound is \
+         `RodSolver::dt_max`, `ω² = 32 E I₂/(m_min l³)`; observed: the longest substep from \
+         which every shorter one was stable.\n",
         grid.frames
     );
     let _ = writeln!(
@@ -221,4 +317,81 @@ pub fn markdown(r: &BenchReport, grid: &Grid) -> String {
         }
     }
     s
+}
+
+/// Cost per represented hair of the strips against the mass-spring model on the head cases.
+fn strips_table(s: &mut String, r: &BenchReport) {
+    let _ = writeln!(
+        s,
+        "\n## Strips: cost per represented hair\n\nThe strip model (seed 000) on the head-strips \
+         case against the default mass-spring method on the same edge strands (its reference) and \
+         on the head case's hair (one strand per hair). Error: the strips' edge strands against \
+         the mass-spring reference at the sample frames.\n"
+    );
+    let _ = writeln!(
+        s,
+        "| case | method | substeps/frame | ms/frame | µs/frame/hair | represented hair-frames/s | edge error (m) |"
+    );
+    let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|");
+    for run in r.runs.iter().filter(|x| {
+        (x.case == "head-strips" || (x.case == "head" && x.method == "semi-implicit Euler"))
+            && !x.auto
+    }) {
+        if let Some((cost, errors)) = run.stable() {
+            let us = cost.us_per_represented_hair.unwrap_or(f64::NAN);
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {:.3} | {:.3} | {} | {} |",
+                run.case,
+                run.method,
+                run.substeps,
+                cost.ms_per_frame,
+                us,
+                sci(1e6 / us),
+                sci(errors.position_rms)
+            );
+        }
+    }
+}
+
+/// The rod's cantilever under a tip moment against the analytic arc.
+fn tip_moment_table(s: &mut String, r: &BenchReport) {
+    let (u, v) = tip_moment::analytic_tip();
+    let _ = writeln!(
+        s,
+        "\n## Rod: cantilever under a tip moment\n\nA clamped 0.4 m rod (20 segments, \
+         EI = 10⁻³ N m², round) under a tip moment with t = ML/EI = {} rad, relaxed to rest by \
+         air drag over 2 s (see `cli/src/bench/tip_moment.rs`). Analytic tip: u = L(sin t/t − 1) \
+         = {} m, v = (L/t)(1 − cos t) = {} m. Error: largest node distance from the arc over L. \
+         The predicted bound 2/ω is {} s. The mass-spring model has no tip-moment input, so it is \
+         not measured here.\n",
+        tip_moment::ROTATION,
+        sci(u),
+        sci(v),
+        sci(tip_moment::bound())
+    );
+    let _ = writeln!(
+        s,
+        "| iterations | dt (s) | dt / bound | tip u (m) | tip v (m) | error / L | max strain | residual | unconverged substeps | µs/substep | status |"
+    );
+    let _ = writeln!(s, "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|");
+    let opt = |x: Option<f64>| x.map_or(String::new(), sci);
+    for t in &r.tip_moment {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.3} | {} | {} | {} | {} | {} | {} of {} | {:.1} | {} |",
+            t.iterations,
+            sci(t.dt),
+            t.dt_over_bound,
+            opt(t.tip_u),
+            opt(t.tip_v),
+            opt(t.error_over_length),
+            opt(t.max_strain),
+            sci(t.residual),
+            t.unconverged,
+            t.substeps,
+            t.us_per_substep,
+            t.status
+        );
+    }
 }

@@ -23,6 +23,9 @@ use super::methods::Method;
 use super::metrics::blown_up;
 use crate::scene::{SceneError, SceneFile};
 
+/// Segment length of the probe strand, m.
+pub const PROBE_SEGMENT: f64 = 0.01;
+
 /// Frames per second of the probes (the substep is `1 / (24 · substeps)` s).
 pub const FPS: f64 = 24.0;
 
@@ -66,6 +69,8 @@ impl Grid {
 pub struct MethodMap {
     /// The method.
     pub method: String,
+    /// What the rows vary ([`Method::stiffness_axis`]).
+    pub axis: String,
     /// `stable[row][column]` on the [`Grid`].
     pub stable: Vec<Vec<bool>>,
     /// Predicted largest stable substep per row, s.
@@ -96,7 +101,7 @@ impl MethodMap {
 /// The probe strand with stretch stiffness `k` (N/m), run for `frames` frames.
 pub fn probe_case(k: f64, frames: u32) -> Result<Case, SceneError> {
     let points: Vec<String> = (0..=16)
-        .map(|i| format!("[{:.3}, 0.0, 0.0]", 0.01 * i as f64))
+        .map(|i| format!("[{:.3}, 0.0, 0.0]", PROBE_SEGMENT * i as f64))
         .collect();
     let text = format!(
         r#"
@@ -123,6 +128,7 @@ points = [{}]
         samples: Vec::new(),
         energy_scale: 1.0,
         head: None,
+        represented_hairs: None,
         sim,
     })
 }
@@ -144,12 +150,13 @@ pub fn map(
 ) -> Result<MethodMap, crate::bench::BenchError> {
     let mut out = MethodMap {
         method: method.name(),
+        axis: method.stiffness_axis().into(),
         stable: Vec::new(),
         predicted_dt: Vec::new(),
         observed_dt: Vec::new(),
     };
     for &k in &grid.stiffness {
-        let case = probe_case(k, grid.frames)?;
+        let case = method.probe(k, grid.frames)?;
         let row = grid
             .substeps
             .iter()

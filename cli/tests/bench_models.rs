@@ -1,0 +1,89 @@
+//! The rod and strip models in the bench: the rod's error against its own very fine reference
+//! falls as the substeps grow, its projection keeps every segment within 10⁻⁴ of its rest length
+//! through the fast head turn, its cantilever under a tip moment lies on the analytic arc, and
+//! the strip model reports a cost per represented hair and its edges' error against the
+//! mass-spring model.
+
+use hairsys::bench::cases;
+use hairsys::bench::methods::{MassSpring, Method, Rod, Strips};
+use hairsys::bench::metrics::rms_difference;
+use hairsys::bench::tip_moment;
+
+#[test]
+fn rod_error_falls_as_substeps_grow() {
+    let case = cases::hanging_chain().unwrap();
+    let rod = Rod { iterations: 8 };
+    let fine = rod.reference().run(&case, Some(1024)).unwrap();
+    let ladder = [16, 32, 64, 128];
+    let errors: Vec<f64> = ladder
+        .iter()
+        .map(|&s| rms_difference(&case, &rod.run(&case, Some(s)).unwrap(), &fine))
+        .collect();
+    println!("rod on the chain: substeps {ladder:?}, errors (m) {errors:?}");
+    for w in errors.windows(2) {
+        assert!(w[1] < 0.8 * w[0], "rod error does not fall: {errors:?}");
+    }
+    assert!(
+        errors[3] < 0.35 * errors[0],
+        "8× the substeps should cut the error well below half: {errors:?}"
+    );
+}
+
+#[test]
+fn rod_max_strain_stays_below_1e_4_in_the_fast_head_turn() {
+    let case = cases::head_turn(true).unwrap();
+    for iterations in [4, 8] {
+        let trace = Rod { iterations }.run(&case, Some(64)).unwrap();
+        let p = trace.projection.expect("rod runs report their projection");
+        println!(
+            "rod, {iterations} iterations, 64 substeps: strain {:.2e}, residual {:.2e}, \
+             {:.2} iterations per projection",
+            p.max_strain,
+            p.residual,
+            p.mean_iterations()
+        );
+        assert!(p.max_strain < 1e-4, "strain {}", p.max_strain);
+        assert!(trace.max_stretch < 1e-4, "stretch {}", trace.max_stretch);
+        assert!(p.max_iterations <= iterations);
+    }
+}
+
+#[test]
+fn rod_tip_moment_lies_on_the_analytic_arc_within_1_percent() {
+    let stable = tip_moment::run(8, 0.5 * tip_moment::bound());
+    println!("{stable:?}");
+    assert_eq!(stable.status, "at rest");
+    let error = stable.error_over_length.unwrap();
+    assert!(error < 0.01, "node error {error} of L");
+    let (u, v) = tip_moment::analytic_tip();
+    assert!((stable.tip_u.unwrap() - u).abs() < 0.01 * tip_moment::LENGTH);
+    assert!((stable.tip_v.unwrap() - v).abs() < 0.01 * tip_moment::LENGTH);
+    // One projection iteration above the bound cannot hold the lengths: the run says so.
+    let failed = tip_moment::run(1, 1.5 * tip_moment::bound());
+    assert!(failed.error_over_length.is_none(), "{failed:?}");
+    assert!(
+        failed.status.contains("projection not converging"),
+        "{failed:?}"
+    );
+}
+
+#[test]
+fn strips_report_cost_per_represented_hair_and_edge_error() {
+    let case = cases::head_strips(true).unwrap();
+    let strips = case.sim.strands.len() as u64 / 2;
+    assert_eq!(case.represented_hairs, Some(strips * 100));
+    assert_eq!(Strips.reference().name(), MassSpring::DEFAULT.name());
+    let reference = Strips.reference().run(&case, Some(512)).unwrap();
+    let trace = Strips.run(&case, Some(64)).unwrap();
+    let per_hair = trace.cost.us_per_represented_hair.unwrap();
+    let expected = 1e3 * trace.cost.ms_per_frame / (strips * 100) as f64;
+    assert!(
+        (per_hair - expected).abs() <= 1e-9 * expected,
+        "{per_hair} against {expected}"
+    );
+    let error = rms_difference(&case, &trace, &reference);
+    println!("{strips} strips: {per_hair:.3} µs/frame/hair, edge error {error:.2e} m");
+    assert!(error.is_finite() && error < 0.01, "edge error {error} m");
+    assert!(Rod { iterations: 4 }.cannot_run(&case).is_some());
+    assert!(Strips.cannot_run(&cases::pendulum().unwrap()).is_some());
+}
