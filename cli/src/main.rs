@@ -8,7 +8,7 @@ use hair_cache::foxglove::FoxgloveOptions;
 use hair_cache::{CacheReader, Compression, Interpolation, Precision, WriterOptions};
 use hair_render::ChildCount;
 use hairsys::progress::Progress;
-use hairsys::render_children::{export, ChildOverrides, ExportOptions, Format};
+use hairsys::render_children::{export, parse_shutter, ChildOverrides, ExportOptions, Format};
 use hairsys::scene::{SceneFile, DEFAULT_SCENE};
 use hairsys::simulate::{simulate, SimulateOptions};
 use serde_json::json;
@@ -116,7 +116,7 @@ struct ExportArgs {
     #[arg(long)]
     frame: Option<u32>,
     /// Shutter interval OPEN,CLOSE in frames around the frame.
-    #[arg(long, value_parser = parse_pair, default_value = "-0.25,0.25", allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_shutter, default_value = "-0.25,0.25", allow_hyphen_values = true)]
     shutter: (f64, f64),
     /// Motion samples over the shutter (USD time samples); 1 = no motion blur.
     #[arg(long, default_value_t = 1)]
@@ -182,18 +182,6 @@ enum FormatArg {
     Usd,
     /// Cem Yuksel's .hair.
     Hair,
-}
-
-fn parse_pair(s: &str) -> Result<(f64, f64), String> {
-    let (a, b) = s
-        .split_once(',')
-        .ok_or_else(|| format!("`{s}` is not OPEN,CLOSE, e.g. -0.25,0.25"))?;
-    let num = |t: &str| {
-        t.trim()
-            .parse::<f64>()
-            .map_err(|_| format!("`{t}` is not a number"))
-    };
-    Ok((num(a)?, num(b)?))
 }
 
 #[derive(Subcommand)]

@@ -7,14 +7,15 @@
 //! their edge strands take the cached positions (strip `k` = strands `2k`, `2k + 1`). With
 //! `[scalp.collider]` the rest scalp is the head every card vertex is kept out of.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use hair_cache::{CacheReader, Interpolation};
+use hair_cache::Interpolation;
 use hair_core::strips::HeadShape;
 use hair_render::export::cards_obj::export_cards_obj;
 use hair_render::export::cards_usd::{export_cards_usda, CardSample, CardUsdOptions};
 use hair_render::{build_cards, CardMesh, CardSettings};
 
+use crate::render_children::{open_cache, parse_shutter};
 use crate::scene::SceneFile;
 
 /// Card output format.
@@ -24,18 +25,6 @@ pub enum CardsFormat {
     Usd,
     /// Wavefront OBJ with vt (the centre sample only).
     Obj,
-}
-
-fn parse_shutter(s: &str) -> Result<(f64, f64), String> {
-    let (a, b) = s
-        .split_once(',')
-        .ok_or_else(|| format!("`{s}` is not OPEN,CLOSE, e.g. -0.25,0.25"))?;
-    let num = |t: &str| {
-        t.trim()
-            .parse::<f64>()
-            .map_err(|_| format!("`{t}` is not a number"))
-    };
-    Ok((num(a)?, num(b)?))
 }
 
 /// Arguments of `render-children cards`.
@@ -109,16 +98,7 @@ pub fn export_cards(args: &CardsArgs) -> Result<CardsSummary, String> {
     }
     let (scene, mut reader) = match &args.cache {
         Some(cache) => {
-            let reader = CacheReader::open(cache).map_err(|e| e.to_string())?;
-            let scene = match &args.scene {
-                Some(path) => SceneFile::load(path).map_err(|e| e.to_string())?,
-                None => {
-                    let base = cache.parent().map(Path::to_path_buf).unwrap_or_default();
-                    let origin = format!("{} (scene stored in the cache)", cache.display());
-                    SceneFile::parse(&reader.header().scene_toml, &origin, base)
-                        .map_err(|e| e.to_string())?
-                }
-            };
+            let (scene, reader) = open_cache(cache, args.scene.as_deref())?;
             (scene, Some(reader))
         }
         None => {

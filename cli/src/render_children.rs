@@ -131,6 +131,35 @@ pub struct ExportSummary {
     pub time_samples: usize,
 }
 
+/// Parses `--shutter OPEN,CLOSE` (frames relative to the sampled frame, e.g. `-0.25,0.25`).
+pub fn parse_shutter(s: &str) -> Result<(f64, f64), String> {
+    let (a, b) = s
+        .split_once(',')
+        .ok_or_else(|| format!("`{s}` is not OPEN,CLOSE, e.g. -0.25,0.25"))?;
+    let num = |t: &str| {
+        t.trim()
+            .parse::<f64>()
+            .map_err(|_| format!("`{t}` is not a number"))
+    };
+    Ok((num(a)?, num(b)?))
+}
+
+/// Opens `cache` and the scene that made it: `scene` when given, else the scene stored in the
+/// cache (paths in it relative to the cache's folder).
+pub fn open_cache(cache: &Path, scene: Option<&Path>) -> Result<(SceneFile, CacheReader), String> {
+    let reader = CacheReader::open(cache).map_err(|e| e.to_string())?;
+    let scene = match scene {
+        Some(path) => SceneFile::load(path).map_err(|e| e.to_string())?,
+        None => {
+            let base = cache.parent().map(Path::to_path_buf).unwrap_or_default();
+            let origin = format!("{} (scene stored in the cache)", cache.display());
+            SceneFile::parse(&reader.header().scene_toml, &origin, base)
+                .map_err(|e| e.to_string())?
+        }
+    };
+    Ok((scene, reader))
+}
+
 /// Generates and writes the children; `on_sample` is called after each time sample.
 pub fn export(opts: &ExportOptions, mut on_sample: impl FnMut()) -> Result<ExportSummary, String> {
     if opts.motion_samples == 0 {
@@ -138,16 +167,7 @@ pub fn export(opts: &ExportOptions, mut on_sample: impl FnMut()) -> Result<Expor
     }
     let (scene, mut reader) = match &opts.cache {
         Some(cache) => {
-            let reader = CacheReader::open(cache).map_err(|e| e.to_string())?;
-            let scene = match &opts.scene {
-                Some(path) => SceneFile::load(path).map_err(|e| e.to_string())?,
-                None => {
-                    let base = cache.parent().map(Path::to_path_buf).unwrap_or_default();
-                    let origin = format!("{} (scene stored in the cache)", cache.display());
-                    SceneFile::parse(&reader.header().scene_toml, &origin, base)
-                        .map_err(|e| e.to_string())?
-                }
-            };
+            let (scene, reader) = open_cache(cache, opts.scene.as_deref())?;
             (scene, Some(reader))
         }
         None => {

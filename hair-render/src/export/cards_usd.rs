@@ -13,6 +13,7 @@
 use std::io::Write;
 use std::path::Path;
 
+use super::usd::write_stage_header;
 use super::write_atomically;
 use crate::cards::CardMesh;
 use crate::error::{parameter, RenderError, Result};
@@ -121,15 +122,7 @@ pub fn write_cards_usda<W: Write>(
         _ => (opts.time_code, opts.time_code),
     };
     let fps = opts.frames_per_second;
-    writeln!(out, "#usda 1.0\n(")?;
-    writeln!(out, "    defaultPrim = \"{}\"", opts.prim)?;
-    writeln!(out, "    doc = \"hairsys hair cards\"")?;
-    writeln!(out, "    endTimeCode = {end:?}")?;
-    writeln!(out, "    framesPerSecond = {fps:?}")?;
-    writeln!(out, "    metersPerUnit = 1")?;
-    writeln!(out, "    startTimeCode = {start:?}")?;
-    writeln!(out, "    timeCodesPerSecond = {fps:?}")?;
-    writeln!(out, "    upAxis = \"Z\"\n)\n")?;
+    write_stage_header(out, &opts.prim, "hairsys hair cards", [start, end], fps)?;
     writeln!(out, "def Mesh \"{}\"\n{{", opts.prim)?;
     writeln!(out, "    uniform bool doubleSided = 1")?;
     writeln!(out, "    uniform token subdivisionScheme = \"none\"")?;

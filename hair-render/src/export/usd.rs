@@ -102,15 +102,13 @@ pub fn write_usda<W: Write>(
         Motion::TimeSamples(s) => (s[0].time_code, s[s.len() - 1].time_code),
         _ => (opts.time_code, opts.time_code),
     };
-    writeln!(out, "#usda 1.0\n(")?;
-    writeln!(out, "    defaultPrim = \"{}\"", opts.prim)?;
-    writeln!(out, "    doc = \"hairsys render children\"")?;
-    writeln!(out, "    endTimeCode = {end:?}")?;
-    writeln!(out, "    framesPerSecond = {fps:?}")?;
-    writeln!(out, "    metersPerUnit = 1")?;
-    writeln!(out, "    startTimeCode = {start:?}")?;
-    writeln!(out, "    timeCodesPerSecond = {fps:?}")?;
-    writeln!(out, "    upAxis = \"Z\"\n)\n")?;
+    write_stage_header(
+        &mut out,
+        &opts.prim,
+        "hairsys render children",
+        [start, end],
+        fps,
+    )?;
     writeln!(out, "def BasisCurves \"{}\"\n{{", opts.prim)?;
     writeln!(out, "    uniform token type = \"linear\"")?;
     writeln!(out, "    uniform token wrap = \"nonperiodic\"")?;
@@ -303,6 +301,27 @@ impl<'w, W: Write> Block<'w, W> {
 }
 
 /// Writes `[a, b, …]` of integers.
+/// Writes the `.usda` layer header hairsys puts on every stage: the default prim `prim`, `doc`,
+/// the time code range `[start, end]` at `fps` frames (and time codes) per second, meters, Z up.
+pub(crate) fn write_stage_header<W: Write>(
+    out: &mut W,
+    prim: &str,
+    doc: &str,
+    [start, end]: [f64; 2],
+    fps: f64,
+) -> Result<()> {
+    writeln!(out, "#usda 1.0\n(")?;
+    writeln!(out, "    defaultPrim = \"{prim}\"")?;
+    writeln!(out, "    doc = \"{doc}\"")?;
+    writeln!(out, "    endTimeCode = {end:?}")?;
+    writeln!(out, "    framesPerSecond = {fps:?}")?;
+    writeln!(out, "    metersPerUnit = 1")?;
+    writeln!(out, "    startTimeCode = {start:?}")?;
+    writeln!(out, "    timeCodesPerSecond = {fps:?}")?;
+    writeln!(out, "    upAxis = \"Z\"\n)\n")?;
+    Ok(())
+}
+
 fn write_ints<W: Write>(out: &mut W, values: &[u32]) -> Result<()> {
     let mut b = Block::new(out);
     b.buf.push(b'[');

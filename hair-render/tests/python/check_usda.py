@@ -8,51 +8,24 @@ Exit 0 when the stage matches, 1 with the mismatch on stderr, 3 when pxr is not 
 """
 
 import json
+import os
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+from usd_stage import close, fail, flat, open_stage  # noqa: E402
 
 try:
     from pxr import Gf, Usd, UsdGeom
-except ImportError as e:  # pragma: no cover - the Rust test turns this into its message
-    print(f"cannot import pxr ({e}): pip install usd-core", file=sys.stderr)
+except ImportError:  # pragma: no cover - usd_stage has already exited with 3
     sys.exit(3)
-
-
-def fail(msg):
-    print(msg, file=sys.stderr)
-    sys.exit(1)
-
-
-def close(a, b, what):
-    """Element-wise comparison of two flat float lists at f32 precision."""
-    if len(a) != len(b):
-        fail(f"{what}: {len(a)} values, expected {len(b)}")
-    for i, (x, y) in enumerate(zip(a, b)):
-        if abs(x - y) > 1e-6 * max(1.0, abs(y)):
-            fail(f"{what}[{i}] = {x}, expected {y}")
-
-
-def flat(vecs):
-    return [c for v in vecs for c in v]
 
 
 def main():
     stage_path, expected_path = sys.argv[1], sys.argv[2]
     with open(expected_path) as f:
         exp = json.load(f)
-    stage = Usd.Stage.Open(stage_path)
-    if stage is None:
-        fail(f"Usd.Stage.Open could not open {stage_path}")
-    if UsdGeom.GetStageUpAxis(stage) != UsdGeom.Tokens.z:
-        fail(f"upAxis is {UsdGeom.GetStageUpAxis(stage)}, expected Z")
-    if UsdGeom.GetStageMetersPerUnit(stage) != 1.0:
-        fail(f"metersPerUnit is {UsdGeom.GetStageMetersPerUnit(stage)}, expected 1")
-    if stage.GetTimeCodesPerSecond() != exp["fps"]:
-        fail(f"timeCodesPerSecond {stage.GetTimeCodesPerSecond()}, expected {exp['fps']}")
-    prim = stage.GetPrimAtPath(exp["prim"])
-    if not prim or not prim.IsA(UsdGeom.BasisCurves):
-        fail(f"no BasisCurves prim at {exp['prim']}")
-    if stage.GetDefaultPrim() != prim:
-        fail("defaultPrim is not the curves prim")
+    stage, prim = open_stage(stage_path, exp, UsdGeom.BasisCurves, "curves")
     curves = UsdGeom.BasisCurves(prim)
     if curves.GetTypeAttr().Get() != "linear":
         fail(f"type {curves.GetTypeAttr().Get()}, expected linear")
