@@ -173,7 +173,13 @@ impl StepCollider<'_> {
     /// `dt` s.
     fn velocity_at(&self, local: &Vector3<f32>, dt: f32) -> Vector3<f32> {
         let p = Point3::from(*local);
-        ((self.end * p) - (self.start * p)) / dt
+        self.velocity_from(local, &(self.start * p), dt)
+    }
+
+    /// [`Self::velocity_at`] given `start`, the point's world position at the step's start
+    /// (`self.start * local`).
+    fn velocity_from(&self, local: &Vector3<f32>, start: &Point3<f32>, dt: f32) -> Vector3<f32> {
+        ((self.end * Point3::from(*local)) - start) / dt
     }
 }
 
@@ -411,10 +417,11 @@ pub(crate) fn detect(
                         && *d0 > -0.5 * rho_grown
                         && centre.norm() <= col.reach
                     {
-                        o.anchor[j] = (col.start * Point3::from(centre)).coords;
+                        let start = col.start * Point3::from(centre);
+                        o.anchor[j] = start.coords;
                         o.size[j] = rho_grown.copysign(hit.curvature);
                         o.curved[j] = true;
-                        o.anchor_velocity[j] = col.velocity_at(&centre, dt);
+                        o.anchor_velocity[j] = col.velocity_from(&centre, &start, dt);
                     } else {
                         o.anchor[j] = normal;
                         o.size[j] = d0 - normal.dot(&x);
@@ -573,8 +580,15 @@ fn mesh_hit(
     let topology = col.topology;
     let (point, owner) = match feature {
         Feature::Face => {
-            let [a, b, c] = idx.map(vertex);
-            let n = unit_or_z((b - a).cross(&(c - a)));
+            let a = vertex(idx[0]);
+            // The shortcut keeps each triangle's unit normal: the same bits as computed here.
+            let n = col
+                .fast
+                .and_then(|f| f.unit_normal(tri))
+                .unwrap_or_else(|| {
+                    let [b, c] = [idx[1], idx[2]].map(vertex);
+                    unit_or_z((b - a).cross(&(c - a)))
+                });
             (p - n * n.dot(&(p - a)), tri)
         }
         Feature::Edge(k) => {

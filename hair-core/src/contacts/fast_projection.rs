@@ -57,8 +57,8 @@ const WALK: usize = 16;
 /// Per-triangle data of the shortcut (see the module docs).
 #[derive(Debug, Clone)]
 pub(crate) struct FastProjection {
-    /// Are all three vertices of the triangle convex?
-    convex: Arc<[bool]>,
+    /// Per triangle, what each try of the walk reads (see [`Plane`]).
+    planes: Arc<[Plane]>,
     /// The triangle across each edge `k` (vertices `k`, `k + 1`); `u32::MAX` if none.
     neighbours: Arc<[[u32; 3]]>,
     /// Half the clearance of each triangle, m, as f32 bits (`UNKNOWN` until computed).
@@ -72,6 +72,20 @@ pub(crate) struct FastProjection {
     adjacent: Arc<[u32]>,
     /// Start of each vertex's run in `adjacent` (one more entry than vertices).
     adjacent_start: Arc<[u32]>,
+}
+
+/// A triangle as the walk sees it, computed once per mesh: the same values, to the bit, as
+/// computed from the mesh on each try, without its cross product, square root and division.
+#[derive(Debug, Clone, Copy)]
+struct Plane {
+    /// Its corners, body space, m.
+    corners: [Vector3<f32>; 3],
+    /// Its outward unit normal (winding order).
+    normal: Vector3<f32>,
+    /// Are all three vertices convex and is the triangle not degenerate?
+    usable: bool,
+    /// Is `normal` the unit normal (a positive, finite area)?
+    unit: bool,
 }
 
 /// Where on a mesh triangle a point projects: inside it, on its edge `k` (vertices `k`, `k + 1`)
@@ -129,9 +143,23 @@ impl FastProjection {
                 convex_vertex[b as usize] = false;
             }
         }
-        let convex: Arc<[bool]> = indices
+        let planes: Arc<[Plane]> = indices
             .iter()
-            .map(|t| t.iter().all(|&v| convex_vertex[v as usize]))
+            .enumerate()
+            .map(|(t, idx)| {
+                let tri = mesh.triangle(t as u32);
+                let corners = [from_glam(tri.a), from_glam(tri.b), from_glam(tri.c)];
+                let scaled = (corners[1] - corners[0]).cross(&(corners[2] - corners[0]));
+                let area2 = scaled.norm();
+                Plane {
+                    corners,
+                    normal: scaled / area2,
+                    // Exactly where the walk gave up on a degenerate triangle (not on a NaN).
+                    usable: idx.iter().all(|&v| convex_vertex[v as usize])
+                        && (area2 > 0.0 || area2.is_nan()),
+                    unit: area2 > 0.0 && area2.is_finite(),
+                }
+            })
             .collect();
         let neighbours: Arc<[[u32; 3]]> = indices
             .iter()
@@ -165,7 +193,7 @@ impl FastProjection {
         Self {
             adjacent: adjacent.into(),
             adjacent_start: adjacent_start.into(),
-            convex,
+            planes,
             neighbours,
             half_clearance,
             cap,
@@ -179,17 +207,11 @@ impl FastProjection {
         let mut t = t;
         let mut previous = u32::MAX;
         for _ in 0..=WALK {
-            if !*self.convex.get(t as usize)? {
+            let plane = self.planes.get(t as usize)?;
+            if !plane.usable {
                 return None;
             }
-            let tri = mesh.triangle(t);
-            let corners = [from_glam(tri.a), from_glam(tri.b), from_glam(tri.c)];
-            let scaled = (corners[1] - corners[0]).cross(&(corners[2] - corners[0]));
-            let area2 = scaled.norm();
-            if area2 <= 0.0 {
-                return None;
-            }
-            let normal = scaled / area2;
+            let (corners, normal) = (&plane.corners, plane.normal);
             let height = normal.dot(&(p - corners[0]));
             if height <= 0.0 {
                 return None;
@@ -249,6 +271,15 @@ impl FastProjection {
             }
         }
         None
+    }
+
+    /// The unit normal of triangle `t` (winding order), exactly as `(b − a) × (c − a)` divided by
+    /// its norm gives it, if that norm is positive and finite.
+    pub fn unit_normal(&self, t: u32) -> Option<Vector3<f32>> {
+        self.planes
+            .get(t as usize)
+            .filter(|p| p.unit)
+            .map(|p| p.normal)
     }
 
     /// Is vertex `v` of a convex body the nearest point to `p`? It is when `p − v` makes an
@@ -432,7 +463,7 @@ mod tests {
         ];
         let mesh = TriMesh::with_flags(v, t, TriMeshFlags::ORIENTED).unwrap();
         let fast = FastProjection::new(&mesh, 0.5);
-        assert!(fast.convex[..4].iter().all(|&c| !c));
+        assert!(fast.planes[..4].iter().all(|p| !p.usable));
         assert!(!fast.convex_body);
         assert!(FastProjection::new(&octahedron(), 0.5).convex_body);
     }
