@@ -65,9 +65,13 @@
 //!   stretch springs, `max_strain` absent) points next to the root of a strand snapping taut
 //!   were measured to go from rest to 4–5 m/s within one step, past the margin, and end that
 //!   frame up to 2 cm inside the parity scene's head (with `max_strain` none did).
-//! - **Resuming** is exact: detection's memory (distance bounds, warm-start triangles) only
-//!   saves work, and the scalp collider is built from the rest mesh, so a run resumed at any
-//!   frame produces the same bits as the uninterrupted run.
+//! - **Resuming.** The scalp collider is built from the rest mesh and a contact is computed from
+//!   the feature (face, edge, vertex) found, not from the path that found it, so detection's
+//!   memory (distance bounds, warm-start triangles) mostly only saves work: the turning-head run
+//!   resumed mid-way is bit-identical to the uninterrupted one (`collision_resume`). It is not
+//!   guaranteed in general: a resumed run starts with empty memory, and where the warm-started
+//!   walk and parry's tree search settle on different features (points below the hinted
+//!   triangle's plane, equal distances), the bits differ.
 //! - **Order in the substep.** Contacts act after the damping sub-loop and before the position
 //!   update; the strain limiter (if on) runs after the position update and can move a point by
 //!   its (small) correction into a collider, which the next substep undoes.
