@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{bent, flatten, straight};
+use common::{bent, flatten, point, starts, straight};
 use hair_core::{MeshSample, TriMesh};
 use hair_render::subdivide::catmull_rom;
 use hair_render::{
@@ -13,19 +13,6 @@ use hair_render::{
     Roughness, ScalpRoots, Shape,
 };
 use nalgebra::{Vector2, Vector3};
-
-fn point(c: &ChildBuffers, i: usize) -> Vector3<f32> {
-    Vector3::new(c.points[3 * i], c.points[3 * i + 1], c.points[3 * i + 2])
-}
-
-/// Index of the first point of every curve, and one past the last.
-fn starts(c: &ChildBuffers) -> Vec<usize> {
-    let mut s = vec![0];
-    for &n in &c.vertex_counts {
-        s.push(s.last().unwrap() + n as usize);
-    }
-    s
-}
 
 fn interpolated(count: ChildCount, spread: f32, shape: Shape) -> ChildSettings {
     ChildSettings {

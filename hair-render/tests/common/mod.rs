@@ -2,7 +2,22 @@
 
 #![allow(dead_code)]
 
+use hair_render::ChildBuffers;
 use nalgebra::Vector3;
+
+/// Point `i` of the children's flat point buffer, m.
+pub fn point(c: &ChildBuffers, i: usize) -> Vector3<f32> {
+    Vector3::new(c.points[3 * i], c.points[3 * i + 1], c.points[3 * i + 2])
+}
+
+/// Index of the first point of every curve, and one past the last.
+pub fn starts(c: &ChildBuffers) -> Vec<usize> {
+    let mut s = vec![0];
+    for &n in &c.vertex_counts {
+        s.push(s.last().unwrap() + n as usize);
+    }
+    s
+}
 
 /// A straight parent along +z from `root`, `n` points over `length` meters.
 pub fn straight(root: Vector3<f32>, n: usize, length: f32) -> Vec<Vector3<f32>> {
