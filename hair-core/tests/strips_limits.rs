@@ -34,6 +34,30 @@ fn one_strip() -> StripSet {
     .unwrap()
 }
 
+/// One strip under the strip solver with `settings`, and the same strip as plain mass-spring
+/// hair (the reference without the strip passes), both on a fixed scalp from frame 1.
+fn strip_and_reference(
+    params: HairParams,
+    settings: StripSettings,
+) -> (StripSet, StripSolver, StripSet, Solver) {
+    let scalp = Scalp::fixed();
+    let strips = one_strip();
+    let free = one_strip();
+    let solver = StripSolver::new(
+        SolverSettings::default(),
+        params,
+        &strips.strands,
+        &scalp,
+        1,
+        settings,
+        None,
+    )
+    .unwrap();
+    let reference =
+        Solver::new(SolverSettings::default(), params, &free.strands, &scalp, 1).unwrap();
+    (strips, solver, free, reference)
+}
+
 fn strains(strands: &StrandSet) -> Vec<f32> {
     (0..strands.len())
         .flat_map(|s| {
@@ -68,20 +92,7 @@ fn provot_correction_bounds_every_segment_strain_after_each_frame() {
         clearance: 0.0,
     };
     let scalp = Scalp::fixed();
-    let mut strips = one_strip();
-    let mut free = one_strip();
-    let mut solver = StripSolver::new(
-        SolverSettings::default(),
-        params,
-        &strips.strands,
-        &scalp,
-        1,
-        settings,
-        None,
-    )
-    .unwrap();
-    let mut reference =
-        Solver::new(SolverSettings::default(), params, &free.strands, &scalp, 1).unwrap();
+    let (mut strips, mut solver, mut free, mut reference) = strip_and_reference(params, settings);
     for frame in 2..=25 {
         solver
             .step_frame(&mut strips.strands, &scalp, None)
@@ -135,20 +146,7 @@ fn root_angle_limiter_holds_the_root_at_its_limit_under_gravity() {
         clearance: 0.0,
     };
     let scalp = Scalp::fixed();
-    let mut strips = one_strip();
-    let mut free = one_strip();
-    let mut solver = StripSolver::new(
-        SolverSettings::default(),
-        params,
-        &strips.strands,
-        &scalp,
-        1,
-        settings,
-        None,
-    )
-    .unwrap();
-    let mut reference =
-        Solver::new(SolverSettings::default(), params, &free.strands, &scalp, 1).unwrap();
+    let (mut strips, mut solver, mut free, mut reference) = strip_and_reference(params, settings);
     let mut corrections = 0;
     let mut settled = Vec::new();
     for frame in 2..=73 {
