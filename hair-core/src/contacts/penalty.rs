@@ -33,26 +33,26 @@
 //! to stop the penetrating velocity in one substep, applied as the impulse it would deliver, so it
 //! adds no stiffness to the stability bound.
 
-use crate::solver::lanes::{div_or_zero, splat, F, V3};
+use crate::solver::lanes::{div_or_zero, splat, Baseline, Lane, V3};
 
 /// One step's contact data of a point, in lanes.
 #[derive(Clone, Copy, Default)]
-pub(crate) struct ContactLanes {
+pub(crate) struct ContactLanes<L = Baseline> {
     /// Plane: outward unit normal (0 for points without a contact). Curved: the sphere's centre
     /// at the step's start, m.
-    pub anchor: V3,
+    pub anchor: V3<L>,
     /// Plane: offset `c`, m. Curved: the radius the point's centre keeps to, m, positive to stay
     /// outside the sphere (convex surface), negative to stay inside it (concave).
-    pub size: F,
+    pub size: L,
     /// 1 where the contact is curved, 0 where it is a plane.
-    pub curved: F,
+    pub curved: L,
     /// Velocity of the model: the collider's velocity at the sphere's centre (curved) or at the
     /// contact (plane; only its normal part matters), m/s.
-    pub anchor_velocity: V3,
+    pub anchor_velocity: V3<L>,
     /// Surface velocity `v_s` at the contact, for friction, m/s.
-    pub surface_velocity: V3,
+    pub surface_velocity: V3<L>,
     /// Friction coefficient μ.
-    pub friction: F,
+    pub friction: L,
 }
 
 /// Applies the contact response to velocity `v` of a point at `x` for a substep ending `t_end`
@@ -60,27 +60,27 @@ pub(crate) struct ContactLanes {
 /// `max_push` m/s) the position update must add so the point lands on the surface; the velocity
 /// kept is updated in place.
 #[inline(always)]
-pub(crate) fn respond(
-    v: &mut V3,
-    x: &V3,
-    c: &ContactLanes,
-    t_end: F,
-    inv_dt: F,
-    max_push: F,
-) -> V3 {
-    let (zero, one) = (splat(0.0), splat(1.0));
+pub(crate) fn respond<L: Lane>(
+    v: &mut V3<L>,
+    x: &V3<L>,
+    c: &ContactLanes<L>,
+    t_end: L,
+    inv_dt: L,
+    max_push: L,
+) -> V3<L> {
+    let (zero, one) = (splat::<L>(0.0), splat::<L>(1.0));
     // The plane model, and where any lane is curved the sphere model, selected per lane.
     let plane_d = c.anchor.dot(x) + c.size - c.anchor.dot(&c.anchor_velocity) * t_end;
     let curved = c.curved.simd_gt(zero);
-    let (n, d_end) = if curved.any() {
+    let (n, d_end) = if L::any(curved) {
         let w = *x - (c.anchor + c.anchor_velocity * t_end);
         let len = w.dot(&w).sqrt();
-        let side = c.size.simd_lt(zero).select(-one, one);
+        let side = L::select(c.size.simd_lt(zero), -one, one);
         let sphere_n = w * div_or_zero(side, len, 1e-12);
         let sphere_d = (len - c.size.abs()) * side;
         (
             V3::select(curved, &sphere_n, &c.anchor),
-            curved.select(sphere_d, plane_d),
+            L::select(curved, sphere_d, plane_d),
         )
     } else {
         (c.anchor, plane_d)
@@ -89,7 +89,7 @@ pub(crate) fn respond(
     let vn = n.dot(v);
     let v_target = -d_end * inv_dt;
     let touching = vn.simd_lt(v_target);
-    if !touching.any() {
+    if !L::any(touching) {
         return V3::default();
     }
     let vn_surface = n.dot(&c.anchor_velocity);
@@ -102,13 +102,18 @@ pub(crate) fn respond(
     let cut = div_or_zero(c.friction * dv, speed_t, 1e-12).min(one);
     let after = *v + n * dv - rel_t * cut;
     *v = V3::select(touching, &after, v);
-    n * touching.select((v_target - vn_kept).min(max_push), zero)
+    n * L::select(touching, (v_target - vn_kept).min(max_push), zero)
 }
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use super::{respond, Baseline, ContactLanes, V3};
     use nalgebra::Vector3;
+
+    /// `f` in every lane of the baseline lane type the tests use.
+    fn splat(f: f32) -> Baseline {
+        Baseline::splat(f)
+    }
 
     /// The ground plane z = 0 (offset 0), static, friction μ.
     fn ground(mu: f32) -> ContactLanes {

@@ -16,18 +16,19 @@
 //! Impulses are equal and opposite, so damping conserves linear momentum; pinned points
 //! (`w = 0`) are not moved by it.
 
-use super::lanes::{F, V3};
+use super::lanes::{Lane, V3};
 
 /// Runs `iterations` Jacobi damping iterations on the velocities `v` of a group in place.
 ///
 /// Segment arrays are padded (segment `j` at index `j + 1`, zeros at `0` and `n`):
 /// `tangent` holds unit directions, `coef` holds `β / (w_j + w_{j+1})`, `impulse` is a buffer.
-pub(crate) fn damp_segments(
-    v: &mut [V3],
-    inv_mass: &[F],
-    tangent: &[V3],
-    coef: &[F],
-    impulse: &mut [F],
+#[inline(always)]
+pub(crate) fn damp_segments<L: Lane>(
+    v: &mut [V3<L>],
+    inv_mass: &[L],
+    tangent: &[V3<L>],
+    coef: &[L],
+    impulse: &mut [L],
     iterations: u32,
 ) {
     let n = v.len();
@@ -50,7 +51,7 @@ mod tests {
     #[test]
     fn damping_conserves_momentum_and_reduces_stretch_rate() {
         // Four points along x, the same in every lane; padded tangents (zeros at both ends).
-        let along = V3::splat(&Vector3::x());
+        let along: V3 = V3::splat(&Vector3::x());
         let t = [V3::default(), along, along, along, V3::default()];
         let w = [1.0, 2.0, 1.0, 0.5];
         let inv_mass = w.map(splat);

@@ -38,7 +38,7 @@
 //! substep the bending springs need. It is off unless the host asks for it
 //! ([`crate::Solver::with_inextensibility`]) and then costs nothing.
 
-use super::lanes::{div_or_zero, splat, F, V3};
+use super::lanes::{div_or_zero, splat, Baseline, Lane, V3};
 use crate::error::{HairError, Result};
 
 /// Settings of the inextensibility projection.
@@ -83,18 +83,18 @@ impl Inextensibility {
 
 /// Work buffers of the projection, refitted to each group.
 #[derive(Default)]
-pub(crate) struct ProjectionScratch {
+pub(crate) struct ProjectionScratch<L = Baseline> {
     /// Per segment: unit direction, right-hand side (constraint value or rate), matrix
     /// diagonal and upper diagonal, Thomas factors, and the solution.
-    tangent: Vec<V3>,
-    rhs: Vec<F>,
-    diag: Vec<F>,
-    upper: Vec<F>,
-    factor: Vec<F>,
-    lambda: Vec<F>,
+    tangent: Vec<V3<L>>,
+    rhs: Vec<L>,
+    diag: Vec<L>,
+    upper: Vec<L>,
+    factor: Vec<L>,
+    lambda: Vec<L>,
 }
 
-impl ProjectionScratch {
+impl<L: Lane> ProjectionScratch<L> {
     fn fit(&mut self, segments: usize) {
         for buf in [
             &mut self.rhs,
@@ -104,7 +104,7 @@ impl ProjectionScratch {
             &mut self.lambda,
         ] {
             buf.clear();
-            buf.resize(segments, F::default());
+            buf.resize(segments, L::default());
         }
         self.tangent.clear();
         self.tangent.resize(segments, V3::default());
@@ -112,8 +112,8 @@ impl ProjectionScratch {
 
     /// Unit segment directions of `x` into `tangent`; returns the lengths' worst relative error
     /// per lane and leaves `len − rest` in `rhs`.
-    fn measure(&mut self, x: &[V3], rest_length: &[F]) -> F {
-        let mut worst = splat(0.0);
+    fn measure(&mut self, x: &[V3<L>], rest_length: &[L]) -> L {
+        let mut worst = splat::<L>(0.0);
         for (j, &rest) in rest_length.iter().enumerate() {
             let d = x[j + 1] - x[j];
             let len = d.dot(&d).sqrt();
@@ -127,7 +127,7 @@ impl ProjectionScratch {
     /// Solves `(G M⁻¹ Gᵀ) λ = rhs` for the current tangents (Thomas algorithm; the matrix is
     /// symmetric positive semi-definite, and a segment between two fixed points has a zero row
     /// and gets λ = 0), then applies `y_j += w_j t_j λ_j`, `y_{j+1} −= w_{j+1} t_j λ_j`.
-    fn solve_and_apply(&mut self, y: &mut [V3], inv_mass: &[F]) {
+    fn solve_and_apply(&mut self, y: &mut [V3<L>], inv_mass: &[L]) {
         let m = self.rhs.len();
         for j in 0..m {
             self.diag[j] = inv_mass[j] + inv_mass[j + 1];
@@ -160,13 +160,13 @@ impl ProjectionScratch {
 /// Projects the group's positions `x` onto rest segment lengths `rest_length` (unpadded, one per
 /// segment, m), then its velocities `v` onto the velocities that keep those lengths.
 /// `inv_mass` (1/kg) is 0 for points that must not move.
-pub(crate) fn project(
-    x: &mut [V3],
-    v: &mut [V3],
-    inv_mass: &[F],
-    rest_length: &[F],
+pub(crate) fn project<L: Lane>(
+    x: &mut [V3<L>],
+    v: &mut [V3<L>],
+    inv_mass: &[L],
+    rest_length: &[L],
     settings: &Inextensibility,
-    s: &mut ProjectionScratch,
+    s: &mut ProjectionScratch<L>,
 ) {
     s.fit(rest_length.len());
     for iteration in 0..=settings.max_iterations {

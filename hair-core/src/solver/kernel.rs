@@ -23,7 +23,7 @@ use crate::mesh::RootFrame;
 
 use super::damping::damp_segments;
 use super::inextensible::{project, Inextensibility, ProjectionScratch};
-use super::lanes::{div_or_zero, splat, F, LANES, Q4, V3};
+use super::lanes::{div_or_zero, splat, Lane, F8, LANES, Q4, V3};
 use super::params::{HairParams, Integrator};
 
 /// Root-to-tip sweeps of the strain limiter per substep.
@@ -114,53 +114,53 @@ pub(crate) struct ContactSlice<'a> {
 
 /// Per-thread work buffers of one group, refitted to each group.
 #[derive(Default)]
-pub(crate) struct Scratch {
-    x: Vec<V3>,
-    v: Vec<V3>,
-    v_old: Vec<V3>,
-    force: Vec<V3>,
-    rest_local: Vec<V3>,
-    target: Vec<V3>,
+pub(crate) struct Scratch<L: Lane> {
+    x: Vec<V3<L>>,
+    v: Vec<V3<L>>,
+    v_old: Vec<V3<L>>,
+    force: Vec<V3<L>>,
+    rest_local: Vec<V3<L>>,
+    target: Vec<V3<L>>,
     /// Inverse masses, 1/kg (0 pinned).
-    inv_mass: Vec<F>,
+    inv_mass: Vec<L>,
     /// 1 for free points, 0 for pinned ones.
-    free: Vec<F>,
-    goal_k: Vec<F>,
+    free: Vec<L>,
+    goal_k: Vec<L>,
     /// Rest lengths per segment (unpadded), m.
-    rest_length: Vec<F>,
+    rest_length: Vec<L>,
     /// Rest directions per segment (unpadded) as (t, u, w) components.
-    bend_rest: Vec<V3>,
+    bend_rest: Vec<V3<L>>,
     /// Points pinned in at least one lane.
     pinned: Vec<usize>,
     // Padded segment arrays (index j + 1 = segment j).
-    tangent: Vec<V3>,
-    inv_len: Vec<F>,
-    tension: Vec<F>,
-    bend: Vec<V3>,
-    dir: Vec<V3>,
-    react: Vec<V3>,
-    beta: Vec<V3>,
-    twist: Vec<F>,
-    damp_coef: Vec<F>,
-    impulse: Vec<F>,
+    tangent: Vec<V3<L>>,
+    inv_len: Vec<L>,
+    tension: Vec<L>,
+    bend: Vec<V3<L>>,
+    dir: Vec<V3<L>>,
+    react: Vec<V3<L>>,
+    beta: Vec<V3<L>>,
+    twist: Vec<L>,
+    damp_coef: Vec<L>,
+    impulse: Vec<L>,
     /// Contacts per point (only filled when `has_contacts`).
-    contact: Vec<ContactLanes>,
+    contact: Vec<ContactLanes<L>>,
     /// Extra velocity of the position update per point (along the contact normal), m/s.
-    push: Vec<V3>,
+    push: Vec<V3<L>>,
     /// Does any strand of the group have a contact this step?
     has_contacts: bool,
     /// External acceleration per point (only filled when `has_accel`), m/s².
-    accel: Vec<V3>,
+    accel: Vec<V3<L>>,
     /// Do the strands of the group have an external acceleration this step?
     has_accel: bool,
     /// Points with a contact in at least one lane (when `has_contacts`).
     contact_points: Vec<usize>,
-    q_start: Q4,
-    q_end: Q4,
-    o_start: V3,
-    o_end: V3,
+    q_start: Q4<L>,
+    q_end: Q4<L>,
+    o_start: V3<L>,
+    o_end: V3<L>,
     /// Buffers of the inextensibility projection.
-    projection: ProjectionScratch,
+    projection: ProjectionScratch<L>,
 }
 
 fn refit<T: Copy + Default>(buf: &mut Vec<T>, len: usize) {
@@ -173,7 +173,7 @@ fn gather<T: Copy>(views: &[StrandView], l: usize, f: impl Fn(&StrandView) -> T)
     f(&views[l.min(views.len() - 1)])
 }
 
-impl Scratch {
+impl<L: Lane> Scratch<L> {
     fn fit(
         &mut self,
         views: &[StrandView],
@@ -219,7 +219,7 @@ impl Scratch {
             V3::from_lanes(&std::array::from_fn(|l| gather(views, l, f)))
         };
         let lanes1 =
-            |f: &dyn Fn(&StrandView) -> f32| F::new(std::array::from_fn(|l| gather(views, l, f)));
+            |f: &dyn Fn(&StrandView) -> f32| L::new(std::array::from_fn(|l| gather(views, l, f)));
         for i in 0..n {
             self.x[i] = lanes3(&|s| s.x[i]);
             self.v[i] = lanes3(&|s| s.v[i]);
@@ -273,10 +273,10 @@ impl Scratch {
         let quat = |frames: &[RootFrame]| {
             let q = |l: usize| frames[l.min(frames.len() - 1)].rotation;
             Q4 {
-                w: F::new(std::array::from_fn(|l| q(l).w)),
-                i: F::new(std::array::from_fn(|l| q(l).i)),
-                j: F::new(std::array::from_fn(|l| q(l).j)),
-                k: F::new(std::array::from_fn(|l| q(l).k)),
+                w: L::new(std::array::from_fn(|l| q(l).w)),
+                i: L::new(std::array::from_fn(|l| q(l).i)),
+                j: L::new(std::array::from_fn(|l| q(l).j)),
+                k: L::new(std::array::from_fn(|l| q(l).k)),
             }
         };
         let origin = |frames: &[RootFrame]| {
@@ -303,7 +303,7 @@ impl Scratch {
 
 /// Lane `l`'s contact data of point `i` (lanes a group does not fill repeat its first strand;
 /// strands without contacts this step get none).
-fn gather_contact(views: &[StrandView], i: usize) -> ContactLanes {
+fn gather_contact<L: Lane>(views: &[StrandView], i: usize) -> ContactLanes<L> {
     let zero = Vector3::zeros();
     let mut anchor = [zero; LANES];
     let mut anchor_velocity = [zero; LANES];
@@ -323,36 +323,87 @@ fn gather_contact(views: &[StrandView], i: usize) -> ContactLanes {
     }
     ContactLanes {
         anchor: V3::from_lanes(&anchor),
-        size: F::new(size),
-        curved: F::new(curved),
+        size: L::new(size),
+        curved: L::new(curved),
         anchor_velocity: V3::from_lanes(&anchor_velocity),
         surface_velocity: V3::from_lanes(&surface_velocity),
-        friction: F::new(friction),
+        friction: L::new(friction),
     }
 }
 
 /// Parallel transport of `u` from unit tangent `tp` to `t` (see [`crate::frames::transport`]).
 #[inline(always)]
-fn transport(u: &V3, tp: &V3, t: &V3) -> V3 {
-    let c = splat(1.0) + tp.dot(t);
+fn transport<L: Lane>(u: &V3<L>, tp: &V3<L>, t: &V3<L>) -> V3<L> {
+    let c = splat::<L>(1.0) + tp.dot(t);
     *u - (*tp + *t) * div_or_zero(u.dot(t), c, 1e-6)
 }
 
-/// Advances a group of strands (equal point counts, at most [`LANES`]) by one collision step:
-/// roots move from `starts` to `ends` (interpolated per substep), pinned points follow their
-/// animated rest positions.
-pub(crate) fn step_group(
+/// A compiled copy of the kernel for lane type `L`: [`step_group`] or [`step_group_avx2`].
+pub(crate) type GroupKernel<L> =
+    fn(&mut [StrandView], &[RootFrame], &[RootFrame], &StepConstants, &mut Scratch<L>);
+
+/// Does this CPU run [`step_group_avx2`], the kernel compiled for 256-bit registers? (x86-64
+/// with AVX2; elsewhere the solver runs [`step_group`] on [`super::lanes::Baseline`].)
+pub(crate) fn wide_registers() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    return std::arch::is_x86_feature_detected!("avx2");
+    #[cfg(not(target_arch = "x86_64"))]
+    return false;
+}
+
+/// [`step_group`] on [`F8`] lanes compiled for AVX2: eight lanes per instruction instead of
+/// four, the same bits. On a CPU without AVX2 it runs the same kernel compiled for the target's
+/// baseline (correct, but slower than [`step_group`] on `Baseline`; the solver picks that
+/// instead, see [`wide_registers`]).
+pub(crate) fn step_group_avx2(
     views: &mut [StrandView],
     starts: &[RootFrame],
     ends: &[RootFrame],
     c: &StepConstants,
-    g: &mut Scratch,
+    g: &mut Scratch<F8>,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2, checked just above.
+        unsafe { step_group_compiled_for_avx2(views, starts, ends, c, g) };
+        return;
+    }
+    step_group(views, starts, ends, c, g);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn step_group_compiled_for_avx2(
+    views: &mut [StrandView],
+    starts: &[RootFrame],
+    ends: &[RootFrame],
+    c: &StepConstants,
+    g: &mut Scratch<F8>,
+) {
+    step_group(views, starts, ends, c, g);
+}
+
+/// Advances a group of strands (equal point counts, at most [`LANES`]) by one collision step:
+/// roots move from `starts` to `ends` (interpolated per substep), pinned points follow their
+/// animated rest positions. Always inlined, so that each caller compiles its own copy for its
+/// CPU features ([`step_group_avx2`]).
+#[inline(always)]
+pub(crate) fn step_group<L: Lane>(
+    views: &mut [StrandView],
+    starts: &[RootFrame],
+    ends: &[RootFrame],
+    c: &StepConstants,
+    g: &mut Scratch<L>,
 ) {
     debug_assert!(!views.is_empty() && views.len() <= LANES);
     g.fit(views, starts, ends, c);
     let n = views[0].x.len();
     let (dt, inv_dt) = (splat(c.dt), splat(1.0 / c.dt));
-    let (k_stretch, k_bend, drag) = (splat(c.stretch), splat(c.bend), splat(c.drag));
+    let (k_stretch, k_bend, drag) = (
+        splat::<L>(c.stretch),
+        splat::<L>(c.bend),
+        splat::<L>(c.drag),
+    );
     let gravity = V3::splat(&c.gravity);
     let needs_targets = c.goal > 0.0;
     let explicit = c.integrator == Integrator::ExplicitEuler;
@@ -432,8 +483,8 @@ pub(crate) fn step_group(
                 g.twist[i] = t_prev.dot(&couple);
                 g.react[i] = couple.cross(&t_prev) * inv_len_prev;
                 let t = g.tangent[i];
-                g.beta[i] =
-                    t_prev.cross(&t) * div_or_zero(splat(1.0), splat(1.0) + t_prev.dot(&t), 1e-6);
+                g.beta[i] = t_prev.cross(&t)
+                    * div_or_zero(splat(1.0), splat::<L>(1.0) + t_prev.dot(&t), 1e-6);
             }
             // Suffix sums in place: twist[i] becomes S for segment i − 1 (sum over i' > i).
             let mut acc = zero;
@@ -551,8 +602,9 @@ pub(crate) fn step_group(
 /// ends, which guarantees the limit for the small residual the sweeps leave. The velocity of a
 /// moved point changes by its displacement / dt, so positions and velocities stay consistent; the
 /// correction only removes stretch.
-fn limit_strain(g: &mut Scratch, ratio: F, inv_dt: F) {
-    let zero = splat(0.0);
+#[inline(always)]
+fn limit_strain<L: Lane>(g: &mut Scratch<L>, ratio: L, inv_dt: L) {
+    let zero = splat::<L>(0.0);
     for sweep in 0..=STRAIN_SWEEPS {
         let follow_the_leader = sweep == STRAIN_SWEEPS;
         for j in 0..g.x.len() - 1 {
@@ -574,5 +626,151 @@ fn limit_strain(g: &mut Scratch, ratio: F, inv_dt: F) {
                 g.v[j + 1] -= shift * (wb * inv_dt);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::UnitQuaternion;
+
+    use super::super::lanes::Baseline;
+    use super::*;
+
+    /// Seven wavy strands of six points (the group's eighth lane repeats the first), some points
+    /// in plane or sphere contact, with goal springs, an external acceleration, damping, strain
+    /// limiting and a turning root frame: every branch of the kernel runs.
+    struct Group {
+        x: Vec<Vec<Vector3<f32>>>,
+        v: Vec<Vec<Vector3<f32>>>,
+        rest_local: Vec<Vector3<f32>>,
+        inv_mass: Vec<f32>,
+        goal_weight: Vec<f32>,
+        rest_length: Vec<f32>,
+        bend_rest: Vec<RestDirection>,
+        accel: Vec<Vector3<f32>>,
+        anchor: Vec<Vector3<f32>>,
+        size: Vec<f32>,
+        curved: Vec<bool>,
+        zero: Vec<Vector3<f32>>,
+        friction: Vec<f32>,
+    }
+
+    const STRANDS: usize = 7;
+    const POINTS: usize = 6;
+
+    fn group() -> Group {
+        let wave = |s: usize, i: usize| {
+            let (s, i) = (s as f32, i as f32);
+            Vector3::new(
+                0.1 * s + 0.02 * (i * 1.3 + s).sin(),
+                0.03 * i * s.cos(),
+                -0.1 * i,
+            )
+        };
+        let contact = |i: usize| i % 2 == 1;
+        Group {
+            x: (0..STRANDS)
+                .map(|s| (0..POINTS).map(|i| wave(s, i)).collect())
+                .collect(),
+            v: (0..STRANDS)
+                .map(|s| (0..POINTS).map(|i| 0.3 * wave(i, s)).collect())
+                .collect(),
+            rest_local: (0..POINTS)
+                .map(|i| Vector3::new(0.0, 0.0, -0.1 * i as f32))
+                .collect(),
+            inv_mass: (0..POINTS)
+                .map(|i| if i == 0 { 0.0 } else { 1e3 })
+                .collect(),
+            goal_weight: vec![0.5; POINTS],
+            rest_length: vec![0.1; POINTS - 1],
+            bend_rest: (0..POINTS - 1)
+                .map(|j| RestDirection {
+                    t: 0.9,
+                    u: 0.1 * j as f32,
+                    w: -0.05,
+                })
+                .collect(),
+            accel: (0..POINTS)
+                .map(|i| Vector3::new(0.5, -0.2 * i as f32, 0.0))
+                .collect(),
+            anchor: (0..POINTS)
+                .map(|i| Vector3::new(0.0, if contact(i) { 1.0 } else { 0.0 }, 0.0))
+                .collect(),
+            size: (0..POINTS)
+                .map(|i| match i {
+                    1 => 0.01,
+                    3 => 0.2,
+                    _ => crate::contacts::detect::NO_CONTACT,
+                })
+                .collect(),
+            curved: (0..POINTS).map(|i| i == 3).collect(),
+            zero: vec![Vector3::zeros(); POINTS],
+            friction: vec![0.4; POINTS],
+        }
+    }
+
+    /// Runs `kernel` on a fresh copy of the group; returns every position and velocity.
+    fn run<L: Lane>(kernel: GroupKernel<L>) -> Vec<Vector3<f32>> {
+        let mut g = group();
+        let h = group();
+        let mut views: Vec<StrandView> =
+            g.x.iter_mut()
+                .zip(g.v.iter_mut())
+                .map(|(x, v)| StrandView {
+                    x,
+                    v,
+                    rest_local: &h.rest_local,
+                    inv_mass: &h.inv_mass,
+                    goal_weight: &h.goal_weight,
+                    rest_length: &h.rest_length,
+                    bend_rest: &h.bend_rest,
+                    contacts: Some(ContactSlice {
+                        anchor: &h.anchor,
+                        size: &h.size,
+                        curved: &h.curved,
+                        anchor_velocity: &h.zero,
+                        surface_velocity: &h.zero,
+                        friction: &h.friction,
+                    }),
+                    accel: Some(&h.accel),
+                })
+                .collect();
+        let frame = |angle: f32| RootFrame {
+            origin: Vector3::new(0.0, 0.0, 0.01 * angle),
+            rotation: UnitQuaternion::from_euler_angles(0.0, 0.0, angle),
+        };
+        let starts = vec![frame(0.0); STRANDS];
+        let ends = vec![frame(0.2); STRANDS];
+        let params = HairParams {
+            goal_stiffness: 5.0,
+            ..HairParams::default()
+        };
+        let consts = StepConstants::new(
+            &params,
+            1e-3,
+            12,
+            4,
+            Integrator::SemiImplicitEuler,
+            Some(0.01),
+        );
+        kernel(&mut views, &starts, &ends, &consts, &mut Scratch::default());
+        drop(views);
+        g.x.into_iter().chain(g.v).flatten().collect()
+    }
+
+    #[test]
+    fn every_compiled_copy_gives_the_same_bits() {
+        let baseline = run::<Baseline>(step_group::<Baseline>);
+        let bits = |p: &[Vector3<f32>]| -> Vec<u32> {
+            p.iter()
+                .flat_map(|q| q.iter().map(|c| c.to_bits()))
+                .collect()
+        };
+        assert!(baseline.iter().all(|p| p.iter().all(|c| c.is_finite())));
+        // The strands moved (the test is not comparing two untouched copies).
+        assert_ne!(bits(&baseline[..POINTS]), bits(&group().x[0]));
+        // F8 lanes in the AVX2 copy where the CPU has it, and compiled for the baseline.
+        assert_eq!(bits(&run::<F8>(step_group_avx2)), bits(&baseline));
+        assert_eq!(bits(&run::<F8>(step_group::<F8>)), bits(&baseline));
     }
 }

@@ -1,41 +1,145 @@
 //! Eight strands side by side: the lane types of the solver kernel.
 //!
 //! The kernel advances [`LANES`] strands with the same number of points at once, one strand per
-//! SIMD lane (`wide::f32x8`), so every pass — including the sequential frame transport down a
-//! strand — runs on eight strands per instruction. [`V3`] is a 3-vector of lanes.
+//! SIMD lane, so every pass — including the sequential frame transport down a strand — runs on
+//! eight strands per instruction. It is written once over the [`Lane`] trait and compiled for two
+//! lane types:
+//!
+//! - [`Baseline`] (`wide::f32x8`): explicit SIMD chosen when the crate is compiled — two 128-bit
+//!   halves (SSE2 on x86-64, NEON on aarch64) unless `-C target-cpu` allows more;
+//! - [`F8`] (see [`super::f32_lanes`]): a plain array the compiler widens to whole 256-bit
+//!   registers in the copy of the kernel compiled for AVX2, chosen at run time on CPUs that have
+//!   it ([`super::kernel::wide_registers`]).
+//!
+//! Both do the same IEEE-754 operation per lane, so they give the same bits. [`V3`] is a 3-vector
+//! of lanes.
 
-use std::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
+use std::fmt::Debug;
+use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub, SubAssign};
 
 use nalgebra::Vector3;
-use wide::f32x8;
+
+pub(crate) use super::f32_lanes::F8;
 
 /// Strands advanced together.
 pub(crate) const LANES: usize = 8;
 
-/// One f32 per strand of a group.
-pub(crate) type F = f32x8;
+/// The lane type of CPUs without a wider kernel copy.
+pub(crate) type Baseline = wide::f32x8;
+
+/// One f32 per strand of a group, with the operations the kernel needs. Every operation is the
+/// IEEE-754 operation of its scalar form, lane by lane.
+pub(crate) trait Lane:
+    Copy
+    + Default
+    + Debug
+    + Send
+    + Sync
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + AddAssign
+    + SubAssign
+{
+    /// The result of a lane-wise comparison.
+    type Mask: Copy;
+    /// `f` in every lane.
+    fn splat(f: f32) -> Self;
+    /// The given lane values.
+    fn new(lanes: [f32; LANES]) -> Self;
+    /// The lane values.
+    fn to_array(self) -> [f32; LANES];
+    /// Square root (correctly rounded).
+    fn sqrt(self) -> Self;
+    /// Absolute value.
+    fn abs(self) -> Self;
+    /// Larger value; a NaN lane takes the other operand, and of `−0` and `+0` the second is
+    /// returned (`wide`'s x86 semantics).
+    fn max(self, o: Self) -> Self;
+    /// Smaller value; a NaN lane takes the other operand, and of `−0` and `+0` the second is
+    /// returned (`wide`'s x86 semantics).
+    fn min(self, o: Self) -> Self;
+    /// Lanes where `self > o`.
+    fn simd_gt(self, o: Self) -> Self::Mask;
+    /// Lanes where `self < o`.
+    fn simd_lt(self, o: Self) -> Self::Mask;
+    /// `a` where `mask` is set, `b` elsewhere.
+    fn select(mask: Self::Mask, a: Self, b: Self) -> Self;
+    /// Is any lane of `mask` set?
+    fn any(mask: Self::Mask) -> bool;
+}
+
+impl Lane for wide::f32x8 {
+    type Mask = wide::f32x8;
+    #[inline(always)]
+    fn splat(f: f32) -> Self {
+        wide::f32x8::splat(f)
+    }
+    #[inline(always)]
+    fn new(lanes: [f32; LANES]) -> Self {
+        wide::f32x8::new(lanes)
+    }
+    #[inline(always)]
+    fn to_array(self) -> [f32; LANES] {
+        wide::f32x8::to_array(self)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        wide::f32x8::sqrt(self)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        wide::f32x8::abs(self)
+    }
+    #[inline(always)]
+    fn max(self, o: Self) -> Self {
+        wide::f32x8::max(self, o)
+    }
+    #[inline(always)]
+    fn min(self, o: Self) -> Self {
+        wide::f32x8::min(self, o)
+    }
+    #[inline(always)]
+    fn simd_gt(self, o: Self) -> Self {
+        wide::f32x8::simd_gt(self, o)
+    }
+    #[inline(always)]
+    fn simd_lt(self, o: Self) -> Self {
+        wide::f32x8::simd_lt(self, o)
+    }
+    #[inline(always)]
+    fn select(mask: Self, a: Self, b: Self) -> Self {
+        mask.select(a, b)
+    }
+    #[inline(always)]
+    fn any(mask: Self) -> bool {
+        wide::f32x8::any(mask)
+    }
+}
 
 /// `f` in every lane.
 #[inline(always)]
-pub(crate) fn splat(f: f32) -> F {
-    F::splat(f)
+pub(crate) fn splat<L: Lane>(f: f32) -> L {
+    L::splat(f)
 }
 
 /// `a / b` where `b > eps`, else `0` (masked lanes never see a division by zero's result).
 #[inline(always)]
-pub(crate) fn div_or_zero(a: F, b: F, eps: f32) -> F {
-    b.simd_gt(splat(eps)).select(a / b, splat(0.0))
+pub(crate) fn div_or_zero<L: Lane>(a: L, b: L, eps: f32) -> L {
+    L::select(b.simd_gt(L::splat(eps)), a / b, L::splat(0.0))
 }
 
 /// A 3-vector with one component per lane.
 #[derive(Clone, Copy, Default, Debug, PartialEq)]
-pub(crate) struct V3 {
-    pub x: F,
-    pub y: F,
-    pub z: F,
+pub(crate) struct V3<L = Baseline> {
+    pub x: L,
+    pub y: L,
+    pub z: L,
 }
 
-impl V3 {
+impl<L: Lane> V3<L> {
     /// The same vector in every lane.
     #[inline(always)]
     pub fn splat(v: &Vector3<f32>) -> Self {
@@ -47,7 +151,7 @@ impl V3 {
     }
 
     #[inline(always)]
-    pub fn dot(&self, o: &Self) -> F {
+    pub fn dot(&self, o: &Self) -> L {
         self.x * o.x + self.y * o.y + self.z * o.z
     }
 
@@ -74,9 +178,9 @@ impl V3 {
     #[inline(always)]
     pub fn from_lanes(v: &[Vector3<f32>; LANES]) -> Self {
         Self {
-            x: F::new(v.map(|p| p.x)),
-            y: F::new(v.map(|p| p.y)),
-            z: F::new(v.map(|p| p.z)),
+            x: L::new(v.map(|p| p.x)),
+            y: L::new(v.map(|p| p.y)),
+            z: L::new(v.map(|p| p.z)),
         }
     }
 
@@ -89,19 +193,19 @@ impl V3 {
 
     /// Lanes where `mask` is set take `a`, the others `b`.
     #[inline(always)]
-    pub fn select(mask: F, a: &Self, b: &Self) -> Self {
+    pub fn select(mask: L::Mask, a: &Self, b: &Self) -> Self {
         Self {
-            x: mask.select(a.x, b.x),
-            y: mask.select(a.y, b.y),
-            z: mask.select(a.z, b.z),
+            x: L::select(mask, a.x, b.x),
+            y: L::select(mask, a.y, b.y),
+            z: L::select(mask, a.z, b.z),
         }
     }
 }
 
-impl Add for V3 {
-    type Output = V3;
+impl<L: Lane> Add for V3<L> {
+    type Output = V3<L>;
     #[inline(always)]
-    fn add(self, o: V3) -> V3 {
+    fn add(self, o: V3<L>) -> V3<L> {
         V3 {
             x: self.x + o.x,
             y: self.y + o.y,
@@ -110,10 +214,10 @@ impl Add for V3 {
     }
 }
 
-impl Sub for V3 {
-    type Output = V3;
+impl<L: Lane> Sub for V3<L> {
+    type Output = V3<L>;
     #[inline(always)]
-    fn sub(self, o: V3) -> V3 {
+    fn sub(self, o: V3<L>) -> V3<L> {
         V3 {
             x: self.x - o.x,
             y: self.y - o.y,
@@ -122,10 +226,10 @@ impl Sub for V3 {
     }
 }
 
-impl Neg for V3 {
-    type Output = V3;
+impl<L: Lane> Neg for V3<L> {
+    type Output = V3<L>;
     #[inline(always)]
-    fn neg(self) -> V3 {
+    fn neg(self) -> V3<L> {
         V3 {
             x: -self.x,
             y: -self.y,
@@ -134,10 +238,10 @@ impl Neg for V3 {
     }
 }
 
-impl Mul<F> for V3 {
-    type Output = V3;
+impl<L: Lane> Mul<L> for V3<L> {
+    type Output = V3<L>;
     #[inline(always)]
-    fn mul(self, s: F) -> V3 {
+    fn mul(self, s: L) -> V3<L> {
         V3 {
             x: self.x * s,
             y: self.y * s,
@@ -146,55 +250,55 @@ impl Mul<F> for V3 {
     }
 }
 
-impl AddAssign for V3 {
+impl<L: Lane> AddAssign for V3<L> {
     #[inline(always)]
-    fn add_assign(&mut self, o: V3) {
+    fn add_assign(&mut self, o: V3<L>) {
         *self = *self + o;
     }
 }
 
-impl SubAssign for V3 {
+impl<L: Lane> SubAssign for V3<L> {
     #[inline(always)]
-    fn sub_assign(&mut self, o: V3) {
+    fn sub_assign(&mut self, o: V3<L>) {
         *self = *self - o;
     }
 }
 
 /// A rotation matrix per lane (columns).
 #[derive(Clone, Copy, Default)]
-pub(crate) struct M3 {
-    pub cols: [V3; 3],
+pub(crate) struct M3<L> {
+    pub cols: [V3<L>; 3],
 }
 
-impl M3 {
+impl<L: Lane> M3<L> {
     /// `R v`.
     #[inline(always)]
-    pub fn mul(&self, v: &V3) -> V3 {
+    pub fn mul(&self, v: &V3<L>) -> V3<L> {
         self.cols[0] * v.x + self.cols[1] * v.y + self.cols[2] * v.z
     }
 }
 
 /// A unit quaternion per lane `(w, i, j, k)`.
 #[derive(Clone, Copy, Default)]
-pub(crate) struct Q4 {
-    pub w: F,
-    pub i: F,
-    pub j: F,
-    pub k: F,
+pub(crate) struct Q4<L> {
+    pub w: L,
+    pub i: L,
+    pub j: L,
+    pub k: L,
 }
 
-impl Q4 {
+impl<L: Lane> Q4<L> {
     /// Normalised linear interpolation `nlerp(a, b, s)` (what `RootFrame::interpolate` does).
     #[inline(always)]
-    pub fn nlerp(a: &Q4, b: &Q4, s: f32) -> Q4 {
-        let (s, r) = (splat(s), splat(1.0 - s));
+    pub fn nlerp(a: &Self, b: &Self, s: f32) -> Self {
+        let (s, r) = (splat::<L>(s), splat::<L>(1.0 - s));
         let q = Q4 {
             w: a.w * r + b.w * s,
             i: a.i * r + b.i * s,
             j: a.j * r + b.j * s,
             k: a.k * r + b.k * s,
         };
-        let inv = splat(1.0) / (q.w * q.w + q.i * q.i + q.j * q.j + q.k * q.k).sqrt();
+        let inv = splat::<L>(1.0) / (q.w * q.w + q.i * q.i + q.j * q.j + q.k * q.k).sqrt();
         Q4 {
             w: q.w * inv,
             i: q.i * inv,
@@ -205,10 +309,10 @@ impl Q4 {
 
     /// The rotation matrix of this unit quaternion.
     #[inline(always)]
-    pub fn matrix(&self) -> M3 {
+    pub fn matrix(&self) -> M3<L> {
         let (w, x, y, z) = (self.w, self.i, self.j, self.k);
-        let two = splat(2.0);
-        let one = splat(1.0);
+        let two = splat::<L>(2.0);
+        let one = splat::<L>(1.0);
         M3 {
             cols: [
                 V3 {
@@ -236,18 +340,17 @@ mod tests {
     use super::*;
     use nalgebra::UnitQuaternion;
 
-    #[test]
-    fn quaternion_matrix_matches_nalgebra() {
+    fn quaternion_matrix<L: Lane>() {
         let qs: [UnitQuaternion<f32>; LANES] = std::array::from_fn(|l| {
             UnitQuaternion::from_euler_angles(0.3 * l as f32, -0.2, 0.1 * l as f32)
         });
         let q = Q4 {
-            w: F::new(qs.map(|q| q.w)),
-            i: F::new(qs.map(|q| q.i)),
-            j: F::new(qs.map(|q| q.j)),
-            k: F::new(qs.map(|q| q.k)),
+            w: L::new(qs.map(|q| q.w)),
+            i: L::new(qs.map(|q| q.i)),
+            j: L::new(qs.map(|q| q.j)),
+            k: L::new(qs.map(|q| q.k)),
         };
-        let v = V3::splat(&Vector3::new(0.3, -1.0, 2.0));
+        let v = V3::<L>::splat(&Vector3::new(0.3, -1.0, 2.0));
         let got = q.matrix().mul(&v).to_lanes();
         for l in 0..LANES {
             assert!((got[l] - qs[l] * Vector3::new(0.3, -1.0, 2.0)).norm() < 1e-5);
@@ -255,12 +358,56 @@ mod tests {
     }
 
     #[test]
-    fn division_is_masked() {
+    fn quaternion_matrix_matches_nalgebra() {
+        quaternion_matrix::<Baseline>();
+        quaternion_matrix::<F8>();
+    }
+
+    fn masked_division<L: Lane>() {
         let r = div_or_zero(
-            splat(1.0),
-            F::new([0.0, 2.0, 0.0, 4.0, 1.0, 1.0, 1.0, 1.0]),
+            splat::<L>(1.0),
+            L::new([0.0, 2.0, 0.0, 4.0, 1.0, 1.0, 1.0, 1.0]),
             1e-6,
         );
         assert_eq!(r.to_array()[..4], [0.0, 0.5, 0.0, 0.25]);
+    }
+
+    #[test]
+    fn division_is_masked() {
+        masked_division::<Baseline>();
+        masked_division::<F8>();
+    }
+
+    /// Both lane types give the same bits for every operation, NaN handling of max/min
+    /// included.
+    #[test]
+    fn lane_types_agree_bit_for_bit() {
+        let a = [1.0, -2.0, 3.5, 0.0, -0.0, 9.0, f32::NAN, 1e-30];
+        let b = [2.0, 2.0, -7.25, f32::NAN, 0.0, 1e30, 3.0, 3.0];
+        fn ops<L: Lane>(a: [f32; LANES], b: [f32; LANES]) -> Vec<[f32; LANES]> {
+            let (a, b) = (L::new(a), L::new(b));
+            vec![
+                (a + b).to_array(),
+                (a - b).to_array(),
+                (a * b).to_array(),
+                (a / b).to_array(),
+                (-a).to_array(),
+                a.abs().sqrt().to_array(),
+                a.max(b).to_array(),
+                a.min(b).to_array(),
+                b.max(a).to_array(),
+                L::select(a.simd_gt(b), a, b).to_array(),
+                L::select(a.simd_lt(b), a, b).to_array(),
+            ]
+        }
+        let bits = |v: Vec<[f32; LANES]>| -> Vec<u32> {
+            v.iter().flatten().map(|f| f.to_bits()).collect()
+        };
+        assert_eq!(bits(ops::<Baseline>(a, b)), bits(ops::<F8>(a, b)));
+        assert!(!Baseline::any(Lane::simd_lt(
+            splat::<Baseline>(1.0),
+            splat(0.0)
+        )));
+        assert!(F8::any(F8::new(a).simd_gt(splat(8.0))));
     }
 }

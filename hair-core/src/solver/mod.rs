@@ -38,6 +38,7 @@
 
 mod damping;
 pub mod energy;
+mod f32_lanes;
 pub mod inextensible;
 mod kernel;
 pub(crate) mod lanes;
@@ -58,7 +59,8 @@ use crate::contacts::Colliders;
 use crate::fields::{self, FieldInput, ForceField};
 use crate::volume::{HairHair, HairHairSettings};
 pub use inextensible::Inextensibility;
-use kernel::{step_group, ContactSlice, Scratch, StepConstants, StrandView};
+use kernel::{ContactSlice, GroupKernel, Scratch, StepConstants, StrandView};
+use lanes::Lane;
 use lanes::LANES;
 pub use params::{HairParams, Integrator, SolverSettings, Substeps};
 pub use stability::StabilityBound;
@@ -495,7 +497,25 @@ impl Solver {
                 None => None,
             };
             let t2 = Instant::now();
-            let outcome = self.step_strands(strands, &starts, &ends, &consts, step_dt, contacts);
+            let outcome = if kernel::wide_registers() {
+                self.step_strands(
+                    kernel::step_group_avx2,
+                    strands,
+                    &starts,
+                    &ends,
+                    &consts,
+                    contacts,
+                )
+            } else {
+                self.step_strands(
+                    kernel::step_group::<lanes::Baseline>,
+                    strands,
+                    &starts,
+                    &ends,
+                    &consts,
+                    contacts,
+                )
+            };
             times.strands += t2.elapsed();
             if let Some((strand, cause)) = outcome.failure {
                 return Err(HairError::Unstable {
@@ -525,15 +545,17 @@ impl Solver {
         })
     }
 
-    fn step_strands(
+    /// Runs one collision step of every strand with the kernel copy `kernel`.
+    fn step_strands<L: Lane>(
         &self,
+        kernel: GroupKernel<L>,
         strands: &mut StrandSet,
         starts: &[RootFrame],
         ends: &[RootFrame],
         consts: &StepConstants,
-        step_dt: f64,
         contacts: Option<&PointContacts>,
     ) -> BlockOutcome {
+        let step_dt = consts.dt as f64 * consts.substeps as f64;
         let g = self.params.gravity().norm() as f64;
         let fps = self.settings.fps as f64;
         let (x_all, v_all, data) = strands.split_for_solver();
@@ -549,7 +571,7 @@ impl Solver {
         }
         let outcomes: Vec<BlockOutcome> = jobs
             .into_par_iter()
-            .map_init(Scratch::default, |scratch, (block, mut x, mut v)| {
+            .map_init(Scratch::<L>::default, |scratch, (block, mut x, mut v)| {
                 let mut out = BlockOutcome::default();
                 for group in groups_in(data.offsets, block) {
                     // One view per strand of the group, over disjoint pieces of the block.
@@ -582,7 +604,7 @@ impl Solver {
                             accel: (!self.external.is_empty()).then(|| &self.external[p.clone()]),
                         });
                     }
-                    step_group(
+                    kernel(
                         &mut views,
                         &starts[group.clone()],
                         &ends[group.clone()],
