@@ -88,8 +88,11 @@ pub struct RunSummary {
     pub dt: f64,
     /// Stability bound 2/ω, s.
     pub dt_bound: f64,
-    /// Strand model that ran: `"mass-spring"` or `"rod"`.
+    /// Strand model that ran: `"mass-spring"`, `"rod"` or `"strips"`.
     pub model: &'static str,
+    /// Compiled copy of the mass-spring kernel this CPU ran: `"avx2"` or `"baseline"` (same
+    /// bits, see [`hair_core::kernel_instructions`]).
+    pub kernel: &'static str,
     /// The rod model's projection figures over the run (absent for mass-spring).
     pub projection: Option<ProjectionReport>,
     /// Model components that ran.
@@ -273,6 +276,7 @@ pub fn simulate(
         dt: solver.dt(),
         dt_bound: solver.dt_bound(),
         model: solver.model().name(),
+        kernel: hair_core::kernel_instructions(),
         projection: solver.projection(),
         components,
         ms_per_frame: per_frame(solve_time),
@@ -296,8 +300,8 @@ impl std::fmt::Display for RunSummary {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         writeln!(
             f,
-            "simulated {} frames of {} strands ({} points) on {} threads",
-            self.frames, self.strands, self.points, self.threads
+            "simulated {} frames of {} strands ({} points) on {} threads ({} kernel)",
+            self.frames, self.strands, self.points, self.threads, self.kernel
         )?;
         writeln!(
             f,

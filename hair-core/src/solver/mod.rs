@@ -72,6 +72,19 @@ const BLOCK_POINTS: usize = 4096;
 /// (fall its own length, move its own length per frame, follow the root).
 const RUNAWAY_FACTOR: f64 = 1e3;
 
+/// The compiled copy of the mass-spring kernel (used by the mass-spring and strip models) this
+/// CPU runs: `"avx2"` — x86-64 with AVX2, eight lanes per 256-bit instruction — or `"baseline"`
+/// — the target's default SIMD, two 128-bit halves (SSE2 on x86-64, NEON on aarch64). Both give
+/// the same bits; on the parity scene the AVX2 copy runs the substeps 1.4× faster
+/// (`BENCHMARKS.md`).
+pub fn kernel_instructions() -> &'static str {
+    if kernel::wide_registers() {
+        "avx2"
+    } else {
+        "baseline"
+    }
+}
+
 /// Which model components a solver runs, for reports.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Components(pub Vec<&'static str>);
