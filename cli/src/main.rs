@@ -301,6 +301,10 @@ fn parse_range(s: &str) -> Result<(u32, u32), String> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Err(e) = hair_core::baseline_forced() {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
     let code = match cli.command {
         Command::Simulate {
             scene,

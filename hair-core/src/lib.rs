@@ -44,8 +44,8 @@ pub use mesh::{MeshSample, RootFrame, TriMesh};
 pub use rod::{ProjectionReport, RodFrameReport, RodParams, RodSolver, StrandModel};
 pub use solver::energy::{energy, Energy};
 pub use solver::{
-    kernel_instructions, FrameReport, HairParams, Inextensibility, Integrator, PhaseTimes, Solver,
-    SolverSettings, StabilityBound, Substeps,
+    baseline_forced, kernel_instructions, FrameReport, HairParams, Inextensibility, Integrator,
+    PhaseTimes, Solver, SolverSettings, StabilityBound, Substeps,
 };
 pub use strands::{Anchor, Scalp, StrandInput, StrandSet};
 pub use volume::{HairHairSettings, VoxelGrid};

@@ -4,9 +4,16 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// Runs `hairsys ARGS` in `dir`.
+#[allow(dead_code)] // each test binary compiles this module; not all of them use every helper
 pub fn hairsys(args: &[&str], dir: &Path) -> Output {
+    hairsys_with_env(args, dir, &[])
+}
+
+/// Runs `hairsys ARGS` in `dir` with the environment variables `env` set.
+pub fn hairsys_with_env(args: &[&str], dir: &Path, env: &[(&str, &str)]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_hairsys"))
         .args(args)
+        .envs(env.iter().copied())
         .current_dir(dir)
         .output()
         .expect("the binary runs")

@@ -14,6 +14,8 @@
 //! indices `0` and `n` hold zeros, so point `i` reads "the segment after" at `i + 1` and "the
 //! segment before" at `i` without branches.
 
+use std::sync::OnceLock;
+
 use nalgebra::Vector3;
 
 use crate::contacts::detect::NO_CONTACT;
@@ -342,9 +344,15 @@ fn transport<L: Lane>(u: &V3<L>, tp: &V3<L>, t: &V3<L>) -> V3<L> {
 pub(crate) type GroupKernel<L> =
     fn(&mut [StrandView], &[RootFrame], &[RootFrame], &StepConstants, &mut Scratch<L>);
 
-/// Does this CPU run [`step_group_avx2`], the kernel compiled for 256-bit registers? (x86-64
-/// with AVX2; elsewhere the solver runs [`step_group`] on [`super::lanes::Baseline`].)
+/// Does the solver run [`step_group_avx2`], the kernel compiled for 256-bit registers? On
+/// x86-64 CPUs with AVX2 unless [`super::KERNEL_ENV`] asks for the baseline; elsewhere the
+/// solver runs [`step_group`] on [`super::lanes::Baseline`]. Decided once per process.
 pub(crate) fn wide_registers() -> bool {
+    static WIDE: OnceLock<bool> = OnceLock::new();
+    *WIDE.get_or_init(|| cpu_has_avx2() && !super::baseline_forced().unwrap_or(false))
+}
+
+fn cpu_has_avx2() -> bool {
     #[cfg(target_arch = "x86_64")]
     return std::arch::is_x86_feature_detected!("avx2");
     #[cfg(not(target_arch = "x86_64"))]

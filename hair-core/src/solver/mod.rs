@@ -72,11 +72,34 @@ const BLOCK_POINTS: usize = 4096;
 /// (fall its own length, move its own length per frame, follow the root).
 const RUNAWAY_FACTOR: f64 = 1e3;
 
+/// Environment variable choosing the compiled copy of the mass-spring kernel: `baseline` runs
+/// the baseline copy on any CPU (to compare speeds, or to check on one machine that both copies
+/// give the same bits); unset or `auto`, the fastest copy the CPU has. Read once per process; a
+/// library host that lets other values through gets `auto` (see [`baseline_forced`]).
+pub const KERNEL_ENV: &str = "HAIRSYS_KERNEL";
+
+/// Does [`KERNEL_ENV`] ask for the baseline kernel copy? An error names the variable, its value
+/// and the accepted values when it holds anything but `baseline` or `auto`.
+pub fn baseline_forced() -> Result<bool> {
+    match std::env::var(KERNEL_ENV) {
+        Err(std::env::VarError::NotPresent) => Ok(false),
+        Ok(v) if v == "auto" => Ok(false),
+        Ok(v) if v == "baseline" => Ok(true),
+        other => Err(HairError::Parameter {
+            name: format!("{KERNEL_ENV} (environment variable)"),
+            value: format!("{:?}", other.unwrap_or_else(|e| e.to_string())),
+            fix: "set it to `baseline` (the portable kernel copy) or `auto` (the fastest copy \
+                  this CPU runs), or unset it"
+                .into(),
+        }),
+    }
+}
+
 /// The compiled copy of the mass-spring kernel (used by the mass-spring and strip models) this
-/// CPU runs: `"avx2"` — x86-64 with AVX2, eight lanes per 256-bit instruction — or `"baseline"`
-/// — the target's default SIMD, two 128-bit halves (SSE2 on x86-64, NEON on aarch64). Both give
-/// the same bits; on the parity scene the AVX2 copy runs the substeps 1.4× faster
-/// (`BENCHMARKS.md`).
+/// process runs: `"avx2"` — x86-64 with AVX2, eight lanes per 256-bit instruction — or
+/// `"baseline"` — the target's default SIMD, two 128-bit halves (SSE2 on x86-64, NEON on
+/// aarch64), or any CPU when [`KERNEL_ENV`] asks for it. Both give the same bits; on the parity
+/// scene the AVX2 copy runs the substeps 1.4× faster (`BENCHMARKS.md`).
 pub fn kernel_instructions() -> &'static str {
     if kernel::wide_registers() {
         "avx2"
