@@ -7,7 +7,7 @@
 //! per-segment tangents, the sequential frame transport and twist sums of the bending springs,
 //! the per-point updates and the damping sub-loop — advances eight strands per instruction, and
 //! the group's whole substep loop stays in L1. The group is gathered from the strand set once per
-//! step and scattered back after it. Lanes a group does not fill repeat its first strand and are
+//! step and scattered back after it. Lanes a group does not fill repeat its last strand and are
 //! discarded.
 //!
 //! Segment arrays are *padded*: segment `j` (points `j`, `j + 1`) sits at index `j + 1`, and
@@ -303,7 +303,7 @@ impl<L: Lane> Scratch<L> {
     }
 }
 
-/// Lane `l`'s contact data of point `i` (lanes a group does not fill repeat its first strand;
+/// Lane `l`'s contact data of point `i` (lanes a group does not fill repeat its last strand;
 /// strands without contacts this step get none).
 fn gather_contact<L: Lane>(views: &[StrandView], i: usize) -> ContactLanes<L> {
     let zero = Vector3::zeros();
@@ -644,7 +644,7 @@ mod tests {
     use super::super::lanes::Baseline;
     use super::*;
 
-    /// Seven wavy strands of six points (the group's eighth lane repeats the first), some points
+    /// Seven wavy strands of six points (the group's eighth lane repeats the last), some points
     /// in plane or sphere contact, with goal springs, an external acceleration, damping, strain
     /// limiting and a turning root frame: every branch of the kernel runs.
     struct Group {

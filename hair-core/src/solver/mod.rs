@@ -98,8 +98,8 @@ pub fn baseline_forced() -> Result<bool> {
 /// The compiled copy of the mass-spring kernel (used by the mass-spring and strip models) this
 /// process runs: `"avx2"` — x86-64 with AVX2, eight lanes per 256-bit instruction — or
 /// `"baseline"` — the target's default SIMD, two 128-bit halves (SSE2 on x86-64, NEON on
-/// aarch64), or any CPU when [`KERNEL_ENV`] asks for it. Both give the same bits; on the parity
-/// scene the AVX2 copy runs the substeps 1.4× faster (`BENCHMARKS.md`).
+/// aarch64), or any CPU when [`KERNEL_ENV`] asks for it. Both give the same bits; the AVX2 copy
+/// runs the substeps of the shipped scenes 1.3–1.6× faster (`BENCHMARKS.md`).
 pub fn kernel_instructions() -> &'static str {
     if kernel::wide_registers() {
         "avx2"
