@@ -676,6 +676,7 @@ fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
                 * 1e3,
             "hair_hair_ms": r.times.volume.as_secs_f64() * 1e3,
             "fields_ms": r.times.fields.as_secs_f64() * 1e3,
+            "escaped_points": r.escaped_points,
         }))
     });
     progress.finish();

@@ -114,6 +114,11 @@ pub struct RunSummary {
     pub fields_ms_per_frame: f64,
     /// Mean number of points with a contact per collision step.
     pub contact_points_per_step: f64,
+    /// Point-frames that ended inside a collider (closer than radius + thickness) after
+    /// outrunning detection's margin, put back on its surface by the frame-end check (see
+    /// `hair_core::contacts`). Nonzero means hair moved faster within a step than detection
+    /// allowed for: a strain limit (`max_strain`) or more collision steps keeps it within.
+    pub escaped_points: u64,
     /// Most collision steps any frame took (more than `[solver] steps` when colliders moved
     /// fast).
     pub max_collision_steps: u32,
@@ -237,6 +242,7 @@ pub fn simulate(
     let mut contacts_time = Duration::ZERO;
     let (mut volume_time, mut fields_time) = (Duration::ZERO, Duration::ZERO);
     let (mut contact_points, mut collision_steps, mut max_steps) = (0u64, 0u64, 0u32);
+    let mut escaped_points = 0u64;
     let mut point_substeps = 0u64;
     let mut max_stretch = 0.0f32;
     for frame in sim.first_frame + 1..=sim.last_frame {
@@ -254,6 +260,7 @@ pub fn simulate(
         volume_time += report.times.volume;
         fields_time += report.times.fields;
         contact_points += report.contact_points;
+        escaped_points += report.escaped_points;
         collision_steps += report.steps as u64;
         max_steps = max_steps.max(report.steps);
         point_substeps += report.point_substeps;
@@ -287,6 +294,7 @@ pub fn simulate(
         hair_hair_ms_per_frame: per_frame(volume_time),
         fields_ms_per_frame: per_frame(fields_time),
         contact_points_per_step: contact_points as f64 / collision_steps.max(1) as f64,
+        escaped_points,
         max_collision_steps: max_steps,
         point_substeps_per_s: point_substeps as f64 / solve_time.as_secs_f64().max(1e-12),
         max_stretch,
@@ -323,6 +331,14 @@ impl std::fmt::Display for RunSummary {
                 "  contacts: detection {:.2} ms/frame, {:.0} points in contact per step, up to {} collision steps per frame",
                 self.contacts_ms_per_frame, self.contact_points_per_step, self.max_collision_steps
             )?;
+            if self.escaped_points > 0 {
+                writeln!(
+                    f,
+                    "  contacts: {} point-frames outran detection and ended inside a collider; \
+                     put back on its surface (a strain limit, max_strain, or more steps avoids it)",
+                    self.escaped_points
+                )?;
+            }
         }
         if self.hair_hair_ms_per_frame > 0.0 || self.fields_ms_per_frame > 0.0 {
             writeln!(

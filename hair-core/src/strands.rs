@@ -359,6 +359,7 @@ impl StrandSet {
             goal_weight: &self.goal_weight,
             rest_length: &self.rest_length,
             bend_rest: &self.bend_rest,
+            radii: &self.radius,
         };
         (&mut self.positions, &mut self.velocities, data)
     }
@@ -380,6 +381,8 @@ pub(crate) struct SolverData<'a> {
     pub goal_weight: &'a [f32],
     pub rest_length: &'a [f32],
     pub bend_rest: &'a [RestDirection],
+    /// Collision radius per point, m.
+    pub radii: &'a [f32],
 }
 
 #[cfg(test)]

@@ -55,7 +55,7 @@ use rapier3d::geometry::Aabb;
 use rapier3d::pipeline::QueryFilter;
 use rayon::prelude::*;
 
-use super::collider_set::{Colliders, MeshTopology, Surface};
+use super::collider_set::{Colliders, Entry, MeshTopology, Surface};
 use super::fast_projection::{FastProjection, Feature};
 use super::math::{from_glam, to_glam};
 
@@ -99,11 +99,11 @@ pub(crate) struct PointContacts {
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Memory {
     /// Body-space position at which `bound` was measured, m.
-    at: Vector3<f32>,
+    pub(super) at: Vector3<f32>,
     /// Lower bound of the signed distance to the collider's surface there, m (−∞: unknown).
-    bound: f32,
+    pub(super) bound: f32,
     /// Mesh triangle the point projected on there (`u32::MAX`: none), a warm start.
-    hint: u32,
+    pub(super) hint: u32,
 }
 
 impl Default for Memory {
@@ -119,7 +119,7 @@ impl Default for Memory {
 /// Per point and collider memory (see the module docs), point-major.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Clearance {
-    memory: Vec<Memory>,
+    pub(super) memory: Vec<Memory>,
 }
 
 impl Clearance {
@@ -145,17 +145,17 @@ pub(crate) struct DetectInput<'a> {
 }
 
 /// A collider as detection sees it during one step.
-struct StepCollider<'a> {
-    shape: &'a dyn Shape,
+pub(super) struct StepCollider<'a> {
+    pub(super) shape: &'a dyn Shape,
     /// Enclosing sphere, body space: centre (m) and radius (m).
     bounding_sphere: (Vector3<f32>, f32),
     surface: Surface,
     start: Isometry3<f32>,
     start_inv: Isometry3<f32>,
-    end: Isometry3<f32>,
+    pub(super) end: Isometry3<f32>,
     /// The step's rigid motion in world space, `end · start⁻¹`.
     motion: Isometry3<f32>,
-    thickness: f32,
+    pub(super) thickness: f32,
     friction: f32,
     /// Smallest curvature per mesh triangle, 1/m (empty for analytic shapes).
     curvature: &'a [f32],
@@ -171,7 +171,7 @@ struct StepCollider<'a> {
 impl StepCollider<'_> {
     /// Velocity (m/s) of the collider's material point at body-space `local` over a step of
     /// `dt` s.
-    fn velocity_at(&self, local: &Vector3<f32>, dt: f32) -> Vector3<f32> {
+    pub(super) fn velocity_at(&self, local: &Vector3<f32>, dt: f32) -> Vector3<f32> {
         let p = Point3::from(*local);
         self.velocity_from(local, &(self.start * p), dt)
     }
@@ -216,6 +216,7 @@ pub(crate) fn detect(
     let strands = input.offsets.len() - 1;
     colliders.place_for_step(a, b);
     let count = colliders.entries.len();
+    let step = step_colliders(&colliders.entries, a, b);
     let memory = &mut colliders.clearance.memory;
     if memory.len() != n * count {
         *memory = vec![Memory::default(); n * count];
@@ -228,28 +229,6 @@ pub(crate) fn detect(
     out.friction.resize(n, 0.0);
     out.strand_active.resize(strands, false);
 
-    let step = colliders
-        .entries
-        .iter()
-        .map(|e| {
-            let start = e.pose_at(a);
-            StepCollider {
-                shape: &*e.shape,
-                bounding_sphere: e.bounding_sphere,
-                surface: e.surface,
-                start,
-                start_inv: start.inverse(),
-                end: e.pose_at(b),
-                motion: e.pose_at(b) * start.inverse(),
-                thickness: e.thickness,
-                friction: e.friction,
-                curvature: &e.curvature,
-                topology: &e.topology,
-                reach: e.bounding_radius,
-                fast: e.fast.as_ref(),
-            }
-        })
-        .collect::<Vec<_>>();
     let handles: Vec<_> = colliders.entries.iter().map(|e| e.handle).collect();
 
     // Disjoint output slices per block.
@@ -434,6 +413,31 @@ pub(crate) fn detect(
         .sum()
 }
 
+/// The colliders as detection sees them during the step from fraction `a` to `b` of the frame.
+pub(super) fn step_colliders(entries: &[Entry], a: f32, b: f32) -> Vec<StepCollider<'_>> {
+    entries
+        .iter()
+        .map(|e| {
+            let start = e.pose_at(a);
+            StepCollider {
+                shape: &*e.shape,
+                bounding_sphere: e.bounding_sphere,
+                surface: e.surface,
+                start,
+                start_inv: start.inverse(),
+                end: e.pose_at(b),
+                motion: e.pose_at(b) * start.inverse(),
+                thickness: e.thickness,
+                friction: e.friction,
+                curvature: &e.curvature,
+                topology: &e.topology,
+                reach: e.bounding_radius,
+                fast: e.fast.as_ref(),
+            }
+        })
+        .collect()
+}
+
 /// Splits the first `len` items off `rest`.
 fn take<'a, T>(rest: &mut &'a mut [T], len: usize) -> &'a mut [T] {
     let (head, tail) = std::mem::take(rest).split_at_mut(len);
@@ -443,11 +447,11 @@ fn take<'a, T>(rest: &mut &'a mut [T], len: usize) -> &'a mut [T] {
 
 /// A point projected on a collider surface, in the collider's body space.
 #[derive(Debug, Clone, Copy, Default)]
-struct Hit {
+pub(super) struct Hit {
     /// Signed distance from the (unthickened) surface, m; negative inside a solid.
-    signed: f32,
+    pub(super) signed: f32,
     /// Outward unit normal, body space.
-    local_normal: Vector3<f32>,
+    pub(super) local_normal: Vector3<f32>,
     /// Unit normal of the smooth surface the shape stands for at the projection, on the point's
     /// side, body space: on a mesh interpolated from its vertex normals (a facet's own normal
     /// tilts away from the surface it approximates by up to half the angle between neighbouring
@@ -455,12 +459,12 @@ struct Hit {
     /// times the distance slid, see [`smooth_normal`]); `local_normal` elsewhere.
     smooth_normal: Vector3<f32>,
     /// The projection, body space, m.
-    local_point: Vector3<f32>,
+    pub(super) local_point: Vector3<f32>,
     /// Smallest curvature of the surface there, 1/m: > 0 bending away from the point's side
     /// (convex), < 0 towards it, 0 flat.
     curvature: f32,
     /// Triangle of a mesh the point projected on (0 for analytic shapes).
-    triangle: u32,
+    pub(super) triangle: u32,
 }
 
 /// Projects body-space point `p` on collider `col` if its surface lies within `q` (m), or if the
@@ -468,7 +472,7 @@ struct Hit {
 /// surface — the distance itself, or to the shape's enclosing sphere when that is beyond `q` —
 /// with the mesh triangle nearest to it if one was found. `hint` is a mesh triangle the point was
 /// near before, which warm-starts the search.
-fn project(
+pub(super) fn project(
     col: &StepCollider,
     p: &Vector3<f32>,
     q: f32,

@@ -13,6 +13,7 @@
 //! - [`settings`]: [`ContactSettings`] (fast-motion tolerance, push-out speed).
 //! - `detect`: detection once per step (query radius from relative motion, clearance skip, rapier
 //!   broad phase, parry narrow phase, the contact's surface model).
+//! - `escapes`: the frame-end check that puts back points which outran detection's margin.
 //! - `fast_projection`: an exact shortcut for the narrow phase near a convex part of a mesh.
 //! - `penalty`: the response in the substeps, in SIMD lanes (lanes = strands).
 //! - `math`: the one place where nalgebra and rapier/parry's glam types meet.
@@ -60,11 +61,16 @@
 //! - **Detection margin.** A point is only tested against a collider within its query radius
 //!   `radius + thickness + 2|v_rel|Δt + |g|Δt² + 1 mm` (`v_rel` relative to the collider's
 //!   material point where the hair point is). A point that accelerates beyond that within a step
-//!   (a whipping strand) is caught at the next step, already inside, and pushed out then. The
-//!   strain limiter bounds how far a point can be yanked within a step; without it (soft
-//!   stretch springs, `max_strain` absent) points next to the root of a strand snapping taut
-//!   were measured to go from rest to 4–5 m/s within one step, past the margin, and end that
-//!   frame up to 2 cm inside the parity scene's head (with `max_strain` none did).
+//!   (a whipping strand) gets no contact in it. Without a strain limit (soft stretch springs,
+//!   `max_strain` absent) points next to the root of a strand snapping taut were measured to go
+//!   from rest to 4–5 m/s within one step, past the margin, and end the frame up to 2.2 cm inside
+//!   the parity scene's head. The frame-end check (`escapes`) catches them: after a frame's last
+//!   step every free point without a contact is checked against every collider (nearly free: it
+//!   reads detection's distance bounds) and one closer than its radius plus the thickness is put
+//!   back on the surface, its velocity into the surface removed; `FrameReport::escaped_points`
+//!   counts them (34 point-frames in that scene; none with its strain limit, where the check
+//!   changes nothing). Within a frame of several collision steps the next step's detection pushes
+//!   such a point out instead.
 //! - **Resuming.** The scalp collider is built from the rest mesh and a contact is computed from
 //!   the feature (face, edge, vertex) found, not from the path that found it, so detection's
 //!   memory (distance bounds, warm-start triangles) mostly only saves work: the turning-head run
@@ -88,6 +94,7 @@
 pub mod collider;
 pub mod collider_set;
 pub(crate) mod detect;
+pub(crate) mod escapes;
 pub(crate) mod fast_projection;
 pub(crate) mod math;
 pub(crate) mod penalty;

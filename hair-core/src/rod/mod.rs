@@ -566,6 +566,8 @@ impl RodSolver {
                 steps: self.settings.steps,
                 point_substeps: strands.point_count() as u64 * total as u64,
                 contact_points: contacts / self.substeps as u64,
+                // The rod projects its nodes out of colliders in every substep.
+                escaped_points: 0,
                 max_stretch: strands.max_stretch(),
                 times: PhaseTimes {
                     roots: roots_time,

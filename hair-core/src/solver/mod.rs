@@ -55,6 +55,7 @@ use crate::mesh::RootFrame;
 use crate::strands::{Scalp, StrandSet};
 
 use crate::contacts::detect::{detect, DetectInput, PointContacts};
+use crate::contacts::escapes::{put_back_escapees, EscapeInput};
 use crate::contacts::Colliders;
 use crate::fields::{self, FieldInput, ForceField};
 use crate::volume::{HairHair, HairHairSettings};
@@ -143,6 +144,10 @@ pub struct FrameReport {
     pub point_substeps: u64,
     /// Point contacts found, summed over the frame's collision steps (0 without colliders).
     pub contact_points: u64,
+    /// Points that ended the frame closer to a collider than their radius plus its thickness
+    /// without a contact in the last step — they outran detection's margin — and were put back
+    /// on the surface by the frame-end check (see `contacts::escapes`; 0 without colliders).
+    pub escaped_points: u64,
     /// Largest relative segment elongation `len/rest − 1` at the end of the frame (0 if none is
     /// longer than at rest).
     pub max_stretch: f32,
@@ -565,7 +570,23 @@ impl Solver {
             }
             max_stretch = outcome.max_stretch;
         }
+        let mut escaped_points = 0u64;
         if let Some(c) = colliders {
+            let t4 = Instant::now();
+            let (positions, velocities, data) = strands.split_for_solver();
+            escaped_points = put_back_escapees(
+                c,
+                (steps - 1) as f32 / steps as f32,
+                step_dt as f32,
+                EscapeInput {
+                    positions,
+                    velocities,
+                    radii: data.radii,
+                    inv_mass: data.inv_mass,
+                    contact_size: &self.contacts.size,
+                },
+            ) as u64;
+            times.contacts += t4.elapsed();
             c.finish_frame();
         }
         self.roots = end_roots;
@@ -576,6 +597,7 @@ impl Solver {
             steps,
             point_substeps: strands.point_count() as u64 * (substeps * steps) as u64,
             contact_points,
+            escaped_points,
             max_stretch,
             times,
         })

@@ -1,0 +1,55 @@
+//! Hair that outruns detection's margin does not end a frame inside the head.
+//!
+//! The parity scene with its head mesh as collider (`scenes/parity_collide.toml`), cut to 2,000
+//! strands and **without its strain limit**: soft stretch springs let points next to the root
+//! of a strand snapping taut go from rest to several m/s within one step, past the query radius
+//! detection derived from their velocity at the step's start, so they get no contact. Before the
+//! frame-end check (`hair_core::contacts::escapes`) such points ended frames up to 2.2 cm inside
+//! the head (full scene). Now they are put back on the surface.
+//!
+//! Reference: an independent parry check of every free point against the head mesh posed at each
+//! frame (as in `collision_parity_head`). The test also requires that the scene does exercise the
+//! check (some point outran the margin), so it cannot pass by never getting there.
+
+use std::path::PathBuf;
+
+mod common;
+
+use common::collide::{run_with_colliders, Gap, ParryHead};
+use hairsys::scene::SceneFile;
+
+#[test]
+fn points_that_outrun_detection_are_put_back_outside_the_head() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../scenes/parity_collide.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("\nmax_strain = 0.015") && text.contains("\ncount = 20000"));
+    let text = text
+        .replace("\nmax_strain = 0.015", "\n# no strain limit")
+        .replace("\ncount = 20000", "\ncount = 2000");
+    let mut sim = SceneFile::parse(&text, "parity_no_strain_limit.toml", PathBuf::from("."))
+        .unwrap()
+        .build()
+        .unwrap();
+    let head = ParryHead::new(&hair_groom::uv_sphere(1.0, 64, 32).unwrap());
+    let (mut gap, mut escaped) = (Gap::NONE, 0u64);
+    let last = sim.last_frame;
+    run_with_colliders(&mut sim, last, |frame, sim, scalp, report| {
+        escaped += report.escaped_points;
+        let g = head.free_point_gap(&scalp.body, &sim.strands);
+        assert!(
+            g.smallest >= 0.0,
+            "frame {frame}: a point is {:.2} mm inside the head",
+            -g.smallest * 1e3
+        );
+        gap = gap.merge(g);
+    });
+    println!(
+        "{escaped} point-frames outran detection and were put back; smallest gap to the head \
+         mesh {:.3} mm (hair radius 5 mm)",
+        gap.smallest * 1e3
+    );
+    assert!(
+        escaped > 0,
+        "no point outran the margin: the scene tests nothing"
+    );
+}
