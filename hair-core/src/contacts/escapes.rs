@@ -21,7 +21,7 @@
 //! On a shell (an open mesh, no inside) a point that crossed it is put back at the distance on
 //! the side it ended on: the check keeps the distance, it does not undo a crossing.
 
-use nalgebra::Point3;
+use nalgebra::{Point3, Vector3};
 use rayon::prelude::*;
 
 use super::collider_set::Colliders;
@@ -32,9 +32,13 @@ const CHUNK: usize = 4096;
 
 /// What the check reads and changes of the strands.
 pub(crate) struct EscapeInput<'a> {
-    pub positions: &'a mut [nalgebra::Vector3<f32>],
-    pub velocities: &'a mut [nalgebra::Vector3<f32>],
+    /// Positions at the frame's end, world, m (points put back are moved).
+    pub positions: &'a mut [Vector3<f32>],
+    /// Velocities, m/s (points put back lose their velocity into the surface).
+    pub velocities: &'a mut [Vector3<f32>],
+    /// Collision radius per point, m.
     pub radii: &'a [f32],
+    /// Inverse mass per point, 1/kg (0: pinned, not checked).
     pub inv_mass: &'a [f32],
     /// The last step's contacts: plane offset or sphere radius per point, [`NO_CONTACT`] for
     /// none.
@@ -58,7 +62,7 @@ pub(crate) fn put_back_escapees(
     }
     let step = step_colliders(&colliders.entries, a, 1.0);
     let end_inv: Vec<_> = step.iter().map(|c| c.end.inverse()).collect();
-    let mesh_hint = |c: usize| step[c].shape.as_trimesh().is_some();
+    let is_mesh = |c: usize| step[c].shape.as_trimesh().is_some();
     input
         .positions
         .par_chunks_mut(CHUNK)
@@ -90,7 +94,7 @@ pub(crate) fn put_back_escapees(
                             continue;
                         }
                     };
-                    if mesh_hint(c) {
+                    if is_mesh(c) {
                         m.hint = hit.triangle;
                     }
                     m.at = local;
