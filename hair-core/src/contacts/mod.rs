@@ -76,8 +76,13 @@
 //!   memory (distance bounds, warm-start triangles) mostly only saves work: the turning-head run
 //!   resumed mid-way is bit-identical to the uninterrupted one (`collision_resume`). It is not
 //!   guaranteed in general: a resumed run starts with empty memory, and where the warm-started
-//!   walk and parry's tree search settle on different features (points below the hinted
-//!   triangle's plane, equal distances), the bits differ.
+//!   walk and parry's tree search settle on different features the bits differ. Measured on the
+//!   64 × 32 parity head: 116 of 200,000 random points near the surface (0.06 %) project
+//!   differently warm and cold, all outside the mesh, by a few µm: the two triangles of a
+//!   (planar) quad, whose distances tie up to rounding, or face against edge on one triangle
+//!   within the convexity tolerance (`FOLD`). The parity scene killed at frame 15 and resumed
+//!   ends with 1,155 of its 1,020,000 coordinates different by at most 3.7 µm. A canonical
+//!   tie-break between flat neighbours would remove most of it; not built.
 //! - **Order in the substep.** Contacts act after the damping sub-loop and before the position
 //!   update; the strain limiter (if on) runs after the position update and can move a point by
 //!   its (small) correction into a collider, which the next substep undoes.
