@@ -22,7 +22,7 @@
 //!
 //! The root and any pinned point are kinematic: they follow their animated rest position and get
 //! the velocity that motion implies. After each substep's velocity update comes the **damping
-//! sub-loop** on relative velocity along each segment ([`damping`]), then the **contact
+//! sub-loop** on relative velocity along each segment (`damping`), then the **contact
 //! response** of points with a contact this step (Choe et al. 2005, see [`crate::contacts`]),
 //! then the position update, and, if the host switched it on
 //! ([`Solver::with_inextensibility`]), the **inextensibility projection** of seed 002 (segment
