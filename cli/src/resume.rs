@@ -1,7 +1,7 @@
 //! `hairsys simulate --resume`: continue an interrupted run from its last complete frame.
 //!
 //! A run writes `CACHE.partial` until it finishes. After a crash or a kill, the frames of every
-//! complete chunk are recovered from it ([`hair_cache::recover`]); the run's state at the last
+//! complete chunk are recovered from it ([`hair_cache::recover()`]); the run's state at the last
 //! recovered frame is its positions and velocities (stored exactly, as f32) plus the scalp at that
 //! frame, which the scene gives again. The solver restarts there, so the resumed cache's frames
 //! are bit-identical to those of an uninterrupted run. A `.partial` written from a different scene

@@ -126,8 +126,8 @@ impl StripsSection {
 
 /// Adds the edge strands of `[strips]` to `strands` when `[solver] model = "strips"` and returns
 /// the strip settings; checks that the model and the section come together, that the scalp has
-/// a mesh and that no other hair source ([hair], [guides], [[strands]]) or mass-spring-only
-/// component ([hair_hair], [[fields]]) is given with it.
+/// a mesh and that no other hair source (`[hair]`, `[guides]`, `[[strands]]`) or mass-spring-only
+/// component (`[hair_hair]`, `[[fields]]`) is given with it.
 pub fn build_into(
     scene: &crate::scene::Scene,
     mesh: Option<&TriMesh>,

@@ -86,7 +86,7 @@ fn grid(quick: bool) -> (Vec<f64>, Vec<u32>) {
     }
 }
 
-/// Number of runs [`bench`] makes.
+/// Number of runs [`bench()`] makes.
 pub fn runs(quick: bool) -> usize {
     let (f, i) = grid(quick);
     f.len() * i.len()
