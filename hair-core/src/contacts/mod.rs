@@ -71,18 +71,19 @@
 //!   counts them (34 point-frames in that scene; none with its strain limit, where the check
 //!   changes nothing). Within a frame of several collision steps the next step's detection pushes
 //!   such a point out instead.
-//! - **Resuming.** The scalp collider is built from the rest mesh and a contact is computed from
-//!   the feature (face, edge, vertex) found, not from the path that found it, so detection's
-//!   memory (distance bounds, warm-start triangles) mostly only saves work: the turning-head run
-//!   resumed mid-way is bit-identical to the uninterrupted one (`collision_resume`). It is not
-//!   guaranteed in general: a resumed run starts with empty memory, and where the warm-started
-//!   walk and parry's tree search settle on different features the bits differ. Measured on the
-//!   64 × 32 parity head: 116 of 200,000 random points near the surface (0.06 %) project
-//!   differently warm and cold, all outside the mesh, by a few µm: the two triangles of a
-//!   (planar) quad, whose distances tie up to rounding, or face against edge on one triangle
-//!   within the convexity tolerance (`FOLD`). The parity scene killed at frame 15 and resumed
-//!   ends with 1,155 of its 1,020,000 coordinates different by at most 3.7 µm. A canonical
-//!   tie-break between flat neighbours would remove most of it; not built.
+//! - **Resuming.** The scalp collider is built from the rest mesh, a contact is computed from
+//!   the feature (face, edge, vertex) found, not from the path that found it, and where parry's
+//!   tree search answers (no warm start, or the shortcut could not certify) the shortcut is run
+//!   again from the triangle it found. Detection's memory (distance bounds, warm-start
+//!   triangles) then only saves work, and a run resumed from a cache, which starts without it,
+//!   continues bit-identically (`collision_resume`: the turning built-in head, and the parity
+//!   head cut to 6,000 strands). Before that last step, parry's search and the walk named
+//!   different features for near-ties — the two halves of a flat quad, whose distances tie up to
+//!   rounding, or a face against its edge within the fold tolerance (`FOLD`) — for 116 of
+//!   200,000 random points near the parity head, and the parity scene resumed at frame 15 ended
+//!   1,155 of its 1.02 M coordinates up to 3.7 µm off. Where neither path can certify (inside a
+//!   solid, near a concave part) both answers come from parry's search, with the hint only
+//!   bounding it; a near-tie there could still differ.
 //! - **Order in the substep.** Contacts act after the damping sub-loop and before the position
 //!   update; the strain limiter (if on) runs after the position update and can move a point by
 //!   its (small) correction into a collider, which the next substep undoes.
