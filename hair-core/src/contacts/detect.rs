@@ -821,17 +821,23 @@ mod tests {
         );
     }
 
+    /// A collider set holding a UV-sphere mesh of radius 1 m at the origin.
+    fn sphere_mesh(segments: u32, rings: u32) -> Colliders {
+        let mut colliders = Colliders::new();
+        colliders
+            .insert(
+                Collider::mesh(TriMesh::uv_sphere(1.0, segments, rings).unwrap()),
+                Isometry3::identity(),
+            )
+            .unwrap();
+        colliders
+    }
+
     #[test]
     fn contacts_do_not_depend_on_the_warm_start() {
         // The first detection has no memory (parry's search), the second starts from the
         // triangles found (the shortcut): the same bits.
-        let mut colliders = Colliders::new();
-        colliders
-            .insert(
-                Collider::mesh(TriMesh::uv_sphere(1.0, 32, 16).unwrap()),
-                Isometry3::identity(),
-            )
-            .unwrap();
+        let mut colliders = sphere_mesh(32, 16);
         let cold = contacts_above(&mut colliders);
         let warm = contacts_above(&mut colliders);
         let bits = |c: &PointContacts| {
@@ -852,13 +858,7 @@ mod tests {
     /// (Before that, 116 of 200,000 such points differed by a few µm.)
     #[test]
     fn projections_do_not_depend_on_the_hint() {
-        let mut colliders = Colliders::new();
-        colliders
-            .insert(
-                Collider::mesh(TriMesh::uv_sphere(1.0, 64, 32).unwrap()),
-                Isometry3::identity(),
-            )
-            .unwrap();
+        let mut colliders = sphere_mesh(64, 32);
         colliders.place_for_step(0.0, 1.0);
         let step = step_colliders(&colliders.entries, 0.0, 1.0);
         let mut seed = 12345u64;
