@@ -107,6 +107,36 @@ pub(crate) struct Memory {
     pub(super) hint: u32,
 }
 
+impl Memory {
+    /// Projects body-space point `local` on `col` within `q` (m), warm-started from triangle
+    /// `hint` (`u32::MAX`: none), and remembers what it learnt there: the distance (or its lower
+    /// bound when farther than `q`) and the triangle. The hit, if the surface is within `q` or
+    /// the point inside a solid.
+    pub(super) fn project(
+        &mut self,
+        col: &StepCollider,
+        local: Vector3<f32>,
+        q: f32,
+        hint: u32,
+    ) -> Option<Hit> {
+        self.at = local;
+        match project(col, &local, q, (hint != u32::MAX).then_some(hint)) {
+            Ok(hit) => {
+                self.bound = hit.signed;
+                if col.shape.as_trimesh().is_some() {
+                    self.hint = hit.triangle;
+                }
+                Some(hit)
+            }
+            Err((far, triangle)) => {
+                self.bound = far;
+                self.hint = triangle.unwrap_or(self.hint);
+                None
+            }
+        }
+    }
+}
+
 impl Default for Memory {
     fn default() -> Self {
         Self {
@@ -147,7 +177,7 @@ pub(crate) struct DetectInput<'a> {
 
 /// A collider as detection sees it during one step.
 pub(super) struct StepCollider<'a> {
-    pub(super) shape: &'a dyn Shape,
+    shape: &'a dyn Shape,
     /// Enclosing sphere, body space: centre (m) and radius (m).
     bounding_sphere: (Vector3<f32>, f32),
     surface: Surface,
@@ -343,21 +373,11 @@ pub(crate) fn detect(
                     } else {
                         strand_hint[c]
                     };
-                    let hint = (own != u32::MAX).then_some(own);
-                    let hit = match project(col, &query.local, query.radius, hint) {
-                        Ok(hit) => hit,
-                        Err((far, triangle)) => {
-                            m.bound = far;
-                            m.hint = triangle.unwrap_or(m.hint);
-                            strand_hint[c] = m.hint;
-                            continue;
-                        }
-                    };
-                    m.bound = hit.signed;
-                    if col.shape.as_trimesh().is_some() {
-                        m.hint = hit.triangle;
-                    }
+                    let hit = m.project(col, query.local, query.radius, own);
                     strand_hint[c] = m.hint;
+                    let Some(hit) = hit else {
+                        continue;
+                    };
                     let d0 = hit.signed - col.thickness - input.radii[i];
                     let slot = &mut best[i - points.start];
                     if slot.as_ref().is_none_or(|b| d0 < b.0) {
@@ -465,7 +485,7 @@ pub(super) struct Hit {
     /// (convex), < 0 towards it, 0 flat.
     curvature: f32,
     /// Triangle of a mesh the point projected on (0 for analytic shapes).
-    pub(super) triangle: u32,
+    triangle: u32,
 }
 
 /// Projects body-space point `p` on collider `col` if its surface lies within `q` (m), or if the
@@ -473,7 +493,7 @@ pub(super) struct Hit {
 /// surface — the distance itself, or to the shape's enclosing sphere when that is beyond `q` —
 /// with the mesh triangle nearest to it if one was found. `hint` is a mesh triangle the point was
 /// near before, which warm-starts the search.
-pub(super) fn project(
+fn project(
     col: &StepCollider,
     p: &Vector3<f32>,
     q: f32,

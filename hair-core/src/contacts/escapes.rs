@@ -25,7 +25,7 @@ use nalgebra::{Point3, Vector3};
 use rayon::prelude::*;
 
 use super::collider_set::Colliders;
-use super::detect::{project, step_colliders, NO_CONTACT};
+use super::detect::{step_colliders, NO_CONTACT};
 
 /// Points per parallel job.
 const CHUNK: usize = 4096;
@@ -62,7 +62,6 @@ pub(crate) fn put_back_escapees(
     }
     let step = step_colliders(&colliders.entries, a, 1.0);
     let end_inv: Vec<_> = step.iter().map(|c| c.end.inverse()).collect();
-    let is_mesh = |c: usize| step[c].shape.as_trimesh().is_some();
     input
         .positions
         .par_chunks_mut(CHUNK)
@@ -84,21 +83,9 @@ pub(crate) fn put_back_escapees(
                     if m.bound - (local - m.at).norm() >= keep {
                         continue;
                     }
-                    let hint = (m.hint != u32::MAX).then_some(m.hint);
-                    let hit = match project(col, &local, keep, hint) {
-                        Ok(hit) => hit,
-                        Err((far, triangle)) => {
-                            m.at = local;
-                            m.bound = far;
-                            m.hint = triangle.unwrap_or(m.hint);
-                            continue;
-                        }
+                    let Some(hit) = m.project(col, local, keep, m.hint) else {
+                        continue;
                     };
-                    if is_mesh(c) {
-                        m.hint = hit.triangle;
-                    }
-                    m.at = local;
-                    m.bound = hit.signed;
                     if hit.signed >= keep {
                         continue;
                     }
