@@ -1,16 +1,7 @@
-//! The `hairsys` command as a library: scene files and the subcommands, so that the cross-crate
-//! tests can load scenes and run the same code paths as the binary.
+//! The `hairsys` command as a library: what only the command has (progress display, the card
+//! export's arguments and the bench), so that the cross-crate tests can run the bench's cases.
+//! Scenes, runs, sessions and exports are the [`hairsys`] library's.
 
 pub mod bench;
-pub mod model;
-pub mod motion;
+pub mod cards;
 pub mod progress;
-pub mod render_cards;
-pub mod render_children;
-pub mod resume;
-pub mod scene;
-pub mod scene_children;
-pub mod scene_fields;
-pub mod scene_guides;
-pub mod scene_strips;
-pub mod simulate;

@@ -6,11 +6,12 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 use hair_cache::foxglove::FoxgloveOptions;
 use hair_cache::{CacheReader, Compression, Interpolation, Precision, WriterOptions};
+use hair_core::KernelChoice;
 use hair_render::ChildCount;
-use hairsys::progress::Progress;
-use hairsys::render_children::{export, parse_shutter, ChildOverrides, ExportOptions, Format};
+use hairsys::children::{export, parse_shutter, ChildOverrides, ExportOptions, Format};
+use hairsys::run::{simulate, SimulateOptions};
 use hairsys::scene::{SceneFile, DEFAULT_SCENE};
-use hairsys::simulate::{simulate, SimulateOptions};
+use hairsys_cli::progress::Progress;
 use serde_json::json;
 
 /// A Blender-style hair system: guide hairs, mass-spring simulation, MCAP point caches.
@@ -101,7 +102,7 @@ enum RenderCommand {
     Export(Box<ExportArgs>),
     /// Hair cards of a `model = "strips"` scene (seed 000) from a cached frame (with motion-blur
     /// samples) or the rest state, as a USD Mesh with st or OBJ with vt.
-    Cards(Box<hairsys::render_cards::CardsArgs>),
+    Cards(Box<hairsys_cli::cards::CardsArgs>),
 }
 
 #[derive(clap::Args)]
@@ -287,6 +288,26 @@ enum CacheCommand {
     },
 }
 
+/// Environment variable choosing the compiled copy of the mass-spring kernel: `baseline` runs
+/// the portable copy on any CPU (to compare speeds, or to check on one machine that both copies
+/// give the same bits); unset or `auto`, the fastest copy the CPU has.
+const KERNEL_ENV: &str = "HAIRSYS_KERNEL";
+
+/// The kernel copy [`KERNEL_ENV`] asks for; an error names the variable, its value and the
+/// accepted values.
+fn kernel_from_env() -> Result<KernelChoice, String> {
+    match std::env::var(KERNEL_ENV) {
+        Err(std::env::VarError::NotPresent) => Ok(KernelChoice::Auto),
+        Ok(v) if v == "auto" => Ok(KernelChoice::Auto),
+        Ok(v) if v == "baseline" => Ok(KernelChoice::Baseline),
+        other => Err(format!(
+            "{KERNEL_ENV} = {:?}: set it to `baseline` (the portable kernel copy) or `auto` (the \
+             fastest copy this CPU runs), or unset it",
+            other.unwrap_or_else(|e| e.to_string())
+        )),
+    }
+}
+
 fn parse_range(s: &str) -> Result<(u32, u32), String> {
     let (a, b) = s
         .split_once('-')
@@ -301,10 +322,13 @@ fn parse_range(s: &str) -> Result<(u32, u32), String> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    if let Err(e) = hair_core::baseline_forced() {
-        eprintln!("error: {e}");
-        return ExitCode::from(2);
-    }
+    let kernel = match kernel_from_env() {
+        Ok(k) => k,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
     let code = match cli.command {
         Command::Simulate {
             scene,
@@ -335,6 +359,7 @@ fn main() -> ExitCode {
                 threads,
                 writer,
                 resume,
+                kernel,
             };
             run_simulate(run, quiet, json)
         }
@@ -422,7 +447,7 @@ fn main() -> ExitCode {
         } => report(export_children(*args)),
         Command::RenderChildren {
             command: RenderCommand::Cards(args),
-        } => report(hairsys::render_cards::run(&args)),
+        } => report(hairsys_cli::cards::run(&args)),
         Command::Groom {
             command: GroomCommand::Export { scene, out },
         } => report(export_guides(&scene, &out)),
@@ -440,7 +465,7 @@ fn main() -> ExitCode {
             out,
             quiet,
             json,
-        } => report(hairsys::bench::cli(&hairsys::bench::BenchOptions {
+        } => report(hairsys_cli::bench::cli(&hairsys_cli::bench::BenchOptions {
             quick,
             out,
             json,
@@ -458,6 +483,7 @@ struct RunArgs {
     threads: Option<usize>,
     writer: WriterOptions,
     resume: bool,
+    kernel: KernelChoice,
 }
 
 /// Writes `text` to stdout; a reader that closed the pipe early (`| head`) is not an error.
@@ -665,6 +691,7 @@ fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
         threads: run.threads,
         writer: run.writer,
         resume: run.resume,
+        kernel: run.kernel,
     };
     let result = simulate(&opts, |r| {
         progress.tick(&json!({

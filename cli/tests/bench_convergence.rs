@@ -3,9 +3,9 @@
 //! error), and the inextensibility projection keeps every segment within 0.1 % of its rest
 //! length through the fast head turn.
 
-use hairsys::bench::cases::{self, Case};
-use hairsys::bench::methods::{MassSpring, Method};
-use hairsys::bench::metrics::rms_difference;
+use hairsys_cli::bench::cases::{self, Case};
+use hairsys_cli::bench::methods::{MassSpring, Method};
+use hairsys_cli::bench::metrics::rms_difference;
 
 /// Least-squares slope of log(error) against log(dt).
 fn fitted_order(dts: &[f64], errors: &[f64]) -> f64 {

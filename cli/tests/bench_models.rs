@@ -4,10 +4,10 @@
 //! the strip model reports a cost per represented hair and its edges' error against the
 //! mass-spring model.
 
-use hairsys::bench::cases;
-use hairsys::bench::methods::{MassSpring, Method, Rod, Strips};
-use hairsys::bench::metrics::rms_difference;
-use hairsys::bench::tip_moment;
+use hairsys_cli::bench::cases;
+use hairsys_cli::bench::methods::{MassSpring, Method, Rod, Strips};
+use hairsys_cli::bench::metrics::rms_difference;
+use hairsys_cli::bench::tip_moment;
 
 #[test]
 fn rod_error_falls_as_substeps_grow() {

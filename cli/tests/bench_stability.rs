@@ -3,8 +3,8 @@
 //! sub-loop), and explicit Euler fails at substeps inside it.
 
 use hair_core::Integrator;
-use hairsys::bench::methods::{MassSpring, Method};
-use hairsys::bench::stability::{map, Grid};
+use hairsys_cli::bench::methods::{MassSpring, Method};
+use hairsys_cli::bench::stability::{map, Grid};
 
 fn grid() -> Grid {
     Grid {

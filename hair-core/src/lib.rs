@@ -31,6 +31,7 @@ pub mod error;
 pub mod fields;
 pub mod frames;
 pub mod mesh;
+pub mod model;
 pub mod rod;
 pub mod solver;
 pub mod strands;
@@ -41,10 +42,11 @@ pub use contacts::{Collider, ColliderId, ColliderShape, Colliders, ContactSettin
 pub use error::{HairError, Result};
 pub use fields::{Falloff, FalloffShape, FieldKind, ForceField, Strength};
 pub use mesh::{MeshSample, RootFrame, TriMesh};
+pub use model::{Component, ComponentSet, ModelFigures, StrandSolver, StripFigures};
 pub use rod::{ProjectionReport, RodFrameReport, RodParams, RodSolver, StrandModel};
 pub use solver::energy::{energy, Energy};
 pub use solver::{
-    baseline_forced, kernel_instructions, FrameReport, HairParams, Inextensibility, Integrator,
+    kernel_instructions, FrameReport, HairParams, Inextensibility, Integrator, KernelChoice,
     PhaseTimes, Solver, SolverSettings, StabilityBound, Substeps,
 };
 pub use strands::{Anchor, Scalp, StrandInput, StrandSet};

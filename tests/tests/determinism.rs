@@ -3,8 +3,8 @@
 
 use std::path::PathBuf;
 
+use hairsys::run::{simulate, SimulateOptions};
 use hairsys::scene::SceneFile;
-use hairsys::simulate::{simulate, SimulateOptions};
 
 const SCENE: &str = r#"
 [scene]
@@ -43,6 +43,7 @@ fn run(threads: usize, name: &str) -> Vec<u8> {
         threads: Some(threads),
         writer: hair_cache::WriterOptions::default(),
         resume: false,
+        kernel: Default::default(),
     };
     simulate(&opts, |_| {}).unwrap();
     std::fs::read(&cache).unwrap()

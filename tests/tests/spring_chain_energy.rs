@@ -69,6 +69,7 @@ fn scene(integrator: Integrator) -> (StrandSet, Solver, Scalp) {
         substeps: Substeps::Fixed(SUBSTEPS_PER_FRAME),
         damping_iterations: 0,
         integrator,
+        kernel: Default::default(),
     };
     let solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
     (strands, solver, scalp)

@@ -81,6 +81,7 @@ fn probe(
         substeps: Substeps::Fixed(PROBE_SUBSTEPS),
         damping_iterations,
         integrator,
+        kernel: Default::default(),
     };
     let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
     for _ in 0..PROBE_FRAMES {

@@ -2,9 +2,9 @@
 //! `simulate` writes a cache of their edge strands, and `render-children cards` turns a cached
 //! frame (three motion samples) into a USD Mesh and an OBJ; scene mistakes give clear errors.
 
-use hairsys::render_cards::{export_cards, CardsArgs, CardsFormat};
+use hairsys::cards::{export_cards, CardsFormat, CardsOptions};
+use hairsys::run::{simulate, SimulateOptions};
 use hairsys::scene::SceneFile;
-use hairsys::simulate::{simulate, SimulateOptions};
 
 const SCENE: &str = r#"
 [scene]
@@ -38,8 +38,8 @@ fn args(
     cache: Option<std::path::PathBuf>,
     format: CardsFormat,
     out: std::path::PathBuf,
-) -> CardsArgs {
-    CardsArgs {
+) -> CardsOptions {
+    CardsOptions {
         cache,
         scene: None,
         frame: Some(4),
@@ -50,8 +50,6 @@ fn args(
         columns: 3,
         clearance: 1e-3,
         out,
-        json: false,
-        quiet: true,
     }
 }
 
@@ -68,6 +66,7 @@ fn strips_scene_simulates_and_exports_cards_from_the_cache() {
             threads: Some(1),
             writer: hair_cache::WriterOptions::default(),
             resume: false,
+            kernel: Default::default(),
         },
         |_| {},
     )

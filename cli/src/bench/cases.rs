@@ -30,9 +30,9 @@ use parry3d::shape::{TriMesh as ParryMesh, TriMeshFlags};
 
 use hair_core::StrandModel;
 
-use crate::motion::MotionKey;
-use crate::scene::{ScalpCollider, SceneError, SceneFile, Simulation};
-use crate::scene_strips::StripsSection;
+use hairsys::scene::motion::MotionKey;
+use hairsys::scene::strips::StripsSection;
+use hairsys::scene::{ScalpCollider, SceneError, SceneFile, Simulation};
 
 /// One reference case.
 pub struct Case {

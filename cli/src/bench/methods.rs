@@ -11,8 +11,8 @@ use hair_core::{
 use super::cases::Case;
 use super::metrics::{drive, drive_model, Trace};
 use super::stability;
-use crate::model::ModelSolver;
-use crate::scene::SceneError;
+use hair_core::StrandSolver;
+use hairsys::scene::SceneError;
 
 /// A way of advancing a case in time.
 pub trait Method: Sync {
@@ -53,10 +53,10 @@ fn fixed_settings(case: &Case, substeps: Option<u32>) -> SolverSettings {
 
 /// Names the model components `solver` runs on `case`, with contacts when the case has
 /// colliders.
-fn named_components(case: &Case, solver: &ModelSolver) -> Vec<String> {
+fn named_components(case: &Case, solver: &StrandSolver) -> Vec<String> {
     let mut c: Vec<String> = solver
         .components(&case.sim.strands)
-        .0
+        .names()
         .into_iter()
         .map(String::from)
         .collect();
@@ -189,7 +189,7 @@ impl Method for MassSpring {
     }
 
     fn components(&self, case: &Case) -> Result<Vec<String>, HairError> {
-        let solver = ModelSolver::MassSpring(Box::new(self.solver(case, Some(1))?));
+        let solver = StrandSolver::from(self.solver(case, Some(1))?);
         Ok(named_components(case, &solver))
     }
 
@@ -239,11 +239,8 @@ impl Rod {
         )
     }
 
-    fn model(&self, case: &Case, substeps: Option<u32>) -> Result<ModelSolver, HairError> {
-        Ok(ModelSolver::Rod(
-            Box::new(self.solver(case, substeps)?),
-            Default::default(),
-        ))
+    fn model(&self, case: &Case, substeps: Option<u32>) -> Result<StrandSolver, HairError> {
+        Ok(self.solver(case, substeps)?.into())
     }
 }
 
@@ -324,7 +321,7 @@ impl Method for Strips {
     fn run(&self, case: &Case, substeps: Option<u32>) -> Result<Trace, HairError> {
         let mut sim = case.sim.clone();
         sim.settings = fixed_settings(case, substeps);
-        drive_model(case, ModelSolver::strips(&sim)?)
+        drive_model(case, sim.strand_solver()?)
     }
 
     fn bound(&self, case: &Case) -> Result<f64, HairError> {

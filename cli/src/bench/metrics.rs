@@ -12,12 +12,11 @@
 
 use std::time::{Duration, Instant};
 
-use hair_core::{energy, Colliders, HairError, ProjectionReport, Solver};
+use hair_core::{Colliders, HairError, ModelFigures, ProjectionReport, Solver, StrandSolver};
 use nalgebra::Vector3;
 use serde::Serialize;
 
 use super::cases::Case;
-use crate::model::ModelSolver;
 
 /// Wall-clock cost of a run (solver only).
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -54,20 +53,11 @@ pub struct Trace {
 /// Runs `case` with the mass-spring `solver` (built for the case's first frame) to its last
 /// frame.
 pub fn drive(case: &Case, solver: Solver) -> Result<Trace, HairError> {
-    drive_model(case, ModelSolver::MassSpring(Box::new(solver)))
-}
-
-/// Total mechanical energy of `strands` under `solver`'s model, J.
-fn model_energy(solver: &ModelSolver, strands: &hair_core::StrandSet) -> f64 {
-    match solver {
-        ModelSolver::MassSpring(s) => energy(strands, s.params(), s.roots()).total(),
-        ModelSolver::Rod(s, _) => s.energy(strands).total(),
-        ModelSolver::Strips(s) => energy(strands, s.solver().params(), s.solver().roots()).total(),
-    }
+    drive_model(case, solver.into())
 }
 
 /// Runs `case` with `solver` of any model (built for the case's first frame) to its last frame.
-pub fn drive_model(case: &Case, mut solver: ModelSolver) -> Result<Trace, HairError> {
+pub fn drive_model(case: &Case, mut solver: StrandSolver) -> Result<Trace, HairError> {
     let sim = &case.sim;
     let mut strands = sim.strands.clone();
     let mut colliders: Colliders = sim.colliders_at(sim.first_frame as f32)?;
@@ -76,12 +66,16 @@ pub fn drive_model(case: &Case, mut solver: ModelSolver) -> Result<Trace, HairEr
     let mut solve = Duration::ZERO;
     let mut point_substeps = 0u64;
     let mut substeps = 0;
+    let mut projection: Option<ProjectionReport> = None;
     for frame in sim.first_frame + 1..=sim.last_frame {
         let scalp = sim.scalp_at(frame as f32);
         sim.pose_colliders(&mut colliders, frame as f32)?;
         let t0 = Instant::now();
-        let report = solver.step_frame_with_colliders(&mut strands, &scalp, &mut colliders)?;
+        let report = solver.step_frame(&mut strands, &scalp, Some(&mut colliders))?;
         solve += t0.elapsed();
+        if let ModelFigures::Rod(p) = &report.figures {
+            projection.get_or_insert_with(Default::default).merge(p);
+        }
         point_substeps += report.point_substeps;
         substeps = substeps.max(report.substeps * report.steps);
         max_stretch = max_stretch.max(report.max_stretch);
@@ -102,7 +96,7 @@ pub fn drive_model(case: &Case, mut solver: ModelSolver) -> Result<Trace, HairEr
     Ok(Trace {
         samples,
         max_stretch,
-        energy_end: model_energy(&solver, &strands),
+        energy_end: solver.energy(&strands),
         max_penetration,
         substeps,
         cost: Cost {
@@ -112,7 +106,7 @@ pub fn drive_model(case: &Case, mut solver: ModelSolver) -> Result<Trace, HairEr
                 .represented_hairs
                 .map(|h| 1e3 * ms_per_frame / h.max(1) as f64),
         },
-        projection: solver.projection(),
+        projection,
     })
 }
 

@@ -37,8 +37,8 @@ use hair_core::{HairError, ProjectionReport};
 use serde::Serialize;
 
 use crate::progress::Progress;
-use crate::scene::SceneError;
 use cases::Case;
+use hairsys::scene::SceneError;
 use methods::{MassSpring, Method, Rod, Strips};
 use metrics::{blown_up, errors, rms_difference, Cost, Errors, Trace};
 use stability::{Grid, MethodMap};

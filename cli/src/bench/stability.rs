@@ -21,7 +21,7 @@ use serde::Serialize;
 use super::cases::Case;
 use super::methods::Method;
 use super::metrics::blown_up;
-use crate::scene::{SceneError, SceneFile};
+use hairsys::scene::{SceneError, SceneFile};
 
 /// Segment length of the probe strand, m.
 pub const PROBE_SEGMENT: f64 = 0.01;

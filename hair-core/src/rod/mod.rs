@@ -80,8 +80,9 @@ use crate::contacts::collider_set::Surface;
 use crate::contacts::Colliders;
 use crate::error::{HairError, Result};
 use crate::mesh::RootFrame;
+use crate::model::{Component, ComponentSet, ModelFigures};
 use crate::solver::energy::Energy;
-use crate::solver::{Components, FrameReport, PhaseTimes};
+use crate::solver::{FrameReport, PhaseTimes};
 use crate::strands::{Scalp, StrandSet};
 use crate::{HairParams, SolverSettings, Substeps};
 
@@ -283,6 +284,11 @@ impl RodSolver {
         })
     }
 
+    /// Time stepping in use.
+    pub fn settings(&self) -> &SolverSettings {
+        &self.settings
+    }
+
     /// Substeps per collision step in use.
     pub fn substeps(&self) -> u32 {
         self.substeps
@@ -357,19 +363,21 @@ impl RodSolver {
     }
 
     /// Model components this solver runs.
-    pub fn components(&self, _strands: &StrandSet) -> Components {
-        let mut c = vec![
-            "rod bending (elliptical section)",
-            "quasistatic twist",
-            "inextensibility (projection)",
-        ];
+    pub fn components(&self, _strands: &StrandSet) -> ComponentSet {
+        let mut c: ComponentSet = [
+            Component::RodBending,
+            Component::QuasistaticTwist,
+            Component::RodProjection,
+        ]
+        .into_iter()
+        .collect();
         if self.params.gravity().norm_squared() > 0.0 {
-            c.push("gravity");
+            c.insert(Component::Gravity);
         }
         if self.params.air_drag > 0.0 {
-            c.push("air drag");
+            c.insert(Component::AirDrag);
         }
-        Components(c)
+        c
     }
 
     /// Advances `strands` by one frame to the instant at which `scalp` is given, with no
@@ -575,6 +583,7 @@ impl RodSolver {
                     contacts: Default::default(),
                     ..Default::default()
                 },
+                figures: ModelFigures::Rod(projection),
             },
             projection,
         })

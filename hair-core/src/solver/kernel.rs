@@ -345,24 +345,27 @@ pub(crate) type GroupKernel<L> =
     fn(&mut [StrandView], &[RootFrame], &[RootFrame], &StepConstants, &mut Scratch<L>);
 
 /// Does the solver run [`step_group_avx2`], the kernel compiled for 256-bit registers? On
-/// x86-64 CPUs with AVX2 unless [`super::KERNEL_ENV`] asks for the baseline; elsewhere the
-/// solver runs [`step_group`] on [`super::lanes::Baseline`]. Decided once per process.
-pub(crate) fn wide_registers() -> bool {
-    static WIDE: OnceLock<bool> = OnceLock::new();
-    *WIDE.get_or_init(|| cpu_has_avx2() && !super::baseline_forced().unwrap_or(false))
+/// x86-64 CPUs with AVX2 unless `choice` asks for the baseline; elsewhere the solver runs
+/// [`step_group`] on [`super::lanes::Baseline`].
+pub(crate) fn wide_registers(choice: super::KernelChoice) -> bool {
+    choice == super::KernelChoice::Auto && cpu_has_avx2()
 }
 
+/// Whether this CPU has AVX2 (detected once; a fact of the machine, not a setting).
 fn cpu_has_avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    return std::arch::is_x86_feature_detected!("avx2");
-    #[cfg(not(target_arch = "x86_64"))]
-    return false;
+    static AVX2: OnceLock<bool> = OnceLock::new();
+    *AVX2.get_or_init(|| {
+        #[cfg(target_arch = "x86_64")]
+        return std::arch::is_x86_feature_detected!("avx2");
+        #[cfg(not(target_arch = "x86_64"))]
+        return false;
+    })
 }
 
 /// [`step_group`] on [`F8`] lanes compiled for AVX2: eight lanes per instruction instead of
 /// four, the same bits. On a CPU without AVX2 it runs the same kernel compiled for the target's
 /// baseline (correct, but slower than [`step_group`] on `Baseline`; the solver picks that
-/// instead, see [`wide_registers`]).
+/// instead, see `wide_registers`).
 pub(crate) fn step_group_avx2(
     views: &mut [StrandView],
     starts: &[RootFrame],

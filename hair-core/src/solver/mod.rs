@@ -58,12 +58,13 @@ use crate::contacts::detect::{detect, DetectInput, PointContacts};
 use crate::contacts::escapes::{put_back_escapees, EscapeInput};
 use crate::contacts::Colliders;
 use crate::fields::{self, FieldInput, ForceField};
+use crate::model::{Component, ComponentSet, ModelFigures};
 use crate::volume::{HairHair, HairHairSettings};
 pub use inextensible::Inextensibility;
 use kernel::{ContactSlice, GroupKernel, Scratch, StepConstants, StrandView};
 use lanes::Lane;
 use lanes::LANES;
-pub use params::{HairParams, Integrator, SolverSettings, Substeps};
+pub use params::{HairParams, Integrator, KernelChoice, SolverSettings, Substeps};
 pub use stability::StabilityBound;
 
 /// Points a parallel work item holds at most (about a few L2-sized blocks of strands).
@@ -73,45 +74,18 @@ const BLOCK_POINTS: usize = 4096;
 /// (fall its own length, move its own length per frame, follow the root).
 const RUNAWAY_FACTOR: f64 = 1e3;
 
-/// Environment variable choosing the compiled copy of the mass-spring kernel: `baseline` runs
-/// the baseline copy on any CPU (to compare speeds, or to check on one machine that both copies
-/// give the same bits); unset or `auto`, the fastest copy the CPU has. Read once per process; a
-/// library host that lets other values through gets `auto` (see [`baseline_forced`]).
-pub const KERNEL_ENV: &str = "HAIRSYS_KERNEL";
-
-/// Does [`KERNEL_ENV`] ask for the baseline kernel copy? An error names the variable, its value
-/// and the accepted values when it holds anything but `baseline` or `auto`.
-pub fn baseline_forced() -> Result<bool> {
-    match std::env::var(KERNEL_ENV) {
-        Err(std::env::VarError::NotPresent) => Ok(false),
-        Ok(v) if v == "auto" => Ok(false),
-        Ok(v) if v == "baseline" => Ok(true),
-        other => Err(HairError::Parameter {
-            name: format!("{KERNEL_ENV} (environment variable)"),
-            value: format!("{:?}", other.unwrap_or_else(|e| e.to_string())),
-            fix: "set it to `baseline` (the portable kernel copy) or `auto` (the fastest copy \
-                  this CPU runs), or unset it"
-                .into(),
-        }),
-    }
-}
-
-/// The compiled copy of the mass-spring kernel (used by the mass-spring and strip models) this
-/// process runs: `"avx2"` — x86-64 with AVX2, eight lanes per 256-bit instruction — or
-/// `"baseline"` — the target's default SIMD, two 128-bit halves (SSE2 on x86-64, NEON on
-/// aarch64), or any CPU when [`KERNEL_ENV`] asks for it. Both give the same bits; the AVX2 copy
-/// runs the substeps of the shipped scenes 1.3–1.6× faster (`BENCHMARKS.md`).
-pub fn kernel_instructions() -> &'static str {
-    if kernel::wide_registers() {
+/// The compiled copy of the mass-spring kernel (used by the mass-spring and strip models) that
+/// `choice` runs on this CPU: `"avx2"` — x86-64 with AVX2, eight lanes per 256-bit instruction —
+/// or `"baseline"` — the target's default SIMD, two 128-bit halves (SSE2 on x86-64, NEON on
+/// aarch64), on any CPU when [`KernelChoice::Baseline`] asks for it. Both give the same bits; the
+/// AVX2 copy runs the substeps of the shipped scenes 1.3–1.6× faster (`BENCHMARKS.md`).
+pub fn kernel_instructions(choice: KernelChoice) -> &'static str {
+    if kernel::wide_registers(choice) {
         "avx2"
     } else {
         "baseline"
     }
 }
-
-/// Which model components a solver runs, for reports.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Components(pub Vec<&'static str>);
 
 /// Wall-clock cost of one frame by phase.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -153,6 +127,8 @@ pub struct FrameReport {
     pub max_stretch: f32,
     /// Wall-clock cost by phase.
     pub times: PhaseTimes,
+    /// What only this frame's model measures (see [`crate::model`]).
+    pub figures: ModelFigures,
 }
 
 /// A mass-spring strand solver: settings, parameters and the root state between frames.
@@ -368,56 +344,59 @@ impl Solver {
     }
 
     /// Model components this solver runs (a component whose coefficient is 0 costs nothing).
-    pub fn components(&self, strands: &StrandSet) -> Components {
+    pub fn components(&self, strands: &StrandSet) -> ComponentSet {
         let p = &self.params;
-        let mut c = Vec::new();
-        if p.stretch_stiffness > 0.0 {
-            c.push("stretch");
-        }
-        if p.bend_stiffness > 0.0 {
-            c.push("bend");
-        }
-        if p.goal_stiffness > 0.0 && strands.goal_weights().iter().any(|&w| w > 0.0) {
-            c.push("goal");
-        }
-        if p.gravity().norm_squared() > 0.0 {
-            c.push("gravity");
-        }
-        if p.air_drag > 0.0 {
-            c.push("air drag");
-        }
-        if p.stretch_damping > 0.0 && self.settings.damping_iterations > 0 {
-            c.push("damping");
-        }
-        match self.settings.max_strain {
-            Some(0.0) => c.push("inextensibility"),
-            Some(_) => c.push("strain limit"),
-            None => {}
-        }
-        if self.inextensible.is_some() {
-            c.push("inextensibility projection");
-        }
+        let mut c = ComponentSet::new();
+        let mut add = |on: bool, component| {
+            if on {
+                c.insert(component);
+            }
+        };
+        add(p.stretch_stiffness > 0.0, Component::Stretch);
+        add(p.bend_stiffness > 0.0, Component::Bend);
+        add(
+            p.goal_stiffness > 0.0 && strands.goal_weights().iter().any(|&w| w > 0.0),
+            Component::Goal,
+        );
+        add(p.gravity().norm_squared() > 0.0, Component::Gravity);
+        add(p.air_drag > 0.0, Component::AirDrag);
+        add(
+            p.stretch_damping > 0.0 && self.settings.damping_iterations > 0,
+            Component::Damping,
+        );
+        add(
+            self.settings.max_strain == Some(0.0),
+            Component::Inextensibility,
+        );
+        add(
+            self.settings.max_strain.is_some_and(|m| m > 0.0),
+            Component::StrainLimit,
+        );
+        add(
+            self.inextensible.is_some(),
+            Component::InextensibilityProjection,
+        );
         if let Some(h) = self.hair_hair() {
-            if h.friction > 0.0 {
-                c.push("hair-hair friction");
-            }
-            if h.repulsion > 0.0 {
-                c.push("hair-hair repulsion");
-            }
+            add(h.friction > 0.0, Component::HairHairFriction);
+            add(h.repulsion > 0.0, Component::HairHairRepulsion);
         }
         for f in &self.fields {
-            let name = match f.kind {
-                fields::FieldKind::Wind { .. } => "wind",
-                fields::FieldKind::Vortex => "vortex",
-                fields::FieldKind::Turbulence { .. } => "turbulence",
-                fields::FieldKind::Drag => "drag field",
-                fields::FieldKind::Force => "force field",
-            };
-            if !c.contains(&name) {
-                c.push(name);
-            }
+            c.insert(match f.kind {
+                fields::FieldKind::Wind { .. } => Component::Wind,
+                fields::FieldKind::Vortex => Component::Vortex,
+                fields::FieldKind::Turbulence { .. } => Component::Turbulence,
+                fields::FieldKind::Drag => Component::DragField,
+                fields::FieldKind::Force => Component::ForceField,
+            });
         }
-        Components(c)
+        c
+    }
+
+    /// Parameters for a host to change between frames (gravity, goal stiffness, air drag…):
+    /// animatable parameters. They are validated again at the next step; stiffer springs than
+    /// the substep was chosen for may make the next step unstable, which it reports.
+    pub fn params_mut(&mut self) -> &mut HairParams {
+        &mut self.params
     }
 
     /// Advances `strands` by one frame, to the instant at which `scalp` is given, with no
@@ -453,6 +432,7 @@ impl Solver {
         mut colliders: Option<&mut Colliders>,
     ) -> Result<FrameReport> {
         let frame = self.frame + 1;
+        self.params.validate()?;
         self.validate_fields()?;
         let t0 = Instant::now();
         let mut end_roots = strands.root_frames(scalp);
@@ -538,7 +518,7 @@ impl Solver {
                 None => None,
             };
             let t2 = Instant::now();
-            let outcome = if kernel::wide_registers() {
+            let outcome = if kernel::wide_registers(self.settings.kernel) {
                 self.step_strands(
                     kernel::step_group_avx2,
                     strands,
@@ -600,6 +580,7 @@ impl Solver {
             escaped_points,
             max_stretch,
             times,
+            figures: ModelFigures::MassSpring,
         })
     }
 

@@ -79,6 +79,19 @@ pub enum Integrator {
     ExplicitEuler,
 }
 
+/// Which compiled copy of the mass-spring kernel runs (see [`crate::kernel_instructions`]). Both
+/// copies give the same bits; the choice only changes speed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum KernelChoice {
+    /// The fastest copy this CPU runs (AVX2 where it has it).
+    #[default]
+    Auto,
+    /// The portable baseline copy on any CPU (to compare speeds, or to check on one machine
+    /// that both copies give the same bits).
+    Baseline,
+}
+
 /// Time stepping of the solver.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct SolverSettings {
@@ -96,6 +109,9 @@ pub struct SolverSettings {
     /// are shortened to it (root to tip, velocities corrected). `Some(0.0)` makes strands
     /// inextensible; `None` switches it off.
     pub max_strain: Option<f32>,
+    /// Which compiled copy of the kernel runs (same bits either way).
+    #[serde(default)]
+    pub kernel: KernelChoice,
 }
 
 impl Default for SolverSettings {
@@ -107,6 +123,7 @@ impl Default for SolverSettings {
             damping_iterations: 10,
             integrator: Integrator::SemiImplicitEuler,
             max_strain: None,
+            kernel: KernelChoice::Auto,
         }
     }
 }

@@ -101,6 +101,12 @@ impl StripSolver {
         &self.solver
     }
 
+    /// The underlying mass-spring solver, for a host to change animatable parameters between
+    /// frames.
+    pub fn solver_mut(&mut self) -> &mut Solver {
+        &mut self.solver
+    }
+
     /// The strip settings in use.
     pub fn settings(&self) -> &StripSettings {
         &self.settings

@@ -43,6 +43,7 @@ pub fn fixed_settings(fps: f32, substeps: u32, integrator: Integrator) -> Solver
         damping_iterations: 10,
         integrator,
         max_strain: None,
+        kernel: Default::default(),
     }
 }
 

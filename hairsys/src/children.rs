@@ -4,7 +4,7 @@
 //!
 //! The scene that made a cache travels inside it (metadata `scene_toml`), so the children's roots
 //! (mesh samples, root frames) come from that scene: the same scalp, at the sampled time. The
-//! scene's `[children]` section (see [`crate::scene_children`]) gives the child settings; the
+//! scene's `[children]` section (see [`crate::scene::children`]) gives the child settings; the
 //! command's flags ([`ChildOverrides`]) override it.
 
 use std::path::{Path, PathBuf};
@@ -18,8 +18,8 @@ use hair_render::{
 };
 use nalgebra::Vector3;
 
+use crate::scene::children::DEFAULT_NEIGHBOURS;
 use crate::scene::{ScalpMesh, SceneFile, Simulation};
-use crate::scene_children::DEFAULT_NEIGHBOURS;
 
 /// Output format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -15,11 +15,11 @@ use hair_render::export::cards_obj::export_cards_obj;
 use hair_render::export::cards_usd::{export_cards_usda, CardSample, CardUsdOptions};
 use hair_render::{build_cards, CardMesh, CardSettings};
 
-use crate::render_children::{open_cache, parse_shutter};
+use crate::children::open_cache;
 use crate::scene::SceneFile;
 
 /// Card output format.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CardsFormat {
     /// USD Mesh (.usda) with st and motion samples.
     Usd,
@@ -27,45 +27,29 @@ pub enum CardsFormat {
     Obj,
 }
 
-/// Arguments of `render-children cards`.
-#[derive(Debug, Clone, clap::Args)]
-pub struct CardsArgs {
+/// What to export.
+#[derive(Debug, Clone)]
+pub struct CardsOptions {
     /// Cache to read (the scene stored in it gives the strips); without it, the rest state.
-    #[arg(long)]
     pub cache: Option<PathBuf>,
-    /// Scene file: the rest state to export without --cache, or a scene overriding the cache's.
-    #[arg(long)]
+    /// Scene file: the rest state to export without `cache`, or a scene overriding the cache's.
     pub scene: Option<PathBuf>,
-    /// Frame to export (with --cache).
-    #[arg(long)]
+    /// Frame to export (with a cache).
     pub frame: Option<u32>,
-    /// Shutter interval OPEN,CLOSE in frames around the frame.
-    #[arg(long, value_parser = parse_shutter, default_value = "-0.25,0.25", allow_hyphen_values = true)]
+    /// Shutter interval (open, close) in frames around the frame.
     pub shutter: (f64, f64),
     /// Motion samples over the shutter (USD time samples); 1 = no motion blur.
-    #[arg(long, default_value_t = 1)]
     pub motion_samples: usize,
     /// Output format.
-    #[arg(long, value_enum, default_value_t = CardsFormat::Usd)]
     pub format: CardsFormat,
     /// Rows of vertices per edge segment along a card.
-    #[arg(long, default_value_t = 4)]
     pub rows_per_segment: u32,
     /// Vertices across a card (≥ 2).
-    #[arg(long, default_value_t = 3)]
     pub columns: u32,
-    /// Gap kept between card vertices and the head, m (with [scalp.collider]).
-    #[arg(long, default_value_t = 1e-3)]
+    /// Gap kept between card vertices and the head, m (with `[scalp.collider]`).
     pub clearance: f32,
-    /// Output file (.usda for usd, .obj for obj).
-    #[arg(short, long)]
+    /// Output file.
     pub out: PathBuf,
-    /// Print a JSON summary on stdout.
-    #[arg(long)]
-    pub json: bool,
-    /// Print nothing but errors.
-    #[arg(long, conflicts_with = "json")]
-    pub quiet: bool,
 }
 
 /// What was written.
@@ -86,7 +70,7 @@ pub struct CardsSummary {
 }
 
 /// Builds and writes the cards of `args`.
-pub fn export_cards(args: &CardsArgs) -> Result<CardsSummary, String> {
+pub fn export_cards(args: &CardsOptions) -> Result<CardsSummary, String> {
     if args.motion_samples == 0 {
         return Err("--motion-samples 0: use at least 1 sample".into());
     }
@@ -200,26 +184,4 @@ pub fn export_cards(args: &CardsArgs) -> Result<CardsSummary, String> {
         quads: centre.quads.len(),
         time_samples,
     })
-}
-
-/// Runs `render-children cards` and prints its summary (text, JSON or nothing).
-pub fn run(args: &CardsArgs) -> Result<(), String> {
-    let summary = export_cards(args)?;
-    if args.json {
-        println!(
-            "{}",
-            serde_json::to_string(&summary).map_err(|e| e.to_string())?
-        );
-    } else if !args.quiet {
-        println!(
-            "wrote {}: {} cards ({} hairs), {} vertices, {} quads, {} time sample(s)",
-            summary.out,
-            summary.cards,
-            summary.represented_hairs,
-            summary.vertices,
-            summary.quads,
-            summary.time_samples
-        );
-    }
-    Ok(())
 }

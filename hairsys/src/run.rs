@@ -1,48 +1,20 @@
-//! `hairsys simulate`: run a scene frame by frame and write every frame to an MCAP point cache.
+//! The batch run (`hairsys simulate`): a scene run frame by frame through a [`Session`], every
+//! frame written to an MCAP point cache, optionally continuing an interrupted run
+//! ([`crate::resume`]). Hosts that drive frames themselves use the [`Session`] directly; this
+//! is the same loop with the scene's keyframes, so a host that sets the scene's scalp and
+//! collider poses each frame gets the same bits.
 
-use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use hair_cache::{CacheHeader, CacheLayout, CacheSummary, CacheWriter, WriterOptions};
-use hair_core::{FrameReport, ProjectionReport, Solver, StrandModel};
+use hair_cache::{CacheLayout, CacheSummary, CacheWriter, WriterOptions};
+use hair_core::{Component, FrameReport, KernelChoice, ModelFigures, ProjectionReport};
 use serde::Serialize;
 
-use crate::model::ModelSolver;
-use crate::resume::resume;
-use crate::scene::{SceneError, SceneFile};
-
-/// Why a run stopped.
-#[derive(Debug, thiserror::Error)]
-pub enum RunError {
-    /// The scene or the options are unusable (exit code 2).
-    #[error("{0}")]
-    Input(#[from] SceneError),
-    /// An option is out of range (exit code 2).
-    #[error("{0}")]
-    Usage(String),
-    /// The solver refused the setup or blew up (exit code 1).
-    #[error("{scene}: {source}")]
-    Solver {
-        /// The scene being run.
-        scene: String,
-        /// The solver's error.
-        source: hair_core::HairError,
-    },
-    /// The cache could not be written (exit code 1).
-    #[error("{0}")]
-    Cache(#[from] hair_cache::CacheError),
-}
-
-impl RunError {
-    /// Process exit code: 2 for bad input, 1 for a failed run.
-    pub fn exit_code(&self) -> i32 {
-        match self {
-            RunError::Input(_) | RunError::Usage(_) => 2,
-            RunError::Solver { .. } | RunError::Cache(_) => 1,
-        }
-    }
-}
+use crate::error::Error;
+use crate::resume::{resume, Resumed};
+use crate::scene::SceneFile;
+use crate::session::Session;
 
 /// Options of one run.
 pub struct SimulateOptions {
@@ -58,15 +30,8 @@ pub struct SimulateOptions {
     pub writer: WriterOptions,
     /// Continue the interrupted run left in `CACHE.partial` instead of starting over.
     pub resume: bool,
-}
-
-impl SimulateOptions {
-    fn scene_error(&self, message: String) -> SceneError {
-        SceneError {
-            file: self.scene.origin.clone(),
-            message,
-        }
-    }
+    /// Which compiled copy of the mass-spring kernel runs (same bits either way).
+    pub kernel: KernelChoice,
 }
 
 /// What a finished run did.
@@ -138,84 +103,47 @@ pub struct RunSummary {
 pub fn simulate(
     opts: &SimulateOptions,
     mut on_frame: impl FnMut(&FrameReport),
-) -> Result<RunSummary, RunError> {
+) -> Result<RunSummary, Error> {
     let mut sim = opts.scene.build()?;
     if let Some((first, last)) = opts.frames {
         if last <= first {
-            return Err(RunError::Usage(format!(
+            return Err(Error::Usage(format!(
                 "--frames {first}-{last}: the last frame must come after the first"
             )));
         }
         sim.set_frames(first, last);
     }
+    sim.settings.kernel = opts.kernel;
     let scene_hash = opts.scene.hash()?;
-    let first_frame = sim.first_frame;
+    let (first_frame, last_frame) = (sim.first_frame, sim.last_frame);
     let resumed = match opts.resume {
         true => Some(resume(&opts.cache, &scene_hash, &mut sim)?),
         false => None,
     };
     let threads = opts.threads.unwrap_or_else(rayon::current_num_threads);
     if threads == 0 {
-        return Err(RunError::Usage("--threads 0: use at least 1 thread".into()));
+        return Err(Error::Usage("--threads 0: use at least 1 thread".into()));
     }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .map_err(|e| {
-            RunError::Usage(format!(
+            Error::Usage(format!(
                 "--threads {threads}: cannot start the thread pool ({e})"
             ))
         })?;
-    let scene_name = opts.scene.origin.clone();
-    let solver_err = |source| RunError::Solver {
-        scene: scene_name.clone(),
-        source,
-    };
-    let mut solver = match sim.model {
-        StrandModel::MassSpring => ModelSolver::MassSpring(Box::new(
-            Solver::new(
-                sim.settings,
-                sim.params,
-                &sim.strands,
-                &sim.scalp_at(sim.first_frame as f32),
-                sim.first_frame,
-            )
-            .and_then(|s| sim.with_interactions(s))
-            .and_then(|s| sim.with_inextensibility(s))
-            .map_err(solver_err)?,
-        )),
-        StrandModel::Rod => ModelSolver::rod(&sim).map_err(solver_err)?,
-        StrandModel::Strips => ModelSolver::strips(&sim).map_err(solver_err)?,
-    };
-    let mut components = solver.components(&sim.strands).0;
-    // Colliders at the first frame, posed again for every frame (the scalp collider follows the
-    // scalp by itself).
-    let mut colliders = sim
-        .colliders_at(sim.first_frame as f32)
-        .map_err(|e| RunError::Input(opts.scene_error(sim.collider_message(&e))))?;
-    if !colliders.is_empty() {
-        components.push("contacts");
+    let mut session = Session::from_simulation(sim, &opts.scene, scene_hash)?;
+    session.set_thread_pool(std::sync::Arc::new(pool));
+    let mut components = session.solver().components(session.strands());
+    if !session.colliders().is_empty() {
+        components.insert(Component::Contacts);
     }
-
-    let mut extra = BTreeMap::new();
-    extra.insert("components".to_string(), components.join(","));
-    extra.insert("substeps".to_string(), solver.substeps().to_string());
-    extra.insert("model".to_string(), solver.model().name().to_string());
-    extra.insert(
-        "integrator".to_string(),
-        format!("{:?}", sim.settings.integrator),
-    );
-    let header = CacheHeader {
-        fps: sim.settings.fps as f64,
-        first_frame,
-        scene_toml: opts.scene.text.clone(),
-        scene_hash,
-        extra,
-    };
+    let mut header = session.cache_header();
+    header.first_frame = first_frame;
     let mut writer = CacheWriter::create(
         &opts.cache,
         &header,
-        &CacheLayout::of(&sim.strands),
+        &CacheLayout::of(session.strands()),
         WriterOptions {
             // A resumed run keeps the precision its frames were written with.
             precision: resumed
@@ -225,83 +153,98 @@ pub fn simulate(
         },
     )?;
     // A resumed run first writes the frames it takes over; the last of them is the state it
-    // continues from, written below like a first frame.
+    // continues from, written by the session like a first frame.
     if let Some(resumed) = &resumed {
         for f in &resumed.frames[..resumed.frames.len() - 1] {
             writer.write_frame(f.frame, &f.positions, &f.velocities)?;
         }
     }
-    writer.write_frame(
-        sim.first_frame,
-        &sim.strands.positions,
-        &sim.strands.velocities,
-    )?;
+    session.record_into(writer)?;
 
-    let (mut solve_time, mut cache_time) = (Duration::ZERO, Duration::ZERO);
-    let (mut roots_time, mut strands_time) = (Duration::ZERO, Duration::ZERO);
-    let mut contacts_time = Duration::ZERO;
-    let (mut volume_time, mut fields_time) = (Duration::ZERO, Duration::ZERO);
-    let (mut contact_points, mut collision_steps, mut max_steps) = (0u64, 0u64, 0u32);
-    let mut escaped_points = 0u64;
-    let mut point_substeps = 0u64;
-    let mut max_stretch = 0.0f32;
-    for frame in sim.first_frame + 1..=sim.last_frame {
-        let scalp = sim.scalp_at(frame as f32);
-        sim.pose_colliders(&mut colliders, frame as f32)
-            .map_err(|e| RunError::Input(opts.scene_error(sim.collider_message(&e))))?;
+    let mut totals = Totals::default();
+    while session.frame() < last_frame {
         let t0 = Instant::now();
-        let report = pool
-            .install(|| solver.step_frame_with_colliders(&mut sim.strands, &scalp, &mut colliders))
-            .map_err(solver_err)?;
-        solve_time += t0.elapsed();
-        roots_time += report.times.roots;
-        strands_time += report.times.strands;
-        contacts_time += report.times.contacts;
-        volume_time += report.times.volume;
-        fields_time += report.times.fields;
-        contact_points += report.contact_points;
-        escaped_points += report.escaped_points;
-        collision_steps += report.steps as u64;
-        max_steps = max_steps.max(report.steps);
-        point_substeps += report.point_substeps;
-        max_stretch = max_stretch.max(report.max_stretch);
-        let t1 = Instant::now();
-        writer.write_frame(frame, &sim.strands.positions, &sim.strands.velocities)?;
-        cache_time += t1.elapsed();
+        let report = session.step()?;
+        totals.add(&report, t0.elapsed());
         on_frame(&report);
     }
-    let cache = writer.finish()?;
-    let frames = sim.last_frame - sim.first_frame;
-    let per_frame = |d: Duration| d.as_secs_f64() * 1e3 / frames as f64;
+    let cache_time = session.cache_write_time();
+    let cache = session.finish_recording()?;
+    let stepped = last_frame - resumed.as_ref().map_or(first_frame, Resumed::last_frame);
+    let per_frame = |d: Duration| d.as_secs_f64() * 1e3 / stepped.max(1) as f64;
+    let solve = totals.wall.saturating_sub(cache_time);
+    let solver = session.solver();
     Ok(RunSummary {
         scene: opts.scene.scene.scene.name.clone(),
-        frames,
-        strands: sim.strands.len(),
-        points: sim.strands.point_count(),
+        frames: last_frame - first_frame,
+        strands: session.strands().len(),
+        points: session.strands().point_count(),
         threads,
         substeps: solver.substeps(),
         dt: solver.dt(),
         dt_bound: solver.dt_bound(),
         model: solver.model().name(),
-        kernel: hair_core::kernel_instructions(),
-        projection: solver.projection(),
-        components,
-        ms_per_frame: per_frame(solve_time),
+        kernel: hair_core::kernel_instructions(opts.kernel),
+        projection: totals.projection,
+        components: components.names(),
+        ms_per_frame: per_frame(solve),
         cache_ms_per_frame: per_frame(cache_time),
-        roots_ms_per_frame: per_frame(roots_time),
-        strands_ms_per_frame: per_frame(strands_time),
-        contacts_ms_per_frame: per_frame(contacts_time),
-        hair_hair_ms_per_frame: per_frame(volume_time),
-        fields_ms_per_frame: per_frame(fields_time),
-        contact_points_per_step: contact_points as f64 / collision_steps.max(1) as f64,
-        escaped_points,
-        max_collision_steps: max_steps,
-        point_substeps_per_s: point_substeps as f64 / solve_time.as_secs_f64().max(1e-12),
-        max_stretch,
+        roots_ms_per_frame: per_frame(totals.roots),
+        strands_ms_per_frame: per_frame(totals.strands),
+        contacts_ms_per_frame: per_frame(totals.contacts),
+        hair_hair_ms_per_frame: per_frame(totals.volume),
+        fields_ms_per_frame: per_frame(totals.fields),
+        contact_points_per_step: totals.contact_points as f64
+            / totals.collision_steps.max(1) as f64,
+        escaped_points: totals.escaped_points,
+        max_collision_steps: totals.max_steps,
+        point_substeps_per_s: totals.point_substeps as f64 / solve.as_secs_f64().max(1e-12),
+        max_stretch: totals.max_stretch,
         cache,
-        resumed_from: resumed.as_ref().map(|r| r.last_frame()),
+        resumed_from: resumed.as_ref().map(Resumed::last_frame),
         recovery_warning: resumed.and_then(|r| r.warning.map(|w| w.to_string())),
     })
+}
+
+/// The frame reports of a run, added up.
+#[derive(Debug, Default)]
+struct Totals {
+    /// Wall-clock time of the steps, cache writes included.
+    wall: Duration,
+    roots: Duration,
+    strands: Duration,
+    contacts: Duration,
+    volume: Duration,
+    fields: Duration,
+    contact_points: u64,
+    collision_steps: u64,
+    max_steps: u32,
+    escaped_points: u64,
+    point_substeps: u64,
+    max_stretch: f32,
+    projection: Option<ProjectionReport>,
+}
+
+impl Totals {
+    fn add(&mut self, r: &FrameReport, wall: Duration) {
+        self.wall += wall;
+        self.roots += r.times.roots;
+        self.strands += r.times.strands;
+        self.contacts += r.times.contacts;
+        self.volume += r.times.volume;
+        self.fields += r.times.fields;
+        self.contact_points += r.contact_points;
+        self.escaped_points += r.escaped_points;
+        self.collision_steps += r.steps as u64;
+        self.max_steps = self.max_steps.max(r.steps);
+        self.point_substeps += r.point_substeps;
+        self.max_stretch = self.max_stretch.max(r.max_stretch);
+        if let ModelFigures::Rod(p) = &r.figures {
+            self.projection
+                .get_or_insert_with(Default::default)
+                .merge(p);
+        }
+    }
 }
 
 impl std::fmt::Display for RunSummary {

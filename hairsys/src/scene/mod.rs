@@ -5,27 +5,34 @@
 //! solver's time stepping, and the colliders hair collides with: `[scalp.collider]` (the scalp
 //! mesh, for its own hair), `[[colliders]]` (spheres, capsules and OBJ meshes with keyframed rigid
 //! motion, thickness and friction) and `[contacts]` (see `hair_core::ContactSettings`), voxel
-//! hair–hair interaction `[hair_hair]` and force fields `[[fields]]` (see [`crate::scene_fields`]). Unknown keys are rejected; every error names the file, the field
+//! hair–hair interaction `[hair_hair]` and force fields `[[fields]]` (see [`crate::scene::fields`]). Unknown keys are rejected; every error names the file, the field
 //! and the fix. `hairsys scene init` prints the built-in default scene with every key commented.
 
 use std::path::{Path, PathBuf};
 
+use hair_core::strips::{HeadShape, StripSolver};
 use hair_core::{
     Anchor, Collider, ColliderId, ColliderShape, Colliders, ContactSettings, HairError, HairParams,
-    Integrator, RodParams, RootFrame, Scalp, SolverSettings, StrandInput, StrandModel, StrandSet,
-    Substeps, TriMesh,
+    Integrator, KernelChoice, RodParams, RodSolver, RootFrame, Scalp, Solver, SolverSettings,
+    StrandInput, StrandModel, StrandSet, StrandSolver, Substeps, TriMesh,
 };
 use hair_groom::{GenerateOptions, ObjOptions, Region, UpAxis};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use crate::motion::RigidMotion;
-use crate::scene_fields::{self, FieldSection, HairHairSection};
-use crate::scene_guides::{self, GuidesSection, SimHairsSection};
+pub mod children;
+pub mod fields;
+pub mod guides;
+pub mod motion;
+pub mod strips;
+
+use fields::{FieldSection, HairHairSection};
+use guides::{GuidesSection, SimHairsSection};
+use motion::RigidMotion;
 
 /// The built-in default scene, fully commented (printed by `hairsys scene init`).
-pub const DEFAULT_SCENE: &str = include_str!("../../scenes/default.toml");
+pub const DEFAULT_SCENE: &str = include_str!("../../../scenes/default.toml");
 
 /// A scene file could not be used. Displays as `FILE: message`.
 #[derive(Debug, thiserror::Error)]
@@ -76,20 +83,20 @@ pub struct Scene {
     /// `[solver] model = "rod"`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rod: Option<RodParams>,
-    /// `[hair_hair]`: voxel hair–hair friction and repulsion (see [`scene_fields`]).
+    /// `[hair_hair]`: voxel hair–hair friction and repulsion (see [`fields`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hair_hair: Option<HairHairSection>,
-    /// `[[fields]]`: force fields (wind, vortex, turbulence, drag, force; see [`scene_fields`]).
+    /// `[[fields]]`: force fields (wind, vortex, turbulence, drag, force; see [`fields`]).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub fields: Vec<FieldSection>,
     /// `[children]`: render children for `hairsys render-children export` (see
-    /// [`crate::scene_children`]).
+    /// [`crate::scene::children`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub children: Option<crate::scene_children::ChildrenSection>,
-    /// `[strips]`: the hair-strip model (see [`crate::scene_strips`]); only with
+    pub children: Option<crate::scene::children::ChildrenSection>,
+    /// `[strips]`: the hair-strip model (see [`crate::scene::strips`]); only with
     /// `[solver] model = "strips"`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub strips: Option<crate::scene_strips::StripsSection>,
+    pub strips: Option<crate::scene::strips::StripsSection>,
 }
 
 /// `[scene]`.
@@ -495,6 +502,8 @@ impl SceneFile {
             damping_iterations: s.solver.damping_iterations,
             integrator: s.solver.integrator,
             max_strain: s.solver.max_strain,
+            // The kernel copy changes speed, not bits: a run option, not part of the scene.
+            kernel: KernelChoice::Auto,
         };
         settings
             .validate()
@@ -559,8 +568,8 @@ impl SceneFile {
             let Some(mesh) = &rest_mesh else {
                 return Err(err("[guides] puts guides on the scalp, but [scalp.mesh] kind = \"none\"; choose a scalp mesh".into()));
             };
-            let built = scene_guides::build(guides, s.sim_hairs.as_ref(), mesh, &self.base_dir)
-                .map_err(err)?;
+            let built =
+                guides::build(guides, s.sim_hairs.as_ref(), mesh, &self.base_dir).map_err(err)?;
             for input in &built.inputs {
                 strands
                     .push(input.clone())
@@ -579,7 +588,7 @@ impl SceneFile {
                 .map_err(|e| err(format!("[[strands]] #{i}: {e}")))?;
         }
         let strips =
-            crate::scene_strips::build_into(s, rest_mesh.as_ref(), &mut strands).map_err(err)?;
+            crate::scene::strips::build_into(s, rest_mesh.as_ref(), &mut strands).map_err(err)?;
         if strands.is_empty() {
             return Err(err(
                 "the scene has no hair: add a [hair] section or [[strands]]".into(),
@@ -656,7 +665,7 @@ impl SceneFile {
             .map_err(|e| err(e.to_string()))?;
         sim.strands.reset_to_rest(&scalp);
         if let Some(h) = &sim.hair_hair {
-            scene_fields::check_grid(h, &sim.strands.positions).map_err(err)?;
+            fields::check_grid(h, &sim.strands.positions).map_err(err)?;
         }
         // Build the colliders once so that every collider error shows at load time.
         sim.colliders_at(first as f32)
@@ -863,6 +872,57 @@ pub struct Simulation {
 }
 
 impl Simulation {
+    /// The strand solver of the scene's `[solver] model` for its first frame: mass-spring with
+    /// the scene's hair–hair, fields and inextensibility projection; the rod with `[rod]`; the
+    /// strips with `[strips]` (with `[scalp.collider]` the rest scalp is the head of their
+    /// two-stage collision).
+    pub fn strand_solver(&self) -> Result<StrandSolver, HairError> {
+        let scalp = self.scalp_at(self.first_frame as f32);
+        Ok(match self.model {
+            StrandModel::MassSpring => {
+                let solver = Solver::new(
+                    self.settings,
+                    self.params,
+                    &self.strands,
+                    &scalp,
+                    self.first_frame,
+                )?;
+                self.with_inextensibility(self.with_interactions(solver)?)?
+                    .into()
+            }
+            StrandModel::Rod => RodSolver::new(
+                self.settings,
+                self.params,
+                self.rod,
+                &self.strands,
+                &scalp,
+                self.first_frame,
+            )?
+            .into(),
+            StrandModel::Strips => {
+                let settings = self.strips.ok_or_else(|| HairError::Parameter {
+                    name: "strips".into(),
+                    value: "absent".into(),
+                    fix: "[solver] model = \"strips\" needs a [strips] section".into(),
+                })?;
+                let head = match (self.scalp_collider.is_some(), self.rest_mesh()) {
+                    (true, Some(mesh)) => Some(HeadShape::new(mesh)?),
+                    _ => None,
+                };
+                StripSolver::new(
+                    self.settings,
+                    self.params,
+                    &self.strands,
+                    &scalp,
+                    self.first_frame,
+                    settings,
+                    head,
+                )?
+                .into()
+            }
+        })
+    }
+
     /// `solver` with the scene's inextensibility projection (`[solver] inextensibility`) on, if
     /// the scene asks for it.
     pub fn with_inextensibility(

@@ -11,8 +11,8 @@ use std::path::Path;
 
 use hair_cache::{Frame, Precision, RecoveryWarning};
 
+use crate::error::Error;
 use crate::scene::Simulation;
-use crate::simulate::RunError;
 
 /// What was taken over from the interrupted run.
 pub struct Resumed {
@@ -33,7 +33,7 @@ impl Resumed {
 
 /// Recovers `CACHE.partial`, checks it belongs to this scene (`scene_hash`) and frame range, and
 /// puts `sim` in the state of its last complete frame (`sim.first_frame` becomes that frame).
-pub fn resume(cache: &Path, scene_hash: &str, sim: &mut Simulation) -> Result<Resumed, RunError> {
+pub fn resume(cache: &Path, scene_hash: &str, sim: &mut Simulation) -> Result<Resumed, Error> {
     let partial = hair_cache::partial_path(cache)?;
     if !partial.exists() {
         let done = if cache.exists() {
@@ -41,14 +41,14 @@ pub fn resume(cache: &Path, scene_hash: &str, sim: &mut Simulation) -> Result<Re
         } else {
             String::new()
         };
-        return Err(RunError::Usage(format!(
+        return Err(Error::Usage(format!(
             "--resume: there is no interrupted run to resume ({} does not exist{done}); run without --resume",
             partial.display()
         )));
     }
     let recovery = hair_cache::recover(&partial)?;
     if recovery.header.scene_hash != scene_hash {
-        return Err(RunError::Usage(format!(
+        return Err(Error::Usage(format!(
             "--resume: {} was written from a different scene (scene hash {} ≠ {}); resume with the scene \
              that started it, or run without --resume to start over",
             partial.display(),
@@ -59,7 +59,7 @@ pub fn resume(cache: &Path, scene_hash: &str, sim: &mut Simulation) -> Result<Re
     if recovery.header.first_frame != sim.first_frame
         || recovery.layout.point_count() != sim.strands.point_count()
     {
-        return Err(RunError::Usage(format!(
+        return Err(Error::Usage(format!(
             "--resume: {} starts at frame {} with {} points, this run at frame {} with {}; use the same --frames",
             partial.display(),
             recovery.header.first_frame,
@@ -69,13 +69,13 @@ pub fn resume(cache: &Path, scene_hash: &str, sim: &mut Simulation) -> Result<Re
         )));
     }
     let Some(last) = recovery.frames.last() else {
-        return Err(RunError::Usage(format!(
+        return Err(Error::Usage(format!(
             "--resume: {} holds no complete frame; run without --resume to start over",
             partial.display()
         )));
     };
     if last.frame >= sim.last_frame {
-        return Err(RunError::Usage(format!(
+        return Err(Error::Usage(format!(
             "--resume: {} already reaches frame {} (the run ends at {}); finish it with `hairsys cache recover`",
             partial.display(),
             last.frame,

@@ -1,0 +1,100 @@
+//! `hairsys render-children cards`: the command's arguments and output around
+//! [`hairsys::cards::export_cards`].
+
+use std::path::PathBuf;
+
+use hairsys::cards::{export_cards, CardsFormat, CardsOptions};
+use hairsys::children::parse_shutter;
+
+/// Card output format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum CardsFormatArg {
+    /// USD Mesh (.usda) with st and motion samples.
+    Usd,
+    /// Wavefront OBJ with vt (the centre sample only).
+    Obj,
+}
+
+/// Arguments of `render-children cards`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct CardsArgs {
+    /// Cache to read (the scene stored in it gives the strips); without it, the rest state.
+    #[arg(long)]
+    pub cache: Option<PathBuf>,
+    /// Scene file: the rest state to export without --cache, or a scene overriding the cache's.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// Frame to export (with --cache).
+    #[arg(long)]
+    pub frame: Option<u32>,
+    /// Shutter interval OPEN,CLOSE in frames around the frame.
+    #[arg(long, value_parser = parse_shutter, default_value = "-0.25,0.25", allow_hyphen_values = true)]
+    pub shutter: (f64, f64),
+    /// Motion samples over the shutter (USD time samples); 1 = no motion blur.
+    #[arg(long, default_value_t = 1)]
+    pub motion_samples: usize,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = CardsFormatArg::Usd)]
+    pub format: CardsFormatArg,
+    /// Rows of vertices per edge segment along a card.
+    #[arg(long, default_value_t = 4)]
+    pub rows_per_segment: u32,
+    /// Vertices across a card (≥ 2).
+    #[arg(long, default_value_t = 3)]
+    pub columns: u32,
+    /// Gap kept between card vertices and the head, m (with [scalp.collider]).
+    #[arg(long, default_value_t = 1e-3)]
+    pub clearance: f32,
+    /// Output file (.usda for usd, .obj for obj).
+    #[arg(short, long)]
+    pub out: PathBuf,
+    /// Print a JSON summary on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Print nothing but errors.
+    #[arg(long, conflicts_with = "json")]
+    pub quiet: bool,
+}
+
+impl CardsArgs {
+    /// The library's options for these arguments.
+    pub fn options(&self) -> CardsOptions {
+        CardsOptions {
+            cache: self.cache.clone(),
+            scene: self.scene.clone(),
+            frame: self.frame,
+            shutter: self.shutter,
+            motion_samples: self.motion_samples,
+            format: match self.format {
+                CardsFormatArg::Usd => CardsFormat::Usd,
+                CardsFormatArg::Obj => CardsFormat::Obj,
+            },
+            rows_per_segment: self.rows_per_segment,
+            columns: self.columns,
+            clearance: self.clearance,
+            out: self.out.clone(),
+        }
+    }
+}
+
+/// Runs `render-children cards` and prints its summary (text, JSON or nothing).
+pub fn run(args: &CardsArgs) -> Result<(), String> {
+    let summary = export_cards(&args.options())?;
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string(&summary).map_err(|e| e.to_string())?
+        );
+    } else if !args.quiet {
+        println!(
+            "wrote {}: {} cards ({} hairs), {} vertices, {} quads, {} time sample(s)",
+            summary.out,
+            summary.cards,
+            summary.represented_hairs,
+            summary.vertices,
+            summary.quads,
+            summary.time_samples
+        );
+    }
+    Ok(())
+}

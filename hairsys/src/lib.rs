@@ -1,0 +1,48 @@
+//! # hairsys
+//!
+//! The hairsys library: what a host needs to run hair on a character, above the domain crates
+//! (`hair-core` physics, `hair-groom` grooms, `hair-cache` point caches, `hair-render` children).
+//! The `hairsys` command, the Python module and the Blender add-on all go through it.
+//!
+//! - [`scene`]: the scene model (TOML, versioned by its keys, unknown keys refused, errors that
+//!   name the file, the key and the fix) and its assembly into a [`scene::Simulation`]: strands
+//!   from guides or generated hair, the strand model, colliders, scalp, fields, hair–hair.
+//! - [`Session`]: the one front door a host drives frame by frame (scalp as a transform or
+//!   deformed vertices, collider poses, animatable parameters, `step()`, flat positions and
+//!   velocities, snapshots for scrubbing, an optional cache).
+//! - [`run`]: the batch run of a scene into a cache (`hairsys simulate`), with [`resume`].
+//! - [`children`] and [`cards`]: render children and hair cards from a cache or a session.
+//!
+//! ## Common tasks
+//! | task | where |
+//! |---|---|
+//! | simulate a scene file into a cache | [`run::simulate`] |
+//! | drive a groom frame by frame on a moving or deforming mesh | [`Session::from_scene`], [`Session::set_scalp_vertices`], [`Session::step`] |
+//! | scrub: go back to an earlier frame | [`Session::snapshot`], [`Session::restore`] |
+//! | continue a killed run | [`run::SimulateOptions::resume`] |
+//! | export render children of a cached frame | [`children::export`] |
+//! | children of the session's current frame, in memory | [`Session::children`] |
+//! | hair cards of a strips scene | [`cards::export_cards`] |
+//!
+//! ```no_run
+//! use hairsys::{scene::SceneFile, Session};
+//! let scene = SceneFile::load("scenes/default.toml".as_ref())?;
+//! let mut session = Session::from_scene(&scene)?;
+//! for _ in 0..24 {
+//!     session.step()?; // the scene's keyframes move the head
+//!     let first_point = session.positions()[0];
+//!     println!("frame {}: {first_point:?}", session.frame());
+//! }
+//! # Ok::<(), hairsys::Error>(())
+//! ```
+
+pub mod cards;
+pub mod children;
+pub mod error;
+pub mod resume;
+pub mod run;
+pub mod scene;
+pub mod session;
+
+pub use error::{Error, Result};
+pub use session::{Session, Snapshot};

@@ -1,0 +1,597 @@
+//! [`Session`]: the one front door a host drives frame by frame.
+//!
+//! A session bundles what a simulation is made of — the strands ([`StrandSet`]), the strand
+//! solver of the scene's model ([`StrandSolver`]), the colliders ([`Colliders`]) and the scalp
+//! ([`Scalp`]) — with one [`Session::step`], like rapier's `PhysicsWorld`. The parts stay public
+//! through accessors, so a host can borrow what it needs (read the strands, change a field's
+//! strength, pose a collider) between steps.
+//!
+//! # A frame, as a host drives it
+//! 1. Set the scalp for the frame being stepped to: a rigid transform
+//!    ([`Session::set_scalp_transform`]) or deformed vertex positions
+//!    ([`Session::set_scalp_vertices`], in the scalp's body space, with the body transform);
+//!    both move the roots, and the scalp collider follows.
+//! 2. Pose colliders ([`Session::set_collider_pose`]) and change animatable parameters
+//!    ([`Session::params_mut`], [`Session::fields_mut`], [`Session::hair_hair_mut`]).
+//! 3. [`Session::step`] advances one frame (1/fps s).
+//! 4. Read [`Session::positions`] and [`Session::velocities`] as flat `[f32; 3]` slices (no copy)
+//!    with [`Session::strand_offsets`].
+//!
+//! Whatever the host does not set for a frame follows the scene's keyframes when the session
+//! was built from a scene ([`Session::from_scene`]), and otherwise stays where it was.
+//!
+//! # State and scratch
+//! The state a frame depends on is the strands' positions and velocities, the solver's root
+//! frames and frame number, the colliders' poses and the scalp; everything else (contact lists,
+//! the hair–hair grid) is scratch rebuilt every step. [`Session::snapshot`] copies the state and
+//! [`Session::restore`] puts it back, for scrubbing; stepping on from a restored snapshot gives
+//! the same bits as stepping on from where it was taken.
+//!
+//! # Threads and failures
+//! Steps run on the rayon pool the host gives ([`Session::set_thread_pool`]; a DCC sizes it so
+//! it is not oversubscribed), else on rayon's global pool; the result does not depend on the
+//! thread count. A step that fails (blow-up, bad collider) leaves the session failed: the next
+//! step returns [`Error::Failed`] until a snapshot is restored. Nothing in a session panics on
+//! host input; bad arguments are [`Error::Argument`]s naming the argument and what is expected.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use bytemuck::cast_slice;
+use hair_cache::{CacheHeader, CacheLayout, CacheSummary, CacheWriter, WriterOptions};
+use hair_core::{
+    ColliderId, Colliders, ForceField, FrameReport, HairError, HairHairSettings, HairParams,
+    RootFrame, Scalp, StrandSet, StrandSolver, TriMesh,
+};
+use nalgebra::{Isometry3, Vector3};
+
+use crate::error::{Error, Result};
+use crate::scene::{SceneFile, Simulation};
+
+/// The scene a session was built from: its keyframes drive what the host does not set.
+#[derive(Debug, Clone)]
+struct SceneAnimation {
+    /// The built scene (scalp motion, collider motions).
+    sim: Simulation,
+    /// How the scene names itself in errors (its file).
+    origin: String,
+    /// The scene text and hash, stored in caches the session writes.
+    text: String,
+    hash: String,
+}
+
+/// What the host set for the next frame.
+#[derive(Debug, Clone, Default)]
+struct Pending {
+    scalp: Option<Scalp>,
+    /// Colliders the host posed for the next frame, by id.
+    posed: Vec<bool>,
+}
+
+/// A copy of a session's state at one frame, for scrubbing ([`Session::snapshot`]).
+#[derive(Debug, Clone)]
+pub struct Snapshot {
+    frame: u32,
+    positions: Vec<Vector3<f32>>,
+    velocities: Vec<Vector3<f32>>,
+    solver: StrandSolver,
+    colliders: Colliders,
+    scalp: Scalp,
+}
+
+impl Snapshot {
+    /// The frame the snapshot holds.
+    pub fn frame(&self) -> u32 {
+        self.frame
+    }
+}
+
+/// A simulation a host drives frame by frame. See the module docs.
+pub struct Session {
+    strands: StrandSet,
+    solver: StrandSolver,
+    colliders: Colliders,
+    scalp: Scalp,
+    /// The scalp mesh at rest in its body space (vertex order of deformed scalps), if any.
+    rest_scalp: Option<TriMesh>,
+    /// The scalp collider, if the scalp collides with its hair.
+    scalp_collider: Option<ColliderId>,
+    fps: f32,
+    animation: Option<SceneAnimation>,
+    pending: Pending,
+    pool: Option<Arc<rayon::ThreadPool>>,
+    recorder: Option<CacheWriter>,
+    /// Time spent writing recorded frames.
+    cache_time: std::time::Duration,
+    failed: Option<(u32, String)>,
+}
+
+impl std::fmt::Debug for Session {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Session")
+            .field("frame", &self.frame())
+            .field("strands", &self.strands.len())
+            .field("points", &self.strands.point_count())
+            .field("model", &self.solver.model())
+            .field("colliders", &self.colliders.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl Session {
+    /// A session of `scene` at its first frame (hair at rest), with its model, colliders, fields
+    /// and hair–hair; its keyframes drive the scalp and colliders for every frame the host does
+    /// not set them.
+    pub fn from_scene(scene: &SceneFile) -> Result<Self> {
+        let sim = scene.build()?;
+        let hash = scene.hash()?;
+        Self::from_simulation(sim, scene, hash)
+    }
+
+    /// A session of an already built scene `sim` (e.g. restricted to other frames, or put in an
+    /// interrupted run's state by resume); `scene` names it and `hash` is stored in caches.
+    pub fn from_simulation(sim: Simulation, scene: &SceneFile, hash: String) -> Result<Self> {
+        let origin = scene.origin.clone();
+        let solver_error = |source| Error::Solver {
+            scene: origin.clone(),
+            source,
+        };
+        let solver = sim.strand_solver().map_err(solver_error)?;
+        let first = sim.first_frame as f32;
+        let colliders = sim.colliders_at(first).map_err(|e| {
+            Error::Scene(crate::scene::SceneError {
+                file: origin.clone(),
+                message: sim.collider_message(&e),
+            })
+        })?;
+        let scalp_collider = sim
+            .scalp_collider
+            .map(|_| ColliderId(sim.colliders.len() as u32));
+        Ok(Self {
+            strands: sim.strands.clone(),
+            solver,
+            colliders,
+            scalp: sim.scalp_at(first),
+            rest_scalp: sim.rest_mesh().cloned(),
+            scalp_collider,
+            fps: sim.settings.fps,
+            animation: Some(SceneAnimation {
+                sim,
+                origin: scene.origin.clone(),
+                text: scene.text.clone(),
+                hash,
+            }),
+            pending: Pending::default(),
+            pool: None,
+            recorder: None,
+            cache_time: std::time::Duration::ZERO,
+            failed: None,
+        })
+    }
+
+    /// A session of strands a host assembled itself: `strands` at rest on `scalp` (given at
+    /// the solver's frame), stepped by `solver`, colliding with `colliders`. `rest_scalp` is
+    /// the scalp mesh in its body space, needed for [`Session::set_scalp_vertices`];
+    /// `scalp_collider` names the collider that is the scalp, if any.
+    pub fn new(
+        strands: StrandSet,
+        solver: StrandSolver,
+        colliders: Colliders,
+        scalp: Scalp,
+        rest_scalp: Option<TriMesh>,
+        scalp_collider: Option<ColliderId>,
+    ) -> Result<Self> {
+        let fps = match &solver {
+            StrandSolver::MassSpring(s) => s.settings().fps,
+            StrandSolver::Strips(s) => s.solver().settings().fps,
+            StrandSolver::Rod(s) => s.settings().fps,
+        };
+        if let Some(id) = scalp_collider {
+            if id.0 as usize >= colliders.len() {
+                return Err(Error::argument(
+                    "scalp_collider",
+                    format!(
+                        "collider {} does not exist (the set has {})",
+                        id.0,
+                        colliders.len()
+                    ),
+                ));
+            }
+        }
+        if let (Some(rest), Some(mesh)) = (&rest_scalp, &scalp.mesh) {
+            if rest.positions().len() != mesh.positions().len() {
+                return Err(Error::argument(
+                    "rest_scalp",
+                    format!(
+                        "{} vertices, but the scalp has {}: give the same mesh at rest",
+                        rest.positions().len(),
+                        mesh.positions().len()
+                    ),
+                ));
+            }
+        }
+        Ok(Self {
+            strands,
+            solver,
+            colliders,
+            scalp,
+            rest_scalp,
+            scalp_collider,
+            fps,
+            animation: None,
+            pending: Pending::default(),
+            pool: None,
+            recorder: None,
+            cache_time: std::time::Duration::ZERO,
+            failed: None,
+        })
+    }
+
+    /// Runs steps on `pool` (a DCC sizes it so it is not oversubscribed); without one, steps
+    /// run on rayon's global pool. Results do not depend on the pool's size.
+    pub fn set_thread_pool(&mut self, pool: Arc<rayon::ThreadPool>) {
+        self.pool = Some(pool);
+    }
+
+    /// Frame number of the current state.
+    pub fn frame(&self) -> u32 {
+        self.solver.frame()
+    }
+
+    /// Frames per second (a step advances 1/fps s).
+    pub fn fps(&self) -> f32 {
+        self.fps
+    }
+
+    /// The strands (positions, velocities, layout, rest data).
+    pub fn strands(&self) -> &StrandSet {
+        &self.strands
+    }
+
+    /// The strand solver.
+    pub fn solver(&self) -> &StrandSolver {
+        &self.solver
+    }
+
+    /// The colliders (poses, settings).
+    pub fn colliders(&self) -> &Colliders {
+        &self.colliders
+    }
+
+    /// The scalp of the current state.
+    pub fn scalp(&self) -> &Scalp {
+        &self.scalp
+    }
+
+    /// Positions of every point, m, strand after strand (see [`Session::strand_offsets`]),
+    /// borrowed without a copy.
+    pub fn positions(&self) -> &[[f32; 3]] {
+        cast_slice(&self.strands.positions)
+    }
+
+    /// Velocities of every point, m/s, in the order of [`Session::positions`].
+    pub fn velocities(&self) -> &[[f32; 3]] {
+        cast_slice(&self.strands.velocities)
+    }
+
+    /// Strand `s`'s points are `offsets[s]..offsets[s + 1]` (strands + 1 entries).
+    pub fn strand_offsets(&self) -> &[u32] {
+        self.strands.offsets()
+    }
+
+    /// Sets the scalp's rigid transform (body to world, m) for the frame to be stepped next:
+    /// roots and the scalp collider follow it.
+    pub fn set_scalp_transform(&mut self, body: Isometry3<f32>) -> Result<()> {
+        check_isometry("scalp_transform", &body)?;
+        let mesh = self.rest_scalp.as_ref().map(|m| m.transformed(&body));
+        self.pending.scalp = Some(Scalp { mesh, body });
+        Ok(())
+    }
+
+    /// Sets the deformed scalp for the frame to be stepped next: `vertices` (m, one per vertex
+    /// of the rest scalp, in its order, in the scalp's body space) placed by `body` (body to
+    /// world; identity when the vertices are already in world space). Roots follow their mesh
+    /// samples on the deformed surface exactly.
+    pub fn set_scalp_vertices(
+        &mut self,
+        vertices: &[[f32; 3]],
+        body: Isometry3<f32>,
+    ) -> Result<()> {
+        check_isometry("scalp_transform", &body)?;
+        let Some(rest) = &self.rest_scalp else {
+            return Err(Error::argument(
+                "scalp_vertices",
+                "this session's scalp has no mesh to deform; set a transform instead",
+            ));
+        };
+        let expected = rest.positions().len();
+        if vertices.len() != expected {
+            return Err(Error::argument(
+                "scalp_vertices",
+                format!(
+                    "{} vertices given, the scalp mesh has {expected}: give an array of shape \
+                     ({expected}, 3) in the rest mesh's vertex order (the topology cannot change)",
+                    vertices.len()
+                ),
+            ));
+        }
+        if let Some(i) = vertices
+            .iter()
+            .position(|v| !v.iter().all(|c| c.is_finite()))
+        {
+            return Err(Error::argument(
+                "scalp_vertices",
+                format!("vertex {i} is not finite ({:?})", vertices[i]),
+            ));
+        }
+        let mut mesh = rest.clone();
+        let body_space: &[Vector3<f32>] = cast_slice(vertices);
+        mesh.set_positions(body_space)
+            .map_err(|e| Error::argument("scalp_vertices", e.to_string()))?;
+        self.pending.scalp = Some(Scalp {
+            mesh: Some(mesh.transformed(&body)),
+            body,
+        });
+        Ok(())
+    }
+
+    /// Poses collider `id` (body to world, m) at the end of the frame to be stepped next; it
+    /// moves there from its current pose during the frame.
+    pub fn set_collider_pose(&mut self, id: ColliderId, pose: Isometry3<f32>) -> Result<()> {
+        self.check_collider(id)?;
+        check_isometry(&format!("collider {} pose", id.0), &pose)?;
+        self.colliders
+            .set_pose(id, pose)
+            .map_err(|e| Error::argument(format!("collider {}", id.0), e.to_string()))?;
+        let i = id.0 as usize;
+        if self.pending.posed.len() <= i {
+            self.pending.posed.resize(i + 1, false);
+        }
+        self.pending.posed[i] = true;
+        Ok(())
+    }
+
+    fn check_collider(&self, id: ColliderId) -> Result<()> {
+        if Some(id) == self.scalp_collider {
+            return Err(Error::argument(
+                format!("collider {}", id.0),
+                "is the scalp collider, which follows the scalp: set the scalp instead",
+            ));
+        }
+        if id.0 as usize >= self.colliders.len() {
+            return Err(Error::argument(
+                format!("collider {}", id.0),
+                format!(
+                    "does not exist: this session has {} collider(s), ids 0 to {}",
+                    self.colliders.len(),
+                    self.colliders.len() as i64 - 1
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The material and environment (gravity, goal stiffness, air drag…) to change between
+    /// frames; checked again at the next step. `None` for the rod model, whose parameters are
+    /// fixed at creation.
+    pub fn params_mut(&mut self) -> Option<&mut HairParams> {
+        self.solver.mass_spring_mut().map(|s| s.params_mut())
+    }
+
+    /// The force fields, to change between frames (strength, direction, position); checked
+    /// again at the next step. Empty for the rod model.
+    pub fn fields_mut(&mut self) -> &mut [ForceField] {
+        match self.solver.mass_spring_mut() {
+            Some(s) => s.fields_mut(),
+            None => &mut [],
+        }
+    }
+
+    /// Hair–hair settings to change between frames, if hair–hair is on.
+    pub fn hair_hair_mut(&mut self) -> Option<&mut HairHairSettings> {
+        self.solver.mass_spring_mut()?.hair_hair_mut()
+    }
+
+    /// Advances one frame with what the host set (and the scene's keyframes for the rest);
+    /// writes the frame to the cache being recorded, if any.
+    pub fn step(&mut self) -> Result<FrameReport> {
+        if let Some((frame, cause)) = &self.failed {
+            return Err(Error::Failed {
+                frame: *frame,
+                cause: cause.clone(),
+            });
+        }
+        let frame = self.frame() + 1;
+        let pending = std::mem::take(&mut self.pending);
+        let scalp = match (pending.scalp, &self.animation) {
+            (Some(s), _) => s,
+            (None, Some(a)) => a.sim.scalp_at(frame as f32),
+            (None, None) => self.scalp.clone(),
+        };
+        if let Some(a) = &self.animation {
+            for (i, c) in a.sim.colliders.iter().enumerate() {
+                if !pending.posed.get(i).copied().unwrap_or(false) {
+                    self.colliders
+                        .set_pose(ColliderId(i as u32), c.motion.at(frame as f32))
+                        .map_err(|e| Error::Scene(a.scene_error(&e)))?;
+                }
+            }
+        }
+        let (solver, strands, colliders) =
+            (&mut self.solver, &mut self.strands, &mut self.colliders);
+        let mut step = || solver.step_frame(strands, &scalp, Some(colliders));
+        let result = match &self.pool {
+            Some(pool) => pool.install(step),
+            None => step(),
+        };
+        let report = match result {
+            Ok(r) => r,
+            Err(source) => {
+                self.failed = Some((frame, source.to_string()));
+                return Err(self.solver_error(source));
+            }
+        };
+        self.scalp = scalp;
+        if let Some(w) = &mut self.recorder {
+            let t = std::time::Instant::now();
+            w.write_frame(frame, &self.strands.positions, &self.strands.velocities)?;
+            self.cache_time += t.elapsed();
+        }
+        Ok(report)
+    }
+
+    fn solver_error(&self, source: HairError) -> Error {
+        let scene = match &self.animation {
+            Some(a) => a.origin.clone(),
+            None => "session".into(),
+        };
+        Error::Solver { scene, source }
+    }
+
+    /// A copy of the state at the current frame (see the module docs).
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            frame: self.frame(),
+            positions: self.strands.positions.clone(),
+            velocities: self.strands.velocities.clone(),
+            solver: self.solver.clone(),
+            colliders: self.colliders.clone(),
+            scalp: self.scalp.clone(),
+        }
+    }
+
+    /// Puts the session back in the state of `snapshot` (taken from this session) and clears
+    /// a failure. Refused while a cache is being recorded (its frames must increase) and for a
+    /// snapshot of other strands.
+    pub fn restore(&mut self, snapshot: &Snapshot) -> Result<()> {
+        if self.recorder.is_some() {
+            return Err(Error::argument(
+                "snapshot",
+                "cannot go back in time while recording a cache: finish the cache first",
+            ));
+        }
+        if snapshot.positions.len() != self.strands.point_count()
+            || snapshot.solver.roots().len() != self.strands.len()
+        {
+            return Err(Error::argument(
+                "snapshot",
+                format!(
+                    "holds {} points of {} strands, this session {} of {}: restore a snapshot of \
+                     this session",
+                    snapshot.positions.len(),
+                    snapshot.solver.roots().len(),
+                    self.strands.point_count(),
+                    self.strands.len()
+                ),
+            ));
+        }
+        self.strands.positions.clone_from(&snapshot.positions);
+        self.strands.velocities.clone_from(&snapshot.velocities);
+        self.solver = snapshot.solver.clone();
+        self.colliders = snapshot.colliders.clone();
+        self.scalp = snapshot.scalp.clone();
+        self.pending = Pending::default();
+        self.failed = None;
+        Ok(())
+    }
+
+    /// Starts recording to the MCAP cache at `path` (written as `path.partial`, renamed by
+    /// [`Session::finish_recording`]): the current frame now, then every step.
+    pub fn record(&mut self, path: &Path, options: WriterOptions) -> Result<()> {
+        let header = self.cache_header();
+        let writer = CacheWriter::create(path, &header, &CacheLayout::of(&self.strands), options)?;
+        self.record_into(writer)
+    }
+
+    /// Records into `writer` (already holding any earlier frames, e.g. those a resumed run
+    /// takes over): the current frame now, then every step.
+    pub fn record_into(&mut self, mut writer: CacheWriter) -> Result<()> {
+        if self.recorder.is_some() {
+            return Err(Error::argument(
+                "cache",
+                "this session is already recording a cache: finish it first",
+            ));
+        }
+        writer.write_frame(
+            self.frame(),
+            &self.strands.positions,
+            &self.strands.velocities,
+        )?;
+        self.recorder = Some(writer);
+        Ok(())
+    }
+
+    /// Finishes the cache being recorded (index, summary, rename to its final name).
+    pub fn finish_recording(&mut self) -> Result<CacheSummary> {
+        match self.recorder.take() {
+            Some(w) => Ok(w.finish()?),
+            None => Err(Error::argument(
+                "cache",
+                "this session is not recording a cache",
+            )),
+        }
+    }
+
+    /// The header of a cache of this session: the fps and current frame, the scene (text and
+    /// hash; empty for a session a host assembled) and the model's description.
+    pub fn cache_header(&self) -> CacheHeader {
+        let mut components = self.solver.components(&self.strands);
+        if !self.colliders.is_empty() {
+            components.insert(hair_core::Component::Contacts);
+        }
+        let mut extra = std::collections::BTreeMap::new();
+        extra.insert("components".to_string(), components.names().join(","));
+        extra.insert("substeps".to_string(), self.solver.substeps().to_string());
+        extra.insert("model".to_string(), self.solver.model().name().to_string());
+        if let Some(s) = self.solver.mass_spring() {
+            extra.insert(
+                "integrator".to_string(),
+                format!("{:?}", s.settings().integrator),
+            );
+        }
+        let (scene_toml, scene_hash) = match &self.animation {
+            Some(a) => (a.text.clone(), a.hash.clone()),
+            None => (String::new(), String::new()),
+        };
+        CacheHeader {
+            fps: self.fps as f64,
+            first_frame: self.frame(),
+            scene_toml,
+            scene_hash,
+            extra,
+        }
+    }
+
+    /// Wall-clock time spent writing the recorded frames so far (part of [`Session::step`]'s).
+    pub fn cache_write_time(&self) -> std::time::Duration {
+        self.cache_time
+    }
+
+    /// Root frames of the current state (one per strand).
+    pub fn root_frames(&self) -> &[RootFrame] {
+        self.solver.roots()
+    }
+}
+
+impl SceneAnimation {
+    fn scene_error(&self, e: &HairError) -> crate::scene::SceneError {
+        crate::scene::SceneError {
+            file: self.origin.clone(),
+            message: self.sim.collider_message(e),
+        }
+    }
+}
+
+/// Refuses a non-finite transform, naming `argument`.
+fn check_isometry(argument: &str, iso: &Isometry3<f32>) -> Result<()> {
+    let finite = iso.translation.vector.iter().all(|c| c.is_finite())
+        && iso.rotation.coords.iter().all(|c| c.is_finite());
+    if finite {
+        Ok(())
+    } else {
+        Err(Error::argument(
+            argument,
+            "is not finite: give a rigid transform with finite translation and rotation",
+        ))
+    }
+}
