@@ -258,6 +258,12 @@ impl Session {
         &self.colliders
     }
 
+    /// The scalp mesh at rest in its body space (the vertex order of
+    /// [`Session::set_scalp_vertices`]), if the scalp has a mesh.
+    pub fn rest_scalp(&self) -> Option<&TriMesh> {
+        self.rest_scalp.as_ref()
+    }
+
     /// The scalp of the current state.
     pub fn scalp(&self) -> &Scalp {
         &self.scalp
