@@ -36,11 +36,14 @@
 
 pub mod error;
 pub mod foxglove;
+mod input;
 pub mod layout;
 pub mod reader;
+mod records;
 pub mod recover;
 pub mod sample;
 pub mod summary;
+mod summary_section;
 pub mod writer;
 
 pub use error::CacheError;
