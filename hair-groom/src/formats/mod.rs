@@ -20,6 +20,7 @@ use nalgebra::Vector3;
 
 use crate::error::{parameter, FileLocation, GroomError};
 use crate::groom::Groom;
+use crate::input_file;
 use obj::{ObjOptions, UpAxis};
 
 /// Unit scale and up axis of a groom file: the same options as OBJ meshes ([`ObjOptions`]).
@@ -125,12 +126,13 @@ pub(crate) fn bad(path: &Path, at: FileLocation, message: impl Into<String>) -> 
     }
 }
 
-/// Reads the whole file at `path`.
+/// Reads the whole groom file at `path`: a regular file of at most
+/// [`MAX_GROOM_FILE_BYTES`](crate::input_file::MAX_GROOM_FILE_BYTES).
 pub(crate) fn read_bytes(path: &Path) -> Result<Vec<u8>, GroomError> {
-    std::fs::read(path).map_err(|source| GroomError::Read {
-        path: path.to_path_buf(),
-        source,
-    })
+    Ok(input_file::read_regular_file(
+        path,
+        input_file::MAX_GROOM_FILE_BYTES,
+    )?)
 }
 
 /// Writes `bytes` to `path`.

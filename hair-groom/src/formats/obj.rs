@@ -7,8 +7,6 @@
 //! are otherwise ignored; [`TriMesh`] computes its own. Points and lines are ignored, materials
 //! are not read.
 
-use std::fs::File;
-use std::io::BufReader;
 use std::path::Path;
 
 use hair_core::{HairError, TriMesh};
@@ -56,10 +54,8 @@ impl Default for ObjOptions {
 /// `scale` that is not finite and > 0.
 pub fn load_obj(path: &Path, opts: &ObjOptions) -> Result<TriMesh, GroomError> {
     check_options(opts)?;
-    let file = File::open(path).map_err(|source| GroomError::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    // Read whole (a regular file within the size limit), so tobj never reads a device or FIFO.
+    let bytes = super::read_bytes(path)?;
     let load = tobj::LoadOptions {
         single_index: true,
         triangulate: true,
@@ -67,7 +63,7 @@ pub fn load_obj(path: &Path, opts: &ObjOptions) -> Result<TriMesh, GroomError> {
         ignore_lines: true,
     };
     // Materials are not needed: refuse to open any material library the file names.
-    let (models, _materials) = tobj::load_obj_buf(&mut BufReader::new(file), &load, |_| {
+    let (models, _materials) = tobj::load_obj_buf(&mut &bytes[..], &load, |_| {
         Err(tobj::LoadError::OpenFileFailed)
     })
     .map_err(|e| GroomError::ObjParse {
@@ -203,7 +199,7 @@ mod tests {
     fn missing_file_is_named() {
         let err = load_obj(Path::new("/no/such/head.obj"), &ObjOptions::default()).unwrap_err();
         let msg = err.to_string();
-        assert!(matches!(err, GroomError::Read { .. }), "{msg}");
+        assert!(matches!(err, GroomError::Input(_)), "{msg}");
         assert!(
             msg.contains("/no/such/head.obj") && msg.contains("check"),
             "{msg}"
