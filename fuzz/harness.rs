@@ -127,6 +127,18 @@ unsafe impl GlobalAlloc for Counting {
     }
 }
 
+/// Runs `f` with this thread's allocations counted; returns its result, the peak of live bytes
+/// and the largest single request, bytes.
+pub fn measure<T>(f: impl FnOnce() -> T) -> (T, usize, usize) {
+    for counter in [&LIVE, &PEAK, &LARGEST] {
+        counter.set(0);
+    }
+    WATCH.set(true);
+    let out = f();
+    WATCH.set(false);
+    (out, PEAK.get(), LARGEST.get())
+}
+
 /// A deterministic generator (SplitMix64, Steele, Lea & Flood 2014).
 pub struct Rng(u64);
 

@@ -66,6 +66,8 @@ impl GroomFormat {
 /// Reads the groom file at `path` in the format its extension names ([`GroomFormat::of`]), in
 /// meters, Z up (`opts`: the file's unit scale and up axis).
 pub fn read_groom(path: &Path, opts: &ImportOptions) -> Result<Groom, GroomError> {
+    // What the path is comes before what its name says: "is a directory" is the clearer error.
+    input_file::check_regular_file(path)?;
     match GroomFormat::of(path)? {
         GroomFormat::Hair => hair::read_hair(path, opts),
         GroomFormat::Tfx => tfx::read_tfx(path, opts),
@@ -248,9 +250,9 @@ mod tests {
             let err = (back.curves()[0][1] - groom.curves()[0][1]).norm();
             assert!(err < 1e-8, "{name}: {err}");
         }
-        let err = read_groom(Path::new("g.abc"), &opts)
-            .unwrap_err()
-            .to_string();
+        let abc = dir.path().join("g.abc");
+        std::fs::write(&abc, b"curves").unwrap();
+        let err = read_groom(&abc, &opts).unwrap_err().to_string();
         assert!(err.contains("g.abc") && err.contains(".usda"), "{err}");
     }
 }
