@@ -62,7 +62,7 @@ mod surface_distance;
 
 pub use error::{FarRoot, FileLocation, GroomError};
 pub use formats::hair::{read_hair, write_hair};
-pub use formats::obj::{load_obj, ObjOptions, UpAxis};
+pub use formats::obj::{load_obj, load_obj_vertex_colors, ObjOptions, UpAxis};
 pub use formats::obj_curves::{read_obj_curves, write_obj_curves};
 pub use formats::tfx::{read_tfx, write_tfx};
 pub use formats::usd::{read_usda, write_usda};

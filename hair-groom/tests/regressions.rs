@@ -3,6 +3,9 @@
 //! reader forever, and a directory gave an operating-system error without saying what was wrong.
 //! Each reader must now refuse them by name before reading, and refuse a file above its size
 //! limit with the size and the limit.
+//!
+//! Inputs the fuzzer (`tests/fuzz.rs`) found crashing a reader are kept under
+//! `tests/regressions/`, each test named after the failure.
 
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;
@@ -111,4 +114,20 @@ fn file_above_the_size_limit_is_refused_with_its_size() {
             &format!("is {bytes} bytes, more than the {MAX_GROOM_FILE_BYTES} bytes"),
         );
     }
+}
+
+/// Found by `tests/fuzz.rs` (OBJ mesh reader, long run): a face `4/4/-2147483648` made tobj
+/// 4.0.5 compute `vn * 3` on the wrapped relative index and panic ("attempt to multiply with
+/// overflow"; in a release build the product wraps and indexes arbitrary normals). Face indices
+/// are now checked against the elements defined above them before tobj resolves them.
+#[test]
+fn face_normal_index_overflow() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/regressions/face_normal_index_overflow.obj");
+    let err = load_obj(&path, &ObjOptions::default()).unwrap_err().to_string();
+    assert!(
+        err.contains("face_normal_index_overflow.obj")
+            && err.contains("line 15: face index `-2147483648` refers to no normal"),
+        "{err}"
+    );
 }
