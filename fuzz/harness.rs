@@ -76,9 +76,9 @@ fn admit(size: usize) -> bool {
     let (seed, mutant) = CURRENT.get();
     let mut buf = [0u8; 160];
     let mut cursor = std::io::Cursor::new(&mut buf[..]);
-    let _ = write!(
+    let _ = writeln!(
         cursor,
-        "fuzz: refusing an allocation of {size} bytes while reading seed {seed} mutant {mutant}\n"
+        "fuzz: refusing an allocation of {size} bytes while reading seed {seed} mutant {mutant}"
     );
     let n = cursor.position() as usize;
     let _ = std::io::stderr().write_all(&buf[..n]);
@@ -202,9 +202,8 @@ pub fn mutate(rng: &mut Rng, data: &mut Vec<u8>, text: bool) {
             let v = values[rng.below(values.len())];
             let width = if rng.below(2) == 0 { 4 } else { 8 };
             let bytes = v.to_le_bytes();
-            for k in 0..width.min(len - at) {
-                data[at + k] = bytes[k];
-            }
+            let n = width.min(len - at);
+            data[at..at + n].copy_from_slice(&bytes[..n]);
         }
         // Truncation.
         4 => data.truncate(at),

@@ -136,7 +136,7 @@ pub(crate) fn check(opcode: u8, body: &[u8]) -> Result<(), String> {
                 }
                 Field::Fixed(entry) => {
                     let n = r.u32()? as usize;
-                    if n % entry != 0 {
+                    if !n.is_multiple_of(entry) {
                         return Err(format!(
                             "a map or array of {n} bytes does not hold whole {entry}-byte entries"
                         ));

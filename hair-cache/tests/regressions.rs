@@ -138,7 +138,9 @@ fn metadata_string_length_4gib() {
 fn lz4_record_length_trusted_before_crc() {
     let errors = every_reader_refuses(&regression("lz4_record_length_trusted_before_crc.mcap"));
     assert!(
-        errors.iter().any(|e| e.contains("lz4") || e.contains("CRC")),
+        errors
+            .iter()
+            .any(|e| e.contains("lz4") || e.contains("CRC")),
         "{errors:#?}"
     );
 }

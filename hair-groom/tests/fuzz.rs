@@ -193,34 +193,34 @@ fn fuzz_obj_mesh(mutants: usize, seed: u64) {
 
 #[test]
 fn hair_reader_survives_mutants() {
-    fuzz_groom("hair", 300, 0x6861_6972_01);
+    fuzz_groom("hair", 300, 1001);
 }
 
 #[test]
 fn tfx_reader_survives_mutants() {
-    fuzz_groom("tfx", 300, 0x7466_7801);
+    fuzz_groom("tfx", 300, 1002);
 }
 
 #[test]
 fn obj_curves_reader_survives_mutants() {
-    fuzz_groom("obj", 300, 0x6f62_6a63_01);
+    fuzz_groom("obj", 300, 1003);
 }
 
 #[test]
 fn usda_reader_survives_mutants() {
-    fuzz_groom("usda", 300, 0x7573_6461_01);
+    fuzz_groom("usda", 300, 1004);
 }
 
 #[test]
 fn obj_mesh_reader_survives_mutants() {
-    fuzz_obj_mesh(200, 0x6f62_6a6d_01);
+    fuzz_obj_mesh(200, 1005);
 }
 
 #[test]
 #[ignore = "long run: cargo test -p hair-groom --test fuzz -- --ignored"]
 fn every_groom_reader_survives_many_mutants() {
     for (i, ext) in ["hair", "tfx", "obj", "usda"].into_iter().enumerate() {
-        fuzz_groom(ext, 6000, 0x6c6f_6e67_00 + i as u64);
+        fuzz_groom(ext, 6000, 2001 + i as u64);
     }
-    fuzz_obj_mesh(4000, 0x6c6f_6e67_10);
+    fuzz_obj_mesh(4000, 2010);
 }

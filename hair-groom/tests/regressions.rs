@@ -124,7 +124,9 @@ fn file_above_the_size_limit_is_refused_with_its_size() {
 fn face_normal_index_overflow() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/regressions/face_normal_index_overflow.obj");
-    let err = load_obj(&path, &ObjOptions::default()).unwrap_err().to_string();
+    let err = load_obj(&path, &ObjOptions::default())
+        .unwrap_err()
+        .to_string();
     assert!(
         err.contains("face_normal_index_overflow.obj")
             && err.contains("line 15: face index `-2147483648` refers to no normal"),

@@ -113,7 +113,11 @@ pub fn load_obj_vertex_colors(path: &Path) -> Result<Option<Vec<[f32; 3]>>, Groo
         if mesh.vertex_color.len() != mesh.positions.len() {
             return Ok(None);
         }
-        colors.extend(mesh.vertex_color.chunks_exact(3).map(|c| [c[0], c[1], c[2]]));
+        colors.extend(
+            mesh.vertex_color
+                .chunks_exact(3)
+                .map(|c| [c[0], c[1], c[2]]),
+        );
     }
     if let Some(i) = colors.iter().position(|c| !c.iter().all(|x| x.is_finite())) {
         return Err(GroomError::ObjMesh {
@@ -319,8 +323,13 @@ mod tests {
         ] {
             let text = format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n{face}\n");
             let path = write(&dir, "index.obj", text.as_bytes());
-            let err = load_obj(&path, &ObjOptions::default()).unwrap_err().to_string();
-            assert!(err.contains("index.obj: line 6") && err.contains(kind), "{err}");
+            let err = load_obj(&path, &ObjOptions::default())
+                .unwrap_err()
+                .to_string();
+            assert!(
+                err.contains("index.obj: line 6") && err.contains(kind),
+                "{err}"
+            );
         }
     }
 
