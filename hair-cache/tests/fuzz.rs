@@ -4,8 +4,8 @@
 //! frames or an error naming the file: no panic, no abort, and no more memory than a budget
 //! proportional to the file (harness: `fuzz/harness.rs` at the workspace root).
 //!
-//! The suite runs 3 000 mutants (about 5 s in the dev profile on a 2-core machine); the longer run
-//! (60 000 mutants, other seeds):
+//! The suite runs about 5 000 mutants (about 10 s in the dev profile on a 2-core machine); the
+//! longer run (60 000 mutants, other seeds):
 //!
 //! ```sh
 //! cargo test -p hair-cache --test fuzz -- --ignored --nocapture
@@ -178,8 +178,8 @@ fn fuzz(mutants_per_seed: usize, seed: u64) {
 
 #[test]
 fn cache_readers_survive_mutated_caches() {
-    // 11 seeds × 280 ≈ 3 000 mutants.
-    fuzz(280, 3001);
+    // 11 seeds × 450 ≈ 5 000 mutants.
+    fuzz(450, 3001);
 }
 
 #[test]
