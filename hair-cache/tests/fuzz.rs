@@ -183,7 +183,7 @@ fn cache_readers_survive_mutated_caches() {
 }
 
 #[test]
-#[ignore = "long run, about 2 minutes: cargo test -p hair-cache --test fuzz -- --ignored"]
+#[ignore = "long run, about a minute: cargo test -p hair-cache --test fuzz -- --ignored"]
 fn cache_readers_survive_many_mutated_caches() {
     fuzz(5500, 4001);
 }
