@@ -4,7 +4,7 @@
 //! frames or an error naming the file: no panic, no abort, and no more memory than a budget
 //! proportional to the file (harness: `fuzz/harness.rs` at the workspace root).
 //!
-//! The suite runs about 5 000 mutants (about 10 s in the dev profile on a 2-core machine); the
+//! The suite runs about 5 000 mutants (12–25 s in the dev profile on the busy 2-core machine); the
 //! longer run (60 000 mutants, other seeds):
 //!
 //! ```sh

@@ -4,7 +4,7 @@
 //! naming the file: no panic, no abort, and no more memory than a budget proportional to the file
 //! (harness: `fuzz/harness.rs` at the workspace root).
 //!
-//! The suite runs about 10 000 mutants in all (2 000 per reader, about 15 s in the dev profile on
+//! The suite runs about 10 000 mutants in all (2 000 per reader, about 20 s in the dev profile on
 //! a 2-core machine); the longer run (6 times as many, other seeds):
 //!
 //! ```sh
