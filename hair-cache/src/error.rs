@@ -121,6 +121,19 @@ pub enum CacheError {
         /// The cache's frame rate, frames per second.
         fps: f64,
     },
+    /// The path is not a regular file (a directory, a FIFO, a device such as `/dev/zero`); it
+    /// was refused before anything was read from it.
+    #[error(
+        "`{}` is a {kind}, not a regular file; pass the path of a cache file written by \
+         `hairsys simulate`",
+        .path.display()
+    )]
+    NotAFile {
+        /// The path given.
+        path: PathBuf,
+        /// What it is: "directory", "FIFO (named pipe)", "device", "socket" or "special file".
+        kind: &'static str,
+    },
     /// The file is not an MCAP file at all.
     #[error(
         "`{}` is not an MCAP file ({detail}); pass a cache written by `hairsys simulate`",

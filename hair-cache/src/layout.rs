@@ -760,6 +760,11 @@ impl<'a> LeReader<'a> {
         Ok(out)
     }
 
+    /// Bytes not read yet.
+    pub(crate) fn remaining(&self) -> usize {
+        self.bytes.len() - self.pos
+    }
+
     /// The next `u32`.
     pub(crate) fn u32(&mut self) -> Result<u32, String> {
         self.array().map(u32::from_le_bytes)
@@ -778,12 +783,6 @@ impl<'a> LeReader<'a> {
     /// The next `f64`.
     pub(crate) fn f64(&mut self) -> Result<f64, String> {
         self.array().map(f64::from_le_bytes)
-    }
-
-    /// The next MCAP string (`u32` length, UTF-8 bytes).
-    pub(crate) fn string(&mut self) -> Result<&'a str, String> {
-        let len = self.u32()? as usize;
-        std::str::from_utf8(self.take(len)?).map_err(|e| format!("string is not UTF-8: {e}"))
     }
 }
 

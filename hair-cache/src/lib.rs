@@ -7,6 +7,12 @@
 //! number or time, and samples between frames ([`sample`]: cubic Hermite or linear, motion-blur
 //! [`Shutter`] sets). [`recover()`] reads the complete frames of a file whose writer was killed.
 //!
+//! Readers take only regular files (a directory, FIFO or device is refused by name before it is
+//! opened) and trust no length in the file: every record is bounds-checked before it is parsed,
+//! chunks are decompressed with output bounded by what their bytes decode to and CRC-checked
+//! before the records inside them are used, so memory follows the file, never a damaged header
+//! (see `src/records.rs`; fuzzed by `tests/fuzz.rs`, crashes kept in `tests/regressions/`).
+//!
 //! ```
 //! use hair_cache::{CacheHeader, CacheLayout, CacheReader, CacheWriter, WriterOptions};
 //! use nalgebra::Vector3;
@@ -36,11 +42,14 @@
 
 pub mod error;
 pub mod foxglove;
+mod input;
 pub mod layout;
 pub mod reader;
+mod records;
 pub mod recover;
 pub mod sample;
 pub mod summary;
+mod summary_section;
 pub mod writer;
 
 pub use error::CacheError;

@@ -8,12 +8,13 @@ use std::io::{Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
 use mcap::records::{op, Record};
-use mcap::sans_io::{SummaryReadEvent, SummaryReader, SummaryReaderOptions};
-use mcap::McapError;
 
 use crate::error::CacheError;
+use crate::input;
 use crate::layout::{self, CacheHeader, CacheLayout, Frame, LeReader, MetadataError};
+use crate::records::{self, Records};
 use crate::summary::{CacheSummary, SummaryInput};
+use crate::summary_section::{self, SummaryError, SummarySection};
 use crate::writer::Precision;
 
 /// The summary of the finished cache at `path` (what `hairsys cache info` prints).
@@ -29,7 +30,7 @@ pub struct CacheReader {
     path: PathBuf,
     file: File,
     file_len: u64,
-    summary: mcap::Summary,
+    summary: SummarySection,
     header: CacheHeader,
     layout: CacheLayout,
     /// Frame numbers stored, increasing.
@@ -63,19 +64,7 @@ impl CacheReader {
                 path,
             });
         }
-        let mut file = File::open(&path).map_err(|source| CacheError::Io {
-            path: path.clone(),
-            action: "open",
-            source,
-        })?;
-        let file_len = file
-            .metadata()
-            .map_err(|source| CacheError::Io {
-                path: path.clone(),
-                action: "read the size of",
-                source,
-            })?
-            .len();
+        let (mut file, file_len) = input::open_regular(&path)?;
         let mut magic = [0u8; 8];
         let n = read_up_to(&mut file, &mut magic).map_err(|source| CacheError::Io {
             path: path.clone(),
@@ -333,10 +322,10 @@ impl CacheReader {
             ));
         };
         self.read_record(meta.offset, meta.length, op::METADATA)?;
-        let map = match mcap::parse_record(op::METADATA, &self.buf[9..]) {
+        let map = match records::parse(op::METADATA, &self.buf[9..]) {
             Ok(Record::Metadata(m)) => m.metadata,
             Ok(_) => return Err(self.damaged("the metadata index points to another record".into())),
-            Err(e) => return Err(self.damaged(e.to_string())),
+            Err(e) => return Err(self.damaged(e)),
         };
         let (header, counts) = match layout::header_from_metadata(&map) {
             Ok(parsed) => parsed,
@@ -384,7 +373,7 @@ impl CacheReader {
         let Some(channel) = self
             .summary
             .channels
-            .values()
+            .iter()
             .find(|c| c.topic == layout::FRAME_TOPIC)
             .cloned()
         else {
@@ -419,8 +408,9 @@ impl CacheReader {
                 chunk.message_index_length,
                 &mut self.buf,
             )?;
-            for record in mcap::read::LinearReader::sans_magic(&self.buf) {
-                match record.map_err(|e| damaged(&self.path, e.to_string()))? {
+            for record in Records::new(&self.buf) {
+                let parsed = record.and_then(|(opcode, body)| records::parse(opcode, body));
+                match parsed.map_err(|e| damaged(&self.path, e))? {
                     Record::MessageIndex(index) if index.channel_id == channel.id => {
                         times.extend(index.records.iter().map(|r| (r.log_time, chunk_number)));
                     }
@@ -514,52 +504,25 @@ impl CacheReader {
     }
 }
 
-/// Reads the summary section; maps a missing or unreadable footer to [`CacheError::Incomplete`].
-fn read_summary(path: &Path, file: &mut File, file_len: u64) -> Result<mcap::Summary, CacheError> {
-    let io = |source| CacheError::Io {
-        path: path.to_path_buf(),
-        action: "read",
-        source,
-    };
-    let incomplete = |detail: &str| CacheError::Incomplete {
-        path: path.to_path_buf(),
-        detail: detail.into(),
-    };
-    let mut reader =
-        SummaryReader::new_with_options(SummaryReaderOptions::default().with_file_size(file_len));
-    while let Some(event) = reader.next_event() {
-        match event {
-            Ok(SummaryReadEvent::ReadRequest(n)) => {
-                let read = read_up_to(file, reader.insert(n)).map_err(io)?;
-                reader.notify_read(read);
-            }
-            Ok(SummaryReadEvent::SeekRequest(to)) => {
-                let pos = file.seek(to).map_err(io)?;
-                reader.notify_seeked(pos);
-            }
-            Err(McapError::BadMagic | McapError::UnexpectedEof | McapError::BadFooter) => {
-                return Err(incomplete("it does not end with an MCAP footer"))
-            }
-            Err(e) => return Err(damaged(path, e.to_string())),
-        }
-    }
-    reader
-        .finish()
-        .ok_or_else(|| incomplete("it has no summary section"))
+/// Reads the summary section, naming the file in errors.
+fn read_summary(path: &Path, file: &mut File, file_len: u64) -> Result<SummarySection, CacheError> {
+    summary_section::read(file, file_len).map_err(|e| match e {
+        SummaryError::Incomplete(detail) => CacheError::Incomplete {
+            path: path.to_path_buf(),
+            detail: detail.into(),
+        },
+        SummaryError::Damaged(detail) => damaged(path, detail),
+        SummaryError::Io(source) => CacheError::Io {
+            path: path.to_path_buf(),
+            action: "read",
+            source,
+        },
+    })
 }
 
 /// The data of an attachment record body (header, `u64` length, data, `u32` CRC), CRC checked.
 pub(crate) fn attachment_data(body: &[u8]) -> Result<&[u8], String> {
-    // Check the structure first: `mcap::parse_record` slices the body without bounds checks.
-    let mut r = LeReader::new(body);
-    r.u64()?; // log time
-    r.u64()?; // create time
-    r.string()?; // name
-    r.string()?; // media type
-    let len = usize::try_from(r.u64()?).map_err(|e| e.to_string())?;
-    r.take(len)?;
-    r.u32()?; // CRC
-    match mcap::parse_record(op::ATTACHMENT, body) {
+    match records::parse(op::ATTACHMENT, body) {
         Ok(Record::Attachment { data, .. }) => match data {
             std::borrow::Cow::Borrowed(data) => Ok(data),
             std::borrow::Cow::Owned(_) => Err("the layout attachment was copied".into()),
@@ -576,30 +539,39 @@ fn time_to_ns(time: f64) -> Option<u64> {
 }
 
 /// The messages (`log_time`, payload) of a whole chunk record (`record`: opcode, length and
-/// body), decompressed and CRC-checked; only those of channel `channel` if it is given.
-pub(crate) fn chunk_messages(
-    record: &[u8],
-    channel: Option<u16>,
-) -> Result<Vec<ChunkMessage>, String> {
-    let body = (record.first() == Some(&op::CHUNK))
-        .then(|| record.get(9..))
-        .flatten()
-        .ok_or("the index points to no chunk")?;
-    let (chunk_header, data) = match mcap::parse_record(op::CHUNK, body) {
-        Ok(Record::Chunk { header, data }) => (header, data),
-        Ok(_) => return Err("the index points to no chunk".into()),
-        Err(e) => return Err(e.to_string()),
+/// body, as the chunk index locates it), decompressed and CRC-checked; only those of channel
+/// `channel` if it is given.
+fn chunk_messages(record: &[u8], channel: Option<u16>) -> Result<Vec<ChunkMessage>, String> {
+    let mut r = LeReader::new(record);
+    let (opcode, length) = r
+        .take(1)
+        .and_then(|op| Ok((op[0], r.u64()?)))
+        .map_err(|_| "the index points to no chunk")?;
+    if opcode != op::CHUNK {
+        return Err("the index points to no chunk".into());
+    }
+    if length != r.remaining() as u64 {
+        return Err(format!(
+            "the chunk record is {length} bytes long but its index gives it {}",
+            r.remaining()
+        ));
+    }
+    let (header, data) = match records::parse(op::CHUNK, &record[9..])? {
+        Record::Chunk { header, data } => (header, data),
+        _ => return Err("the index points to no chunk".into()),
     };
-    // `ChunkReader` checks the chunk's CRC once it reaches the chunk's end, so the chunk is
-    // always read to its end.
-    let records = mcap::read::ChunkReader::new(chunk_header, &data).map_err(|e| e.to_string())?;
+    // Every length inside the chunk is used only after its CRC has checked.
+    let content = records::chunk_content(&header, &data)?;
     let mut messages = Vec::new();
-    for record in records {
-        match record.map_err(|e| e.to_string())? {
-            Record::Message { header, data } if channel.is_none_or(|c| c == header.channel_id) => {
+    for record in Records::new(&content) {
+        let (opcode, body) = record?;
+        if opcode != op::MESSAGE {
+            continue;
+        }
+        if let Record::Message { header, data } = records::parse(opcode, body)? {
+            if channel.is_none_or(|c| c == header.channel_id) {
                 messages.push((header.log_time, data.into_owned()));
             }
-            _ => {}
         }
     }
     Ok(messages)

@@ -2,20 +2,23 @@
 //!
 //! Such a file (normally `<path>.partial`) has no summary section, so [`recover`] walks its
 //! records from the start: the header, the `hairsys` metadata, the layout attachment, then the
-//! chunks. Every chunk whose record is complete and whose CRC checks is a self-contained set of
-//! frames (see [`crate::writer`]): its frames are returned. The walk stops at the first record
+//! chunks, one record at a time. Every chunk whose record is complete and whose CRC checks is a
+//! self-contained set of frames (see [`crate::writer`]): its frames are returned. The walk stops at the first record
 //! that runs past the end of the file (the chunk the writer had open, or a cut file); a complete
 //! chunk that fails its checks is skipped. What was lost is described by [`Recovery::warning`].
 //! A finished cache is recovered too (its summary is not needed).
 
 use std::fmt;
+use std::io::{BufReader, Read};
 use std::path::{Path, PathBuf};
 
 use mcap::records::{op, Record};
 
 use crate::error::CacheError;
+use crate::input;
 use crate::layout::{self, CacheHeader, CacheLayout, Frame, MetadataError};
 use crate::reader::{attachment_data, damaged};
+use crate::records::{self, Records};
 use crate::summary::CacheSummary;
 use crate::writer::{CacheWriter, Precision, WriterOptions};
 
@@ -86,27 +89,35 @@ impl Recovery {
 }
 
 /// Reads every frame of the complete chunks of the cache file at `path` (a `.partial` file
-/// left by a killed or dropped writer, or any cache). Fails, naming the file, if it cannot be
-/// read, is not MCAP, or ends before its metadata and layout attachment are complete (then no
-/// frame can be interpreted).
+/// left by a killed or dropped writer, or any cache). Fails, naming the file, if it is not a
+/// regular file, cannot be read, is not MCAP, or ends before its metadata and layout attachment
+/// are complete (then no frame can be interpreted).
+///
+/// The file is read one record at a time: memory holds the largest record (a record longer than
+/// the rest of the file is the incomplete end, never allocated) plus the frames recovered.
 pub fn recover(path: impl AsRef<Path>) -> Result<Recovery, CacheError> {
     let path = path.as_ref().to_path_buf();
-    let bytes = std::fs::read(&path).map_err(|source| CacheError::Io {
+    let (file, file_len) = input::open_regular(&path)?;
+    let mut file = BufReader::new(file);
+    let io = |source| CacheError::Io {
         path: path.clone(),
         action: "read",
         source,
-    })?;
-    if bytes.len() < mcap::MAGIC.len() || bytes[..mcap::MAGIC.len()] != *mcap::MAGIC {
+    };
+    let mut magic = [0u8; 8];
+    if file_len < magic.len() as u64
+        || file.read_exact(&mut magic).is_err()
+        || magic != *mcap::MAGIC
+    {
         return Err(CacheError::NotMcap {
             path,
-            detail: if bytes.len() < mcap::MAGIC.len() {
-                format!("it has only {} bytes", bytes.len())
+            detail: if file_len < magic.len() as u64 {
+                format!("it has only {file_len} bytes")
             } else {
                 "it does not start with the MCAP magic bytes".into()
             },
         });
     }
-    let file_len = bytes.len() as u64;
     let mut header: Option<CacheHeader> = None;
     let mut counts = None;
     let mut cache_layout: Option<CacheLayout> = None;
@@ -114,7 +125,8 @@ pub fn recover(path: impl AsRef<Path>) -> Result<Recovery, CacheError> {
     let mut frames: Vec<Frame> = Vec::new();
     let mut losses = Vec::new();
     let mut lost_bytes = 0u64;
-    let mut pos = mcap::MAGIC.len();
+    let mut pos = magic.len() as u64;
+    let mut body = Vec::new();
     let after = |frames: &[Frame]| match frames.last() {
         Some(f) => format!("after frame {}", f.frame),
         None => "before the first frame".to_string(),
@@ -123,39 +135,42 @@ pub fn recover(path: impl AsRef<Path>) -> Result<Recovery, CacheError> {
         path: path.clone(),
         detail: format!("{detail}, so none of its frames can be read"),
     };
-    while pos < bytes.len() {
-        let rest = &bytes[pos..];
-        let record_len = (rest.len() >= 9)
-            .then(|| u64::from_le_bytes(rest[1..9].try_into().unwrap_or([0; 8])))
-            .and_then(|len| usize::try_from(len).ok())
-            .filter(|&len| len <= rest.len() - 9);
-        let Some(len) = record_len else {
-            // The record runs past the end of the file.
+    while pos < file_len {
+        let rest = file_len - pos;
+        // Opcode and length; `rest >= 1`.
+        let mut head = [0u8; 9];
+        let head_len = rest.min(9) as usize;
+        file.read_exact(&mut head[..head_len]).map_err(io)?;
+        let len = u64::from_le_bytes(head[1..9].try_into().unwrap_or([0; 8]));
+        // A length beyond the rest of the file is the incomplete end, never allocated.
+        let complete = (rest >= 9 && len <= rest - 9).then_some(len);
+        let Some(len) = complete else {
             if cache_layout.is_none() {
                 return Err(incomplete_start(format!(
                     "it ends inside its header, metadata or layout attachment (at byte \
                      {file_len})"
                 )));
             }
-            let what = if rest[0] == op::CHUNK {
+            let what = if head[0] == op::CHUNK {
                 "chunk"
             } else {
                 "record"
             };
             losses.push(format!(
-                "the {what} {} was incomplete ({} bytes) and is lost",
+                "the {what} {} was incomplete ({rest} bytes) and is lost",
                 after(&frames),
-                rest.len()
             ));
-            lost_bytes += rest.len() as u64;
+            lost_bytes += rest;
             break;
         };
-        let opcode = rest[0];
-        let body = &rest[9..9 + len];
+        let opcode = head[0];
+        // `len` fits in the file, hence in memory's address space.
+        body.resize(len as usize, 0);
+        file.read_exact(&mut body).map_err(io)?;
         pos += 9 + len;
         match opcode {
             op::METADATA => {
-                if let Ok(Record::Metadata(m)) = mcap::parse_record(op::METADATA, body) {
+                if let Ok(Record::Metadata(m)) = records::parse(op::METADATA, &body) {
                     if m.name == layout::METADATA_NAME {
                         let (h, c) =
                             layout::header_from_metadata(&m.metadata).map_err(|e| match e {
@@ -173,12 +188,12 @@ pub fn recover(path: impl AsRef<Path>) -> Result<Recovery, CacheError> {
             }
             op::ATTACHMENT => {
                 let Ok(Record::Attachment { header: a, .. }) =
-                    mcap::parse_record(op::ATTACHMENT, body)
+                    records::parse(op::ATTACHMENT, &body)
                 else {
                     continue;
                 };
                 if a.name == layout::LAYOUT_ATTACHMENT_NAME {
-                    let data = attachment_data(body).map_err(|e| damaged(&path, e))?;
+                    let data = attachment_data(&body).map_err(|e| damaged(&path, e))?;
                     let l = CacheLayout::decode(data)
                         .map_err(|e| damaged(&path, format!("strand layout: {e}")))?;
                     cache_layout = Some(l);
@@ -193,7 +208,7 @@ pub fn recover(path: impl AsRef<Path>) -> Result<Recovery, CacheError> {
                             .into(),
                     });
                 };
-                match chunk_frames(body, h.fps, l.point_count(), &mut frame_channel) {
+                match chunk_frames(&body, h.fps, l.point_count(), &mut frame_channel) {
                     Ok(chunk) => {
                         if let (Some(last), Some(first)) = (frames.last(), chunk.first()) {
                             if first.frame <= last.frame {
@@ -202,7 +217,7 @@ pub fn recover(path: impl AsRef<Path>) -> Result<Recovery, CacheError> {
                                     after(&frames),
                                     first.frame
                                 ));
-                                lost_bytes += 9 + len as u64;
+                                lost_bytes += 9 + len;
                                 continue;
                             }
                         }
@@ -214,7 +229,7 @@ pub fn recover(path: impl AsRef<Path>) -> Result<Recovery, CacheError> {
                             after(&frames),
                             9 + len
                         ));
-                        lost_bytes += 9 + len as u64;
+                        lost_bytes += 9 + len;
                     }
                 }
             }
@@ -224,7 +239,7 @@ pub fn recover(path: impl AsRef<Path>) -> Result<Recovery, CacheError> {
         }
     }
     let (Some(header), Some(cache_layout)) = (header, cache_layout) else {
-        return Err(if pos >= bytes.len() {
+        return Err(if pos >= file_len {
             incomplete_start(format!(
                 "it ends (at byte {file_len}) before its metadata and layout attachment"
             ))
@@ -274,17 +289,21 @@ fn chunk_frames(
     points: usize,
     channel: &mut Option<(u16, Precision)>,
 ) -> Result<Vec<Frame>, String> {
-    let (chunk_header, data) = match mcap::parse_record(op::CHUNK, body) {
-        Ok(Record::Chunk { header, data }) => (header, data),
-        Ok(_) => return Err("not a chunk".into()),
-        Err(e) => return Err(e.to_string()),
+    let (chunk_header, data) = match records::parse(op::CHUNK, body)? {
+        Record::Chunk { header, data } => (header, data),
+        _ => return Err("not a chunk".into()),
     };
-    let records = mcap::read::ChunkReader::new(chunk_header, &data).map_err(|e| e.to_string())?;
-    // Nothing is kept unless the whole chunk (and its CRC, checked at its end) reads.
+    // Every length inside the chunk is used only after its CRC has checked.
+    let content = records::chunk_content(&chunk_header, &data)?;
+    // Nothing is kept unless the whole chunk reads.
     let mut chunk_channel = *channel;
     let mut frames = Vec::new();
-    for record in records {
-        match record.map_err(|e| e.to_string())? {
+    for record in Records::new(&content) {
+        let (opcode, body) = record?;
+        if !matches!(opcode, op::CHANNEL | op::MESSAGE) {
+            continue;
+        }
+        match records::parse(opcode, body)? {
             Record::Channel(c) if c.topic == layout::FRAME_TOPIC => {
                 let precision =
                     Precision::from_message_encoding(&c.message_encoding).ok_or_else(|| {

@@ -10,17 +10,15 @@ use std::path::PathBuf;
 use hair_core::HairError;
 use thiserror::Error;
 
+use crate::input_file::InputFileError;
+
 /// Everything `hair-groom` can refuse.
 #[derive(Debug, Error)]
 pub enum GroomError {
-    /// A file could not be opened or read.
-    #[error("cannot read {}: {source}; check that the path is right and the file is readable", .path.display())]
-    Read {
-        /// The file that was asked for.
-        path: PathBuf,
-        /// The operating system's reason.
-        source: std::io::Error,
-    },
+    /// An input file could not be read: missing or unreadable, not a regular file (a
+    /// directory, FIFO or device), or larger than the reader takes. The error names the file.
+    #[error(transparent)]
+    Input(#[from] InputFileError),
     /// The OBJ parser refused the file.
     #[error(
         "cannot parse OBJ file {}: {reason}; check that it is a Wavefront OBJ text file \

@@ -16,8 +16,10 @@
 //!    ([`interpolate()`]), and guides as strands ([`Guide::to_strand_input`]).
 //!
 //! Units are SI (m, kg), Z up; every random choice takes an explicit seed and gives bit-identical
-//! results for it. No file I/O happens outside [`formats`], no terminal I/O anywhere; errors are
-//! [`GroomError`]s that name the file (and byte offset or line) or option at fault and the fix.
+//! results for it. No file I/O happens outside [`formats`] and [`input_file`] (which refuses
+//! directories, FIFOs and devices by name and caps what is read whole), no terminal I/O anywhere;
+//! errors are [`GroomError`]s that name the file (and byte offset or line) or option at fault and
+//! the fix.
 //!
 //! ```
 //! use hair_core::StrandSet;
@@ -49,6 +51,7 @@ pub mod formats;
 pub mod generate;
 pub mod groom;
 pub mod guides;
+pub mod input_file;
 pub mod interpolate;
 pub mod ops;
 mod rng;
@@ -59,7 +62,7 @@ mod surface_distance;
 
 pub use error::{FarRoot, FileLocation, GroomError};
 pub use formats::hair::{read_hair, write_hair};
-pub use formats::obj::{load_obj, ObjOptions, UpAxis};
+pub use formats::obj::{load_obj, load_obj_vertex_colors, ObjOptions, UpAxis};
 pub use formats::obj_curves::{read_obj_curves, write_obj_curves};
 pub use formats::tfx::{read_tfx, write_tfx};
 pub use formats::usd::{read_usda, write_usda};

@@ -125,18 +125,28 @@ fn parse(bytes: &[u8], path: &Path, opts: &ImportOptions) -> Result<Groom, Groom
             d_segments
         }
     };
-    let mut total = 0u64;
-    for s in 0..hair_count as usize {
+    // Without a segments array every strand has `d_segments`: checked at once, not per strand
+    // (a header may claim 4 billion strands).
+    if arrays & HAS_SEGMENTS == 0 && hair_count > 0 && d_segments == 0 {
+        return Err(bad(
+            path,
+            FileLocation::Byte(16),
+            "d_segments = 0 (1 point per strand) and no segments array; a strand needs at least \
+             2 points",
+        ));
+    }
+    let (mut total, listed) = if arrays & HAS_SEGMENTS == 0 {
+        (hair_count * (d_segments + 1), 0)
+    } else {
+        // The array lies inside the file (checked above): at most half its bytes.
+        (0, hair_count as usize)
+    };
+    for s in 0..listed {
         let seg = segments(s);
         if seg == 0 {
-            let at = if arrays & HAS_SEGMENTS != 0 {
-                segments_at(s)
-            } else {
-                16
-            };
             return Err(bad(
                 path,
-                FileLocation::Byte(at as u64),
+                FileLocation::Byte(segments_at(s) as u64),
                 format!("strand {s} has 0 segments (1 point); a strand needs at least 2 points"),
             ));
         }
@@ -322,6 +332,24 @@ mod tests {
         let g = parse(&bytes, Path::new("d.hair"), &ImportOptions::default()).unwrap();
         assert_eq!(g.len(), 2);
         assert_eq!(g.curves()[1][1], Vector3::new(9.0, 10.0, 11.0));
+    }
+
+    #[test]
+    fn four_billion_strands_without_a_segments_array_are_refused_at_once() {
+        // 2³² − 1 strands of `d_segments` = 1 and 2 points: the sum is checked without a loop
+        // over the strands (which took seconds).
+        let mut bytes = Vec::new();
+        bytes.extend_from_slice(b"HAIR");
+        for v in [u32::MAX, 2, HAS_POINTS, 1] {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+        bytes.resize(HEADER + 24, 0);
+        let start = std::time::Instant::now();
+        let msg = parse_err(&bytes);
+        assert!(msg.contains("add up to 8589934590 points"), "{msg}");
+        assert!(start.elapsed().as_secs_f64() < 0.1);
+        bytes[16..20].copy_from_slice(&0u32.to_le_bytes());
+        assert!(parse_err(&bytes).contains("d_segments = 0"));
     }
 
     #[test]

@@ -20,6 +20,7 @@ use nalgebra::Vector3;
 
 use crate::error::{parameter, FileLocation, GroomError};
 use crate::groom::Groom;
+use crate::input_file;
 use obj::{ObjOptions, UpAxis};
 
 /// Unit scale and up axis of a groom file: the same options as OBJ meshes ([`ObjOptions`]).
@@ -65,6 +66,8 @@ impl GroomFormat {
 /// Reads the groom file at `path` in the format its extension names ([`GroomFormat::of`]), in
 /// meters, Z up (`opts`: the file's unit scale and up axis).
 pub fn read_groom(path: &Path, opts: &ImportOptions) -> Result<Groom, GroomError> {
+    // What the path is comes before what its name says: "is a directory" is the clearer error.
+    input_file::check_regular_file(path)?;
     match GroomFormat::of(path)? {
         GroomFormat::Hair => hair::read_hair(path, opts),
         GroomFormat::Tfx => tfx::read_tfx(path, opts),
@@ -125,12 +128,13 @@ pub(crate) fn bad(path: &Path, at: FileLocation, message: impl Into<String>) -> 
     }
 }
 
-/// Reads the whole file at `path`.
+/// Reads the whole groom file at `path`: a regular file of at most
+/// [`MAX_GROOM_FILE_BYTES`](crate::input_file::MAX_GROOM_FILE_BYTES).
 pub(crate) fn read_bytes(path: &Path) -> Result<Vec<u8>, GroomError> {
-    std::fs::read(path).map_err(|source| GroomError::Read {
-        path: path.to_path_buf(),
-        source,
-    })
+    Ok(input_file::read_regular_file(
+        path,
+        input_file::MAX_GROOM_FILE_BYTES,
+    )?)
 }
 
 /// Writes `bytes` to `path`.
@@ -246,9 +250,9 @@ mod tests {
             let err = (back.curves()[0][1] - groom.curves()[0][1]).norm();
             assert!(err < 1e-8, "{name}: {err}");
         }
-        let err = read_groom(Path::new("g.abc"), &opts)
-            .unwrap_err()
-            .to_string();
+        let abc = dir.path().join("g.abc");
+        std::fs::write(&abc, b"curves").unwrap();
+        let err = read_groom(&abc, &opts).unwrap_err().to_string();
         assert!(err.contains("g.abc") && err.contains(".usda"), "{err}");
     }
 }

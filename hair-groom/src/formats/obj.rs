@@ -7,8 +7,6 @@
 //! are otherwise ignored; [`TriMesh`] computes its own. Points and lines are ignored, materials
 //! are not read.
 
-use std::fs::File;
-use std::io::BufReader;
 use std::path::Path;
 
 use hair_core::{HairError, TriMesh};
@@ -56,25 +54,7 @@ impl Default for ObjOptions {
 /// `scale` that is not finite and > 0.
 pub fn load_obj(path: &Path, opts: &ObjOptions) -> Result<TriMesh, GroomError> {
     check_options(opts)?;
-    let file = File::open(path).map_err(|source| GroomError::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let load = tobj::LoadOptions {
-        single_index: true,
-        triangulate: true,
-        ignore_points: true,
-        ignore_lines: true,
-    };
-    // Materials are not needed: refuse to open any material library the file names.
-    let (models, _materials) = tobj::load_obj_buf(&mut BufReader::new(file), &load, |_| {
-        Err(tobj::LoadError::OpenFileFailed)
-    })
-    .map_err(|e| GroomError::ObjParse {
-        path: path.to_path_buf(),
-        reason: e.to_string(),
-    })?;
-
+    let models = parse(path)?;
     let mut positions = Vec::new();
     let mut triangles = Vec::new();
     let mut uvs = Vec::new();
@@ -120,6 +100,106 @@ pub fn load_obj(path: &Path, opts: &ObjOptions) -> Result<TriMesh, GroomError> {
         ))));
     }
     mesh.with_uvs(uvs).map_err(with_file)
+}
+
+/// The per-vertex colours of the OBJ file at `path` (`v x y z r g b`, each channel as written,
+/// usually 0–1), in the vertex order of the mesh [`load_obj`] returns; `None` when some vertex
+/// has no colour. Refused, naming the file and the vertex, if a colour is not finite; the file is
+/// read as [`load_obj`] reads it.
+pub fn load_obj_vertex_colors(path: &Path) -> Result<Option<Vec<[f32; 3]>>, GroomError> {
+    let mut colors = Vec::new();
+    for model in parse(path)? {
+        let mesh = &model.mesh;
+        if mesh.vertex_color.len() != mesh.positions.len() {
+            return Ok(None);
+        }
+        colors.extend(
+            mesh.vertex_color
+                .chunks_exact(3)
+                .map(|c| [c[0], c[1], c[2]]),
+        );
+    }
+    if let Some(i) = colors.iter().position(|c| !c.iter().all(|x| x.is_finite())) {
+        return Err(GroomError::ObjMesh {
+            path: path.to_path_buf(),
+            source: HairError::Mesh(format!(
+                "vertex {i} has a non-finite colour {:?}; fix its `v x y z r g b` line",
+                colors[i]
+            )),
+        });
+    }
+    Ok(Some(colors))
+}
+
+/// The models of the OBJ file at `path`, as tobj reads them with one index per vertex and
+/// faces triangulated. The file is read whole first (a regular file within
+/// [`MAX_GROOM_FILE_BYTES`](crate::input_file::MAX_GROOM_FILE_BYTES), so tobj never reads a
+/// device or a FIFO), must be UTF-8, and its face indices are checked before tobj resolves them.
+fn parse(path: &Path) -> Result<Vec<tobj::Model>, GroomError> {
+    let bytes = super::read_bytes(path)?;
+    let unparsable = |reason: String| GroomError::ObjParse {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let text = std::str::from_utf8(&bytes).map_err(|e| {
+        unparsable(format!(
+            "byte {} is not UTF-8 text (an OBJ file is text; this looks like a binary file)",
+            e.valid_up_to()
+        ))
+    })?;
+    check_face_indices(text).map_err(unparsable)?;
+    let load = tobj::LoadOptions {
+        single_index: true,
+        triangulate: true,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    // Materials are not needed: refuse to open any material library the file names.
+    let (models, _materials) = tobj::load_obj_buf(&mut text.as_bytes(), &load, |_| {
+        Err(tobj::LoadError::OpenFileFailed)
+    })
+    .map_err(|e| unparsable(e.to_string()))?;
+    Ok(models)
+}
+
+/// Checks that every index of every `f` line refers to a vertex, texture coordinate or normal
+/// defined above it (1-based, or negative: relative to the last one). tobj 4.0.5 resolves
+/// indices without that check and multiplies them unchecked (`vt * 2`), which overflows on an
+/// index such as `-2147483648`.
+fn check_face_indices(text: &str) -> Result<(), String> {
+    // Vertices, texture coordinates and normals defined so far.
+    let mut counts = [0i64; 3];
+    const KINDS: [&str; 3] = ["vertex", "texture coordinate", "normal"];
+    for (n, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => counts[0] += 1,
+            Some("vt") => counts[1] += 1,
+            Some("vn") => counts[2] += 1,
+            Some("f") => {
+                for word in words {
+                    for (k, index) in word.split('/').enumerate().take(3) {
+                        // Empty (`v//vn`) or unparsable indices are left to tobj's own errors.
+                        let Ok(i) = index.parse::<i64>() else {
+                            continue;
+                        };
+                        if i == 0 || i.unsigned_abs() > counts[k] as u64 {
+                            return Err(format!(
+                                "line {}: face index `{index}` refers to no {} (the file \
+                                 defines {} above this line; indices start at 1, negative ones \
+                                 count back from the last)",
+                                n + 1,
+                                KINDS[k],
+                                counts[k]
+                            ));
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -203,7 +283,7 @@ mod tests {
     fn missing_file_is_named() {
         let err = load_obj(Path::new("/no/such/head.obj"), &ObjOptions::default()).unwrap_err();
         let msg = err.to_string();
-        assert!(matches!(err, GroomError::Read { .. }), "{msg}");
+        assert!(matches!(err, GroomError::Input(_)), "{msg}");
         assert!(
             msg.contains("/no/such/head.obj") && msg.contains("check"),
             "{msg}"
@@ -230,6 +310,41 @@ mod tests {
         let err = load_obj(&prose, &ObjOptions::default()).unwrap_err();
         assert!(matches!(err, GroomError::ObjNoTriangles { .. }), "{err}");
         assert!(err.to_string().contains("prose.obj"), "{err}");
+    }
+
+    #[test]
+    fn face_index_out_of_range_is_refused_with_its_line() {
+        let dir = tempfile::tempdir().unwrap();
+        for (face, kind) in [
+            ("f 1 2 4", "no vertex"),
+            ("f 1/1 2/1 3/-2", "no texture coordinate"),
+            ("f 1//1 2//1 3//-2147483648", "no normal"),
+            ("f 0 1 2", "no vertex"),
+        ] {
+            let text = format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n{face}\n");
+            let path = write(&dir, "index.obj", text.as_bytes());
+            let err = load_obj(&path, &ObjOptions::default())
+                .unwrap_err()
+                .to_string();
+            assert!(
+                err.contains("index.obj: line 6") && err.contains(kind),
+                "{err}"
+            );
+        }
+    }
+
+    #[test]
+    fn vertex_colors_follow_the_mesh_vertices() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = b"v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nf 3 2 1\n";
+        let path = write(&dir, "rgb.obj", text);
+        let colors = load_obj_vertex_colors(&path).unwrap().unwrap();
+        // Vertices come in the order faces first use them, as in `load_obj`.
+        assert_eq!(colors, [[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]]);
+        let mesh = load_obj(&path, &ObjOptions::default()).unwrap();
+        assert_eq!(mesh.positions()[0], nalgebra::Vector3::new(0.0, 1.0, 0.0));
+        let plain = write(&dir, "plain.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        assert_eq!(load_obj_vertex_colors(&plain).unwrap(), None);
     }
 
     #[test]

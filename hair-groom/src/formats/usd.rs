@@ -148,6 +148,15 @@ fn parse(text: &str, path: &Path, opts: &ImportOptions) -> Result<Groom, GroomEr
         ));
     }
     let toks = tokenize(text, path)?;
+    let closing = closing_brackets(&toks);
+    let skip_balanced = |at: usize, open: char, close: char| match closing[at] {
+        NEVER_CLOSED => Err(bad(
+            path,
+            FileLocation::Line(toks[at].1),
+            format!("`{open}` is never closed by `{close}`"),
+        )),
+        end => Ok(end),
+    };
     let mut curves = Vec::new();
     let mut found = false;
     let mut i = 0;
@@ -163,7 +172,7 @@ fn parse(text: &str, path: &Path, opts: &ImportOptions) -> Result<Groom, GroomEr
         let def_line = toks[i].1;
         let mut j = i + 3;
         if toks.get(j).map(|t| &t.0) == Some(&Tok::Punct('(')) {
-            j = skip_balanced(&toks, j, '(', ')', path)?;
+            j = skip_balanced(j, '(', ')')?;
         }
         if toks.get(j).map(|t| &t.0) != Some(&Tok::Punct('{')) {
             return Err(bad(
@@ -172,8 +181,9 @@ fn parse(text: &str, path: &Path, opts: &ImportOptions) -> Result<Groom, GroomEr
                 "`def BasisCurves` is not followed by its `{ … }` body",
             ));
         }
-        let end = skip_balanced(&toks, j, '{', '}', path)?;
-        curves.extend(read_prim(&toks[j + 1..end - 1], def_line, path, opts)?);
+        let end = skip_balanced(j, '{', '}')?;
+        let body = j + 1..end - 1;
+        curves.extend(read_prim(&toks, &closing, body, def_line, path, opts)?);
         // Nested prims are found by continuing inside the body.
         i = j + 1;
     }
@@ -187,52 +197,61 @@ fn parse(text: &str, path: &Path, opts: &ImportOptions) -> Result<Groom, GroomEr
     Groom::new(curves)
 }
 
-/// The index just past the bracket matching the `open` at `toks[at]`.
-fn skip_balanced(
-    toks: &[(Tok, usize)],
-    at: usize,
-    open: char,
-    close: char,
-    path: &Path,
-) -> Result<usize, GroomError> {
-    let mut depth = 0usize;
-    for (k, (t, _)) in toks.iter().enumerate().skip(at) {
-        if *t == Tok::Punct(open) {
-            depth += 1;
-        } else if *t == Tok::Punct(close) {
-            depth -= 1;
-            if depth == 0 {
-                return Ok(k + 1);
+/// [`closing_brackets`] entry of a bracket that is never closed (and of every other token).
+const NEVER_CLOSED: usize = usize::MAX;
+
+/// For each token: if it opens a `{` or `(`, the index just past its matching closer, else
+/// [`NEVER_CLOSED`]. One pass, so nested prims cost no more than flat ones (scanning for each
+/// prim's end was quadratic in the nesting depth).
+fn closing_brackets(toks: &[(Tok, usize)]) -> Vec<usize> {
+    let mut closing = vec![NEVER_CLOSED; toks.len()];
+    let (mut braces, mut parens) = (Vec::new(), Vec::new());
+    for (k, (t, _)) in toks.iter().enumerate() {
+        match t {
+            Tok::Punct('{') => braces.push(k),
+            Tok::Punct('(') => parens.push(k),
+            Tok::Punct('}') => {
+                if let Some(open) = braces.pop() {
+                    closing[open] = k + 1;
+                }
             }
+            Tok::Punct(')') => {
+                if let Some(open) = parens.pop() {
+                    closing[open] = k + 1;
+                }
+            }
+            _ => {}
         }
     }
-    Err(bad(
-        path,
-        FileLocation::Line(toks[at].1),
-        format!("`{open}` is never closed by `{close}`"),
-    ))
+    closing
 }
 
-/// The curves of one prim body (its tokens between the braces, nested prims included but their
-/// attributes skipped).
+/// The curves of the prim whose body (the tokens between its braces) is `toks[body]`; nested
+/// prims' braces are jumped over with `closing` ([`closing_brackets`]), so their attributes are
+/// skipped without being scanned.
 fn read_prim(
-    body: &[(Tok, usize)],
+    toks: &[(Tok, usize)],
+    closing: &[usize],
+    body: std::ops::Range<usize>,
     def_line: usize,
     path: &Path,
     opts: &ImportOptions,
 ) -> Result<Vec<Vec<Vector3<f32>>>, GroomError> {
     let mut counts: Option<(Vec<usize>, usize)> = None;
     let mut points: Option<(Vec<Vector3<f32>>, usize)> = None;
-    let mut depth = 0usize;
-    for k in 0..body.len() {
-        match body[k].0 {
-            Tok::Punct('{') => depth += 1,
-            Tok::Punct('}') => depth = depth.saturating_sub(1),
+    let end = body.end;
+    let mut k = body.start;
+    while k < end {
+        let at = k;
+        k += 1;
+        match toks[at].0 {
+            // A nested block (a child prim): jump past it (it is balanced inside the body).
+            Tok::Punct('{') if closing[at] != NEVER_CLOSED => k = closing[at].min(end),
             Tok::Word(name @ ("curveVertexCounts" | "points"))
-                if depth == 0 && body.get(k + 1).map(|t| &t.0) == Some(&Tok::Punct('=')) =>
+                if toks.get(at + 1).map(|t| &t.0) == Some(&Tok::Punct('=')) =>
             {
-                let line = body[k].1;
-                let numbers = array_numbers(&body[k + 2..], line, path)?;
+                let line = toks[at].1;
+                let numbers = array_numbers(&toks[at + 2..end], line, path)?;
                 if name == "points" {
                     if numbers.len() % 3 != 0 {
                         return Err(bad(
@@ -464,6 +483,25 @@ def Xform "root" ( kind = "component" )
         assert!(parse_err("#usda 1.0\ndef BasisCurves \"unterminated\n").contains("not closed"));
         let msg = parse_err(&format!("{head}    int[] curveVertexCounts = [2.5]\n    point3f[] points = [(0,0,0), (1,1,1)]\n}}\n"));
         assert!(msg.contains("not a count"), "{msg}");
+    }
+
+    #[test]
+    fn deep_nesting_costs_linear_time() {
+        // 20 000 prims, each inside the previous: scanning every prim's body to its end took
+        // time quadratic in the depth (about 10^10 token visits here).
+        let depth = 20_000;
+        let mut text = String::from("#usda 1.0\n");
+        for _ in 0..depth {
+            text.push_str(
+                "def BasisCurves \"c\" {\n int[] curveVertexCounts = [2]\n \
+                 point3f[] points = [(0, 0, 0), (0, 0, 1)]\n",
+            );
+        }
+        text.push_str(&"}\n".repeat(depth));
+        let start = std::time::Instant::now();
+        let groom = parse(&text, Path::new("deep.usda"), &ImportOptions::default()).unwrap();
+        assert_eq!(groom.len(), depth);
+        assert!(start.elapsed().as_secs_f64() < 5.0, "{:?}", start.elapsed());
     }
 
     #[test]
