@@ -21,7 +21,6 @@
 //! | scrub: go back to an earlier frame | [`Session::snapshot`], [`Session::restore`] |
 //! | continue a killed run | [`run::SimulateOptions::resume`] |
 //! | export render children of a cached frame | [`children::export`] |
-//! | children of the session's current frame, in memory | [`Session::children`] |
 //! | hair cards of a strips scene | [`cards::export_cards`] |
 //!
 //! ```no_run
