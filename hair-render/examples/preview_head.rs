@@ -3,7 +3,8 @@
 //! with the head as a collider, as a contact sheet.
 //!
 //! Run: `cargo run --release -p hair-render --example preview_head -- [OUT_DIR]`
-//! (default `target/preview_head/`): writes `rest_front.png` and `sheet.png`.
+//! (default `target/preview_head/`): writes `rest_front.png`, `settled_three_quarter.png` and
+//! `sheet.png` (rest and settled from the four presets, one framing).
 
 use std::path::PathBuf;
 
@@ -12,8 +13,8 @@ use hair_core::{
 };
 use hair_groom::{builtin_head, generate_guides, GrowDirection, GuideOptions, Region};
 use hair_render::preview::{
-    contact_sheet, render, Bounds, Camera, Mesh, PreviewError, RenderSettings, Scene, Strands,
-    Tile, View, DEFAULT_FOV_Y_DEG,
+    contact_sheet, render, render_view, Bounds, Camera, Mesh, PreviewError, RenderSettings, Scene,
+    Strands, Tile, View, DEFAULT_FOV_Y_DEG,
 };
 use nalgebra::{Isometry3, Vector3};
 
@@ -44,7 +45,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     std::fs::create_dir_all(&out)?;
     let head = builtin_head();
 
-    // 1,500 guides of 17 points on the top and back of the head, combed back and down.
+    // 1,500 guides of 17 points on the top and back of the head (not the face), combed back and
+    // down.
     let guides = generate_guides(
         &head,
         &GuideOptions {
@@ -53,8 +55,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             segments: 16,
             seed: 3,
             region: Region::Cone {
-                direction: Vector3::new(0.0, 0.35, 1.0),
-                max_angle_deg: 80.0,
+                direction: Vector3::new(0.0, 0.6, 1.0),
+                max_angle_deg: 66.0,
             },
             direction: GrowDirection::Combed {
                 direction: Vector3::new(0.0, 0.5, -1.0),
@@ -124,6 +126,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         start.elapsed().as_secs_f64() * 1e3
     );
     front.write_png(&out.join("rest_front.png"))?;
+    // The settled hair framed to itself.
+    render_view(&settled, View::ThreeQuarter, None, &settings)?
+        .write_png(&out.join("settled_three_quarter.png"))?;
 
     let mut images = Vec::new();
     for (name, scene) in [("rest", &at_rest), ("1 s", &settled)] {

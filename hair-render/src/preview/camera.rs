@@ -169,30 +169,89 @@ impl Camera {
                 "give an image at least 1 pixel wide and tall",
             ));
         }
+        let corners = bounds.corners();
+        Camera::fit(
+            view,
+            &[&corners],
+            bounds.centre(),
+            size,
+            width,
+            height,
+            fov_y_deg,
+        )
+    }
+
+    /// A camera looking from `view` at every point of `groups` (meters), as close as lets them
+    /// all project inside a `width` × `height` image with [`FRAME_MARGIN`] to spare, the image
+    /// centred on their projection. `bounds` must hold the points (its size sets the nearest
+    /// distance allowed).
+    pub(crate) fn framed_to_points(
+        view: View,
+        groups: &[&[Vector3<f32>]],
+        bounds: &Bounds,
+        width: u32,
+        height: u32,
+        fov_y_deg: f32,
+    ) -> Result<Camera> {
+        // Check the box as `framed` does, then fit the points themselves.
+        Camera::framed(view, bounds, width, height, fov_y_deg)?;
+        let size = (bounds.max - bounds.min).norm();
+        Camera::fit(
+            view,
+            groups,
+            bounds.centre(),
+            size,
+            width,
+            height,
+            fov_y_deg,
+        )
+    }
+
+    /// Fits `groups` of points, already checked finite, around `centre` (see
+    /// [`Camera::framed_to_points`]).
+    fn fit(
+        view: View,
+        groups: &[&[Vector3<f32>]],
+        centre: Vector3<f32>,
+        size: f32,
+        width: u32,
+        height: u32,
+        fov_y_deg: f32,
+    ) -> Result<Camera> {
         let towards_eye = view.towards_eye()?;
         let forward = -towards_eye;
         let right = forward.cross(&Vector3::z()).normalize();
         let up = right.cross(&forward);
         let tan_y = (0.5 * fov_y_deg.to_radians()).tan() * (1.0 - 2.0 * FRAME_MARGIN);
         let tan_x = tan_y * width as f32 / height as f32;
-        let centre = bounds.centre();
-        // Distance d from the centre such that every corner (x, y at depth d + z) projects
-        // inside the image: d ≥ |x| / tan − z, and every corner in front of the eye.
-        let mut distance = 0.0f32;
-        for corner in bounds.corners() {
-            let o = corner - centre;
-            let (x, y, z) = (o.dot(&right), o.dot(&up), o.dot(&forward));
-            distance = distance
-                .max(x.abs() / tan_x - z)
-                .max(y.abs() / tan_y - z)
-                .max(-z + 0.01 * size);
+        let points = || groups.iter().flat_map(|g| g.iter());
+        // Distance d back from `c` along the view such that every point (x, y at depth d + z)
+        // projects inside the image: d ≥ |x| / tan − z, and every point in front of the eye.
+        let distance = |c: Vector3<f32>| {
+            points().fold(0.0f32, |d, p| {
+                let o = p - c;
+                let (x, y, z) = (o.dot(&right), o.dot(&up), o.dot(&forward));
+                d.max(x.abs() / tan_x - z)
+                    .max(y.abs() / tan_y - z)
+                    .max(-z + 0.01 * size)
+            })
+        };
+        // Centre the projection: shift the view axis sideways by the middle of the points'
+        // angular extent, then fit again from there (the second fit keeps every point inside).
+        let d = distance(centre);
+        let (mut lo, mut hi) = ([f32::INFINITY; 2], [f32::NEG_INFINITY; 2]);
+        for p in points() {
+            let o = p - centre;
+            let depth = d + o.dot(&forward);
+            let a = [o.dot(&right) / depth, o.dot(&up) / depth];
+            for k in 0..2 {
+                lo[k] = lo[k].min(a[k]);
+                hi[k] = hi[k].max(a[k]);
+            }
         }
-        Camera::look_at(
-            centre + towards_eye * distance,
-            centre,
-            Vector3::z(),
-            fov_y_deg,
-        )
+        let target = centre + (right * (lo[0] + hi[0]) + up * (lo[1] + hi[1])) * (0.5 * d);
+        let d = distance(target);
+        Camera::look_at(target + towards_eye * d, target, Vector3::z(), fov_y_deg)
     }
 
     /// The camera's orthonormal basis, or why it has none.

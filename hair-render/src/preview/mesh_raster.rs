@@ -5,14 +5,16 @@
 //! the smooth (area-weighted vertex) normal are interpolated perspective-correctly: `1/z` and
 //! `n/z` are linear in screen space. No back-face culling: a closed mesh's far side loses the
 //! depth test anyway, and an open mesh (a scalp patch, a one-sided collider) is lit on the side
-//! the camera sees (two-sided Lambert, see [`super::shading`]).
+//! the camera sees (two-sided Lambert, see [`super::shading`]), its key light dimmed by the
+//! shadow map ([`super::shadow`]).
 
 use nalgebra::Vector3;
 
-use super::camera::Projection;
+use super::camera::{Basis, Projection};
 use super::canvas::Band;
 use super::scene::{Mesh, Rgb};
 use super::shading::WorldLight;
+use super::shadow::ShadowMap;
 
 /// A projected triangle ready to fill.
 pub(crate) struct ScreenTriangle {
@@ -22,6 +24,8 @@ pub(crate) struct ScreenTriangle {
     inv_z: [f32; 3],
     /// World normals of the corners (not normalised), turned towards the eye.
     normal: [Vector3<f32>; 3],
+    /// Camera-space positions of the corners, meters.
+    cam: [Vector3<f32>; 3],
     color: Rgb,
 }
 
@@ -92,6 +96,7 @@ pub(crate) fn project_meshes(meshes: &[Mesh], proj: &Projection) -> Vec<ScreenTr
                     xy: px.map(|p| [p[0], p[1]]),
                     inv_z: px.map(|p| 1.0 / p[2]),
                     normal: tri.map(|c| c.normal),
+                    cam: tri.map(|c| c.cam),
                     color: mesh.color(),
                 });
             }
@@ -125,7 +130,8 @@ pub(crate) fn fill(
     band: &mut Band,
     tri: &ScreenTriangle,
     light: &WorldLight,
-    to_eye: &Vector3<f32>,
+    basis: &Basis,
+    shadows: Option<&ShadowMap>,
 ) {
     let [p0, p1, p2] = tri.xy;
     let area = (p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]);
@@ -177,10 +183,18 @@ pub(crate) fn fill(
                 + tri.normal[1] * (w1 * tri.inv_z[1])
                 + tri.normal[2] * (w2 * tri.inv_z[2]))
                 * z;
-            let n = n.try_normalize(1e-20).unwrap_or(*to_eye);
+            let n = n.try_normalize(1e-20).unwrap_or(-basis.forward);
+            let lit = shadows.map_or(1.0, |m| {
+                let c = (tri.cam[0] * (w0 * tri.inv_z[0])
+                    + tri.cam[1] * (w1 * tri.inv_z[1])
+                    + tri.cam[2] * (w2 * tri.inv_z[2]))
+                    * z;
+                let world = basis.eye + basis.right * c.x + basis.up * c.y + basis.forward * c.z;
+                m.light_at(&world, m.texel_bias(3.0), 6)
+            });
             band.depth[i] = z;
             // The normal already faces the eye; pass it as its own viewer direction.
-            band.color[i] = light.lambert(tri.color, &n, &n);
+            band.color[i] = light.lambert(tri.color, &n, &n, lit);
         }
     }
 }

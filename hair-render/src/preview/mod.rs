@@ -32,6 +32,8 @@
 //!
 //! # How a frame is drawn
 //!
+//! 0. A depth map along the key light gives hair self-shadowing and hair shadows on the meshes
+//!    (a one-layer deep opacity map; `HairLook::shadow_depth`).
 //! 1. Meshes are projected, clipped at the near plane and filled with a z-buffer, lit by
 //!    two-sided Lambert plus ambient.
 //! 2. Strand segments are projected, shaded with Kajiya–Kay (Kajiya & Kay 1989) from their
@@ -46,8 +48,8 @@
 //!
 //! # Limits
 //!
-//! No shadows (hair does not darken the scalp nor itself beyond the root-to-tip gradient), mesh
-//! edges are not anti-aliased, and hair–hair order is by segment mid depth, which is wrong only
+//! Shadows assume hair of even density behind the nearest hair to the light (no deep layers);
+//! mesh edges are not anti-aliased; and hair–hair order is by segment mid depth, which is wrong only
 //! where two segments cross in depth within one pixel.
 
 mod camera;
@@ -57,6 +59,7 @@ mod image;
 mod mesh_raster;
 mod scene;
 mod shading;
+mod shadow;
 mod sheet;
 mod strand_raster;
 
@@ -98,22 +101,34 @@ pub fn render(scene: &Scene, camera: &Camera, settings: &RenderSettings) -> Resu
     let mut canvas = Canvas::new(w, h, settings.background);
     let bands = canvas.band_count();
 
+    let shadows = (settings.hair.shadow_depth > 0.0).then(|| {
+        let bounds = scene
+            .bounds()
+            .expect("a validated scene has strands or meshes");
+        shadow::ShadowMap::build(
+            scene.strands.as_ref(),
+            &scene.meshes,
+            &bounds,
+            light.to_light,
+            settings.hair.shadow_depth,
+        )
+    });
+    let shadows = shadows.as_ref();
     let triangles = mesh_raster::project_meshes(&scene.meshes, &proj);
     let tri_bins = bin_by_band(triangles.iter().map(|t| t.rows()), h, bands);
     let (segments, marks) = match &scene.strands {
         Some(strands) => (
-            strand_raster::project_strands(strands, &proj, &light, &settings.hair),
+            strand_raster::project_strands(strands, &proj, &light, &settings.hair, shadows),
             strand_raster::project_marks(strands, &scene.highlight, &proj, &settings.hair),
         ),
         None => (Vec::new(), Vec::new()),
     };
     let seg_bins = bin_by_band(segments.iter().map(|s| s.rows()), h, bands);
     let mark_bins = bin_by_band(marks.iter().map(|s| s.rows()), h, bands);
-    let to_eye = -basis.forward;
     canvas.for_each_band(|band| {
         let b = band.y0 / canvas::BAND_ROWS;
         for &t in &tri_bins[b] {
-            mesh_raster::fill(band, &triangles[t as usize], &light, &to_eye);
+            mesh_raster::fill(band, &triangles[t as usize], &light, &basis, shadows);
         }
         for &s in &seg_bins[b] {
             strand_raster::draw(band, &segments[s as usize]);
@@ -125,27 +140,36 @@ pub fn render(scene: &Scene, camera: &Camera, settings: &RenderSettings) -> Resu
     PreviewImage::from_rgba(settings.width, settings.height, canvas.to_rgba8())
 }
 
-/// Renders `scene` from the preset `view`, framed to `framing` (one box for every frame of a
-/// run) or, without it, to the scene's own [`Scene::bounds`], with [`DEFAULT_FOV_Y_DEG`].
+/// Renders `scene` from the preset `view` with [`DEFAULT_FOV_Y_DEG`], framed to `framing` (one
+/// box for every frame of a run) or, without it, to the scene itself ([`frame`]).
 pub fn render_view(
     scene: &Scene,
     view: View,
     framing: Option<&Bounds>,
     settings: &RenderSettings,
 ) -> Result<PreviewImage> {
-    scene.validate()?;
-    let bounds = match framing {
-        Some(b) => *b,
-        None => scene
-            .bounds()
-            .expect("a validated scene has strands or meshes"),
-    };
-    let camera = Camera::framed(
-        view,
-        &bounds,
-        settings.width,
-        settings.height,
-        DEFAULT_FOV_Y_DEG,
-    )?;
+    let camera = frame(scene, view, framing, settings)?;
     render(scene, &camera, settings)
+}
+
+/// The camera [`render_view`] uses: from the preset `view`, framed to the box `framing`, or
+/// without it fitted to every strand point and mesh vertex of `scene` and centred on them.
+pub fn frame(
+    scene: &Scene,
+    view: View,
+    framing: Option<&Bounds>,
+    settings: &RenderSettings,
+) -> Result<Camera> {
+    scene.validate()?;
+    let (w, h) = (settings.width, settings.height);
+    if let Some(b) = framing {
+        return Camera::framed(view, b, w, h, DEFAULT_FOV_Y_DEG);
+    }
+    let bounds = scene
+        .bounds()
+        .expect("a validated scene has strands or meshes");
+    let mut groups: Vec<&[nalgebra::Vector3<f32>]> =
+        scene.meshes.iter().map(|m| m.positions()).collect();
+    groups.extend(scene.strands.as_ref().map(|s| s.positions()));
+    Camera::framed_to_points(view, &groups, &bounds, w, h, DEFAULT_FOV_Y_DEG)
 }

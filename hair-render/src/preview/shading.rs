@@ -58,6 +58,9 @@ pub struct HairLook {
     pub specular: f32,
     /// Kajiya–Kay specular exponent, ≥ 1 (larger = tighter highlight).
     pub shininess: f32,
+    /// Self-shadowing: meters of hair between a point and the key light that dim the light by a
+    /// factor e (see [`super`]'s shadow notes); 0 turns hair and mesh shadows off.
+    pub shadow_depth: f32,
 }
 
 impl Default for HairLook {
@@ -71,6 +74,7 @@ impl Default for HairLook {
             opacity: 1.0,
             specular: 0.35,
             shininess: 40.0,
+            shadow_depth: 0.008,
         }
     }
 }
@@ -185,6 +189,12 @@ impl RenderSettings {
             h.shininess,
             (1.0..=10_000.0).contains(&h.shininess),
             "give an exponent in [1, 10000]",
+        )?;
+        check(
+            "settings.hair.shadow_depth",
+            h.shadow_depth,
+            h.shadow_depth >= 0.0,
+            "give a depth ≥ 0 m (0 turns shadows off; 0.008 suits a head of hair)",
         )
     }
 }
@@ -209,33 +219,40 @@ impl WorldLight {
     }
 
     /// Two-sided Lambert: `normal` (unit) is turned to face `to_eye` first, so open meshes are
-    /// lit on whichever side is seen.
-    pub fn lambert(&self, color: Rgb, normal: &Vector3<f32>, to_eye: &Vector3<f32>) -> Rgb {
+    /// lit on whichever side is seen; `lit` (0–1) is the fraction of the key light that arrives.
+    pub fn lambert(
+        &self,
+        color: Rgb,
+        normal: &Vector3<f32>,
+        to_eye: &Vector3<f32>,
+        lit: f32,
+    ) -> Rgb {
         let n = if normal.dot(to_eye) < 0.0 {
             -normal
         } else {
             *normal
         };
-        let k = self.ambient + self.intensity * n.dot(&self.to_light).max(0.0);
+        let k = self.ambient + lit * self.intensity * n.dot(&self.to_light).max(0.0);
         color.map(|c| c * k)
     }
 
-    /// Kajiya–Kay shading of a hair of unit `tangent` seen along unit `to_eye`.
+    /// Kajiya–Kay shading of a hair of unit `tangent` seen along unit `to_eye`; `lit` (0–1) is
+    /// the fraction of the key light that arrives.
     pub fn kajiya_kay(
         &self,
         color: Rgb,
         tangent: &Vector3<f32>,
         to_eye: &Vector3<f32>,
         look: &HairLook,
+        lit: f32,
     ) -> Rgb {
         let tl = tangent.dot(&self.to_light);
         let te = tangent.dot(to_eye);
         let sin_l = (1.0 - tl * tl).max(0.0).sqrt();
         let sin_e = (1.0 - te * te).max(0.0).sqrt();
-        let diffuse = self.ambient + self.intensity * sin_l;
-        let spec = self.intensity
-            * look.specular
-            * (sin_l * sin_e - tl * te).max(0.0).powf(look.shininess);
+        let key = lit * self.intensity;
+        let diffuse = self.ambient + key * sin_l;
+        let spec = key * look.specular * (sin_l * sin_e - tl * te).max(0.0).powf(look.shininess);
         color.map(|c| c * diffuse + spec)
     }
 }
@@ -270,13 +287,14 @@ mod tests {
             specular: 0.0,
             ..Default::default()
         };
-        let across = l.kajiya_kay([1.0; 3], &Vector3::x(), &Vector3::y(), &look);
-        let along = l.kajiya_kay([1.0; 3], &Vector3::z(), &Vector3::y(), &look);
+        let across = l.kajiya_kay([1.0; 3], &Vector3::x(), &Vector3::y(), &look, 1.0);
+        let along = l.kajiya_kay([1.0; 3], &Vector3::z(), &Vector3::y(), &look, 1.0);
         let diag = l.kajiya_kay(
             [1.0; 3],
             &Vector3::new(1.0, 0.0, 1.0).normalize(),
             &Vector3::y(),
             &look,
+            1.0,
         );
         assert!((across[0] - 1.0).abs() < 1e-6 && along[0].abs() < 1e-6);
         assert!((diag[0] - std::f32::consts::FRAC_1_SQRT_2).abs() < 1e-6);
@@ -293,9 +311,27 @@ mod tests {
         let l = light_along(Vector3::new(-1.0, 0.0, 1.0));
         let t = Vector3::x();
         let black = [0.0; 3];
-        let mirror = l.kajiya_kay(black, &t, &Vector3::new(1.0, 0.0, 1.0).normalize(), &look);
-        let on_cone = l.kajiya_kay(black, &t, &Vector3::new(1.0, 1.0, 0.0).normalize(), &look);
-        let back = l.kajiya_kay(black, &t, &Vector3::new(-1.0, 0.0, 1.0).normalize(), &look);
+        let mirror = l.kajiya_kay(
+            black,
+            &t,
+            &Vector3::new(1.0, 0.0, 1.0).normalize(),
+            &look,
+            1.0,
+        );
+        let on_cone = l.kajiya_kay(
+            black,
+            &t,
+            &Vector3::new(1.0, 1.0, 0.0).normalize(),
+            &look,
+            1.0,
+        );
+        let back = l.kajiya_kay(
+            black,
+            &t,
+            &Vector3::new(-1.0, 0.0, 1.0).normalize(),
+            &look,
+            1.0,
+        );
         assert!((mirror[0] - 1.0).abs() < 1e-5, "{mirror:?}");
         assert!((on_cone[0] - 1.0).abs() < 1e-5, "{on_cone:?}");
         assert!(back[0] < 1e-6, "{back:?}");
@@ -305,8 +341,8 @@ mod tests {
     fn lambert_is_two_sided() {
         let l = light_along(Vector3::z());
         let n = Vector3::z();
-        let front = l.lambert([1.0; 3], &n, &Vector3::z());
-        let behind = l.lambert([1.0; 3], &-n, &Vector3::z());
+        let front = l.lambert([1.0; 3], &n, &Vector3::z(), 1.0);
+        let behind = l.lambert([1.0; 3], &-n, &Vector3::z(), 1.0);
         assert_eq!(front, behind);
         assert!((front[0] - 1.0).abs() < 1e-6);
     }

@@ -19,8 +19,9 @@
 //! composited with "over", which is exact for non-intersecting segments and makes hair in front
 //! cover hair behind (painter's algorithm).
 //!
-//! **Shading.** Kajiya–Kay at every point with the tangent averaged over its two segments, then
-//! interpolated along the segment, so highlights move smoothly along a bent strand.
+//! **Shading.** Kajiya–Kay at every point with the tangent averaged over its two segments and the
+//! key light dimmed by the shadow map ([`super::shadow`]), then interpolated along the segment,
+//! so highlights move smoothly along a bent strand.
 
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -29,6 +30,7 @@ use super::camera::Projection;
 use super::canvas::Band;
 use super::scene::{Highlight, Rgb, Strands};
 use super::shading::{HairLook, WorldLight};
+use super::shadow::ShadowMap;
 
 /// Color of highlighted problems (linear red).
 const MARK_COLOR: Rgb = [0.9, 0.0, 0.0];
@@ -96,10 +98,11 @@ pub(crate) fn project_strands(
     proj: &Projection,
     light: &WorldLight,
     look: &HairLook,
+    shadows: Option<&ShadowMap>,
 ) -> Vec<ScreenSegment> {
     let mut segments: Vec<ScreenSegment> = (0..strands.len())
         .into_par_iter()
-        .flat_map_iter(|s| strand_segments(strands, s, proj, light, look))
+        .flat_map_iter(|s| strand_segments(strands, s, proj, light, look, shadows))
         .collect();
     // Far to near; ties keep strand order (the sort is stable), so the image is deterministic.
     segments.par_sort_by(|a, b| b.key.total_cmp(&a.key));
@@ -113,6 +116,7 @@ fn strand_segments(
     proj: &Projection,
     light: &WorldLight,
     look: &HairLook,
+    shadows: Option<&ShadowMap>,
 ) -> Vec<ScreenSegment> {
     let range = strands.points(s);
     let pos = &strands.positions()[range.clone()];
@@ -141,9 +145,11 @@ fn strand_segments(
             let to_eye = (proj.basis.eye - pos[i])
                 .try_normalize(1e-12)
                 .unwrap_or(-proj.basis.forward);
+            // A strand does not shadow itself within about a texel.
+            let lit = shadows.map_or(1.0, |m| m.light_at(&pos[i], m.texel_bias(1.5), 2));
             ShadedPoint {
                 cam: proj.camera_space(&pos[i]),
-                color: light.kajiya_kay(base, &tangent, &to_eye, look),
+                color: light.kajiya_kay(base, &tangent, &to_eye, look, lit),
                 radius: strands.radius(range.start + i, look.default_radius) * look.radius_scale,
             }
         })
