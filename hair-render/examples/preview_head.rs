@@ -3,19 +3,22 @@
 //! with the head as a collider, as a contact sheet.
 //!
 //! Run: `cargo run --release -p hair-render --example preview_head -- [OUT_DIR]`
-//! (default `target/preview_head/`): writes `rest_front.png`, `settled_three_quarter.png` and
-//! `sheet.png` (rest and settled from the four presets, one framing).
+//! (default `target/preview_head/`): writes `rest_front.png`, `settled_three_quarter.png`,
+//! `children_three_quarter.png` (12 render children per strand) and `sheet.png` (rest and
+//! settled from the four presets, one framing).
 
 use std::path::PathBuf;
 
 use hair_core::{
-    Collider, Colliders, HairParams, Scalp, Solver, SolverSettings, StrandSet, TriMesh,
+    Anchor, Collider, Colliders, HairParams, MeshSample, Scalp, Solver, SolverSettings, StrandSet,
+    TriMesh,
 };
 use hair_groom::{builtin_head, generate_guides, GrowDirection, GuideOptions, Region};
 use hair_render::preview::{
     contact_sheet, render, render_view, Bounds, Camera, Mesh, PreviewError, RenderSettings, Scene,
     Strands, Tile, View, DEFAULT_FOV_Y_DEG,
 };
+use hair_render::{generate, ChildCount, ChildSettings, Clump, Lod, Parents, ScalpRoots, Shape};
 use nalgebra::{Isometry3, Vector3};
 
 /// Skin tone of the head, linear RGB.
@@ -129,6 +132,64 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // The settled hair framed to itself.
     render_view(&settled, View::ThreeQuarter, None, &settings)?
         .write_png(&out.join("settled_three_quarter.png"))?;
+
+    // Render children of the settled hair, as `hairsys preview` draws exported children.
+    let samples: Vec<Option<MeshSample>> = strands
+        .anchors()
+        .iter()
+        .map(|a| match a {
+            Anchor::Surface(s) => Some(*s),
+            Anchor::Body(_) => None,
+        })
+        .collect();
+    let parents = Parents::new(&strands.positions, offsets)?.with_scalp(ScalpRoots {
+        mesh: &head,
+        samples: &samples,
+        colors: None,
+    })?;
+    let children = generate(
+        &parents,
+        &ChildSettings {
+            count: ChildCount::PerParent(12),
+            spread: 0.006,
+            subdivisions: 2,
+            shape: Shape {
+                clump: Clump {
+                    factor: 0.5,
+                    shape: 0.8,
+                },
+                ..Default::default()
+            },
+            ..Default::default()
+        },
+        Lod::Render,
+    )?;
+    let child_points: Vec<Vector3<f32>> = children
+        .points
+        .chunks_exact(3)
+        .map(|p| Vector3::new(p[0], p[1], p[2]))
+        .collect();
+    let child_offsets: Vec<u32> = std::iter::once(0)
+        .chain(children.vertex_counts.iter().scan(0, |end, &n| {
+            *end += n;
+            Some(*end)
+        }))
+        .collect();
+    let child_radii: Vec<f32> = children.widths.iter().map(|w| 0.5 * w).collect();
+    let child_scene = Scene {
+        strands: Some(Strands::new(&child_points, &child_offsets)?.with_radii(&child_radii)?),
+        meshes: vec![Mesh::from_trimesh(0, &head, SKIN)?],
+        ..Default::default()
+    };
+    let start = std::time::Instant::now();
+    let image = render_view(&child_scene, View::ThreeQuarter, None, &settings)?;
+    println!(
+        "children, three-quarter: {} curves, {} points in {:.0} ms",
+        children.curve_count(),
+        children.point_count(),
+        start.elapsed().as_secs_f64() * 1e3
+    );
+    image.write_png(&out.join("children_three_quarter.png"))?;
 
     let mut images = Vec::new();
     for (name, scene) in [("rest", &at_rest), ("1 s", &settled)] {

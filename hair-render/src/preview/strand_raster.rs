@@ -314,10 +314,27 @@ pub(crate) fn draw(band: &mut Band, seg: &ScreenSegment) {
     let d = [b[0] - a[0], b[1] - a[1]];
     let len2 = d[0] * d[0] + d[1] * d[1];
     let inv_len2 = if len2 > 1e-12 { 1.0 / len2 } else { 0.0 };
+    // Half width at which coverage reaches 0.
+    let reach = seg.half_width[0].max(seg.half_width[1]) + 0.5;
     for y in y_lo as usize..=y_hi as usize {
         let py = y as f32 + 0.5;
         let row = (y - band.y0) * band.width;
-        for x in x_lo as usize..=x_hi as usize {
+        // Columns this row can cover: the part of the segment within `reach` of the row, widened
+        // by `reach` (a long diagonal segment's bounding box is mostly empty).
+        let (t0, t1) = if d[1].abs() > 1e-6 {
+            let ta = (py - reach - a[1]) / d[1];
+            let tb = (py + reach - a[1]) / d[1];
+            (ta.min(tb).clamp(0.0, 1.0), ta.max(tb).clamp(0.0, 1.0))
+        } else {
+            (0.0, 1.0)
+        };
+        let (xa, xb) = (a[0] + t0 * d[0], a[0] + t1 * d[0]);
+        let span_lo = ((xa.min(xb) - reach).floor()).max(x_lo) as usize;
+        let span_hi = ((xa.max(xb) + reach).ceil()).min(x_hi);
+        if span_hi < span_lo as f32 {
+            continue;
+        }
+        for x in span_lo..=span_hi as usize {
             let px = x as f32 + 0.5;
             let v = [px - a[0], py - a[1]];
             let t = ((v[0] * d[0] + v[1] * d[1]) * inv_len2).clamp(0.0, 1.0);
