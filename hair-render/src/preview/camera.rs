@@ -415,6 +415,55 @@ mod tests {
     }
 
     #[test]
+    fn fitted_points_fill_the_image_centred() {
+        // An off-centre, lopsided cloud: a ring plus one far point.
+        let mut pts: Vec<_> = (0..100)
+            .map(|i| {
+                let a = i as f32 * 0.0628;
+                Vector3::new(0.3 + 0.1 * a.cos(), 0.05 * a.sin(), 0.2 + 0.1 * a.sin())
+            })
+            .collect();
+        pts.push(Vector3::new(0.6, 0.1, 0.5));
+        let bounds = Bounds::of_points(pts.iter().copied()).unwrap();
+        for view in View::PRESETS {
+            let (w, h) = (200u32, 100u32);
+            let cam = Camera::framed_to_points(view, &[&pts], &bounds, w, h, 30.0).unwrap();
+            let proj = Projection::new(&cam, w, h).unwrap();
+            let (mut lo, mut hi) = ([f32::INFINITY; 2], [f32::NEG_INFINITY; 2]);
+            for p in &pts {
+                let [x, y, _] = proj.pixels(&proj.camera_space(p));
+                lo = [lo[0].min(x), lo[1].min(y)];
+                hi = [hi[0].max(x), hi[1].max(y)];
+            }
+            let (mx, my) = (FRAME_MARGIN * w as f32, FRAME_MARGIN * h as f32);
+            assert!(
+                lo[0] >= mx - 0.01 && hi[0] <= w as f32 - mx + 0.01,
+                "{view:?} {lo:?} {hi:?}"
+            );
+            assert!(
+                lo[1] >= my - 0.01 && hi[1] <= h as f32 - my + 0.01,
+                "{view:?} {lo:?} {hi:?}"
+            );
+            // Tight on one axis, and centred on both within a few pixels.
+            assert!(
+                lo[0] - mx < 0.5
+                    || lo[1] - my < 0.5
+                    || w as f32 - mx - hi[0] < 0.5
+                    || h as f32 - my - hi[1] < 0.5,
+                "{view:?} not tight: {lo:?} {hi:?}"
+            );
+            assert!(
+                ((lo[0] + hi[0]) * 0.5 - 100.0).abs() < 3.0,
+                "{view:?} {lo:?} {hi:?}"
+            );
+            assert!(
+                ((lo[1] + hi[1]) * 0.5 - 50.0).abs() < 3.0,
+                "{view:?} {lo:?} {hi:?}"
+            );
+        }
+    }
+
+    #[test]
     fn degenerate_cameras_are_refused() {
         let z = Vector3::z();
         let e = Camera::look_at(z, z, Vector3::x(), 30.0).unwrap_err();

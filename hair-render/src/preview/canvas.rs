@@ -72,6 +72,11 @@ impl Canvas {
 
     /// The image as 8-bit sRGB RGBA, opaque.
     pub fn to_rgba8(&self) -> Vec<u8> {
+        // Linear values are quantised to 1/(N − 1) before the transfer function: below one
+        // eighth of an 8-bit step even where sRGB is steepest (12.92 · 255 / 65535 ≈ 0.05).
+        const N: usize = 1 << 16;
+        let table: Vec<u8> = (0..N).map(|i| srgb8(i as f32 / (N - 1) as f32)).collect();
+        let srgb8 = |c: f32| table[(c.clamp(0.0, 1.0) * (N - 1) as f32 + 0.5) as usize];
         let mut out = vec![255u8; 4 * self.color.len()];
         out.par_chunks_mut(4 * self.width)
             .zip(self.color.par_chunks(self.width))

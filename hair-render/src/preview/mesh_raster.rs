@@ -190,7 +190,7 @@ pub(crate) fn fill(
                     + tri.cam[2] * (w2 * tri.inv_z[2]))
                     * z;
                 let world = basis.eye + basis.right * c.x + basis.up * c.y + basis.forward * c.z;
-                m.light_at(&world, m.texel_bias(3.0), 6)
+                m.light_at(&world, m.texel_bias(3.0), 4)
             });
             band.depth[i] = z;
             // The normal already faces the eye; pass it as its own viewer direction.

@@ -12,7 +12,7 @@
 //!
 //! The map is an orthographic view along the light over the scene's bounds, [`MAP_SIZE`]²
 //! texels; hair is splatted along its segments, meshes are filled. Lookups average the
-//! transmittance of the nearest 2 × 2 texels for hair and 6 × 6 for meshes (percentage-closer
+//! transmittance of the nearest 2 × 2 texels for hair and 4 × 4 for meshes (percentage-closer
 //! filtering, Reeves et al. 1987), which softens texel edges and the shadow of a single strand.
 
 use nalgebra::Vector3;
