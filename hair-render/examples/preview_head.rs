@@ -195,7 +195,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for (name, scene) in [("rest", &at_rest), ("1 s", &settled)] {
         for view in View::PRESETS {
             images.push((
-                format!("{name}, {view:?}"),
+                format!("{name}, {view}"),
                 render(scene, &camera(view)?, &settings)?,
             ));
         }

@@ -93,6 +93,22 @@ impl View {
     }
 }
 
+impl std::fmt::Display for View {
+    /// The preset's name as [`View::parse`] reads it, or `orbit A° E°`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            View::Front => f.write_str("front"),
+            View::Side => f.write_str("side"),
+            View::Back => f.write_str("back"),
+            View::ThreeQuarter => f.write_str("three-quarter"),
+            View::Orbit {
+                azimuth_deg,
+                elevation_deg,
+            } => write!(f, "orbit {azimuth_deg}° {elevation_deg}°"),
+        }
+    }
+}
+
 /// A pinhole camera, meters.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
@@ -479,6 +495,9 @@ mod tests {
         let e = Camera::framed(View::Front, &flat, 10, 10, 30.0).unwrap_err();
         assert!(e.to_string().contains("no size"), "{e}");
         assert!(View::parse("top").is_err());
+        for v in View::PRESETS {
+            assert_eq!(View::parse(&v.to_string()).unwrap(), v);
+        }
         assert_eq!(View::parse("3/4").unwrap(), View::ThreeQuarter);
     }
 }
