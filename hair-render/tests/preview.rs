@@ -537,3 +537,62 @@ fn png_round_trip_keeps_size_and_pixels() {
         .to_string();
     assert!(e.contains("missing/dir/frame.png"), "{e}");
 }
+
+#[test]
+fn geometry_reaching_behind_the_camera_is_clipped_at_the_near_plane() {
+    // A strand parallel to the view, 5 cm right of the axis, from 1 m behind the eye to the
+    // origin: in front of the eye it projects to the ray from x = 50.5 + 0.05 · focal to the
+    // right edge along row 50. Its radius keeps it under 1 px wide everywhere in view.
+    let pts = line(
+        Vector3::new(0.05, -2.0, 0.0),
+        Vector3::new(0.05, 0.0, 0.0),
+        9,
+    );
+    let radii = [2e-4; 9];
+    let scene = Scene {
+        strands: Some(
+            Strands::new(&pts, &[0, 9])
+                .unwrap()
+                .with_radii(&radii)
+                .unwrap(),
+        ),
+        ..Default::default()
+    };
+    let img = render(&scene, &camera(), &flat(W, H)).unwrap();
+    let start = 50.5 + 0.05 * focal();
+    for x in (start.ceil() as u32 + 1)..W {
+        assert!(
+            img.pixel(x, 50).unwrap()[0] > 0,
+            "column {x} of the ray is dark"
+        );
+    }
+    for y in 0..H {
+        for x in 0..W {
+            if (x as f32 + 0.5) < start - 2.0 || (y as f32 + 0.5 - 50.5).abs() > 2.0 {
+                assert_eq!(img.pixel(x, y).unwrap()[0], 0, "pixel {x},{y} lit");
+            }
+        }
+    }
+    // A floor 20 cm below the eye running from behind it to far ahead fills the lower half of
+    // the image up to its horizon (row 50) and nothing above.
+    let floor = vec![
+        Vector3::new(-5.0, -3.0, -0.2),
+        Vector3::new(5.0, -3.0, -0.2),
+        Vector3::new(5.0, 50.0, -0.2),
+        Vector3::new(-5.0, 50.0, -0.2),
+    ];
+    let tris = [[0, 1, 2], [0, 2, 3]];
+    let scene = Scene {
+        meshes: vec![Mesh::new(0, &floor, &tris, [0.5, 0.5, 0.5]).unwrap()],
+        ..Default::default()
+    };
+    let img = render(&scene, &camera(), &flat(W, H)).unwrap();
+    assert!(
+        (0..W).all(|x| img.pixel(x, H - 1).unwrap()[0] > 0),
+        "floor missing"
+    );
+    assert!(
+        (0..W).all(|x| img.pixel(x, 48).unwrap()[0] == 0),
+        "floor above the horizon"
+    );
+}
