@@ -16,7 +16,7 @@ use hair_core::{
 use hair_groom::{builtin_head, generate_guides, GrowDirection, GuideOptions, Region};
 use hair_render::preview::{
     contact_sheet, render, render_view, Bounds, Camera, Mesh, PreviewError, RenderSettings, Scene,
-    Strands, Tile, View, DEFAULT_FOV_Y_DEG,
+    StrandBuffers, Strands, Tile, View, DEFAULT_FOV_Y_DEG,
 };
 use hair_render::{generate, ChildCount, ChildSettings, Clump, Lod, Parents, ScalpRoots, Shape};
 use nalgebra::{Isometry3, Vector3};
@@ -164,20 +164,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         },
         Lod::Render,
     )?;
-    let child_points: Vec<Vector3<f32>> = children
-        .points
-        .chunks_exact(3)
-        .map(|p| Vector3::new(p[0], p[1], p[2]))
-        .collect();
-    let child_offsets: Vec<u32> = std::iter::once(0)
-        .chain(children.vertex_counts.iter().scan(0, |end, &n| {
-            *end += n;
-            Some(*end)
-        }))
-        .collect();
-    let child_radii: Vec<f32> = children.widths.iter().map(|w| 0.5 * w).collect();
+    let child_strands = StrandBuffers::from_children(&children)?;
     let child_scene = Scene {
-        strands: Some(Strands::new(&child_points, &child_offsets)?.with_radii(&child_radii)?),
+        strands: Some(child_strands.strands()?),
         meshes: vec![Mesh::from_trimesh(0, &head, SKIN)?],
         ..Default::default()
     };

@@ -596,3 +596,39 @@ fn geometry_reaching_behind_the_camera_is_clipped_at_the_near_plane() {
         "floor above the horizon"
     );
 }
+
+#[test]
+fn render_children_become_strands_with_half_their_width() {
+    use hair_render::{generate, ChildBuffers, ChildCount, ChildSettings, Lod, Parents};
+    let parents: Vec<_> = (0..2)
+        .flat_map(|p| {
+            line(
+                Vector3::new(0.02 * p as f32, 0.0, 0.0),
+                Vector3::new(0.0, 0.0, -0.1),
+                5,
+            )
+        })
+        .collect();
+    let settings = ChildSettings {
+        count: ChildCount::PerParent(3),
+        ..Default::default()
+    };
+    let children = generate(
+        &Parents::new(&parents, &[0, 5, 10]).unwrap(),
+        &settings,
+        Lod::Render,
+    )
+    .unwrap();
+    let buffers = hair_render::preview::StrandBuffers::from_children(&children).unwrap();
+    let strands = buffers.strands().unwrap();
+    assert_eq!(strands.len(), 6);
+    assert_eq!(strands.point_count(), children.point_count());
+    assert_eq!(buffers.radii[0], 0.5 * children.widths[0]);
+    assert_eq!(buffers.positions[7].x, children.points[21]);
+    let broken = ChildBuffers {
+        vertex_counts: vec![3],
+        ..children.clone()
+    };
+    let e = hair_render::preview::StrandBuffers::from_children(&broken).unwrap_err();
+    assert!(e.to_string().contains("add up to 3 points"), "{e}");
+}

@@ -21,7 +21,8 @@
 //! // image.write_png(Path::new("front.png"))?;
 //! ```
 //!
-//! - [`Scene`]: [`Strands`] (flat positions + offsets, optional per-point radii and colors),
+//! - [`Scene`]: [`Strands`] (flat positions + offsets, optional per-point radii and colors; render
+//!   children through [`StrandBuffers::from_children`]),
 //!   [`Mesh`]es (vertices + triangles + a color) and a [`Highlight`] (points inside colliders,
 //!   over-stretched segments, drawn in red on top);
 //! - [`Camera`]: explicit ([`Camera::look_at`]) or a preset [`View`] (front, side, back,
@@ -66,7 +67,7 @@ mod strand_raster;
 pub use camera::{Camera, View, DEFAULT_FOV_Y_DEG, FRAME_MARGIN};
 pub use error::{PreviewError, Result};
 pub use image::{PreviewImage, MAX_SIDE};
-pub use scene::{Bounds, Highlight, Mesh, Rgb, Scene, Strands};
+pub use scene::{Bounds, Highlight, Mesh, Rgb, Scene, StrandBuffers, Strands};
 pub use shading::{HairLook, Light, RenderSettings};
 pub use sheet::{contact_sheet, Tile, GAP, LABEL_HEIGHT};
 

@@ -170,6 +170,83 @@ impl<'a> Strands<'a> {
     }
 }
 
+/// Owned strand arrays, for hair that does not come as positions and offsets already (render
+/// children); [`StrandBuffers::strands`] borrows them as [`Strands`].
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct StrandBuffers {
+    /// Point positions, meters.
+    pub positions: Vec<Vector3<f32>>,
+    /// Strand offsets (one more than strands).
+    pub offsets: Vec<u32>,
+    /// Per-point radii, meters.
+    pub radii: Vec<f32>,
+    /// Per-point colors (linear RGB), if any.
+    pub colors: Option<Vec<Rgb>>,
+}
+
+impl StrandBuffers {
+    /// Render children ([`crate::ChildBuffers`]) as strands: radius half their width, and their
+    /// root color (from the scalp's vertex colors) on every point when they have one.
+    pub fn from_children(children: &crate::ChildBuffers) -> Result<Self> {
+        let points = children.point_count();
+        if children.points.len() != 3 * points {
+            return Err(PreviewError::Input(format!(
+                "children have {} coordinates for {points} widths: give 3 per point",
+                children.points.len()
+            )));
+        }
+        let mut offsets = Vec::with_capacity(children.curve_count() + 1);
+        offsets.push(0u32);
+        let mut end = 0u64;
+        for &n in &children.vertex_counts {
+            end += u64::from(n);
+            offsets.push(u32::try_from(end).unwrap_or(u32::MAX));
+        }
+        if end != points as u64 {
+            return Err(PreviewError::Input(format!(
+                "children's vertex counts add up to {end} points but there are {points}"
+            )));
+        }
+        let colors = match &children.color {
+            Some(c) if c.len() == 3 * children.curve_count() => Some(
+                children
+                    .vertex_counts
+                    .iter()
+                    .zip(c.chunks_exact(3))
+                    .flat_map(|(&n, rgb)| std::iter::repeat_n([rgb[0], rgb[1], rgb[2]], n as usize))
+                    .collect(),
+            ),
+            Some(c) => {
+                return Err(PreviewError::Input(format!(
+                    "children have {} color values for {} curves: give 3 per curve",
+                    c.len(),
+                    children.curve_count()
+                )))
+            }
+            None => None,
+        };
+        Ok(Self {
+            positions: children
+                .points
+                .chunks_exact(3)
+                .map(|p| Vector3::new(p[0], p[1], p[2]))
+                .collect(),
+            offsets,
+            radii: children.widths.iter().map(|w| 0.5 * w).collect(),
+            colors,
+        })
+    }
+
+    /// The buffers as checked [`Strands`].
+    pub fn strands(&self) -> Result<Strands<'_>> {
+        let s = Strands::new(&self.positions, &self.offsets)?.with_radii(&self.radii)?;
+        match &self.colors {
+            Some(c) => s.with_colors(c),
+            None => Ok(s),
+        }
+    }
+}
+
 /// A triangle mesh to draw shaded (scalp, collider), in world space at the drawn instant.
 #[derive(Debug, Clone, Copy)]
 pub struct Mesh<'a> {
