@@ -9,7 +9,11 @@
 //!   curl, roughness, length variation, taper) and a [`Lod`] (render, or display: a fraction of
 //!   the children with fewer points) → [`ChildBuffers`], flat arrays a host renderer consumes;
 //! - [`export`]: USD `BasisCurves` (`.usda`, with time samples or velocities for motion blur)
-//!   and Cem Yuksel's `.hair`; the only module that does I/O.
+//!   and Cem Yuksel's `.hair`;
+//! - [`preview`]: a CPU renderer of strands and meshes to PNG (shaded meshes, anti-aliased
+//!   Kajiya–Kay hair, preset cameras, contact sheets) for previews without a GPU.
+//!
+//! `export` and [`preview::PreviewImage::write_png`] are the only code that does I/O.
 //!
 //! ```
 //! use hair_render::{generate, ChildCount, ChildSettings, Lod, Parents};
@@ -38,6 +42,7 @@ pub mod export;
 pub mod lod;
 pub mod parents;
 mod path;
+pub mod preview;
 mod rng;
 pub mod shape;
 pub mod subdivide;
