@@ -99,6 +99,7 @@
 
 pub mod collider;
 pub mod collider_set;
+pub mod deforming;
 pub(crate) mod detect;
 pub(crate) mod escapes;
 pub(crate) mod fast_projection;

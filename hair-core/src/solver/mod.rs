@@ -472,7 +472,7 @@ impl Solver {
         // Fast colliders split the frame into more steps of fewer substeps each.
         let factor = match colliders.as_deref_mut() {
             Some(c) => {
-                c.begin_frame(scalp);
+                c.begin_frame(scalp)?;
                 let tolerance = c
                     .settings
                     .tolerance

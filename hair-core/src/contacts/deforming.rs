@@ -1,0 +1,260 @@
+//! Deforming mesh colliders: a mesh collider's vertex positions, set per frame by the host
+//! ([`super::Colliders::set_vertices`]) or taken from a deformed scalp
+//! ([`super::Colliders::insert_scalp`]), on top of its rigid pose.
+//!
+//! # Model
+//! The host gives each mesh's vertices in its **body space** (the space of
+//! [`super::Collider::mesh`]; the pose set by [`super::Colliders::set_pose`] places them in the
+//! world) at the end of each frame. Within the frame every vertex moves linearly from its
+//! previous position to the new one, so a point of the surface — a triangle and barycentric
+//! weights — moves linearly too, at the barycentric blend of its vertices' velocities. At every
+//! collision step the collider's shape (parry's mesh and BVH, smooth vertex normals, per-triangle
+//! curvature, the narrow-phase shortcut) is put at the vertices of the step's start, and the
+//! step's vertex displacements give each contact the motion of its material point: the contact
+//! plane or sphere moves with it, and friction acts against its velocity (rigid pose motion
+//! included). Between steps nothing is interpolated: the shape at a step's start is exact.
+//!
+//! # What is exact, what is approximate
+//! - Exact at every step's start: positions, normals, curvature and inside/outside of the
+//!   linearly interpolated mesh. The frame-end check runs against the mesh at the frame's end.
+//! - Exact within a step for the contact point itself: its path is the straight line its
+//!   vertices' blend follows.
+//! - Approximate within a step: the surface around a contact is the contact's plane or sphere
+//!   translated with the contact point; a surface that slides under a point resting on it (a
+//!   sphere turned by deformation rather than by pose) moves the sphere sideways by the slide
+//!   `δ`, which lets the point in by up to `κ δ²/2` (`κ` the contact sphere's curvature). Frames
+//!   are split into more steps until `κ_max δ_max² / (2k²)` is below the contact tolerance
+//!   (`δ_max` the largest vertex displacement of the frame, `κ_max` the largest contact-sphere
+//!   curvature of the mesh; see [`super::collider_set`]). Flat parts (planes) slide exactly.
+//! - Detection's margin grows by the largest vertex displacement of the step, and its
+//!   remembered distance bounds shrink by how far the surface moved, so no contact is missed
+//!   because the surface came towards a point.
+//!
+//! # Cost
+//! Each step whose shape differs from the last one refits parry's BVH (its tree, built once at
+//! insertion, is kept: `TriMesh::set_vertices`), recomputes parry's pseudo-normals, the smooth
+//! normals, the curvatures and the shortcut's planes: linear in the mesh size, measured in
+//! `benches/contacts.rs` (`deforming_mesh`). A frame split into `k` steps pays it `k` times; a
+//! collider that does not deform in a frame pays nothing.
+//!
+//! # Resuming
+//! The state of a deforming collider is its vertices at the current frame. A run resumed at
+//! frame `k` inserts the collider from the same mesh as the uninterrupted run (its topology —
+//! merged seam vertices, solid or shell, winding, the BVH's tree — comes from that mesh) and puts
+//! it at frame `k`'s vertices with [`super::Colliders::place_vertices`] (or
+//! [`super::Colliders::place_scalp`] for the scalp): the shape is then the same bits as the
+//! uninterrupted run's at that frame, because everything the shape holds is recomputed from the
+//! vertices alone and the refitted tree depends only on its leaves.
+
+use nalgebra::{Isometry3, Point3, Vector3};
+
+use crate::error::{HairError, Result};
+use crate::mesh::TriMesh;
+
+/// Relative size (of the distance from the world origin, plus 1 m) below which a scalp vertex
+/// that differs from its rest position moved by the body transform counts as rounding, not
+/// deformation: 10 µm near the origin. f32 rounding of a rigid transform is about 100× smaller.
+const RIGID_ROUNDING: f32 = 1e-5;
+
+/// A mesh collider's vertices: as inserted, at the start and end of the frame being stepped, and
+/// where its shape stands now. Merged vertices (see `collider::prepare_mesh`), body space, m.
+#[derive(Debug, Clone)]
+pub(crate) struct Deformation {
+    /// Per vertex the host gives (the inserted mesh's order): its merged index.
+    remap: Vec<u32>,
+    /// Per merged vertex: the first host vertex that maps to it.
+    source: Vec<u32>,
+    /// The inserted mesh's triangles (host order), to check a deformed scalp against.
+    triangles: Vec<[u32; 3]>,
+    /// Vertices as inserted.
+    rest: Vec<Vector3<f32>>,
+    /// At the start of the frame being stepped.
+    start: Vec<Vector3<f32>>,
+    /// At the end of the frame being stepped (what the host set).
+    end: Vec<Vector3<f32>>,
+    /// Where the collider's shape stands now.
+    pub placed: Vec<Vector3<f32>>,
+    /// Displacement of each vertex over the current collision step, m (empty when the mesh does
+    /// not deform in this frame).
+    pub step_motion: Vec<Vector3<f32>>,
+    /// Largest `|step_motion|`, m.
+    pub step_margin: f32,
+    /// Does the mesh deform in this frame (start ≠ end)?
+    moving: bool,
+    /// Largest vertex displacement over this frame, m.
+    pub frame_displacement: f32,
+}
+
+impl Deformation {
+    /// The deformation state of a mesh inserted as `mesh` (host order) whose merged vertices are
+    /// `merged` and `remap` maps host to merged indices.
+    pub fn new(mesh: &TriMesh, merged: &[Vector3<f32>], remap: Vec<u32>) -> Self {
+        let mut source = vec![u32::MAX; merged.len()];
+        for (i, &m) in remap.iter().enumerate() {
+            let s = &mut source[m as usize];
+            if *s == u32::MAX {
+                *s = i as u32;
+            }
+        }
+        Self {
+            remap,
+            source,
+            triangles: mesh.triangles().to_vec(),
+            rest: merged.to_vec(),
+            start: merged.to_vec(),
+            end: merged.to_vec(),
+            placed: merged.to_vec(),
+            step_motion: Vec::new(),
+            step_margin: 0.0,
+            moving: false,
+            frame_displacement: 0.0,
+        }
+    }
+
+    /// Checks host vertices (count, finiteness) for collider `collider`.
+    fn check(&self, collider: usize, vertices: &[Vector3<f32>], what: &str) -> Result<()> {
+        if vertices.len() != self.remap.len() {
+            return Err(HairError::Collider {
+                collider,
+                message: format!(
+                    "{what} has {} vertices, the mesh it was inserted with has {}: give one \
+                     position per vertex of that mesh, in its order (a deforming mesh cannot \
+                     change its topology)",
+                    vertices.len(),
+                    self.remap.len()
+                ),
+            });
+        }
+        if let Some(i) = vertices
+            .iter()
+            .position(|v| !v.iter().all(|c| c.is_finite()))
+        {
+            return Err(HairError::Collider {
+                collider,
+                message: format!(
+                    "{what}: vertex {i} is not finite ({:?}); give finite positions",
+                    vertices[i].as_slice()
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    /// The merged vertices of host vertices `vertices`.
+    fn gather(&self, vertices: &[Vector3<f32>]) -> Vec<Vector3<f32>> {
+        self.source.iter().map(|&i| vertices[i as usize]).collect()
+    }
+
+    /// Sets the body-space vertices (host order, m) at the end of the next frame.
+    pub fn set_end(&mut self, collider: usize, vertices: &[Vector3<f32>]) -> Result<()> {
+        self.check(collider, vertices, "the vertex array")?;
+        self.end = self.gather(vertices);
+        Ok(())
+    }
+
+    /// Puts the mesh at body-space vertices `vertices` (host order, m) now: start and end of
+    /// the next frame, no motion.
+    pub fn place(&mut self, collider: usize, vertices: &[Vector3<f32>]) -> Result<()> {
+        self.check(collider, vertices, "the vertex array")?;
+        self.end = self.gather(vertices);
+        self.start.clone_from(&self.end);
+        Ok(())
+    }
+
+    /// Sets the end vertices from a scalp mesh `mesh` (world, m) with body transform `body`: its
+    /// vertices brought to body space if any differs from the rest mesh moved by `body` by more
+    /// than rounding, else exactly the rest vertices (so a rigid scalp never deforms the shape).
+    pub fn follow_scalp(
+        &mut self,
+        collider: usize,
+        mesh: &TriMesh,
+        body: &Isometry3<f32>,
+    ) -> Result<()> {
+        let what = "the deformed scalp mesh";
+        self.check(collider, mesh.positions(), what)?;
+        if mesh.triangles() != self.triangles.as_slice() {
+            return Err(HairError::Collider {
+                collider,
+                message: format!(
+                    "{what} has other triangles than the scalp the collider was built from: \
+                     a deforming scalp must keep its topology"
+                ),
+            });
+        }
+        let inverse = body.inverse();
+        let local: Vec<Vector3<f32>> = mesh
+            .positions()
+            .iter()
+            .map(|p| (inverse * Point3::from(*p)).coords)
+            .collect();
+        let deformed = mesh
+            .positions()
+            .iter()
+            .zip(&local)
+            .zip(&self.remap)
+            .any(|((p, l), &m)| {
+                (l - self.rest[m as usize]).norm() > RIGID_ROUNDING * (1.0 + p.norm())
+            });
+        if deformed {
+            self.end = self.gather(&local);
+        } else {
+            self.end.clone_from(&self.rest);
+        }
+        Ok(())
+    }
+
+    /// Starts a frame: notes whether the mesh deforms in it and by how much.
+    pub fn begin_frame(&mut self) {
+        self.moving = self.start != self.end;
+        self.frame_displacement = if self.moving {
+            self.start
+                .iter()
+                .zip(&self.end)
+                .map(|(a, b)| (b - a).norm())
+                .fold(0.0f32, f32::max)
+        } else {
+            0.0
+        };
+    }
+
+    /// Ends a frame: the end vertices become the next frame's start.
+    pub fn finish_frame(&mut self) {
+        self.start.clone_from(&self.end);
+        self.moving = false;
+        self.frame_displacement = 0.0;
+    }
+
+    /// Vertex `i` at fraction `s` of the frame.
+    fn at(&self, i: usize, s: f32) -> Vector3<f32> {
+        if !self.moving || s == 1.0 {
+            self.end[i]
+        } else if s == 0.0 {
+            self.start[i]
+        } else {
+            self.start[i] + (self.end[i] - self.start[i]) * s
+        }
+    }
+
+    /// Prepares the step whose shape stands at fraction `at` of the frame and which moves from
+    /// fraction `from` to `to`: the step's vertex motion and margin, and the vertices the shape
+    /// must stand at. Returns those vertices if they differ from where it stands.
+    pub fn prepare_step(&mut self, at: f32, from: f32, to: f32) -> Option<Vec<Vector3<f32>>> {
+        let n = self.end.len();
+        if self.moving {
+            self.step_motion = (0..n).map(|i| self.at(i, to) - self.at(i, from)).collect();
+            self.step_margin = self
+                .step_motion
+                .iter()
+                .map(|d| d.norm())
+                .fold(0.0f32, f32::max);
+        } else {
+            self.step_motion.clear();
+            self.step_margin = 0.0;
+        }
+        if !self.moving {
+            return (self.placed != self.end).then(|| self.end.clone());
+        }
+        let target: Vec<Vector3<f32>> = (0..n).map(|i| self.at(i, at)).collect();
+        (target != self.placed).then_some(target)
+    }
+}
