@@ -103,8 +103,6 @@ pub(crate) struct Entry {
     pub follows_scalp: bool,
     /// A mesh's vertices over the frame (`None` for analytic shapes).
     pub deformation: Option<Box<Deformation>>,
-    /// Largest contact-sphere curvature of a mesh, 1/m: the largest `|curvature|`.
-    pub curvature_max: f32,
     /// How many times the shape was moved to other vertices (0: it is the inserted mesh).
     pub version: u64,
 }
@@ -124,15 +122,12 @@ impl Entry {
     }
 
     /// The model error (m) of one step covering the whole frame (see the module docs); with `k`
-    /// steps it is this divided by `k²`: rotation's `R θ²/8` plus deformation's `κ δ²/2`.
+    /// steps it is this divided by `k²`: rotation's `R θ²/8` plus deformation's `Δκ δ²/2`.
     fn frame_error(&self) -> f32 {
         let angle = self.start.rotation.angle_to(&self.end.rotation);
         let rotation = 0.125 * self.bounding_radius * angle * angle;
         match &self.deformation {
-            Some(d) if d.frame_displacement > 0.0 => {
-                let slide = d.frame_displacement;
-                rotation + 0.5 * self.curvature_max * slide * slide
-            }
+            Some(d) if d.frame_error > 0.0 => rotation + d.frame_error,
             _ => rotation,
         }
     }
@@ -160,7 +155,6 @@ impl Entry {
         if let Some(fast) = &mut self.fast {
             fast.refresh(mesh);
         }
-        self.curvature_max = largest_curvature(&self.curvature);
         let (sphere, radius) = mesh_bounds(&self.shape, &vertices);
         self.bounding_sphere = sphere;
         self.bounding_radius = radius;
@@ -349,6 +343,7 @@ impl Colliders {
                 deformation = Some(Box::new(Deformation::new(
                     mesh,
                     &prepared.vertices,
+                    &prepared.triangles,
                     prepared.remap,
                 )));
                 (
@@ -397,7 +392,6 @@ impl Colliders {
             start: pose,
             end: pose,
             follows_scalp,
-            curvature_max: largest_curvature(&curvature),
             curvature,
             deformation,
             version: 0,
@@ -599,11 +593,6 @@ impl Colliders {
             }
         }
     }
-}
-
-/// The largest `|κ|` of per-triangle curvatures `curvature` (1/m), 0 for none.
-fn largest_curvature(curvature: &[f32]) -> f32 {
-    curvature.iter().map(|k| k.abs()).fold(0.0f32, f32::max)
 }
 
 /// A mesh shape's enclosing sphere (body space: centre at its box's centre, m; radius, m) and

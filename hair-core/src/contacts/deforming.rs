@@ -46,6 +46,8 @@
 //! uninterrupted run's at that frame, because everything the shape holds is recomputed from the
 //! vertices alone and the refitted tree depends only on its leaves.
 
+use std::collections::HashMap;
+
 use nalgebra::{Isometry3, Point3, Vector3};
 
 use crate::error::{HairError, Result};
@@ -83,12 +85,54 @@ pub(crate) struct Deformation {
     moving: bool,
     /// Largest vertex displacement over this frame, m.
     pub frame_displacement: f32,
+    /// The merged triangles (as parry holds them).
+    merged_triangles: Vec<[u32; 3]>,
+    /// Every edge between exactly two triangles: the two triangles and the edge's vertices.
+    hinges: Vec<Hinge>,
+    /// The contact model's error (m) over this frame in one step: over the hinges, `Δκ δ²/2`
+    /// with `Δκ` the change of the hinge's bending (the angle between its triangles' normals
+    /// over the distance of their centroids, 1/m: `1/R` on a fine sphere of radius `R`) and `δ`
+    /// the larger displacement of the edge's vertices.
+    pub frame_error: f32,
+}
+
+/// An edge between two triangles (indices into the merged triangles and vertices).
+#[derive(Debug, Clone, Copy)]
+struct Hinge {
+    triangles: [u32; 2],
+    edge: [u32; 2],
 }
 
 impl Deformation {
     /// The deformation state of a mesh inserted as `mesh` (host order) whose merged vertices are
     /// `merged` and `remap` maps host to merged indices.
-    pub fn new(mesh: &TriMesh, merged: &[Vector3<f32>], remap: Vec<u32>) -> Self {
+    pub fn new(
+        mesh: &TriMesh,
+        merged: &[Vector3<f32>],
+        merged_triangles: &[[u32; 3]],
+        remap: Vec<u32>,
+    ) -> Self {
+        let mut by_edge: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
+        for (t, tri) in merged_triangles.iter().enumerate() {
+            for k in 0..3 {
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                by_edge
+                    .entry((a.min(b), a.max(b)))
+                    .or_default()
+                    .push(t as u32);
+            }
+        }
+        let mut hinges: Vec<Hinge> = by_edge
+            .iter()
+            .filter_map(|(&(a, b), tris)| match tris.as_slice() {
+                &[t1, t2] => Some(Hinge {
+                    triangles: [t1, t2],
+                    edge: [a, b],
+                }),
+                _ => None,
+            })
+            .collect();
+        hinges.sort_unstable_by_key(|h| h.edge);
         let mut source = vec![u32::MAX; merged.len()];
         for (i, &m) in remap.iter().enumerate() {
             let s = &mut source[m as usize];
@@ -108,6 +152,9 @@ impl Deformation {
             step_margin: 0.0,
             moving: false,
             frame_displacement: 0.0,
+            merged_triangles: merged_triangles.to_vec(),
+            hinges,
+            frame_error: 0.0,
         }
     }
 
@@ -203,18 +250,55 @@ impl Deformation {
         Ok(())
     }
 
-    /// Starts a frame: notes whether the mesh deforms in it and by how much.
+    /// Starts a frame: notes whether the mesh deforms in it and by how much (largest vertex
+    /// displacement and largest change of bending).
     pub fn begin_frame(&mut self) {
         self.moving = self.start != self.end;
-        self.frame_displacement = if self.moving {
-            self.start
+        if !self.moving {
+            self.frame_displacement = 0.0;
+            self.frame_error = 0.0;
+            return;
+        }
+        self.frame_displacement = self
+            .start
+            .iter()
+            .zip(&self.end)
+            .map(|(a, b)| (b - a).norm())
+            .fold(0.0f32, f32::max);
+        let normals = |v: &[Vector3<f32>]| -> Vec<Vector3<f32>> {
+            self.merged_triangles
                 .iter()
-                .zip(&self.end)
-                .map(|(a, b)| (b - a).norm())
-                .fold(0.0f32, f32::max)
-        } else {
-            0.0
+                .map(|t| {
+                    let [a, b, c] = t.map(|i| v[i as usize]);
+                    (b - a).cross(&(c - a))
+                })
+                .collect()
         };
+        let (before, after) = (normals(&self.start), normals(&self.end));
+        self.frame_error = self
+            .hinges
+            .iter()
+            .map(|h| {
+                let [t1, t2] = h.triangles.map(|t| t as usize);
+                let [a, b] = h.edge.map(|i| i as usize);
+                let centroid = |t: usize, v: &[Vector3<f32>]| {
+                    self.merged_triangles[t]
+                        .iter()
+                        .map(|&i| v[i as usize])
+                        .sum::<Vector3<f32>>()
+                        / 3.0
+                };
+                let bend = |normals: &[Vector3<f32>], v: &[Vector3<f32>]| {
+                    normals[t1].angle(&normals[t2]) / (centroid(t2, v) - centroid(t1, v)).norm()
+                };
+                let change = (bend(&after, &self.end) - bend(&before, &self.start)).abs();
+                let slide = (self.end[a] - self.start[a])
+                    .norm()
+                    .max((self.end[b] - self.start[b]).norm());
+                0.5 * change * slide * slide
+            })
+            .filter(|e| e.is_finite())
+            .fold(0.0f32, f32::max);
     }
 
     /// Ends a frame: the end vertices become the next frame's start.
@@ -222,6 +306,7 @@ impl Deformation {
         self.start.clone_from(&self.end);
         self.moving = false;
         self.frame_displacement = 0.0;
+        self.frame_error = 0.0;
     }
 
     /// Vertex `i` at fraction `s` of the frame.

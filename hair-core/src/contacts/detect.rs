@@ -49,7 +49,7 @@
 //! collider's friction coefficient. Points without a contact get a plane offset so large that the
 //! response never acts on them.
 
-use nalgebra::{Isometry3, Point3, Vector3};
+use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
 use parry3d::query::{DefaultQueryDispatcher, PointQuery, PointQueryWithLocation};
 use parry3d::shape::{Shape, TrianglePointLocation};
 use rapier3d::geometry::Aabb;
@@ -218,6 +218,26 @@ impl StepCollider<'_> {
     /// (`self.start * local`).
     fn velocity_from(&self, local: &Vector3<f32>, start: &Point3<f32>, dt: f32) -> Vector3<f32> {
         ((self.end * Point3::from(*local)) - start) / dt
+    }
+
+    /// Body-space direction `n` turned as mesh triangle `tri` turns over the step (the rotation
+    /// taking its normal at the step's start to its normal at the end; `n` itself where the
+    /// mesh does not deform or the triangle is degenerate or flips).
+    fn turned(&self, tri: u32, n: &Vector3<f32>) -> Vector3<f32> {
+        let Some(mesh) = self.shape.as_trimesh() else {
+            return *n;
+        };
+        let (Some(idx), false) = (
+            mesh.indices().get(tri as usize),
+            self.deformation.is_empty(),
+        ) else {
+            return *n;
+        };
+        let corner = |k: usize| from_glam(mesh.vertices()[idx[k] as usize]);
+        let moved = |k: usize| corner(k) + self.deformation[idx[k] as usize];
+        let before = (corner(1) - corner(0)).cross(&(corner(2) - corner(0)));
+        let after = (moved(1) - moved(0)).cross(&(moved(2) - moved(0)));
+        UnitQuaternion::rotation_between(&before, &after).map_or(*n, |q| q * n)
     }
 
     /// Velocity (m/s) of the surface's material point at body-space `local` on the shape as it
@@ -452,8 +472,16 @@ pub(crate) fn detect(
                         o.anchor_velocity[j] = if col.deformation.is_empty() {
                             col.velocity_from(&centre, &start, dt)
                         } else {
-                            // The sphere moves with the contact's material point.
-                            col.surface_velocity(&centre, &hit.motion, dt)
+                            // The sphere moves with the contact's material point and turns with
+                            // its triangle.
+                            let turned = col.turned(hit.triangle, &hit.smooth_normal);
+                            let swing = (turned - hit.smooth_normal) * rho;
+                            let motion = if hit.curvature > 0.0 {
+                                hit.motion - swing
+                            } else {
+                                hit.motion + swing
+                            };
+                            col.surface_velocity(&centre, &motion, dt)
                         };
                     } else {
                         o.anchor[j] = normal;
