@@ -41,8 +41,8 @@ use std::sync::Arc;
 
 use nalgebra::Vector3;
 use parry3d::bounding_volume::BoundingVolume;
-use parry3d::math::Pose;
-use parry3d::shape::TriMesh;
+use parry3d::math::{Pose, Vector};
+use parry3d::shape::{TriMesh, Triangle};
 
 use super::math::from_glam;
 
@@ -181,21 +181,24 @@ impl FastProjection {
             cap,
             convex_body: false,
         };
-        fast.refresh(mesh);
+        fast.refresh(mesh.vertices(), mesh.indices());
         fast
     }
 
     /// Recomputes what depends on the vertex positions (planes, vertex convexity, clearances)
-    /// after `mesh`'s vertices moved; its triangles must be those the shortcut was made for. The
-    /// result is the same bits as [`FastProjection::new`] on a mesh built at these positions.
-    pub fn refresh(&mut self, mesh: &TriMesh) {
-        let vertices = mesh.vertices();
-        let indices = mesh.indices();
+    /// for a mesh whose vertices moved to `vertices` (body space, m); `indices` are its
+    /// triangles, those the shortcut was made for. The result is the same bits as
+    /// [`FastProjection::new`] on a mesh built at these positions.
+    pub fn refresh(&mut self, vertices: &[Vector], indices: &[[u32; 3]]) {
+        let triangle = |t: u32| {
+            let [a, b, c] = indices[t as usize].map(|i| vertices[i as usize]);
+            Triangle::new(a, b, c)
+        };
         let mut convex_vertex = vec![true; vertices.len()];
         for &Edge { a, b, triangles } in self.edges.iter() {
             let bends_out = match triangles {
                 Some([t1, t2]) => {
-                    let tri1 = mesh.triangle(t1);
+                    let tri1 = triangle(t1);
                     let n1 = from_glam(tri1.scaled_normal());
                     // The vertex of t2 not on the edge lies on or below t1's plane.
                     let other = indices[t2 as usize]
@@ -219,7 +222,7 @@ impl FastProjection {
             .iter()
             .enumerate()
             .map(|(t, idx)| {
-                let tri = mesh.triangle(t as u32);
+                let tri = triangle(t as u32);
                 let corners = [from_glam(tri.a), from_glam(tri.b), from_glam(tri.c)];
                 let scaled = (corners[1] - corners[0]).cross(&(corners[2] - corners[0]));
                 let area2 = scaled.norm();
