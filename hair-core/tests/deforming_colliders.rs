@@ -6,8 +6,8 @@
 //! evaluated on the frame's mesh); bit-identity of a resumed run.
 
 use hair_core::{
-    Anchor, Collider, ColliderId, Colliders, HairError, HairParams, MeshSample, RootFrame, Scalp,
-    Solver, SolverSettings, StrandInput, StrandSet, TriMesh,
+    Anchor, Collider, ColliderId, Colliders, HairError, HairParams, MeshSample, RodParams,
+    RodSolver, RootFrame, Scalp, Solver, SolverSettings, StrandInput, StrandSet, TriMesh,
 };
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 use parry3d::math::Vector;
@@ -176,6 +176,50 @@ fn breathing_sphere_pushes_hair_out_and_no_point_ends_inside() {
     assert_eq!(inside, 0, "smallest gap {worst} m");
     assert!(resting.len() > 50, "hair should rest on the sphere");
     assert_eq!(pushed_out, resting.len(), "resting hair must be pushed out");
+}
+
+#[test]
+fn rod_hair_on_a_breathing_sphere_stays_outside() {
+    // The rod model projects its nodes onto the shape in every substep and sees a deforming
+    // mesh at the frame's end for the whole frame; its distance memory must not outlive a
+    // reshape (a stale bound would skip a node the surface grew into).
+    let rest = TriMesh::uv_sphere(BALL, 48, 24).unwrap();
+    let mut strands = hair_over_ball();
+    let scalp = Scalp::fixed();
+    let mut solver = RodSolver::new(
+        settings(),
+        params(),
+        RodParams::default(),
+        &strands,
+        &scalp,
+        0,
+    )
+    .unwrap();
+    let mut colliders = Colliders::new();
+    let ball = colliders
+        .insert(Collider::mesh(rest.clone()), Isometry3::identity())
+        .unwrap();
+    let mut worst = f32::INFINITY;
+    for f in 1..=36u32 {
+        let scale = breathing_radius(f.saturating_sub(12)) / BALL;
+        let vertices: Vec<_> = rest.positions().iter().map(|p| p * scale).collect();
+        colliders.set_vertices(ball, &vertices).unwrap();
+        solver
+            .step_frame_with_colliders(&mut strands, &scalp, &mut colliders)
+            .unwrap();
+        let mut mesh = rest.clone();
+        mesh.set_positions(&vertices).unwrap();
+        let (gap, inside) = gap_to(&mesh, &strands);
+        worst = worst.min(gap);
+        assert_eq!(
+            inside, 0,
+            "frame {f}: a rod node ended inside (gap {gap} m)"
+        );
+    }
+    println!(
+        "rod model on the breathing sphere: smallest gap {:.3} mm",
+        worst * 1e3
+    );
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -163,7 +163,7 @@ impl Entry {
         };
         let points: Vec<_> = vertices.iter().map(to_glam).collect();
         // parry's refit and pseudo-normals on one thread, the rest on another.
-        let triangles = d.triangles();
+        let triangles = d.merged_triangles();
         let (curvature, topology, fast) = (&mut self.curvature, &mut self.topology, &mut self.fast);
         rayon::join(
             || mesh.set_vertices(&points),

@@ -82,7 +82,7 @@ pub(crate) struct Deformation {
     /// Per merged vertex: the first host vertex that maps to it.
     source: Vec<u32>,
     /// The inserted mesh's triangles (host order), to check a deformed scalp against.
-    triangles: Vec<[u32; 3]>,
+    host_triangles: Vec<[u32; 3]>,
     /// Vertices as inserted.
     rest: Vec<Vector3<f32>>,
     /// At the start of the frame being stepped.
@@ -158,7 +158,7 @@ impl Deformation {
         Self {
             remap,
             source,
-            triangles: mesh.triangles().to_vec(),
+            host_triangles: mesh.triangles().to_vec(),
             rest: merged.to_vec(),
             start: merged.to_vec(),
             end: merged.to_vec(),
@@ -234,7 +234,7 @@ impl Deformation {
     ) -> Result<()> {
         let what = "the deformed scalp mesh";
         self.check(collider, mesh.positions(), what)?;
-        if mesh.triangles() != self.triangles.as_slice() {
+        if mesh.triangles() != self.host_triangles.as_slice() {
             return Err(HairError::Collider {
                 collider,
                 message: format!(
@@ -266,7 +266,7 @@ impl Deformation {
     }
 
     /// The merged triangles (parry's indices).
-    pub fn triangles(&self) -> &[[u32; 3]] {
+    pub fn merged_triangles(&self) -> &[[u32; 3]] {
         &self.merged_triangles
     }
 
