@@ -428,6 +428,36 @@ fn wrong_vertex_count_and_non_finite_vertices_are_refused_by_name() {
 }
 
 #[test]
+fn a_triangle_collapsing_while_deforming_is_stepped_through() {
+    // A host's deformation may pinch a triangle to a line; the collider keeps working (the
+    // shortcut skips it, parry's search and the smooth normals handle it).
+    let rest = TriMesh::uv_sphere(BALL, 16, 8).unwrap();
+    let mut strands = hair_over_ball();
+    let scalp = Scalp::fixed();
+    let mut solver = Solver::new(settings(), params(), &strands, &scalp, 0).unwrap();
+    let mut colliders = Colliders::new();
+    let ball = colliders
+        .insert(Collider::mesh(rest.clone()), Isometry3::identity())
+        .unwrap();
+    let [a, b, _] = rest.triangles()[0];
+    let mut pinched: Vec<_> = rest.positions().iter().map(|p| p * 1.5).collect();
+    pinched[b as usize] = pinched[a as usize];
+    let mut contacts = 0;
+    for _ in 0..12 {
+        colliders.set_vertices(ball, &pinched).unwrap();
+        let report = solver
+            .step_frame_with_colliders(&mut strands, &scalp, &mut colliders)
+            .unwrap();
+        contacts += report.contact_points;
+    }
+    assert!(contacts > 0, "the hair must reach the pinched sphere");
+    assert!(strands
+        .positions
+        .iter()
+        .all(|x| x.iter().all(|c| c.is_finite())));
+}
+
+#[test]
 fn a_scalp_whose_topology_changes_is_refused_when_stepped() {
     let mesh = TriMesh::uv_sphere(BALL, 12, 6).unwrap();
     let scalp = Scalp {
