@@ -157,6 +157,8 @@ pub enum MeshKind {
 /// solids, and its kind.
 pub(crate) struct PreparedMesh {
     pub vertices: Vec<Vector3<f32>>,
+    /// Per vertex of the given mesh: its index in `vertices`.
+    pub remap: Vec<u32>,
     pub triangles: Vec<[u32; 3]>,
     pub kind: MeshKind,
     /// Smallest normal curvature per triangle, 1/m (> 0 convex along the winding normal).
@@ -260,6 +262,7 @@ pub(crate) fn prepare_mesh(mesh: &TriMesh) -> PreparedMesh {
     let (edge_owner, vertex_owner) = feature_owners(vertices.len(), &triangles);
     PreparedMesh {
         vertices,
+        remap,
         triangles,
         kind,
         curvature,
@@ -298,7 +301,10 @@ fn feature_owners(vertex_count: usize, triangles: &[[u32; 3]]) -> (Vec<[u32; 3]>
 
 /// Area-weighted unit normal of every vertex, along the triangles' winding (zero for a vertex
 /// of zero-area triangles only).
-fn smooth_normals(vertices: &[Vector3<f32>], triangles: &[[u32; 3]]) -> Vec<Vector3<f32>> {
+pub(crate) fn smooth_normals(
+    vertices: &[Vector3<f32>],
+    triangles: &[[u32; 3]],
+) -> Vec<Vector3<f32>> {
     let mut normals = vec![Vector3::zeros(); vertices.len()];
     for t in triangles {
         let [a, b, c] = t.map(|i| vertices[i as usize]);
@@ -332,7 +338,7 @@ fn smooth_normals(vertices: &[Vector3<f32>], triangles: &[[u32; 3]]) -> Vec<Vect
 /// whipping tips sliding 30 cm per step 8 mm in, hence the neighbourhood minimum and the
 /// caution). On a mesh with sharp edges the smooth normals spread the edges' bend over the flat
 /// faces next to them, where the sphere can then dip below a face by up to `κ s²/2`.
-fn min_curvatures(
+pub(crate) fn min_curvatures(
     vertices: &[Vector3<f32>],
     triangles: &[[u32; 3]],
     normals: &[Vector3<f32>],

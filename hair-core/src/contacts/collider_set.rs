@@ -5,8 +5,10 @@
 //! ([`Colliders::set_pose`], the pose at the frame's end instant) before
 //! [`crate::Solver::step_frame_with_colliders`]. Within a frame a collider moves from the previous
 //! frame's pose to the new one, translation linear and rotation by normalised quaternion
-//! interpolation (the shorter way round), as the hair roots do. A collider inserted with
-//! [`Colliders::insert_scalp`] follows the scalp's body transform by itself.
+//! interpolation (the shorter way round), as the hair roots do. A mesh collider's vertices may
+//! also move ([`Colliders::set_vertices`], body space, linear per vertex within the frame; see
+//! [`super::deforming`]). A collider inserted with [`Colliders::insert_scalp`] follows the
+//! scalp's body transform and, if the scalp mesh is deformed, its vertices by itself.
 //!
 //! **Fast motion.** The contact model of a step (`contacts::penalty`) is the surface element at
 //! the contact — its tangent plane or the sphere of its smallest curvature — moving linearly with
@@ -30,18 +32,34 @@
 //! at 1 m per frame), takes none. The substeps per step shrink by the same factor (rounded up), so
 //! the substep never gets longer and the integration cost stays about the same; only detection
 //! runs more often.
+//!
+//! **Deformation.** On a deforming mesh a contact's plane or sphere moves with its material
+//! point and turns with its triangle, which is exact where the surface around the contact moves
+//! rigidly. Where it bends — its curvature changes by `Δκ` within the frame — a sphere that
+//! slides `δ` with the surface misses the new bend by up to `Δκ δ²/2`. The frame error of a
+//! deforming mesh adds the largest `Δκ δ²/2` over its edges (`Δκ` from the change of the angle
+//! between the edge's two triangles over the distance of their centroids, `δ` the larger
+//! displacement of the edge's vertices), so `k` steps bring it to `Δκ δ²/(2k²)`. A sphere
+//! growing from 0.1 m by 5 cm in a frame (`Δκ` = 3.3 /m) takes 3–4 steps at the default 0.5 mm
+//! tolerance, a shoulder rising 5 cm in two frames 3; a translation or a rigid turn done by
+//! moving vertices takes none (the shear of a skinned neck counts as bending: the test head
+//! turned by skinning at 10 rad/s takes up to 6 steps where its rigid turn takes 3).
 
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
+use parry3d::bounding_volume::BoundingVolume;
 use rapier3d::dynamics::RigidBodySet;
 use rapier3d::geometry::{
-    BroadPhaseBvh, ColliderBuilder, ColliderHandle, ColliderSet, SharedShape, TriMeshFlags,
+    Aabb, BroadPhaseBvh, ColliderBuilder, ColliderHandle, ColliderSet, SharedShape, TriMeshFlags,
 };
 
 use crate::error::{HairError, Result};
 use crate::mesh::TriMesh;
 use crate::strands::Scalp;
 
-use super::collider::{prepare_mesh, Collider, ColliderShape, MeshKind};
+use super::collider::{
+    min_curvatures, prepare_mesh, smooth_normals, Collider, ColliderShape, MeshKind,
+};
+use super::deforming::Deformation;
 use super::detect::Clearance;
 use super::fast_projection::FastProjection;
 use super::math::{from_glam, to_glam, to_pose};
@@ -97,6 +115,10 @@ pub(crate) struct Entry {
     /// Pose at the end of the frame being stepped (what the host set).
     pub end: Isometry3<f32>,
     pub follows_scalp: bool,
+    /// A mesh's vertices over the frame (`None` for analytic shapes).
+    pub deformation: Option<Box<Deformation>>,
+    /// How many times the shape was moved to other vertices (0: it is the inserted mesh).
+    pub version: u64,
 }
 
 impl Entry {
@@ -114,10 +136,74 @@ impl Entry {
     }
 
     /// The model error (m) of one step covering the whole frame (see the module docs); with `k`
-    /// steps it is this divided by `k²`.
+    /// steps it is this divided by `k²`: rotation's `R θ²/8` plus deformation's `Δκ δ²/2`.
     fn frame_error(&self) -> f32 {
         let angle = self.start.rotation.angle_to(&self.end.rotation);
-        0.125 * self.bounding_radius * angle * angle
+        let rotation = 0.125 * self.bounding_radius * angle * angle;
+        match &self.deformation {
+            Some(d) if d.frame_error > 0.0 => rotation + d.frame_error,
+            _ => rotation,
+        }
+    }
+
+    /// Moves a mesh's shape to `vertices` (merged, body space, m) and recomputes everything
+    /// derived from them (parry's BVH by refit and pseudo-normals, smooth normals, curvature,
+    /// the shortcut, the bounds). Returns how far (m) the farthest vertex moved.
+    fn reshape(&mut self, vertices: Vec<Vector3<f32>>) -> f32 {
+        let Some(d) = self.deformation.as_mut() else {
+            return 0.0;
+        };
+        let shift = vertices
+            .iter()
+            .zip(&d.placed)
+            .map(|(a, b)| (a - b).norm())
+            .fold(0.0f32, f32::max);
+        let Some(mesh) = self.shape.make_mut().as_trimesh_mut() else {
+            return 0.0;
+        };
+        let points: Vec<_> = vertices.iter().map(to_glam).collect();
+        // parry's refit and pseudo-normals on one thread, the rest on another.
+        let triangles = d.merged_triangles();
+        let (curvature, topology, fast) = (&mut self.curvature, &mut self.topology, &mut self.fast);
+        rayon::join(
+            || mesh.set_vertices(&points),
+            || {
+                let normals = smooth_normals(&vertices, triangles);
+                *curvature = min_curvatures(&vertices, triangles, &normals);
+                topology.vertex_normals = normals;
+                if let Some(fast) = fast {
+                    fast.refresh(&points, triangles);
+                }
+            },
+        );
+        let (sphere, radius) = mesh_bounds(&self.shape, &vertices);
+        self.bounding_sphere = sphere;
+        self.bounding_radius = radius;
+        d.placed = vertices;
+        self.version += 1;
+        shift
+    }
+
+    /// The broad-phase box of a moved mesh over the step from pose `start` to pose `end`: its
+    /// vertices' box at the step's start and end, at both poses.
+    fn swept_mesh_aabb(&self, start: &Isometry3<f32>, end: &Isometry3<f32>) -> Option<Aabb> {
+        let d = self.deformation.as_ref()?;
+        let mut lo = Vector3::repeat(f32::INFINITY);
+        let mut hi = Vector3::repeat(f32::NEG_INFINITY);
+        for (i, v) in d.placed.iter().enumerate() {
+            lo = lo.inf(v);
+            hi = hi.sup(v);
+            if let Some(m) = d.step_motion.get(i) {
+                lo = lo.inf(&(v + m));
+                hi = hi.sup(&(v + m));
+            }
+        }
+        let local = Aabb::new(to_glam(&lo), to_glam(&hi));
+        Some(
+            local
+                .transform_by(&to_pose(start))
+                .merged(&local.transform_by(&to_pose(end))),
+        )
     }
 }
 
@@ -179,9 +265,12 @@ impl Colliders {
     }
 
     /// Adds the scalp mesh as a collider for the hair rooted on it: the shape is `scalp.mesh`
-    /// brought back to body space by `scalp.body`, and at every frame it follows the scalp's body
-    /// transform. Deformation of the scalp beyond its rigid body transform is not followed.
-    /// Hair roots and pinned points are never pushed by any collider.
+    /// brought back to body space by `scalp.body`, and at every frame it follows the scalp the
+    /// solver is given: its body transform as the pose and, where `scalp.mesh` is deformed (a
+    /// vertex differs from this mesh moved by `scalp.body` by more than f32 rounding, 5 µm
+    /// near the origin), its vertices brought back to body space (see [`super::deforming`]). The scalp
+    /// mesh must keep its vertex count and triangles. Hair roots and pinned points are never
+    /// pushed by any collider.
     pub fn insert_scalp(
         &mut self,
         scalp: &Scalp,
@@ -206,7 +295,8 @@ impl Colliders {
     /// [`Colliders::insert_scalp`]. The shape is then the same bits whatever frame the set is
     /// built at (the posed mesh brought back to body space is rounded differently at every
     /// frame), so a run resumed from a later frame collides with exactly the shape of the
-    /// uninterrupted run.
+    /// uninterrupted run. Where the scalp is deformed at that frame, follow with
+    /// [`Colliders::place_scalp`].
     pub fn insert_scalp_rest(
         &mut self,
         rest: TriMesh,
@@ -230,6 +320,7 @@ impl Colliders {
         let index = self.len();
         collider.validate(index)?;
         check_pose(index, &pose)?;
+        let mut deformation = None;
         let (shape, surface, mesh_kind, bounding_radius, curvature, topology) = match &collider
             .shape
         {
@@ -270,6 +361,12 @@ impl Colliders {
                             collider: index,
                             message: format!("the mesh was refused by parry: {e}"),
                         })?;
+                deformation = Some(Box::new(Deformation::new(
+                    mesh,
+                    &prepared.vertices,
+                    &prepared.triangles,
+                    prepared.remap,
+                )));
                 (
                     shape,
                     surface,
@@ -310,13 +407,15 @@ impl Colliders {
             friction: collider.friction,
             surface,
             mesh_kind,
-            curvature,
             topology,
             fast,
             bounding_radius,
             start: pose,
             end: pose,
             follows_scalp,
+            curvature,
+            deformation,
+            version: 0,
         });
         Ok(ColliderId(index as u32))
     }
@@ -336,6 +435,79 @@ impl Colliders {
         Ok(())
     }
 
+    /// Sets the vertex positions of mesh collider `id` at the end of the next frame to be
+    /// stepped: body space (the space of [`Collider::mesh`], placed by the pose of
+    /// [`Colliders::set_pose`]), m, one per vertex of the mesh it was inserted with, in that
+    /// order. Within the frame each vertex moves linearly from its previous position, and
+    /// contacts get the surface's velocity from that motion (see [`super::deforming`]).
+    ///
+    /// Refuses an unknown id, an analytic shape, the scalp collider (it follows the scalp given
+    /// to the solver), another vertex count (the topology is fixed at insertion) and non-finite
+    /// positions, naming the collider and the vertex.
+    pub fn set_vertices(&mut self, id: ColliderId, vertices: &[Vector3<f32>]) -> Result<()> {
+        let index = id.0 as usize;
+        self.deformation_mut(index)?.set_end(index, vertices)
+    }
+
+    /// Puts mesh collider `id` at vertex positions `vertices` now (body space, m, as for
+    /// [`Colliders::set_vertices`]): at the start and the end of the next frame, with no motion
+    /// into it. Use it for a set built at a later frame than its mesh's rest shape (a resumed
+    /// run, which then collides with the same shape, to the bit, as the uninterrupted run) or
+    /// for a cut. Same checks as [`Colliders::set_vertices`].
+    pub fn place_vertices(&mut self, id: ColliderId, vertices: &[Vector3<f32>]) -> Result<()> {
+        let index = id.0 as usize;
+        self.deformation_mut(index)?.place(index, vertices)
+    }
+
+    /// Puts every collider that follows the scalp ([`Colliders::insert_scalp`]) at `scalp` now:
+    /// its pose and, where the scalp mesh is deformed, its vertices, at the start and the end of
+    /// the next frame, with no motion into it. A resumed run calls it with the scalp of the frame
+    /// it resumes from, after [`Colliders::insert_scalp_rest`]. Refuses a non-finite transform,
+    /// another vertex count or other triangles, and non-finite vertices.
+    pub fn place_scalp(&mut self, scalp: &Scalp) -> Result<()> {
+        for (index, e) in self.entries.iter_mut().enumerate() {
+            if !e.follows_scalp {
+                continue;
+            }
+            check_pose(index, &scalp.body)?;
+            if let (Some(d), Some(mesh)) = (e.deformation.as_mut(), &scalp.mesh) {
+                d.follow_scalp(index, mesh, &scalp.body)?;
+                d.finish_frame();
+            }
+            e.start = scalp.body;
+            e.end = scalp.body;
+        }
+        Ok(())
+    }
+
+    /// The deformation state of mesh collider `index`, or the error a host gets for it.
+    fn deformation_mut(&mut self, index: usize) -> Result<&mut Deformation> {
+        let entry = self
+            .entries
+            .get_mut(index)
+            .ok_or_else(|| HairError::Collider {
+                collider: index,
+                message: "no such collider in this set".into(),
+            })?;
+        if entry.follows_scalp {
+            return Err(HairError::Collider {
+                collider: index,
+                message: "follows the scalp: give the deformed scalp mesh as the solver's \
+                          Scalp.mesh instead of setting its vertices"
+                    .into(),
+            });
+        }
+        entry
+            .deformation
+            .as_deref_mut()
+            .ok_or_else(|| HairError::Collider {
+                collider: index,
+                message: "is a sphere or a capsule: only mesh colliders have vertices to set; \
+                          insert a Collider::mesh to deform it"
+                    .into(),
+            })
+    }
+
     /// Pose of collider `id` at the end of the next (or last) stepped frame, if it exists.
     pub fn pose(&self, id: ColliderId) -> Option<Isometry3<f32>> {
         self.entries.get(id.0 as usize).map(|e| e.end)
@@ -348,14 +520,43 @@ impl Colliders {
     }
 
     /// Starts a frame: scalp-following colliders take the scalp's body transform as their end
-    /// pose, and every end rotation is taken in the hemisphere of its start (the shorter way).
-    pub(crate) fn begin_frame(&mut self, scalp: &Scalp) {
-        for e in &mut self.entries {
+    /// pose and, where the scalp mesh is deformed, its vertices; every end rotation is taken in
+    /// the hemisphere of its start (the shorter way). Fails on a deformed scalp whose topology
+    /// differs from the collider's or whose vertices are not finite.
+    pub(crate) fn begin_frame(&mut self, scalp: &Scalp) -> Result<()> {
+        for (index, e) in self.entries.iter_mut().enumerate() {
             if e.follows_scalp {
+                if let (Some(d), Some(mesh)) = (e.deformation.as_mut(), &scalp.mesh) {
+                    d.follow_scalp(index, mesh, &scalp.body)?;
+                }
                 e.end = scalp.body;
             }
             if e.end.rotation.coords.dot(&e.start.rotation.coords) < 0.0 {
                 e.end.rotation = UnitQuaternion::new_unchecked(-e.end.rotation.into_inner());
+            }
+            if let Some(d) = e.deformation.as_mut() {
+                d.begin_frame();
+            }
+        }
+        Ok(())
+    }
+
+    /// Stands every deforming mesh's shape at fraction `at` of the frame, with the motion of the
+    /// step from fraction `from` to `to`, and lowers detection's remembered distance bounds by
+    /// how far each surface moved. Meshes already standing there (every rigid one) are left
+    /// alone.
+    pub(crate) fn place_meshes(&mut self, at: f32, from: f32, to: f32) {
+        let count = self.entries.len();
+        for (c, e) in self.entries.iter_mut().enumerate() {
+            let Some(d) = e.deformation.as_mut() else {
+                continue;
+            };
+            let Some(target) = d.prepare_step(at, from, to) else {
+                continue;
+            };
+            let shift = e.reshape(target);
+            for m in self.clearance.memory.iter_mut().skip(c).step_by(count) {
+                m.bound -= shift;
             }
         }
     }
@@ -382,15 +583,22 @@ impl Colliders {
     /// Places every collider at fraction `a` of the frame (the step's start) in the rapier set and
     /// puts its AABB swept to fraction `b` (the step's end) in the broad phase.
     pub(crate) fn place_for_step(&mut self, a: f32, b: f32) {
+        self.place_meshes(a, a, b);
         let params = rapier3d::dynamics::IntegrationParameters::default();
         for e in &self.entries {
-            let start = to_pose(&e.pose_at(a));
-            let end = to_pose(&e.pose_at(b));
+            let (start_pose, end_pose) = (e.pose_at(a), e.pose_at(b));
+            let start = to_pose(&start_pose);
+            let end = to_pose(&end_pose);
             let Some(co) = self.set.get_mut(e.handle) else {
                 continue;
             };
             co.set_position(start);
-            let aabb = co.compute_swept_aabb(&end);
+            // A moved mesh's box comes from its vertices (rapier's collider keeps the inserted
+            // shape).
+            let moved = (e.version > 0)
+                .then(|| e.swept_mesh_aabb(&start_pose, &end_pose))
+                .flatten();
+            let aabb = moved.unwrap_or_else(|| co.compute_swept_aabb(&end));
             self.broad_phase.set_aabb(&params, e.handle, aabb);
         }
         // Nothing consumes rapier's change tracking here; keep it from accumulating.
@@ -401,8 +609,24 @@ impl Colliders {
     pub(crate) fn finish_frame(&mut self) {
         for e in &mut self.entries {
             e.start = e.end;
+            if let Some(d) = e.deformation.as_mut() {
+                d.finish_frame();
+            }
         }
     }
+}
+
+/// A mesh shape's enclosing sphere (body space: centre at its box's centre, m; radius, m) and
+/// the largest distance of its `vertices` from the body origin, m.
+fn mesh_bounds(shape: &SharedShape, vertices: &[Vector3<f32>]) -> ((Vector3<f32>, f32), f32) {
+    let local = shape.compute_local_aabb();
+    let centre = from_glam((local.mins + local.maxs) * 0.5);
+    let enclosing = vertices
+        .iter()
+        .map(|v| (v - centre).norm())
+        .fold(0.0f32, f32::max);
+    let radius = vertices.iter().map(|v| v.norm()).fold(0.0f32, f32::max);
+    ((centre, enclosing), radius)
 }
 
 fn check_pose(collider: usize, pose: &Isometry3<f32>) -> Result<()> {

@@ -49,7 +49,7 @@
 //! collider's friction coefficient. Points without a contact get a plane offset so large that the
 //! response never acts on them.
 
-use nalgebra::{Isometry3, Point3, Vector3};
+use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
 use parry3d::query::{DefaultQueryDispatcher, PointQuery, PointQueryWithLocation};
 use parry3d::shape::{Shape, TrianglePointLocation};
 use rapier3d::geometry::Aabb;
@@ -197,6 +197,13 @@ pub(super) struct StepCollider<'a> {
     reach: f32,
     /// The narrow-phase shortcut of a solid mesh.
     fast: Option<&'a FastProjection>,
+    /// A deforming mesh's displacement of each vertex over the step, body space, m (empty when
+    /// it does not deform in this frame).
+    deformation: &'a [Vector3<f32>],
+    /// Largest `|deformation|`, m: how far the surface can come towards a point within the step.
+    pub(super) motion_margin: f32,
+    /// Does the shape stand at the step's end (the frame-end check) rather than its start?
+    shape_at_end: bool,
 }
 
 impl StepCollider<'_> {
@@ -211,6 +218,46 @@ impl StepCollider<'_> {
     /// (`self.start * local`).
     fn velocity_from(&self, local: &Vector3<f32>, start: &Point3<f32>, dt: f32) -> Vector3<f32> {
         ((self.end * Point3::from(*local)) - start) / dt
+    }
+
+    /// Body-space direction `n` turned as mesh triangle `tri` turns over the step (the rotation
+    /// taking its normal at the step's start to its normal at the end; `n` itself where the
+    /// mesh does not deform or the triangle is degenerate or flips).
+    fn turned(&self, tri: u32, n: &Vector3<f32>) -> Vector3<f32> {
+        let Some(mesh) = self.shape.as_trimesh() else {
+            return *n;
+        };
+        let (Some(idx), false) = (
+            mesh.indices().get(tri as usize),
+            self.deformation.is_empty(),
+        ) else {
+            return *n;
+        };
+        let corner = |k: usize| from_glam(mesh.vertices()[idx[k] as usize]);
+        let moved = |k: usize| corner(k) + self.deformation[idx[k] as usize];
+        let before = (corner(1) - corner(0)).cross(&(corner(2) - corner(0)));
+        let after = (moved(1) - moved(0)).cross(&(moved(2) - moved(0)));
+        UnitQuaternion::rotation_between(&before, &after).map_or(*n, |q| q * n)
+    }
+
+    /// Velocity (m/s) of the surface's material point at body-space `local` on the shape as it
+    /// stands, which a deforming mesh displaces by `motion` (body space, m) over the step of
+    /// `dt` s, on top of the pose's motion.
+    pub(super) fn surface_velocity(
+        &self,
+        local: &Vector3<f32>,
+        motion: &Vector3<f32>,
+        dt: f32,
+    ) -> Vector3<f32> {
+        if self.deformation.is_empty() {
+            return self.velocity_at(local, dt);
+        }
+        let (from, to) = if self.shape_at_end {
+            (local - motion, *local)
+        } else {
+            (*local, local + motion)
+        };
+        ((self.end * Point3::from(to)) - (self.start * Point3::from(from))) / dt
     }
 }
 
@@ -247,7 +294,7 @@ pub(crate) fn detect(
     let strands = input.offsets.len() - 1;
     colliders.place_for_step(a, b);
     let count = colliders.entries.len();
-    let step = step_colliders(&colliders.entries, a, b);
+    let step = step_colliders(&colliders.entries, a, b, false);
     let memory = &mut colliders.clearance.memory;
     if memory.len() != n * count {
         *memory = vec![Memory::default(); n * count];
@@ -327,6 +374,7 @@ pub(crate) fn detect(
                             + col.thickness
                             + 2.0 * relative.norm() * dt
                             + input.gravity * dt * dt
+                            + col.motion_margin
                             + SLACK;
                         let m = &o.memory[j * count + c];
                         if m.bound - (local - m.at).norm() >= q {
@@ -392,7 +440,7 @@ pub(crate) fn detect(
                     let j = i - base;
                     let col = &step[*c];
                     let x = input.positions[i];
-                    o.surface_velocity[j] = col.velocity_at(&hit.local_point, dt);
+                    o.surface_velocity[j] = col.surface_velocity(&hit.local_point, &hit.motion, dt);
                     o.friction[j] = col.friction;
                     o.active[k] = true;
                     found += 1;
@@ -421,7 +469,20 @@ pub(crate) fn detect(
                         o.anchor[j] = start.coords;
                         o.size[j] = rho_grown.copysign(hit.curvature);
                         o.curved[j] = true;
-                        o.anchor_velocity[j] = col.velocity_from(&centre, &start, dt);
+                        o.anchor_velocity[j] = if col.deformation.is_empty() {
+                            col.velocity_from(&centre, &start, dt)
+                        } else {
+                            // The sphere moves with the contact's material point and turns with
+                            // its triangle.
+                            let turned = col.turned(hit.triangle, &hit.smooth_normal);
+                            let swing = (turned - hit.smooth_normal) * rho;
+                            let motion = if hit.curvature > 0.0 {
+                                hit.motion - swing
+                            } else {
+                                hit.motion + swing
+                            };
+                            col.surface_velocity(&centre, &motion, dt)
+                        };
                     } else {
                         o.anchor[j] = normal;
                         o.size[j] = d0 - normal.dot(&x);
@@ -434,8 +495,15 @@ pub(crate) fn detect(
         .sum()
 }
 
-/// The colliders as detection sees them during the step from fraction `a` to `b` of the frame.
-pub(super) fn step_colliders(entries: &[Entry], a: f32, b: f32) -> Vec<StepCollider<'_>> {
+/// The colliders as detection sees them during the step from fraction `a` to `b` of the frame,
+/// their shapes standing at the step's start (or at its end, `shape_at_end`; see
+/// [`Colliders::place_meshes`]).
+pub(super) fn step_colliders(
+    entries: &[Entry],
+    a: f32,
+    b: f32,
+    shape_at_end: bool,
+) -> Vec<StepCollider<'_>> {
     entries
         .iter()
         .map(|e| {
@@ -454,6 +522,12 @@ pub(super) fn step_colliders(entries: &[Entry], a: f32, b: f32) -> Vec<StepColli
                 topology: &e.topology,
                 reach: e.bounding_radius,
                 fast: e.fast.as_ref(),
+                deformation: e
+                    .deformation
+                    .as_ref()
+                    .map_or(&[][..], |d| d.step_motion.as_slice()),
+                motion_margin: e.deformation.as_ref().map_or(0.0, |d| d.step_margin),
+                shape_at_end,
             }
         })
         .collect()
@@ -486,6 +560,9 @@ pub(super) struct Hit {
     curvature: f32,
     /// Triangle of a mesh the point projected on (0 for analytic shapes).
     triangle: u32,
+    /// Displacement over the step of the surface's material point at the projection, body
+    /// space, m: the barycentric blend of a deforming mesh's vertex motion (0 otherwise).
+    pub(super) motion: Vector3<f32>,
 }
 
 /// Projects body-space point `p` on collider `col` if its surface lies within `q` (m), or if the
@@ -588,6 +665,7 @@ fn project(
         local_point: point,
         curvature,
         triangle: 0,
+        motion: Vector3::zeros(),
     })
 }
 
@@ -613,7 +691,8 @@ fn mesh_hit(
     let idx = mesh.indices()[tri as usize];
     let vertex = |i: u32| from_glam(mesh.vertices()[i as usize]);
     let topology = col.topology;
-    let (point, owner) = match feature {
+    let moving = |i: u32| col.deformation.get(i as usize).copied().unwrap_or_default();
+    let (point, owner, motion) = match feature {
         Feature::Face => {
             let a = vertex(idx[0]);
             // The shortcut keeps each triangle's unit normal: the same bits as computed here.
@@ -624,7 +703,14 @@ fn mesh_hit(
                     let [b, c] = [idx[1], idx[2]].map(vertex);
                     unit_or_z((b - a).cross(&(c - a)))
                 });
-            (p - n * n.dot(&(p - a)), tri)
+            let point = p - n * n.dot(&(p - a));
+            let motion = if col.deformation.is_empty() {
+                Vector3::zeros()
+            } else {
+                let [u, v, w] = barycentric(&idx.map(vertex), &point);
+                moving(idx[0]) * u + moving(idx[1]) * v + moving(idx[2]) * w
+            };
+            (point, tri, motion)
         }
         Feature::Edge(k) => {
             let (u, v) = (idx[k as usize], idx[(k as usize + 1) % 3]);
@@ -640,12 +726,13 @@ fn mesh_hit(
                 .edge_owner
                 .get(tri as usize)
                 .map_or(tri, |o| o[k as usize]);
-            (a + ab * s, owner)
+            let motion = moving(u.min(v)) * (1.0 - s) + moving(u.max(v)) * s;
+            (a + ab * s, owner, motion)
         }
         Feature::Vertex(k) => {
             let v = idx[k as usize];
             let owner = topology.vertex_owner.get(v as usize).copied();
-            (vertex(v), owner.unwrap_or(tri))
+            (vertex(v), owner.unwrap_or(tri), moving(v))
         }
     };
     let delta = p - point;
@@ -691,6 +778,7 @@ fn mesh_hit(
         local_point: point,
         curvature,
         triangle: owner,
+        motion,
     })
 }
 
@@ -741,6 +829,22 @@ fn smooth_normal(
     } else {
         n
     }
+}
+
+/// Barycentric weights of `point` (in the plane of `corners`, m) in that triangle; a degenerate
+/// triangle gives all weight to its first corner.
+fn barycentric(corners: &[Vector3<f32>; 3], point: &Vector3<f32>) -> [f32; 3] {
+    let [a, b, c] = corners;
+    let (e0, e1, e2) = (b - a, c - a, point - a);
+    let (d00, d01, d11) = (e0.dot(&e0), e0.dot(&e1), e1.dot(&e1));
+    let (d20, d21) = (e2.dot(&e0), e2.dot(&e1));
+    let det = d00 * d11 - d01 * d01;
+    if det.is_nan() || det <= 0.0 {
+        return [1.0, 0.0, 0.0];
+    }
+    let v = (d11 * d20 - d01 * d21) / det;
+    let w = (d00 * d21 - d01 * d20) / det;
+    [1.0 - v - w, v, w]
 }
 
 /// Nearest point of a capsule's axis segment to `point` (body space), or the origin for other
@@ -880,7 +984,7 @@ mod tests {
     fn projections_do_not_depend_on_the_hint() {
         let mut colliders = sphere_mesh(64, 32);
         colliders.place_for_step(0.0, 1.0);
-        let step = step_colliders(&colliders.entries, 0.0, 1.0);
+        let step = step_colliders(&colliders.entries, 0.0, 1.0, false);
         let mut seed = 12345u64;
         let mut uniform = || {
             seed = seed

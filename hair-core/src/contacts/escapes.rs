@@ -54,13 +54,15 @@ pub(crate) fn put_back_escapees(
     step_dt: f32,
     input: EscapeInput,
 ) -> usize {
+    // Deforming meshes stand at the frame's end, with the last step's motion.
+    colliders.place_meshes(1.0, a, 1.0);
     let count = colliders.entries.len();
     let n = input.positions.len();
     let memory = &mut colliders.clearance.memory;
     if count == 0 || memory.len() != n * count {
         return 0;
     }
-    let step = step_colliders(&colliders.entries, a, 1.0);
+    let step = step_colliders(&colliders.entries, a, 1.0, true);
     let end_inv: Vec<_> = step.iter().map(|c| c.end.inverse()).collect();
     input
         .positions
@@ -92,7 +94,8 @@ pub(crate) fn put_back_escapees(
                     let target = hit.local_point + hit.local_normal * keep;
                     *x = (col.end * Point3::from(target)).coords;
                     let normal = col.end.rotation * hit.local_normal;
-                    let into = (*v - col.velocity_at(&target, step_dt)).dot(&normal);
+                    let surface = col.surface_velocity(&target, &hit.motion, step_dt);
+                    let into = (*v - surface).dot(&normal);
                     if into < 0.0 {
                         *v -= normal * into;
                     }

@@ -26,7 +26,8 @@
 //! search from the root costs a few hundred nanoseconds. It is the same answer, not an
 //! approximation (up to which of two equally near triangles is named).
 //!
-//! Vertex convexity is computed once per mesh. An edge counts as convex when it folds inwards by
+//! Vertex convexity is computed once per mesh (and again when a deforming mesh moves,
+//! [`FastProjection::refresh`]). An edge counts as convex when it folds inwards by
 //! at most [`FOLD`] of its length (the diagonal of a slightly non-planar quad: the built-in head
 //! has such folds of up to 47 µm on 12 mm edges); the answer is then exact up to that fold
 //! height. Clearances are computed lazily, the first time a triangle is asked for, by parry's triangle–triangle distance over the triangles the mesh's BVH
@@ -40,8 +41,8 @@ use std::sync::Arc;
 
 use nalgebra::Vector3;
 use parry3d::bounding_volume::BoundingVolume;
-use parry3d::math::Pose;
-use parry3d::shape::TriMesh;
+use parry3d::math::{Pose, Vector};
+use parry3d::shape::{TriMesh, Triangle};
 
 use super::math::from_glam;
 
@@ -67,6 +68,10 @@ pub(crate) struct FastProjection {
     cap: f32,
     /// Does the mesh bound a convex body (every vertex convex, one connected piece)?
     convex_body: bool,
+    /// Is the mesh one piece (every triangle reachable from the first across edges)?
+    connected: bool,
+    /// Every undirected edge, sorted by its vertices.
+    edges: Arc<[Edge]>,
     /// The vertices joined to each vertex by an edge: those of vertex `v` are
     /// `adjacent[adjacent_start[v]..adjacent_start[v + 1]]`.
     adjacent: Arc<[u32]>,
@@ -86,6 +91,15 @@ struct Plane {
     usable: bool,
     /// Is `normal` the unit normal (a positive, finite area)?
     unit: bool,
+}
+
+/// An undirected edge of the mesh: its vertices (`a < b`) and its two triangles (`None` unless
+/// exactly two use it).
+#[derive(Debug, Clone, Copy)]
+struct Edge {
+    a: u32,
+    b: u32,
+    triangles: Option<[u32; 2]>,
 }
 
 /// Where on a mesh triangle a point projects: inside it, on its edge `k` (vertices `k`, `k + 1`)
@@ -112,21 +126,82 @@ impl FastProjection {
         let vertices = mesh.vertices();
         let indices = mesh.indices();
         // Each undirected edge's two triangles (closed manifold: exactly two).
-        let mut edges: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+        let mut by_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
         for (t, tri) in indices.iter().enumerate() {
             for k in 0..3 {
                 let (a, b) = (tri[k], tri[(k + 1) % 3]);
-                edges.entry((a.min(b), a.max(b))).or_default().push(t);
+                by_edge.entry((a.min(b), a.max(b))).or_default().push(t);
             }
         }
+        let neighbours: Arc<[[u32; 3]]> = indices
+            .iter()
+            .enumerate()
+            .map(|(t, tri)| {
+                std::array::from_fn(|k| {
+                    let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                    by_edge[&(a.min(b), a.max(b))]
+                        .iter()
+                        .find(|&&u| u != t)
+                        .map_or(u32::MAX, |&u| u as u32)
+                })
+            })
+            .collect();
+        let mut around = vec![Vec::new(); vertices.len()];
+        for &(a, b) in by_edge.keys() {
+            around[a as usize].push(b);
+            around[b as usize].push(a);
+        }
+        let mut adjacent_start = vec![0u32];
+        let mut adjacent = Vec::new();
+        for list in &mut around {
+            list.sort_unstable();
+            adjacent.extend_from_slice(list);
+            adjacent_start.push(adjacent.len() as u32);
+        }
+        let mut edges: Vec<Edge> = by_edge
+            .iter()
+            .map(|(&(a, b), tris)| Edge {
+                a,
+                b,
+                triangles: match tris.as_slice() {
+                    &[t1, t2] => Some([t1 as u32, t2 as u32]),
+                    _ => None,
+                },
+            })
+            .collect();
+        edges.sort_unstable_by_key(|e| (e.a, e.b));
+        let mut fast = Self {
+            adjacent: adjacent.into(),
+            adjacent_start: adjacent_start.into(),
+            connected: connected(&neighbours),
+            edges: edges.into(),
+            planes: Arc::from([]),
+            neighbours,
+            half_clearance: Arc::from([]),
+            cap,
+            convex_body: false,
+        };
+        fast.refresh(mesh.vertices(), mesh.indices());
+        fast
+    }
+
+    /// Recomputes what depends on the vertex positions (planes, vertex convexity, clearances)
+    /// for a mesh whose vertices moved to `vertices` (body space, m); `indices` are its
+    /// triangles, those the shortcut was made for. The result is the same bits as
+    /// [`FastProjection::new`] on a mesh built at these positions.
+    pub fn refresh(&mut self, vertices: &[Vector], indices: &[[u32; 3]]) {
+        let triangle = |t: u32| {
+            let [a, b, c] = indices[t as usize].map(|i| vertices[i as usize]);
+            Triangle::new(a, b, c)
+        };
         let mut convex_vertex = vec![true; vertices.len()];
-        for (&(a, b), tris) in &edges {
-            let bends_out = match tris.as_slice() {
-                &[t1, t2] => {
-                    let tri1 = mesh.triangle(t1 as u32);
+        for &Edge { a, b, triangles } in self.edges.iter() {
+            let bends_out = match triangles {
+                Some([t1, t2]) => {
+                    let tri1 = triangle(t1);
                     let n1 = from_glam(tri1.scaled_normal());
                     // The vertex of t2 not on the edge lies on or below t1's plane.
-                    let other = indices[t2]
+                    let other = indices[t2 as usize]
                         .iter()
                         .find(|&&v| v != a && v != b)
                         .map(|&v| from_glam(vertices[v as usize]));
@@ -136,18 +211,18 @@ impl FastProjection {
                         n1.dot(&(d - from_glam(tri1.a))) <= FOLD * edge * n1.norm()
                     })
                 }
-                _ => false,
+                None => false,
             };
             if !bends_out {
                 convex_vertex[a as usize] = false;
                 convex_vertex[b as usize] = false;
             }
         }
-        let planes: Arc<[Plane]> = indices
+        self.planes = indices
             .iter()
             .enumerate()
             .map(|(t, idx)| {
-                let tri = mesh.triangle(t as u32);
+                let tri = triangle(t as u32);
                 let corners = [from_glam(tri.a), from_glam(tri.b), from_glam(tri.c)];
                 let scaled = (corners[1] - corners[0]).cross(&(corners[2] - corners[0]));
                 let area2 = scaled.norm();
@@ -161,44 +236,10 @@ impl FastProjection {
                 }
             })
             .collect();
-        let neighbours: Arc<[[u32; 3]]> = indices
-            .iter()
-            .enumerate()
-            .map(|(t, tri)| {
-                std::array::from_fn(|k| {
-                    let (a, b) = (tri[k], tri[(k + 1) % 3]);
-                    edges[&(a.min(b), a.max(b))]
-                        .iter()
-                        .find(|&&u| u != t)
-                        .map_or(u32::MAX, |&u| u as u32)
-                })
-            })
-            .collect();
-        let half_clearance = (0..indices.len())
+        self.half_clearance = (0..indices.len())
             .map(|_| AtomicU32::new(UNKNOWN))
             .collect();
-        let convex_body = convex_vertex.iter().all(|&c| c) && connected(&neighbours);
-        let mut around = vec![Vec::new(); vertices.len()];
-        for &(a, b) in edges.keys() {
-            around[a as usize].push(b);
-            around[b as usize].push(a);
-        }
-        let mut adjacent_start = vec![0u32];
-        let mut adjacent = Vec::new();
-        for list in &mut around {
-            list.sort_unstable();
-            adjacent.extend_from_slice(list);
-            adjacent_start.push(adjacent.len() as u32);
-        }
-        Self {
-            adjacent: adjacent.into(),
-            adjacent_start: adjacent_start.into(),
-            planes,
-            neighbours,
-            half_clearance,
-            cap,
-            convex_body,
-        }
+        self.convex_body = convex_vertex.iter().all(|&c| c) && self.connected;
     }
 
     /// Where body-space point `p` projects on `mesh` (the triangle, and the edge if on one), if

@@ -10,6 +10,8 @@
 //!   friction) and how meshes become solids or two-sided shells ([`MeshKind`]).
 //! - [`collider_set`]: the set ([`Colliders`]: a rapier `ColliderSet` and `BroadPhaseBvh`), each
 //!   collider's rigid pose at the start and end of the frame, and fast-motion stepping.
+//! - [`deforming`]: mesh colliders whose vertices move per frame ([`Colliders::set_vertices`]) and
+//!   the scalp collider following a deformed scalp: the model, what is exact, the cost.
 //! - [`settings`]: [`ContactSettings`] (fast-motion tolerance, push-out speed).
 //! - `detect`: detection once per step (query radius from relative motion, clearance skip, rapier
 //!   broad phase, parry narrow phase, the contact's surface model).
@@ -29,6 +31,13 @@
 //!     .unwrap();
 //! // Every frame: the pose at the frame's end, then Solver::step_frame_with_colliders.
 //! colliders.set_pose(ball, Isometry3::translation(0.0, 0.0, 0.05)).unwrap();
+//!
+//! // A deforming mesh: its body-space vertices at the frame's end, same count and order as the
+//! // mesh it was inserted with.
+//! let body = hair_core::TriMesh::uv_sphere(0.2, 16, 8).unwrap();
+//! let chest = colliders.insert(Collider::mesh(body.clone()), Isometry3::identity()).unwrap();
+//! let breathed: Vec<Vector3<f32>> = body.positions().iter().map(|p| p * 1.02).collect();
+//! colliders.set_vertices(chest, &breathed).unwrap();
 //! ```
 //!
 //! # What is implemented, and its limits
@@ -71,7 +80,11 @@
 //!   counts them (34 point-frames in that scene; none with its strain limit, where the check
 //!   changes nothing). Within a frame of several collision steps the next step's detection pushes
 //!   such a point out instead.
-//! - **Resuming.** The scalp collider is built from the rest mesh, a contact is computed from
+//! - **Resuming.** The scalp collider is built from the rest mesh (then put at the frame's deformed
+//!   scalp by [`Colliders::place_scalp`], a deforming mesh at its vertices by
+//!   [`Colliders::place_vertices`]: everything the shape holds is recomputed from the vertices and
+//!   parry's refitted tree keeps the structure built from the rest mesh, so the shape is the same
+//!   bits as the uninterrupted run's), a contact is computed from
 //!   the feature (face, edge, vertex) found, not from the path that found it, and where parry's
 //!   tree search answers (no warm start, or the shortcut could not certify) the shortcut is run
 //!   again from the triangle it found. Detection's memory (distance bounds, warm-start
@@ -88,8 +101,18 @@
 //!   update; the strain limiter (if on) runs after the position update and can move a point by
 //!   its (small) correction into a collider, which the next substep undoes.
 //! - **Kinematic points** (roots, pinned points) are never pushed.
-//! - **Scalp as collider** follows the scalp's rigid body transform, not its deformation; hair
-//!   whose rest shape lies closer to the scalp than its radius plus the thickness is pushed off.
+//! - **Deforming meshes** ([`deforming`]): the shape stands exactly at the linearly interpolated
+//!   vertices at every step's start; within a step each contact's plane or sphere moves with its
+//!   material point and turns with its triangle (exact where the neighbourhood moves rigidly);
+//!   friction acts against the deformation's surface velocity. What changes of bending within a
+//!   step do to the model (`Δκ δ²/2`) splits frames into more steps like rotation does. Each step
+//!   whose shape moved pays a refit of the mesh (linear in its size; 50k vertices measured in
+//!   `benches/deforming.rs`).
+//! - **Scalp as collider** follows the scalp: its body transform as the pose and, when the scalp
+//!   mesh handed to the solver is deformed beyond the body transform (by more than f32 rounding:
+//!   5 µm near the origin, relative 5e-6 of the distance from it), its vertices. A rigid scalp never touches the shape (the same bits as before
+//!   deformation was followed). Hair whose rest shape lies closer to the scalp than its radius
+//!   plus the thickness is pushed off.
 //! - **Shells** (open or non-manifold meshes) have no inside: a point is kept on the side it is on
 //!   at each step's start. A point that crossed a shell before detection saw it stays across.
 //! - **Explicit Euler** moves points with the old velocity; the response is applied to that
@@ -99,6 +122,7 @@
 
 pub mod collider;
 pub mod collider_set;
+pub mod deforming;
 pub(crate) mod detect;
 pub(crate) mod escapes;
 pub(crate) mod fast_projection;

@@ -203,7 +203,8 @@ pub struct RodSolver {
     frame: u32,
     /// Contact detection's memory per strand (see [`collide::Clearance`]).
     clearance: Vec<Vec<collide::Clearance>>,
-    /// The colliders that memory belongs to (their shapes' addresses).
+    /// The colliders that memory belongs to (their shapes' addresses and versions: a deformed
+    /// mesh invalidates it).
     clearance_key: Vec<usize>,
 }
 
@@ -412,7 +413,10 @@ impl RodSolver {
         if colliders.is_empty() {
             return self.advance(strands, scalp, None);
         }
-        colliders.begin_frame(scalp);
+        colliders.begin_frame(scalp)?;
+        // The rod projects onto each shape in every substep: a deforming mesh stands at the
+        // frame's end for the whole frame.
+        colliders.place_meshes(1.0, 0.0, 1.0);
         let report = self.advance(strands, scalp, Some(colliders));
         colliders.finish_frame();
         report
@@ -443,7 +447,12 @@ impl RodSolver {
             let key: Vec<usize> = c
                 .entries
                 .iter()
-                .map(|e| std::sync::Arc::as_ptr(&e.shape.0) as *const u8 as usize)
+                .flat_map(|e| {
+                    [
+                        std::sync::Arc::as_ptr(&e.shape.0) as *const u8 as usize,
+                        e.version as usize,
+                    ]
+                })
                 .collect();
             if key != self.clearance_key {
                 self.clearance.iter_mut().for_each(Vec::clear);

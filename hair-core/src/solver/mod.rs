@@ -408,8 +408,10 @@ impl Solver {
     }
 
     /// Advances `strands` by one frame, to the instant at which `scalp` is given, colliding with
-    /// `colliders` at the poses set for this frame's end ([`Colliders::set_pose`]); colliders
-    /// inserted with [`Colliders::insert_scalp`] follow `scalp.body`. See [`crate::contacts`].
+    /// `colliders` at the poses (and mesh vertices) set for this frame's end
+    /// ([`Colliders::set_pose`], [`Colliders::set_vertices`]); colliders inserted with
+    /// [`Colliders::insert_scalp`] follow `scalp.body` and a deformed `scalp.mesh`. See
+    /// [`crate::contacts`].
     ///
     /// A frame whose colliders move too fast for the contact model's tolerance
     /// ([`crate::contacts::collider_set`]) runs more collision steps with proportionally fewer substeps each ([`FrameReport::steps`]). An empty set does
@@ -452,7 +454,7 @@ impl Solver {
         // Fast colliders split the frame into more steps of fewer substeps each.
         let factor = match colliders.as_deref_mut() {
             Some(c) => {
-                c.begin_frame(scalp);
+                c.begin_frame(scalp)?;
                 let tolerance = c
                     .settings
                     .tolerance
