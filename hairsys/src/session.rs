@@ -11,7 +11,8 @@
 //!    ([`Session::set_scalp_transform`]) or deformed vertex positions
 //!    ([`Session::set_scalp_vertices`], in the scalp's body space, with the body transform);
 //!    both move the roots, and the scalp collider follows.
-//! 2. Pose colliders ([`Session::set_collider_pose`]) and change animatable parameters
+//! 2. Pose colliders ([`Session::set_collider_pose`]), deform mesh colliders
+//!    ([`Session::set_collider_vertices`]) and change animatable parameters
 //!    ([`Session::params_mut`], [`Session::fields_mut`], [`Session::hair_hair_mut`]).
 //! 3. [`Session::step`] advances one frame (1/fps s).
 //! 4. Read [`Session::positions`] and [`Session::velocities`] as flat `[f32; 3]` slices (no copy)
@@ -355,6 +356,28 @@ impl Session {
         }
         self.pending.posed[i] = true;
         Ok(())
+    }
+
+    /// Deforms mesh collider `id`: `vertices` (m, one per vertex of the mesh it was inserted
+    /// with, in that order, in its body space) are its shape at the end of the frame to be
+    /// stepped next; within the frame each vertex moves in a straight line, and the surface
+    /// velocity that gives acts on friction and the contact response (see
+    /// `hair_core::contacts`). Place the mesh with [`Session::set_collider_pose`].
+    pub fn set_collider_vertices(&mut self, id: ColliderId, vertices: &[[f32; 3]]) -> Result<()> {
+        self.check_collider(id)?;
+        let argument = format!("collider {} vertices", id.0);
+        if let Some(i) = vertices
+            .iter()
+            .position(|v| !v.iter().all(|c| c.is_finite()))
+        {
+            return Err(Error::argument(
+                argument,
+                format!("vertex {i} is not finite ({:?})", vertices[i]),
+            ));
+        }
+        self.colliders
+            .set_vertices(id, cast_slice(vertices))
+            .map_err(|e| Error::argument(argument, e.to_string()))
     }
 
     fn check_collider(&self, id: ColliderId) -> Result<()> {

@@ -190,3 +190,84 @@ fn a_failed_session_refuses_to_step_until_restored() {
     session.restore(&snap).unwrap();
     session.step().unwrap();
 }
+
+/// Deepest free point (its centre) inside `mesh` (world space, a closed solid), m.
+fn deepest_inside(mesh: &hair_core::TriMesh, positions: &[[f32; 3]], inv_mass: &[f32]) -> f32 {
+    use parry3d::math::Vector as GlamVector;
+    use parry3d::query::PointQuery;
+    use parry3d::shape::{TriMesh as ParryMesh, TriMeshFlags};
+    let vertices = mesh
+        .positions()
+        .iter()
+        .map(|p| GlamVector::new(p.x, p.y, p.z))
+        .collect();
+    let solid =
+        ParryMesh::with_flags(vertices, mesh.triangles().to_vec(), TriMeshFlags::ORIENTED).unwrap();
+    positions
+        .iter()
+        .zip(inv_mass)
+        .filter(|(_, &w)| w > 0.0)
+        .map(|(p, _)| {
+            let x = GlamVector::new(p[0], p[1], p[2]);
+            let hit = solid.project_local_point(x, false);
+            if hit.is_inside {
+                (hit.point - x).length()
+            } else {
+                0.0
+            }
+        })
+        .fold(0.0, f32::max)
+}
+
+#[test]
+fn hair_stays_outside_a_deforming_scalp_collider() {
+    let text = DEFAULT_SCENE
+        .replace("count = 4000", "count = 200")
+        .replace("frames = [1, 48]", "frames = [1, 12]")
+        .replace(
+            "[scalp.motion]",
+            "[scalp.collider]\nthickness = 0.0\nfriction = 0.3\n\n[scalp.motion]",
+        );
+    let scene = SceneFile::parse(&text, "deforming head", ".".into()).unwrap();
+    let mut session = Session::from_scene(&scene).unwrap();
+    let rest = session.rest_scalp().unwrap().positions().to_vec();
+    for f in 2..=12 {
+        session
+            .set_scalp_vertices(&deformed(&rest, f), Isometry3::identity())
+            .unwrap();
+        session.step().unwrap();
+        let mesh = session.scalp().mesh.as_ref().unwrap();
+        let depth = deepest_inside(
+            mesh,
+            session.positions(),
+            session.strands().inverse_masses(),
+        );
+        assert!(
+            depth == 0.0,
+            "frame {f}: a hair point is {depth:.2e} m inside the scalp"
+        );
+    }
+}
+
+#[test]
+fn a_deformed_mesh_collider_is_refused_by_name_when_its_vertex_count_is_wrong() {
+    let text = DEFAULT_SCENE
+        .replace("count = 4000", "count = 50")
+        .replace("frames = [1, 48]", "frames = [1, 4]")
+        .replace(
+            "[hair]",
+            "[[colliders]]\nname = \"ball\"\nshape = { kind = \"sphere\", radius = 0.05 }\n\n[hair]",
+        );
+    let scene = SceneFile::parse(&text, "ball", ".".into()).unwrap();
+    let mut session = Session::from_scene(&scene).unwrap();
+    // A sphere is analytic: it cannot deform.
+    let e = session
+        .set_collider_vertices(ColliderId(0), &[[0.0; 3]; 3])
+        .unwrap_err();
+    assert!(e.to_string().contains("collider 0 vertices"), "{e}");
+    let e = session
+        .set_collider_vertices(ColliderId(0), &[[f32::NAN; 3]; 3])
+        .unwrap_err();
+    assert!(e.to_string().contains("vertex 0 is not finite"), "{e}");
+    session.step().unwrap();
+}
