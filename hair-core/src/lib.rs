@@ -31,6 +31,7 @@ pub mod error;
 pub mod fields;
 pub mod frames;
 pub mod mesh;
+pub mod quality;
 pub mod rod;
 pub mod solver;
 pub mod strands;
@@ -41,6 +42,7 @@ pub use contacts::{Collider, ColliderId, ColliderShape, Colliders, ContactSettin
 pub use error::{HairError, Result};
 pub use fields::{Falloff, FalloffShape, FieldKind, ForceField, Strength};
 pub use mesh::{MeshSample, RootFrame, TriMesh};
+pub use quality::{QualityInput, QualityOptions, QualityReport};
 pub use rod::{ProjectionReport, RodFrameReport, RodParams, RodSolver, StrandModel};
 pub use solver::energy::{energy, Energy};
 pub use solver::{

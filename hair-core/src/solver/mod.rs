@@ -44,6 +44,7 @@ mod kernel;
 pub(crate) mod lanes;
 pub mod params;
 pub mod stability;
+mod strain_limit;
 
 use std::time::{Duration, Instant};
 
