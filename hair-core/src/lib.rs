@@ -5,7 +5,9 @@
 //! mass-spring strand [`Solver`], the discrete-rod strand solver of seed 002 ([`rod`]:
 //! [`RodSolver`]), the hair-strip model of seed 000 ([`strips`]: edge strands in pairs
 //! bounding ribbons) and hair–object collision ([`contacts`]: [`Colliders`]),
-//! voxel hair–hair interaction ([`volume`]) and force fields ([`fields`]). Units are SI (m, s, kg), Z up.
+//! voxel hair–hair interaction ([`volume`]) and force fields ([`fields`]), and a quality report
+//! of simulated frames ([`quality`]: penetration, strain, hairpins, drift, velocity–position
+//! mismatch). Units are SI (m, s, kg), Z up.
 //!
 //! This crate does no file or terminal I/O and keeps no global state: a host (the `hairsys` CLI
 //! or a DCC plugin) sets the scalp for each frame, calls [`Solver::step_frame`] and reads the

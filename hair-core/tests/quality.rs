@@ -75,7 +75,11 @@ fn one_fold_back_is_one_hairpin_of_180_degrees() {
     let s = Strands::new(&[folded, straight, bent]);
     let r = measure(&s.input(), &QualityOptions::default()).unwrap();
     assert_eq!(r.hairpins.count, 1);
-    assert!((r.hairpins.max_turn_deg - 180.0).abs() < 0.1, "{}", r.hairpins.max_turn_deg);
+    assert!(
+        (r.hairpins.max_turn_deg - 180.0).abs() < 0.1,
+        "{}",
+        r.hairpins.max_turn_deg
+    );
     // A turn of exactly 90° is not a hairpin, 91° is.
     for (deg, count) in [(60.0f32, 0), (89.0, 0), (91.0, 1)] {
         let mut p = line(Vector3::zeros(), Vector3::z(), 2);
@@ -149,10 +153,20 @@ fn one_percent_stretch_shows_in_p99_and_max() {
     assert_eq!(st.count(), 100);
     // Positions up to 1 m carry 6e-8 m of f32 error: strain 1e-2 ± 1e-5.
     assert!((st.max() - 0.01).abs() < 1e-5, "max {}", st.max());
-    assert!((st.p99() - 0.01).abs() < 1e-5, "rank 99 of 100 is a stretched one");
-    assert!(st.p50() < 1e-5, "the median segment is at rest: {}", st.p50());
+    assert!(
+        (st.p99() - 0.01).abs() < 1e-5,
+        "rank 99 of 100 is a stretched one"
+    );
+    assert!(
+        st.p50() < 1e-5,
+        "the median segment is at rest: {}",
+        st.p50()
+    );
     assert!((co.max() - 0.02).abs() < 1e-5);
-    assert!(co.p99() < 1e-5, "one compressed segment in 100 is above p99");
+    assert!(
+        co.p99() < 1e-5,
+        "one compressed segment in 100 is above p99"
+    );
 }
 
 #[test]
@@ -171,7 +185,7 @@ fn exact_motion_with_consistent_velocities_has_no_mismatch() {
         .map(|(x, v)| x + v * dt + g * (0.5 * dt * dt))
         .collect();
     let v1: Vec<Vector3<f32>> = v0.iter().map(|v| v + g * dt).collect();
-    let mut s = Strands::new(&[x1.clone()]);
+    let mut s = Strands::new(std::slice::from_ref(&x1));
     s.velocities = v1.clone();
     s.rest = vec![0.01; 10];
     let mut input = s.input();

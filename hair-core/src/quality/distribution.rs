@@ -22,7 +22,7 @@ const BINS: usize = 1 + (EXPONENTS << MANTISSA_BITS) as usize;
 
 /// Count, maximum and quantiles of a non-negative quantity (units those of the quantity).
 /// Serialises as `{count, p50, p99, max}`.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Clone, Default, PartialEq)]
 pub struct Distribution {
     count: u64,
     max: f32,
@@ -118,6 +118,17 @@ impl Distribution {
     }
 }
 
+impl std::fmt::Debug for Distribution {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Distribution")
+            .field("count", &self.count)
+            .field("p50", &self.p50())
+            .field("p99", &self.p99())
+            .field("max", &self.max)
+            .finish()
+    }
+}
+
 impl Serialize for Distribution {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         let mut s = serializer.serialize_struct("Distribution", 4)?;
@@ -148,7 +159,10 @@ mod tests {
         for (q, rank) in [(0.5, 500), (0.99, 990)] {
             let truth = sorted[rank - 1];
             let got = d.quantile(q);
-            assert!(got >= truth && got <= truth * 1.008, "q{q}: {got} vs {truth}");
+            assert!(
+                got >= truth && got <= truth * 1.008,
+                "q{q}: {got} vs {truth}"
+            );
         }
         assert_eq!(d.max(), sorted[999]);
         assert_eq!(d.count(), 1000);

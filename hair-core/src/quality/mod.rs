@@ -7,7 +7,7 @@
 //! into one for the run (counts add, maxima take the larger, quantiles come from merged
 //! log-spaced histograms, see [`Distribution`]). What it measures, and why:
 //!
-//! - **Penetration** ([`Penetration`], [`penetration`]): the fraction of free points whose
+//! - **Penetration** ([`Penetration`]): the fraction of free points whose
 //!   collision sphere lies inside a collider's thickened surface by more than a contact
 //!   tolerance, and the deepest penetration (m). The contact response keeps a point's centre at
 //!   its radius plus the collider's thickness from the surface (see [`crate::contacts`]), so a
@@ -138,15 +138,22 @@ impl<'a> Frame<'a> {
                 return bad(
                     name,
                     format!("{len} entries"),
-                    &format!("give one entry per {} ({want})", if name == "rest_lengths" {
-                        "segment"
-                    } else {
-                        "point"
-                    }),
+                    &format!(
+                        "give one entry per {} ({want})",
+                        if name == "rest_lengths" {
+                            "segment"
+                        } else {
+                            "point"
+                        }
+                    ),
                 );
             }
         }
-        if let Some(j) = self.rest_lengths.iter().position(|&l| !(l > 0.0)) {
+        if let Some(j) = self
+            .rest_lengths
+            .iter()
+            .position(|&l| l.is_nan() || l <= 0.0)
+        {
             return bad(
                 "rest_lengths",
                 format!("segment {j}: {}", self.rest_lengths[j]),
@@ -224,7 +231,11 @@ impl QualityReport {
         self.points += other.points;
         self.strain.merge(&other.strain);
         self.hairpins.merge(&other.hairpins);
-        merge_option(&mut self.penetration, &other.penetration, Penetration::merge);
+        merge_option(
+            &mut self.penetration,
+            &other.penetration,
+            Penetration::merge,
+        );
         merge_option(&mut self.drift, &other.drift, Drift::merge);
         merge_option(
             &mut self.velocity_mismatch,

@@ -109,10 +109,7 @@ pub(crate) fn measure(
             }
             out
         })
-        .reduce(
-            || (0, 0, 0.0),
-            |a, b| (a.0 + b.0, a.1 + b.1, a.2.max(b.2)),
-        );
+        .reduce(|| (0, 0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2.max(b.2)));
     let fraction = if checked > 0 {
         inside as f64 / checked as f64
     } else {

@@ -74,7 +74,13 @@ struct DriftSums {
 
 impl Drift {
     fn finish(sums: DriftSums, max: f32, tip_max: f32) -> Self {
-        let rms = |s: f64, n: u64| if n > 0 { (s / n as f64).sqrt() as f32 } else { 0.0 };
+        let rms = |s: f64, n: u64| {
+            if n > 0 {
+                (s / n as f64).sqrt() as f32
+            } else {
+                0.0
+            }
+        };
         Self {
             rms: rms(sums.squares, sums.points),
             max,

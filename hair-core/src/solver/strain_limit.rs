@@ -145,15 +145,21 @@ mod tests {
         let p0: Vec<Vector3<f32>> = (0..n)
             .map(|i| {
                 let i = i as f32;
-                Vector3::new(0.0105 * i, 0.0, if i as usize % 2 == 0 { 0.0 } else { 0.003 })
+                Vector3::new(
+                    0.0105 * i,
+                    0.0,
+                    if (i as usize).is_multiple_of(2) {
+                        0.0
+                    } else {
+                        0.003
+                    },
+                )
             })
             .collect();
         let rest: Vec<f32> = (0..n - 1)
             .map(|j| (p0[j + 1] - p0[j]).norm() / 1.05)
             .collect();
-        let lanes = |p: &[Vector3<f32>]| -> Vec<V3<Baseline>> {
-            p.iter().map(V3::splat).collect()
-        };
+        let lanes = |p: &[Vector3<f32>]| -> Vec<V3<Baseline>> { p.iter().map(V3::splat).collect() };
         let mut x = lanes(&p0);
         let v0: Vec<Vector3<f32>> = (0..n)
             .map(|i| Vector3::new(0.1 * i as f32, -0.2, 0.05))
@@ -175,8 +181,15 @@ mod tests {
         );
         for j in 0..n - 1 {
             let len = (x[j + 1] - x[j]).lane(0).norm();
-            assert!(len <= rest[j] * 1.01 * (1.0 + 1e-6), "segment {j}: {}", len / rest[j]);
-            assert!(len >= rest[j] * 1.01 * (1.0 - 1e-4), "segment {j} over-corrected");
+            assert!(
+                len <= rest[j] * 1.01 * (1.0 + 1e-6),
+                "segment {j}: {}",
+                len / rest[j]
+            );
+            assert!(
+                len >= rest[j] * 1.01 * (1.0 - 1e-4),
+                "segment {j} over-corrected"
+            );
         }
         assert_eq!(x[0].lane(0), p0[0]);
         for i in 0..n {
