@@ -2,8 +2,9 @@
 //!
 //! 2,000 strands of 16 segments (34,000 points) hang from a fixed scalp; one frame of 32
 //! substeps is timed, with stretch + bend + goal + gravity + drag, with and without the damping
-//! sub-loop (10 Jacobi iterations), and with the sub-loop and the inextensibility projection, at
-//! 48 fps so dt is half the stability bound. Run: `cargo bench -p hair-core --bench strand_step`.
+//! sub-loop (10 Jacobi iterations), with the sub-loop and the inextensibility projection, and
+//! with the sub-loop and a 1 % strain limit (soft springs that the limit holds), at 48 fps so dt
+//! is half the stability bound. Run: `cargo bench -p hair-core --bench strand_step`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use hair_core::{
@@ -47,10 +48,21 @@ fn bench(c: &mut Criterion) {
         (base.point_count() as u64) * SUBSTEPS as u64,
     ));
     group.sample_size(20);
-    for (name, iterations, projection) in [
-        ("no damping", 0, false),
-        ("damping 10 Jacobi", 10, false),
-        ("damping 10 Jacobi + inextensibility projection", 10, true),
+    for (name, iterations, projection, max_strain) in [
+        ("no damping", 0, false, None),
+        ("damping 10 Jacobi", 10, false, None),
+        (
+            "damping 10 Jacobi + inextensibility projection",
+            10,
+            true,
+            None,
+        ),
+        (
+            "damping 10 Jacobi + strain limit 1 %",
+            10,
+            false,
+            Some(0.01),
+        ),
     ] {
         let params = HairParams {
             goal_stiffness: 0.5,
@@ -62,6 +74,7 @@ fn bench(c: &mut Criterion) {
             substeps: Substeps::Fixed(SUBSTEPS),
             damping_iterations: iterations,
             fps: 48.0,
+            max_strain,
             ..SolverSettings::default()
         };
         let scalp = Scalp::fixed();

@@ -5,7 +5,9 @@
 //! mass-spring strand [`Solver`], the discrete-rod strand solver of seed 002 ([`rod`]:
 //! [`RodSolver`]), the hair-strip model of seed 000 ([`strips`]: edge strands in pairs
 //! bounding ribbons) and hair–object collision ([`contacts`]: [`Colliders`]),
-//! voxel hair–hair interaction ([`volume`]) and force fields ([`fields`]). Units are SI (m, s, kg), Z up.
+//! voxel hair–hair interaction ([`volume`]) and force fields ([`fields`]), and a quality report
+//! of simulated frames ([`quality`]: penetration, strain, hairpins, drift, velocity–position
+//! mismatch). Units are SI (m, s, kg), Z up.
 //!
 //! This crate does no file or terminal I/O and keeps no global state: a host (the `hairsys` CLI
 //! or a DCC plugin) sets the scalp for each frame, calls [`Solver::step_frame`] and reads the
@@ -32,6 +34,7 @@ pub mod fields;
 pub mod frames;
 pub mod mesh;
 pub mod model;
+pub mod quality;
 pub mod rod;
 pub mod solver;
 pub mod strands;
@@ -43,6 +46,7 @@ pub use error::{HairError, Result};
 pub use fields::{Falloff, FalloffShape, FieldKind, ForceField, Strength};
 pub use mesh::{MeshSample, RootFrame, TriMesh};
 pub use model::{Component, ComponentSet, ModelFigures, StrandSolver, StripFigures};
+pub use quality::{QualityInput, QualityOptions, QualityReport};
 pub use rod::{ProjectionReport, RodFrameReport, RodParams, RodSolver, StrandModel};
 pub use solver::energy::{energy, Energy};
 pub use solver::{

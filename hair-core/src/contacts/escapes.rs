@@ -18,6 +18,10 @@
 //! velocity relative to the collider loses any part pointing into the surface. A scene where no
 //! point outruns the margin is bit-identical with or without this check.
 //!
+//! The move back is a correction, not motion: the point's velocity keeps its tangential and
+//! outward parts and loses only what points into the surface, and the displacement is not
+//! added to it (that would throw the point off the collider; see `penalty` on the push-out).
+//!
 //! On a shell (an open mesh, no inside) a point that crossed it is put back at the distance on
 //! the side it ended on: the check keeps the distance, it does not undo a crossing.
 

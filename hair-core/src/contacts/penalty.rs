@@ -29,6 +29,17 @@
 //!   relative to the surface, `v_t`, shrinks by at most `μ Δ` (Coulomb: the friction impulse is at
 //!   most μ times the normal impulse), stopping at 0 (static friction) and never reversing.
 //!
+//! **Velocities and positions.** Everywhere else in the substep the stored velocity is the one
+//! that moved the point (semi-implicit Euler, and the strain limit moves velocities by its
+//! displacements over dt, see `solver::strain_limit`). The push-out is the one deliberate
+//! exception: storing its displacement over dt as velocity would launch a point found 5 mm
+//! inside at 5 mm/dt outward — at 0.5 ms substeps, 10 m/s, exactly the bounce Choe et al.
+//! exclude — and the next substep would see a point leaving the surface and let it fly. So the
+//! push is a position correction of an earlier error (hair found inside), not motion: the
+//! velocity–position mismatch it leaves is at most `max_push_speed` for the substeps in which
+//! a point is pushed, and zero for points that approach or rest on the surface (for them the
+//! push is 0 and the kept velocity is exactly the one that lands them on it).
+//!
 //! This is a velocity-level penalty: it is the limit of Choe et al.'s penalty spring stiff enough
 //! to stop the penetrating velocity in one substep, applied as the impulse it would deliver, so it
 //! adds no stiffness to the stability bound.

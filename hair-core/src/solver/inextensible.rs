@@ -86,16 +86,16 @@ impl Inextensibility {
 pub(crate) struct ProjectionScratch<L = Baseline> {
     /// Per segment: unit direction, right-hand side (constraint value or rate), matrix
     /// diagonal and upper diagonal, Thomas factors, and the solution.
-    tangent: Vec<V3<L>>,
-    rhs: Vec<L>,
-    diag: Vec<L>,
-    upper: Vec<L>,
+    pub(super) tangent: Vec<V3<L>>,
+    pub(super) rhs: Vec<L>,
+    pub(super) diag: Vec<L>,
+    pub(super) upper: Vec<L>,
     factor: Vec<L>,
-    lambda: Vec<L>,
+    pub(super) lambda: Vec<L>,
 }
 
 impl<L: Lane> ProjectionScratch<L> {
-    fn fit(&mut self, segments: usize) {
+    pub(super) fn fit(&mut self, segments: usize) {
         for buf in [
             &mut self.rhs,
             &mut self.diag,
@@ -137,6 +137,18 @@ impl<L: Lane> ProjectionScratch<L> {
                 splat(0.0)
             };
         }
+        self.thomas();
+        for j in 0..m {
+            let step = self.tangent[j] * self.lambda[j];
+            y[j] += step * inv_mass[j];
+            y[j + 1] -= step * inv_mass[j + 1];
+        }
+    }
+
+    /// Solves the tridiagonal system held in `diag`, `upper` (symmetric) and `rhs` into
+    /// `lambda` (Thomas algorithm; a zero pivot gives λ = 0 for its row).
+    pub(super) fn thomas(&mut self) {
+        let m = self.rhs.len();
         let (mut prev_factor, mut prev_lambda) = (splat(0.0), splat(0.0));
         for j in 0..m {
             let lower = if j > 0 { self.upper[j - 1] } else { splat(0.0) };
@@ -148,11 +160,6 @@ impl<L: Lane> ProjectionScratch<L> {
         }
         for j in (0..m.saturating_sub(1)).rev() {
             self.lambda[j] = self.lambda[j] - self.factor[j] * self.lambda[j + 1];
-        }
-        for j in 0..m {
-            let step = self.tangent[j] * self.lambda[j];
-            y[j] += step * inv_mass[j];
-            y[j + 1] -= step * inv_mass[j + 1];
         }
     }
 }

@@ -27,9 +27,7 @@ use super::damping::damp_segments;
 use super::inextensible::{project, Inextensibility, ProjectionScratch};
 use super::lanes::{div_or_zero, splat, Lane, F8, LANES, Q4, V3};
 use super::params::{HairParams, Integrator};
-
-/// Root-to-tip sweeps of the strain limiter per substep.
-const STRAIN_SWEEPS: u32 = 2;
+use super::strain_limit::limit_strain;
 
 /// Constants of a step shared by every strand.
 #[derive(Debug, Clone, Copy)]
@@ -161,7 +159,7 @@ pub(crate) struct Scratch<L: Lane> {
     q_end: Q4<L>,
     o_start: V3<L>,
     o_end: V3<L>,
-    /// Buffers of the inextensibility projection.
+    /// Buffers of the inextensibility projection and the strain limit.
     projection: ProjectionScratch<L>,
 }
 
@@ -598,46 +596,20 @@ pub(crate) fn step_group<L: Lane>(
             );
         }
         if let Some(ratio) = c.max_length_ratio {
-            limit_strain(g, splat(ratio), inv_dt);
+            limit_strain(
+                &mut g.x,
+                &mut g.v,
+                &g.inv_mass,
+                &g.rest_length,
+                splat(ratio),
+                inv_dt,
+                &mut g.projection,
+            );
         }
         origin_now = origin;
         rot_now = rot;
     }
     g.scatter(views);
-}
-
-/// Strain limiting (Provot 1995): a segment longer than `ratio × rest length` is shortened to
-/// it by moving both ends along it in proportion to their inverse masses (a pinned end does not
-/// move), which conserves linear momentum. [`STRAIN_SWEEPS`] sweeps run root to tip (Gauss–Seidel
-/// down the strand, parallel across the lanes); a last follow-the-leader pass then moves only far
-/// ends, which guarantees the limit for the small residual the sweeps leave. The velocity of a
-/// moved point changes by its displacement / dt, so positions and velocities stay consistent; the
-/// correction only removes stretch.
-#[inline(always)]
-fn limit_strain<L: Lane>(g: &mut Scratch<L>, ratio: L, inv_dt: L) {
-    let zero = splat::<L>(0.0);
-    for sweep in 0..=STRAIN_SWEEPS {
-        let follow_the_leader = sweep == STRAIN_SWEEPS;
-        for j in 0..g.x.len() - 1 {
-            let d = g.x[j + 1] - g.x[j];
-            let len = d.dot(&d).sqrt();
-            let excess = (len - g.rest_length[j] * ratio).max(zero);
-            let wa = if follow_the_leader {
-                zero
-            } else {
-                g.inv_mass[j]
-            };
-            let wb = g.inv_mass[j + 1];
-            // Displacement along the segment per unit inverse mass (0 where both ends are fixed).
-            let shift = d * div_or_zero(excess, len * (wa + wb), 0.0);
-            g.x[j] += shift * wa;
-            g.x[j + 1] -= shift * wb;
-            if !follow_the_leader {
-                g.v[j] += shift * (wa * inv_dt);
-                g.v[j + 1] -= shift * (wb * inv_dt);
-            }
-        }
-    }
 }
 
 #[cfg(test)]

@@ -26,7 +26,10 @@
 //! response** of points with a contact this step (Choe et al. 2005, see [`crate::contacts`]),
 //! then the position update, and, if the host switched it on
 //! ([`Solver::with_inextensibility`]), the **inextensibility projection** of seed 002 (segment
-//! lengths restored, stretching velocities removed; see [`inextensible`]). A frame whose
+//! lengths restored, stretching velocities removed; see [`inextensible`]), and with
+//! `max_strain` the **strain limit** (`strain_limit`: over-long segments projected back to the
+//! limit, velocities moved by the same displacement over dt, so the stored velocity is the one
+//! that moved the point). A frame whose
 //! colliders turn fast runs more collision steps of fewer substeps each (the substep never gets
 //! longer).
 //!
@@ -44,6 +47,7 @@ mod kernel;
 pub(crate) mod lanes;
 pub mod params;
 pub mod stability;
+mod strain_limit;
 
 use std::time::{Duration, Instant};
 

@@ -1,0 +1,126 @@
+//! Hair points inside colliders: the depth of each free point's collision sphere inside the
+//! thickened surface of its deepest collider, at the colliders' current poses.
+//!
+//! Depth is `radius + thickness − signed distance` of the point's centre from the collider's
+//! surface (negative distance inside a solid; a shell, which has no inside, measures the
+//! unsigned distance). This is the same gap the contact response keeps
+//! ([`crate::contacts`]): a point the solver left exactly on the surface has depth 0. The
+//! distance is parry's exact point projection on the collider's shape, in its body space at the
+//! pose [`Colliders::pose`] reports (the end of the last stepped frame, or the pose set for the
+//! next one); a collider's enclosing sphere screens out points that cannot reach it, so hair away
+//! from colliders costs a subtraction per point and collider.
+
+use nalgebra::{Point3, Vector3};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::contacts::collider_set::Surface;
+use crate::contacts::math::{from_glam, to_glam};
+use crate::contacts::Colliders;
+
+/// Points per parallel job.
+const CHUNK: usize = 2048;
+
+/// Hair points found inside colliders, merged over frames.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Penetration {
+    /// Depth below which a point counts as touching, not inside, m.
+    pub tolerance: f32,
+    /// Free points checked, summed over frames.
+    pub checked: u64,
+    /// Points deeper than `tolerance`, summed over frames.
+    pub inside: u64,
+    /// `inside / checked` over all frames (0 when nothing was checked).
+    pub inside_fraction: f64,
+    /// The largest fraction of points inside in any one frame.
+    pub worst_frame_fraction: f64,
+    /// The deepest penetration of any point, m (0 when none is inside the thickened surface).
+    pub deepest: f32,
+}
+
+impl Penetration {
+    /// Adds another frame's (or run's) counts.
+    pub fn merge(&mut self, other: &Penetration) {
+        self.tolerance = self.tolerance.max(other.tolerance);
+        self.checked += other.checked;
+        self.inside += other.inside;
+        self.inside_fraction = if self.checked > 0 {
+            self.inside as f64 / self.checked as f64
+        } else {
+            0.0
+        };
+        self.worst_frame_fraction = self.worst_frame_fraction.max(other.worst_frame_fraction);
+        self.deepest = self.deepest.max(other.deepest);
+    }
+}
+
+/// Depth (m) of a sphere of `radius` centred at `x` (world, m) inside the deepest of
+/// `colliders`, or `None` when it reaches none of them.
+pub(crate) fn depth(colliders: &Colliders, x: &Vector3<f32>, radius: f32) -> Option<f32> {
+    let mut deepest: Option<f32> = None;
+    for e in &colliders.entries {
+        let keep = radius + e.thickness;
+        let local = e.end.inverse_transform_point(&Point3::from(*x)).coords;
+        let (centre, enclosing) = e.bounding_sphere;
+        if (local - centre).norm() > enclosing + keep {
+            continue;
+        }
+        let proj = e.shape.project_local_point(to_glam(&local), false);
+        let dist = (local - from_glam(proj.point)).norm();
+        let signed = if e.surface == Surface::Solid && proj.is_inside {
+            -dist
+        } else {
+            dist
+        };
+        if signed < keep {
+            let d = keep - signed;
+            deepest = Some(deepest.map_or(d, |b| b.max(d)));
+        }
+    }
+    deepest
+}
+
+/// Measures one frame: free points (`free[i]`) of `positions` (m) with collision radii `radii`
+/// (m) against `colliders`.
+pub(crate) fn measure(
+    colliders: &Colliders,
+    positions: &[Vector3<f32>],
+    radii: &[f32],
+    free: &(dyn Fn(usize) -> bool + Sync),
+    tolerance: f32,
+) -> Penetration {
+    let (checked, inside, deepest) = positions
+        .par_chunks(CHUNK)
+        .enumerate()
+        .map(|(k, chunk)| {
+            let mut out = (0u64, 0u64, 0.0f32);
+            for (j, x) in chunk.iter().enumerate() {
+                let i = k * CHUNK + j;
+                if !free(i) {
+                    continue;
+                }
+                out.0 += 1;
+                if let Some(d) = depth(colliders, x, radii[i]) {
+                    out.2 = out.2.max(d);
+                    if d > tolerance {
+                        out.1 += 1;
+                    }
+                }
+            }
+            out
+        })
+        .reduce(|| (0, 0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2.max(b.2)));
+    let fraction = if checked > 0 {
+        inside as f64 / checked as f64
+    } else {
+        0.0
+    };
+    Penetration {
+        tolerance,
+        checked,
+        inside,
+        inside_fraction: fraction,
+        worst_frame_fraction: fraction,
+        deepest,
+    }
+}

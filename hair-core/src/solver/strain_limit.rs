@@ -1,0 +1,212 @@
+//! The strain limit (`SolverSettings::max_strain`): after each substep's position update no
+//! segment is longer than `(1 + max_strain) ×` its rest length, and the velocities are those
+//! that moved the points.
+//!
+//! # Method
+//! Strain limiting after Provot 1995 ("Deformation constraints in a mass-spring model to
+//! describe rigid cloth behavior"): over-stretched segments are shortened by moving their ends,
+//! and the velocity change of every moved point is its displacement over the substep,
+//! `Δv = Δx/dt`, as in position-based dynamics (Müller et al. 2007). Because every position
+//! change of the substep (the integration and each correction) moves the velocity by the same
+//! amount over `dt`, the stored velocity is exactly `(x_end − x_start)/dt` up to round-off: a
+//! strand held at the limit and not moving has zero velocity, and cubic Hermite interpolation
+//! between cached frames follows the path the solver took.
+//!
+//! The correction is the mass-weighted projection of the over-long segments onto the limit
+//! (the fast projection of Goldenthal et al. 2007, see [`super::inextensible`]) restricted to the
+//! **active set** — segments longer than the limit — which are constrained to
+//! `C_j = |x_{j+1} − x_j| − (1 + ε) l_j = 0` by Newton steps on the tridiagonal system
+//! `(G M⁻¹ Gᵀ) λ = C`; inactive segments get λ = 0. A segment stretched by a step of the solve is
+//! added to the set at the next iteration. Impulses are equal and opposite along each segment,
+//! so linear momentum is conserved and the correction only dissipates energy (an inelastic
+//! constraint). A last **follow-the-leader** pass root to tip moves far ends only (and their
+//! velocities by the same displacement over dt) to guarantee the limit for what the
+//! iterations leave.
+//!
+//! Why a projection and not Gauss–Seidel sweeps: an earlier version ran two Provot sweeps and
+//! then follow-the-leader on positions only. On a long soft strand the sweeps remove little of
+//! the excess (they propagate one segment per sweep), follow-the-leader did nearly all the work,
+//! and because it did not touch velocities the cached velocities of a strand hanging still at
+//! the limit read 0.25 m/s (Sintel scene) to 2 m/s (60 segments of 3 mm) downward. Giving
+//! follow-the-leader's large displacements to the velocities instead pumps energy into the
+//! strand (a one-sided correction is not momentum-conserving: a point is yanked after its
+//! neighbour moved), which blew a hanging strand up to 20 m/s; removing only the stretching
+//! rate of the far end did worse. The projection leaves follow-the-leader far less to do, but
+//! not only round-off: when the active set changes a lot within a substep (hair collapsing
+//! from its groom) four iterations do not converge, and the follow-the-leader velocities that
+//! remain make the motion livelier (see Limits). A velocity projection
+//! (`G v = 0` on the active set, as [`super::inextensible`] does) was tried too: the active set
+//! changes from substep to substep, and it left 3–7 cm/s on a strand that did not move.
+//!
+//! # Limits
+//! The stale velocities of the old scheme were, in effect, a strong numerical damping. Without
+//! it, a strand held at the limit whose bending springs cannot reach their rest shape (a strand
+//! combed out sideways hanging down, 60 segments of 3 mm, `bend_stiffness` 0.05 N/m) keeps a
+//! small motion that air drag does not remove: 2–3 cm/s at the tip at 69 substeps per frame,
+//! 1 cm/s at 1,000 (it shrinks with the substep, so it is a discretisation effect, measured in
+//! the experiments behind `tests/tests/velocity_consistency.rs`). A strand whose bending is
+//! satisfied, or without bending, comes to rest (velocities at the f32 round-off of
+//! `Δx/dt`, ≈ 5·10⁻⁵ m/s).
+//!
+//! On the Sintel scene's first second (hair collapsing from its groom as the head turns) the
+//! median velocity–position mismatch between frames fell from 0.27 m/s (the stale velocities)
+//! to 0.03 m/s, but the fastest 1 % of points move faster than before (mismatch p99 0.67 m/s
+//! against 0.47, largest 5.2 m/s against 0.85: motion 24 fps does not resolve). Eight
+//! iterations lowered that to p99 0.60, largest 3.3 m/s, at a cost above the old limiter's;
+//! follow-the-leader without velocities lowered it to p99 0.19 but brought stale velocities
+//! back (4 cm/s on a still strand). Neither is shipped; more damping of fast bending motion is
+//! the open question.
+
+use super::inextensible::ProjectionScratch;
+use super::lanes::{div_or_zero, splat, Lane, V3};
+
+/// Newton iterations of the active-set projection per substep, at most.
+const ITERATIONS: u32 = 4;
+
+/// Relative excess `len/limit − 1` below which a segment counts as at the limit (the
+/// iterations stop when every lane's segments are within it).
+const TOLERANCE: f32 = 1e-6;
+
+/// Limits the group's segments to `ratio × rest_length` (m), moving the velocities `v` (m/s)
+/// by each point's displacement over the substep (`inv_dt`, 1/s). `inv_mass` (1/kg) is 0 for
+/// points that must not move.
+#[inline(always)]
+pub(crate) fn limit_strain<L: Lane>(
+    x: &mut [V3<L>],
+    v: &mut [V3<L>],
+    inv_mass: &[L],
+    rest_length: &[L],
+    ratio: L,
+    inv_dt: L,
+    s: &mut ProjectionScratch<L>,
+) {
+    let (zero, one) = (splat::<L>(0.0), splat::<L>(1.0));
+    let m = rest_length.len();
+    s.fit(m);
+    for _ in 0..ITERATIONS {
+        // Active set and constraint values: inactive rows get a zero right-hand side (λ = 0).
+        let mut worst = zero;
+        for j in 0..m {
+            let d = x[j + 1] - x[j];
+            let len = d.dot(&d).sqrt();
+            let limit = rest_length[j] * ratio;
+            let excess = len - limit;
+            worst = worst.max(excess / limit);
+            let active = L::select(excess.simd_gt(zero), one, zero);
+            s.tangent[j] = d * div_or_zero(one, len, 1e-9);
+            s.rhs[j] = excess * active;
+            s.lambda[j] = active;
+        }
+        if worst.to_array().iter().all(|&e| e <= TOLERANCE) {
+            break;
+        }
+        masked_solve(s, inv_mass);
+        for j in 0..m {
+            let step = s.tangent[j] * s.lambda[j];
+            let (near, far) = (step * inv_mass[j], step * inv_mass[j + 1]);
+            x[j] += near;
+            x[j + 1] -= far;
+            v[j] += near * inv_dt;
+            v[j + 1] -= far * inv_dt;
+        }
+    }
+    // Follow the leader: far ends only, for what the iterations left.
+    for j in 0..m {
+        let d = x[j + 1] - x[j];
+        let len = d.dot(&d).sqrt();
+        let excess = (len - rest_length[j] * ratio).max(zero);
+        let w = inv_mass[j + 1];
+        let shift = d * div_or_zero(excess * w, len * w, 0.0);
+        x[j + 1] -= shift;
+        v[j + 1] -= shift * inv_dt;
+    }
+}
+
+/// Solves `(G M⁻¹ Gᵀ) λ = rhs` restricted to the segments whose mask (in `s.lambda` on entry:
+/// 1 or 0) is set: the others are identity rows with no coupling, and `rhs` must be 0 there.
+#[inline(always)]
+fn masked_solve<L: Lane>(s: &mut ProjectionScratch<L>, inv_mass: &[L]) {
+    let one = splat::<L>(1.0);
+    let m = s.rhs.len();
+    for j in 0..m {
+        let active = s.lambda[j];
+        s.diag[j] = (inv_mass[j] + inv_mass[j + 1]) * active + (one - active);
+        s.upper[j] = if j + 1 < m {
+            -(inv_mass[j + 1] * s.tangent[j].dot(&s.tangent[j + 1])) * (active * s.lambda[j + 1])
+        } else {
+            splat(0.0)
+        };
+    }
+    s.thomas();
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::lanes::Baseline;
+    use nalgebra::Vector3;
+
+    /// A zig-zag chain pinned at its root, every segment stretched by 5 %, moving: after the
+    /// limit of 1 %, every segment is within it, the root has not moved, and each velocity
+    /// changed by exactly the point's displacement over dt.
+    #[test]
+    fn limit_holds_and_velocities_change_by_the_displacement() {
+        let n = 12;
+        let dt = 1e-3f32;
+        let p0: Vec<Vector3<f32>> = (0..n)
+            .map(|i| {
+                let i = i as f32;
+                Vector3::new(
+                    0.0105 * i,
+                    0.0,
+                    if (i as usize).is_multiple_of(2) {
+                        0.0
+                    } else {
+                        0.003
+                    },
+                )
+            })
+            .collect();
+        let rest: Vec<f32> = (0..n - 1)
+            .map(|j| (p0[j + 1] - p0[j]).norm() / 1.05)
+            .collect();
+        let lanes = |p: &[Vector3<f32>]| -> Vec<V3<Baseline>> { p.iter().map(V3::splat).collect() };
+        let mut x = lanes(&p0);
+        let v0: Vec<Vector3<f32>> = (0..n)
+            .map(|i| Vector3::new(0.1 * i as f32, -0.2, 0.05))
+            .collect();
+        let mut v = lanes(&v0);
+        let w: Vec<Baseline> = (0..n)
+            .map(|i| splat(if i == 0 { 0.0 } else { 300.0 }))
+            .collect();
+        let rest_l: Vec<Baseline> = rest.iter().map(|&r| splat(r)).collect();
+        let mut s = ProjectionScratch::default();
+        limit_strain(
+            &mut x,
+            &mut v,
+            &w,
+            &rest_l,
+            splat(1.01),
+            splat(1.0 / dt),
+            &mut s,
+        );
+        for j in 0..n - 1 {
+            let len = (x[j + 1] - x[j]).lane(0).norm();
+            assert!(
+                len <= rest[j] * 1.01 * (1.0 + 1e-6),
+                "segment {j}: {}",
+                len / rest[j]
+            );
+            assert!(
+                len >= rest[j] * 1.01 * (1.0 - 1e-4),
+                "segment {j} over-corrected"
+            );
+        }
+        assert_eq!(x[0].lane(0), p0[0]);
+        for i in 0..n {
+            let moved = (x[i].lane(0) - p0[i]) / dt;
+            let dv = v[i].lane(0) - v0[i];
+            assert!((moved - dv).norm() < 1e-3, "point {i}: {moved:?} vs {dv:?}");
+        }
+    }
+}
