@@ -38,6 +38,7 @@
 pub mod cards;
 pub mod children;
 pub mod error;
+pub mod preview;
 pub mod resume;
 pub mod run;
 pub mod scene;

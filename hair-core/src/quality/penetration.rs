@@ -80,6 +80,29 @@ pub(crate) fn depth(colliders: &Colliders, x: &Vector3<f32>, radius: f32) -> Opt
     deepest
 }
 
+/// Per point of `positions` (m, collision radii `radii` in m): is it a free point (`inv_mass > 0`)
+/// deeper than `tolerance` (m) inside any of `colliders` at their current poses? For marking
+/// them in a picture (`hairsys preview --highlight`).
+pub fn inside_flags(
+    colliders: &Colliders,
+    positions: &[Vector3<f32>],
+    radii: &[f32],
+    inv_mass: &[f32],
+    tolerance: f32,
+) -> Vec<bool> {
+    positions
+        .par_iter()
+        .enumerate()
+        .map(|(i, x)| {
+            inv_mass.get(i).is_some_and(|&w| w > 0.0)
+                && radii
+                    .get(i)
+                    .and_then(|&r| depth(colliders, x, r))
+                    .is_some_and(|d| d > tolerance)
+        })
+        .collect()
+}
+
 /// Measures one frame: free points (`free[i]`) of `positions` (m) with collision radii `radii`
 /// (m) against `colliders`.
 pub(crate) fn measure(

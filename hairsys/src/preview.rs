@@ -1,0 +1,309 @@
+//! `hairsys preview`: pictures of a run on the CPU — a cached frame or sub-frame, or a scene's
+//! rest state — with its scalp and colliders, from one or more camera presets, as one PNG or a
+//! contact sheet (see [`hair_render::preview`] for how a frame is drawn).
+//!
+//! The scene that made a cache is stored in it, so the scalp and the colliders are placed at
+//! each frame's time exactly as the run saw them. Every tile of a sheet shares one framing (the
+//! bounds of all its frames), so motion between frames reads as motion. With `highlight`,
+//! points closer to a collider than their radius and segments stretched beyond
+//! [`PreviewOptions::stretch_limit`] are drawn in red on top.
+
+use std::path::{Path, PathBuf};
+
+use hair_cache::{CacheReader, Interpolation};
+use hair_core::{ColliderShape, TriMesh};
+use hair_render::preview::{
+    contact_sheet, render_view, Bounds, Highlight, Mesh, PreviewImage, RenderSettings, Rgb, Scene,
+    Strands, Tile, View,
+};
+use nalgebra::{Isometry3, Vector3};
+
+use crate::children::open_cache;
+use crate::scene::{SceneFile, Simulation};
+
+/// Skin colour of the scalp, linear RGB.
+const SCALP_RGB: Rgb = [0.62, 0.42, 0.33];
+/// Colour of other colliders, linear RGB.
+const COLLIDER_RGB: Rgb = [0.35, 0.45, 0.6];
+
+/// What to draw and where to write it.
+#[derive(Debug, Clone)]
+pub struct PreviewOptions {
+    /// Cache to read frames from; without it, the scene's rest state.
+    pub cache: Option<PathBuf>,
+    /// Scene file: the rest state without `cache`, or a scene overriding the cache's.
+    pub scene: Option<PathBuf>,
+    /// Frames to draw (fractional = a sub-frame sampled by cubic Hermite with the cached
+    /// velocities); empty = the cache's first frame (or the rest state).
+    pub frames: Vec<f64>,
+    /// Camera presets; each frame is drawn from each.
+    pub views: Vec<View>,
+    /// Tile size, pixels.
+    pub width: u32,
+    /// Tile height, pixels.
+    pub height: u32,
+    /// Mark points inside colliders and over-stretched segments in red.
+    pub highlight: bool,
+    /// Relative elongation above which `highlight` marks a segment (0.01 = 1 %).
+    pub stretch_limit: f32,
+    /// Tiles per row of the contact sheet (default: one row per frame, a column per view).
+    pub columns: Option<u32>,
+    /// The PNG to write.
+    pub out: PathBuf,
+}
+
+/// What was drawn.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct PreviewSummary {
+    /// The PNG written.
+    pub out: String,
+    /// Tiles drawn (frames × views).
+    pub tiles: usize,
+    /// Image size, pixels.
+    pub width: u32,
+    /// Image height, pixels.
+    pub height: u32,
+    /// Points marked as inside a collider, over all tiles' frames.
+    pub points_inside: usize,
+    /// Segments marked as over-stretched, over all tiles' frames.
+    pub stretched_segments: usize,
+    /// Wall-clock time per tile (render only), ms.
+    pub ms_per_tile: f64,
+}
+
+/// One frame's strands and meshes, ready to draw.
+struct FrameData {
+    label: String,
+    positions: Vec<Vector3<f32>>,
+    meshes: Vec<(TriMesh, Rgb)>,
+    inside: Vec<bool>,
+    stretched: Vec<bool>,
+}
+
+/// Draws the frames of `opts` and writes the PNG.
+pub fn preview(opts: &PreviewOptions) -> Result<PreviewSummary, String> {
+    if opts.views.is_empty() {
+        return Err("give at least one view (front, side, back, three-quarter)".into());
+    }
+    let (scene, mut reader) = match &opts.cache {
+        Some(cache) => {
+            let (scene, reader) = open_cache(cache, opts.scene.as_deref())?;
+            (scene, Some(reader))
+        }
+        None => match &opts.scene {
+            Some(path) => (SceneFile::load(path).map_err(|e| e.to_string())?, None),
+            None => return Err(
+                "give --cache (frames of a run) or --scene (its rest state): a preview of what?"
+                    .into(),
+            ),
+        },
+    };
+    let sim = scene.build().map_err(|e| e.to_string())?;
+    let frames = match (&reader, opts.frames.is_empty()) {
+        (Some(r), true) => vec![r.frame_numbers().first().copied().unwrap_or(0) as f64],
+        (None, true) => vec![sim.first_frame as f64],
+        (_, false) => opts.frames.clone(),
+    };
+    let mut data = Vec::with_capacity(frames.len());
+    for &frame in &frames {
+        let positions = match &mut reader {
+            Some(r) => positions_at(r, frame)?,
+            None => sim.strands.positions.clone(),
+        };
+        data.push(frame_data(&sim, frame, positions, opts)?);
+    }
+    let mut bounds: Option<Bounds> = None;
+    for d in &data {
+        let points = d.positions.iter().copied().chain(
+            d.meshes
+                .iter()
+                .flat_map(|(m, _)| m.positions().iter().copied()),
+        );
+        if let Some(b) = Bounds::of_points(points) {
+            bounds = Some(bounds.map_or(b, |a| a.union(&b)));
+        }
+    }
+    let settings = RenderSettings {
+        width: opts.width,
+        height: opts.height,
+        ..RenderSettings::default()
+    };
+    let started = std::time::Instant::now();
+    let mut images: Vec<(PreviewImage, String)> = Vec::new();
+    for d in &data {
+        let strands = Strands::new(&d.positions, sim.strands.offsets())
+            .and_then(|s| s.with_radii(sim.strands.radii()))
+            .map_err(|e| e.to_string())?;
+        let meshes = d
+            .meshes
+            .iter()
+            .enumerate()
+            .map(|(i, (m, rgb))| Mesh::from_trimesh(i, m, *rgb))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| e.to_string())?;
+        let highlight = match opts.highlight {
+            true => Highlight {
+                points: Some(&d.inside),
+                segments: Some(&d.stretched),
+            },
+            false => Highlight::default(),
+        };
+        let scene = Scene {
+            strands: Some(strands),
+            meshes,
+            highlight,
+        };
+        for view in &opts.views {
+            let image = render_view(&scene, *view, bounds.as_ref(), &settings)
+                .map_err(|e| format!("{}, {view}: {e}", d.label))?;
+            images.push((image, format!("{}, {view}", d.label)));
+        }
+    }
+    let ms_per_tile = started.elapsed().as_secs_f64() * 1e3 / images.len().max(1) as f64;
+    let image = match images.len() {
+        1 => images.pop().map(|(i, _)| i).expect("one image"),
+        n => {
+            let columns = opts.columns.unwrap_or(opts.views.len() as u32).max(1);
+            let tiles: Vec<Tile> = images
+                .iter()
+                .map(|(image, label)| Tile { image, label })
+                .collect();
+            debug_assert_eq!(tiles.len(), n);
+            contact_sheet(&tiles, columns).map_err(|e| e.to_string())?
+        }
+    };
+    image.write_png(&opts.out).map_err(|e| e.to_string())?;
+    Ok(PreviewSummary {
+        out: opts.out.display().to_string(),
+        tiles: data.len() * opts.views.len(),
+        width: image.width(),
+        height: image.height(),
+        points_inside: data.iter().map(|d| count(&d.inside)).sum(),
+        stretched_segments: data.iter().map(|d| count(&d.stretched)).sum(),
+        ms_per_tile,
+    })
+}
+
+fn count(flags: &[bool]) -> usize {
+    flags.iter().filter(|&&f| f).count()
+}
+
+/// Positions at `frame` (fractional: a Hermite sub-frame sample), refusing frames outside the
+/// cache by number.
+fn positions_at(reader: &mut CacheReader, frame: f64) -> Result<Vec<Vector3<f32>>, String> {
+    let numbers = reader.frame_numbers();
+    let (Some(&first), Some(&last)) = (numbers.first(), numbers.last()) else {
+        return Err("the cache holds no frame".into());
+    };
+    if !(frame.is_finite() && frame >= first as f64 && frame <= last as f64) {
+        return Err(format!(
+            "frame {frame} is outside the cache (frames {first}–{last})"
+        ));
+    }
+    if frame.fract() == 0.0 {
+        return reader
+            .read_frame(frame as u32)
+            .map(|f| f.positions)
+            .map_err(|e| e.to_string());
+    }
+    let fps = reader.header().fps;
+    reader
+        .sample(frame / fps, Interpolation::Hermite)
+        .map(|s| s.positions)
+        .map_err(|e| e.to_string())
+}
+
+/// The scalp and colliders of `sim` at `frame`, and the highlight flags of `positions`.
+fn frame_data(
+    sim: &Simulation,
+    frame: f64,
+    positions: Vec<Vector3<f32>>,
+    opts: &PreviewOptions,
+) -> Result<FrameData, String> {
+    let f = frame as f32;
+    let mut meshes = Vec::new();
+    if let Some(mesh) = sim.scalp_at(f).mesh {
+        meshes.push((mesh, SCALP_RGB));
+    }
+    for c in &sim.colliders {
+        let pose = c.motion.at(f);
+        meshes.push((collider_mesh(&c.collider.shape, &pose)?, COLLIDER_RGB));
+    }
+    let label = if sim.strands.positions.as_ptr() == positions.as_ptr() {
+        "rest".to_string()
+    } else {
+        format!("frame {frame}")
+    };
+    let (inside, stretched) = if opts.highlight {
+        let colliders = sim.colliders_at(f).map_err(|e| sim.collider_message(&e))?;
+        let inside = hair_core::quality::inside_flags(
+            &colliders,
+            &positions,
+            sim.strands.radii(),
+            sim.strands.inverse_masses(),
+            hair_core::QualityOptions::default().contact_tolerance,
+        );
+        let stretched = stretched_flags(sim, &positions, opts.stretch_limit);
+        (inside, stretched)
+    } else {
+        (Vec::new(), Vec::new())
+    };
+    Ok(FrameData {
+        label,
+        positions,
+        meshes,
+        inside,
+        stretched,
+    })
+}
+
+/// Per segment (numbered as `StrandSet::segments`): longer than `(1 + limit) ×` its rest length?
+fn stretched_flags(sim: &Simulation, positions: &[Vector3<f32>], limit: f32) -> Vec<bool> {
+    let rest = sim.strands.rest_lengths();
+    let mut flags = Vec::with_capacity(rest.len());
+    for s in 0..sim.strands.len() {
+        let p = sim.strands.points(s);
+        for (j, seg) in sim.strands.segments(s).enumerate() {
+            let len = (positions[p.start + j + 1] - positions[p.start + j]).norm();
+            flags.push(len > (1.0 + limit) * rest[seg]);
+        }
+    }
+    flags
+}
+
+/// A triangle mesh of an analytic collider (or the collider's own mesh), placed at `pose`.
+fn collider_mesh(shape: &ColliderShape, pose: &Isometry3<f32>) -> Result<TriMesh, String> {
+    let err = |e: hair_core::HairError| e.to_string();
+    let mesh = match shape {
+        ColliderShape::Sphere { radius } => TriMesh::uv_sphere(*radius, 32, 16).map_err(err)?,
+        ColliderShape::Capsule {
+            half_height,
+            radius,
+        } => {
+            // A sphere split at its equator, the halves moved apart along z.
+            let sphere = TriMesh::uv_sphere(*radius, 32, 16).map_err(err)?;
+            let moved: Vec<Vector3<f32>> = sphere
+                .positions()
+                .iter()
+                .map(|v| v + Vector3::z() * half_height.copysign(v.z))
+                .collect();
+            let mut capsule = sphere.clone();
+            capsule.set_positions(&moved).map_err(err)?;
+            capsule
+        }
+        ColliderShape::Mesh(mesh) => mesh.clone(),
+    };
+    Ok(mesh.transformed(pose))
+}
+
+/// The PNG path's folder exists? (A clear error before any work.)
+pub fn check_output(out: &Path) -> Result<(), String> {
+    match out.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() && !dir.is_dir() => Err(format!(
+            "{}: the folder {} does not exist",
+            out.display(),
+            dir.display()
+        )),
+        _ => Ok(()),
+    }
+}
