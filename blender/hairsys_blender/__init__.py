@@ -9,10 +9,12 @@ any modifier) in world space and the poses of the collider collection's meshes.
 """
 
 import bpy
+import numpy as np
 from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty,
                        StringProperty)
 
 from . import playback
+from .bake import REST_ATTRIBUTE
 
 
 class HairsysSettings(bpy.types.PropertyGroup):
@@ -118,8 +120,9 @@ class HAIRSYS_OT_bake(bpy.types.Operator):
         playback.baking = False
         summary = self._baker.finish()
         frame = self._baker.frame
+        start = self._baker.start_frame
         self._baker = None
-        context.scene.frame_set(context.scene.frame_current)
+        context.scene.frame_set(start)
         word = "cancelled after" if cancelled else "baked"
         self.report({"WARNING" if cancelled else "INFO"},
                     f"hairsys: {word} frame {frame}: {summary['frames']} frames in {summary['path']}")
@@ -199,6 +202,29 @@ class HAIRSYS_OT_play_frame(bpy.types.Operator):
         return {"FINISHED"}
 
 
+class HAIRSYS_OT_restore_groom(bpy.types.Operator):
+    """Put the groom's own curve positions back (playback replaced them) and stop playback"""
+
+    bl_idname = "hairsys.restore_groom"
+    bl_label = "Restore Groom"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        obj = hair_object(context)
+        return obj is not None and REST_ATTRIBUTE in obj.data.attributes
+
+    def execute(self, context):
+        obj = hair_object(context)
+        rest = obj.data.attributes[REST_ATTRIBUTE]
+        buf = np.empty(len(rest.data) * 3, dtype=np.float32)
+        rest.data.foreach_get("vector", buf)
+        obj.data.attributes["position"].data.foreach_set("vector", buf)
+        obj.data.update_tag()
+        obj.hairsys.playback = False
+        return {"FINISHED"}
+
+
 class HAIRSYS_PT_panel(bpy.types.Panel):
     bl_label = "hairsys"
     bl_space_type = "PROPERTIES"
@@ -216,6 +242,7 @@ class HAIRSYS_PT_panel(bpy.types.Panel):
         row = col.row()
         row.operator(HAIRSYS_OT_bake.bl_idname, icon="PHYSICS")
         row.prop(s, "playback")
+        col.operator(HAIRSYS_OT_restore_groom.bl_idname)
         col.separator()
         for name in ("stretch_stiffness", "bend_stiffness", "goal_stiffness", "air_drag",
                      "mass_per_length", "radius", "substeps", "threads", "max_snap_distance"):
@@ -235,7 +262,8 @@ class HAIRSYS_PT_panel(bpy.types.Panel):
             col.prop(s, "collider_friction")
 
 
-CLASSES = (HairsysSettings, HAIRSYS_OT_bake, HAIRSYS_OT_play_frame, HAIRSYS_PT_panel)
+CLASSES = (HairsysSettings, HAIRSYS_OT_bake, HAIRSYS_OT_play_frame, HAIRSYS_OT_restore_groom,
+           HAIRSYS_PT_panel)
 
 
 def register():

@@ -42,15 +42,37 @@ def evaluated_mesh(obj, depsgraph, triangles=False):
         ev.to_mesh_clear()
 
 
-def curve_arrays(hair_obj):
-    """The hair object's curves: world-space points (P, 3) and points per curve (C,)."""
+#: Point attribute keeping the groom's own positions (object space) once playback overwrites
+#: `position`; bakes start from it, and "Restore Groom" puts it back.
+REST_ATTRIBUTE = "hairsys_rest"
+
+
+def rest_positions(hair_obj):
+    """The groom's rest positions (object space, (P, 3) float32), saved into the
+    `REST_ATTRIBUTE` point attribute the first time they are asked for."""
     curves = hair_obj.data
     n = len(curves.points)
     local = np.empty(n * 3, dtype=np.float32)
-    curves.attributes["position"].data.foreach_get("vector", local)
+    rest = curves.attributes.get(REST_ATTRIBUTE)
+    if rest is not None and (rest.domain != "POINT" or len(rest.data) != n):
+        curves.attributes.remove(rest)
+        rest = None
+    if rest is None:
+        curves.attributes["position"].data.foreach_get("vector", local)
+        rest = curves.attributes.new(REST_ATTRIBUTE, "FLOAT_VECTOR", "POINT")
+        rest.data.foreach_set("vector", local)
+    else:
+        rest.data.foreach_get("vector", local)
+    return local.reshape(-1, 3)
+
+
+def curve_arrays(hair_obj):
+    """The hair object's groom: world-space rest points (P, 3) and points per curve (C,)."""
+    curves = hair_obj.data
+    local = rest_positions(hair_obj)
     offsets = np.empty(len(curves.curves) + 1, dtype=np.int32)
     curves.curve_offset_data.foreach_get("value", offsets)
-    return world_points(hair_obj.matrix_world, local.reshape(-1, 3).astype(np.float64)), np.diff(offsets)
+    return world_points(hair_obj.matrix_world, local.astype(np.float64)), np.diff(offsets)
 
 
 def goal_weights(hair_obj, settings, surface_verts, points, counts):
@@ -115,6 +137,8 @@ class Baker:
         s = self.settings
         self.first = self.scene.frame_start
         self.last = self.scene.frame_end
+        #: The frame to go back to when the bake ends.
+        self.start_frame = self.scene.frame_current
         self.scene.frame_set(self.first)
         depsgraph = context.evaluated_depsgraph_get()
         verts, tris = evaluated_mesh(surface, depsgraph, triangles=True)

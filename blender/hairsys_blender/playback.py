@@ -44,6 +44,9 @@ def apply_frame(obj, frame):
     curves = obj.data
     if len(curves.points) != len(positions):
         return False
+    from .bake import rest_positions
+
+    rest_positions(obj)  # keep the groom before the first overwrite
     m = np.linalg.inv(np.array(obj.matrix_world, dtype=np.float64))
     local = positions @ m[:3, :3].T + m[:3, 3]
     curves.attributes["position"].data.foreach_set("vector", local.astype(np.float32).ravel())

@@ -18,8 +18,8 @@
 //! guides' weights at the same fraction.
 
 use hair_core::{
-    Anchor, Collider, Colliders, ContactSettings, ForceField, HairHairSettings,
-    HairParams, Scalp, Solver, SolverSettings, StrandInput, StrandSet, TriMesh,
+    Anchor, Collider, Colliders, ContactSettings, ForceField, HairHairSettings, HairParams, Scalp,
+    Solver, SolverSettings, StrandInput, StrandSet, TriMesh,
 };
 use hair_groom::{Distance, Groom, Guide, InterpolateOptions, Region, SnapOptions};
 use nalgebra::{Isometry3, Vector2, Vector3};
@@ -130,7 +130,8 @@ impl Session {
         let mesh = scalp_mesh(input)?;
         let curves = curves(input)?;
         let weights = goal_weights(input, options)?;
-        let groom = Groom::new(curves).map_err(|e| Error::argument("curve_points", e.to_string()))?;
+        let groom =
+            Groom::new(curves).map_err(|e| Error::argument("curve_points", e.to_string()))?;
         let snapped = hair_groom::snap_to_scalp(
             &groom,
             &mesh,
@@ -283,7 +284,10 @@ fn curves(input: &GroomArrays<'_>) -> Result<Vec<Vec<Vector3<f32>>>> {
 
 /// Goal weights per curve, one per point (`None` without per-point weights).
 fn goal_weights(input: &GroomArrays<'_>, options: &GroomOptions) -> Result<Option<Vec<Vec<f32>>>> {
-    for (name, v) in [("goal_root", options.goal_root), ("goal_tip", options.goal_tip)] {
+    for (name, v) in [
+        ("goal_root", options.goal_root),
+        ("goal_tip", options.goal_tip),
+    ] {
         if !(0.0..=1.0).contains(&v) {
             return Err(Error::argument(
                 name,
@@ -402,4 +406,3 @@ fn strand_inputs(
         }
     }
 }
-

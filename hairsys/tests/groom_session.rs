@@ -8,13 +8,21 @@ use nalgebra::{Isometry3, Vector3};
 
 /// A UV sphere of radius 0.1 m as arrays, and `n` straight curves of `points` points along the
 /// outward normal at vertices of its upper half (roots exactly on the surface).
-fn sphere_groom(n: usize, points: usize) -> (Vec<[f32; 3]>, Vec<[u32; 3]>, Vec<[f32; 3]>, Vec<u32>) {
+fn sphere_groom(
+    n: usize,
+    points: usize,
+) -> (Vec<[f32; 3]>, Vec<[u32; 3]>, Vec<[f32; 3]>, Vec<u32>) {
     let mesh = hair_groom::uv_sphere(0.1, 16, 8).unwrap();
     let vertices: Vec<[f32; 3]> = mesh.positions().iter().map(|p| [p.x, p.y, p.z]).collect();
     let triangles = mesh.triangles().to_vec();
     let mut curve_points = Vec::new();
     let mut counts = Vec::new();
-    for p in mesh.positions().iter().filter(|p| p.z > 0.02 && p.z < 0.099).take(n) {
+    for p in mesh
+        .positions()
+        .iter()
+        .filter(|p| p.z > 0.02 && p.z < 0.099)
+        .take(n)
+    {
         let normal = p.normalize();
         for j in 0..points {
             let q = p + normal * (0.02 * j as f32);
@@ -22,7 +30,11 @@ fn sphere_groom(n: usize, points: usize) -> (Vec<[f32; 3]>, Vec<[u32; 3]>, Vec<[
         }
         counts.push(points as u32);
     }
-    assert_eq!(counts.len(), n, "the sphere has enough vertices for the test");
+    assert_eq!(
+        counts.len(),
+        n,
+        "the sphere has enough vertices for the test"
+    );
     (vertices, triangles, curve_points, counts)
 }
 
@@ -59,12 +71,12 @@ fn roots_follow_a_deforming_scalp_by_their_barycentric_weights() {
     for frame in 1..=6 {
         // Squash and shear the sphere a little more every frame.
         let t = frame as f32 * 0.05;
-        let deformed: Vec<[f32; 3]> = g
-            .0
-            .iter()
-            .map(|v| [v[0] + t * v[2], v[1] * (1.0 + t), v[2] * (1.0 - 0.5 * t)])
-            .collect();
-        s.set_scalp_vertices(&deformed, Isometry3::identity()).unwrap();
+        let deformed: Vec<[f32; 3]> =
+            g.0.iter()
+                .map(|v| [v[0] + t * v[2], v[1] * (1.0 + t), v[2] * (1.0 - 0.5 * t)])
+                .collect();
+        s.set_scalp_vertices(&deformed, Isometry3::identity())
+            .unwrap();
         s.step().unwrap();
         let offsets = s.strand_offsets().to_vec();
         for (k, anchor) in s.strands().anchors().iter().enumerate() {
@@ -90,11 +102,17 @@ fn wrong_curve_counts_are_refused_by_name() {
     let mut g = sphere_groom(3, 4);
     g.3[1] = 7;
     let e = Session::from_groom(&arrays(&g, None), &GroomOptions::default()).unwrap_err();
-    assert!(matches!(&e, Error::Argument { argument, .. } if argument == "curve_counts"), "{e}");
+    assert!(
+        matches!(&e, Error::Argument { argument, .. } if argument == "curve_counts"),
+        "{e}"
+    );
     let g = sphere_groom(3, 4);
     let bad = vec![0.5; g.2.len() - 1];
     let e = Session::from_groom(&arrays(&g, Some(&bad)), &GroomOptions::default()).unwrap_err();
-    assert!(matches!(&e, Error::Argument { argument, .. } if argument == "goal_weights"), "{e}");
+    assert!(
+        matches!(&e, Error::Argument { argument, .. } if argument == "goal_weights"),
+        "{e}"
+    );
     let bad = vec![1.5; g.2.len()];
     let e = Session::from_groom(&arrays(&g, Some(&bad)), &GroomOptions::default()).unwrap_err();
     assert!(e.to_string().contains("from 0 to 1"), "{e}");
@@ -107,13 +125,18 @@ fn roots_far_from_the_scalp_are_refused() {
         p[2] += 0.5;
     }
     let e = Session::from_groom(&arrays(&g, None), &GroomOptions::default()).unwrap_err();
-    assert!(matches!(&e, Error::Argument { argument, .. } if argument == "curve_points"), "{e}");
+    assert!(
+        matches!(&e, Error::Argument { argument, .. } if argument == "curve_points"),
+        "{e}"
+    );
 }
 
 #[test]
 fn per_point_goal_weights_reach_the_strands_and_pin_them() {
     let g = sphere_groom(6, 5);
-    let weights: Vec<f32> = (0..g.2.len()).map(|i| if i % 5 == 4 { 1.0 } else { 0.25 }).collect();
+    let weights: Vec<f32> = (0..g.2.len())
+        .map(|i| if i % 5 == 4 { 1.0 } else { 0.25 })
+        .collect();
     let options = GroomOptions {
         physics: HairParams {
             goal_stiffness: 50.0,
@@ -159,7 +182,11 @@ fn children_of_a_session_follow_its_strands() {
     let offsets = s.strand_offsets();
     let mut start = 0usize;
     for (i, &n) in c.vertex_counts.iter().enumerate() {
-        let root = Vector3::new(c.points[3 * start], c.points[3 * start + 1], c.points[3 * start + 2]);
+        let root = Vector3::new(
+            c.points[3 * start],
+            c.points[3 * start + 1],
+            c.points[3 * start + 2],
+        );
         let parent = c.parent[i] as usize;
         let proot = Vector3::from(s.positions()[offsets[parent] as usize]);
         assert!((root - proot).norm() <= settings.spread * 1.01 + 1e-6);
@@ -168,7 +195,10 @@ fn children_of_a_session_follow_its_strands() {
     let e = s
         .children(&settings, Lod::Render, Some(&[[1.0, 0.0, 0.0]]))
         .unwrap_err();
-    assert!(matches!(&e, Error::Argument { argument, .. } if argument == "colors"), "{e}");
+    assert!(
+        matches!(&e, Error::Argument { argument, .. } if argument == "colors"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -178,7 +208,8 @@ fn a_groom_session_records_a_readable_cache_named_by_its_start() {
     let mut hashes = Vec::new();
     for name in ["a.mcap", "b.mcap"] {
         let mut s = Session::from_groom(&arrays(&g, None), &GroomOptions::default()).unwrap();
-        s.record_host(&dir.path().join(name), Default::default()).unwrap();
+        s.record_host(&dir.path().join(name), Default::default())
+            .unwrap();
         s.step().unwrap();
         let summary = s.finish_recording().unwrap();
         assert_eq!(summary.frames, 2);

@@ -186,7 +186,10 @@ pub fn isometry(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Isometry3<f32>> 
         ));
     }
     if rows.iter().flatten().any(|x| !x.is_finite()) {
-        return Err(argument(name, "is not finite: give a finite (4, 4) rigid matrix"));
+        return Err(argument(
+            name,
+            "is not finite: give a finite (4, 4) rigid matrix",
+        ));
     }
     let m = Matrix3::from_fn(|r, c| rows[r][c]);
     let t = Vector3::new(rows[0][3], rows[1][3], rows[2][3]);

@@ -72,7 +72,10 @@ impl PyCache {
         n: u32,
     ) -> PyResult<(Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>)> {
         let f = guard(|| self.reader.read_frame(n).map_err(cache_error))?;
-        Ok((rows_to_numpy(py, f.positions), rows_to_numpy(py, f.velocities)))
+        Ok((
+            rows_to_numpy(py, f.positions),
+            rows_to_numpy(py, f.velocities),
+        ))
     }
 
     /// `(positions, velocities)` at `time` s, between frames by cubic Hermite interpolation
@@ -87,7 +90,10 @@ impl PyCache {
                 .sample(time, Interpolation::Hermite)
                 .map_err(cache_error)
         })?;
-        Ok((rows_to_numpy(py, f.positions), rows_to_numpy(py, f.velocities)))
+        Ok((
+            rows_to_numpy(py, f.positions),
+            rows_to_numpy(py, f.velocities),
+        ))
     }
 
     fn __len__(&self) -> usize {

@@ -97,7 +97,9 @@ pub fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
         .map(|s| s.to_string())
         .or_else(|| payload.downcast_ref::<String>().cloned())
         .unwrap_or_else(|| "unknown panic".into());
-    format!("hairsys bug (a Rust panic, caught before it reached the host): {what}; please report it")
+    format!(
+        "hairsys bug (a Rust panic, caught before it reached the host): {what}; please report it"
+    )
 }
 
 /// Adds the exception types to the module.

@@ -41,7 +41,10 @@ impl GroomInput {
         };
         Ok(Self {
             scalp_vertices: float_rows::<3>(scalp_vertices, "scalp_vertices", "(V, 3)")?,
-            scalp_triangles: triangles.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect(),
+            scalp_triangles: triangles
+                .chunks_exact(3)
+                .map(|t| [t[0], t[1], t[2]])
+                .collect(),
             scalp_uvs,
             curve_points: float_rows::<3>(curve_points, "curve_points", "(P, 3)")?,
             curve_counts: indices(curve_counts, "curve_counts", None, "(C,)")?,
@@ -119,14 +122,19 @@ fn value<'py, T: pyo3::conversion::FromPyObjectOwned<'py>>(
 }
 
 /// The options of `from_groom` and the requested thread count; refuses unknown keys.
-pub fn groom_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<(GroomOptions, Option<usize>)> {
+pub fn groom_options(
+    options: Option<&Bound<'_, PyDict>>,
+) -> PyResult<(GroomOptions, Option<usize>)> {
     if let Some(d) = options {
         for key in d.keys() {
             let key: String = key.extract()?;
             if !KEYS.contains(&key.as_str()) {
                 return Err(argument(
                     &key,
-                    format!("is not an option of from_groom; the options are {}", KEYS.join(", ")),
+                    format!(
+                        "is not an option of from_groom; the options are {}",
+                        KEYS.join(", ")
+                    ),
                 ));
             }
         }
@@ -229,14 +237,25 @@ fn collider(item: &Bound<'_, PyAny>, i: usize) -> PyResult<(Collider, Isometry3<
     };
     let kind: String = get("shape")?.extract()?;
     let shape = match kind.as_str() {
-        "sphere" => ColliderShape::Sphere { radius: f("radius")? },
+        "sphere" => ColliderShape::Sphere {
+            radius: f("radius")?,
+        },
         "capsule" => ColliderShape::Capsule {
             half_height: f("half_height")?,
             radius: f("radius")?,
         },
         "mesh" => {
-            let v = float_rows::<3>(&get("vertices")?, &format!("{name}[\"vertices\"]"), "(V, 3)")?;
-            let t = indices(&get("triangles")?, &format!("{name}[\"triangles\"]"), Some(3), "(T, 3)")?;
+            let v = float_rows::<3>(
+                &get("vertices")?,
+                &format!("{name}[\"vertices\"]"),
+                "(V, 3)",
+            )?;
+            let t = indices(
+                &get("triangles")?,
+                &format!("{name}[\"triangles\"]"),
+                Some(3),
+                "(T, 3)",
+            )?;
             let mesh = TriMesh::new(
                 v.iter().map(|p| Vector3::from(*p)).collect(),
                 t.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect(),

@@ -237,7 +237,10 @@ impl PySession {
                             .map_err(to_py)
                     })?
                 }
-                (None, Some(body)) => this.session_mut().set_scalp_transform(body).map_err(to_py)?,
+                (None, Some(body)) => this
+                    .session_mut()
+                    .set_scalp_transform(body)
+                    .map_err(to_py)?,
                 (None, None) => {}
             }
             Ok(())
@@ -395,9 +398,12 @@ impl PySession {
         let frame = self.session_mut().frame() as f32 + 1.0;
         let fields = self.session_mut().fields_mut();
         let n = fields.len();
-        let f = fields
-            .get(index)
-            .ok_or_else(|| argument("index", format!("field {index} does not exist ({n} fields)")))?;
+        let f = fields.get(index).ok_or_else(|| {
+            argument(
+                "index",
+                format!("field {index} does not exist ({n} fields)"),
+            )
+        })?;
         Ok(f.strength.at(frame))
     }
 
@@ -409,9 +415,12 @@ impl PySession {
         }
         let fields = self.session_mut().fields_mut();
         let n = fields.len();
-        let f = fields
-            .get_mut(index)
-            .ok_or_else(|| argument("index", format!("field {index} does not exist ({n} fields)")))?;
+        let f = fields.get_mut(index).ok_or_else(|| {
+            argument(
+                "index",
+                format!("field {index} does not exist ({n} fields)"),
+            )
+        })?;
         f.strength = hair_core::Strength::Constant(value);
         Ok(())
     }
@@ -427,7 +436,10 @@ impl PySession {
     fn set_hair_hair_friction(&mut self, value: f32) -> PyResult<()> {
         self.check()?;
         if !(0.0..=1.0).contains(&value) {
-            return Err(argument("hair_hair_friction", format!("= {value}: give 0 to 1")));
+            return Err(argument(
+                "hair_hair_friction",
+                format!("= {value}: give 0 to 1"),
+            ));
         }
         match self.session_mut().hair_hair_mut() {
             Some(h) => {
@@ -486,7 +498,11 @@ impl PySession {
             },
             ..WriterOptions::default()
         };
-        guard(|| self.session_mut().record_host(&path, options).map_err(to_py))
+        guard(|| {
+            self.session_mut()
+                .record_host(&path, options)
+                .map_err(to_py)
+        })
     }
 
     /// Finishes the cache being written (index, summary, renamed to its final name); returns
