@@ -5,7 +5,7 @@
 //! scalp by [`hair_groom::snap_to_scalp`] (each root becomes a mesh sample, the rest shape is
 //! stored in its root frame, exactly as `[guides] file = …` does), and either simulated as they
 //! are (one strand per curve, in the host's order, so the host can write the positions back onto
-//! its own curves) or used as guides from which [`hair_groom::interpolate`] grows more simulation
+//! its own curves) or used as guides from which [`hair_groom::interpolate()`] grows more simulation
 //! hairs (as `[sim_hairs]` does). The strand model is mass-spring; colliders, hair–hair and
 //! fields are optional, and the scalp may collide with its own hair (as `[scalp.collider]`).
 //!

@@ -6,12 +6,12 @@ use hairsys::groom_input::{GroomArrays, GroomOptions, SimHairs};
 use hairsys::{Error, Session};
 use nalgebra::{Isometry3, Vector3};
 
+/// A groom as owned arrays: scalp vertices, scalp triangles, curve points, points per curve.
+struct Groom(Vec<[f32; 3]>, Vec<[u32; 3]>, Vec<[f32; 3]>, Vec<u32>);
+
 /// A UV sphere of radius 0.1 m as arrays, and `n` straight curves of `points` points along the
 /// outward normal at vertices of its upper half (roots exactly on the surface).
-fn sphere_groom(
-    n: usize,
-    points: usize,
-) -> (Vec<[f32; 3]>, Vec<[u32; 3]>, Vec<[f32; 3]>, Vec<u32>) {
+fn sphere_groom(n: usize, points: usize) -> Groom {
     let mesh = hair_groom::uv_sphere(0.1, 16, 8).unwrap();
     let vertices: Vec<[f32; 3]> = mesh.positions().iter().map(|p| [p.x, p.y, p.z]).collect();
     let triangles = mesh.triangles().to_vec();
@@ -35,13 +35,10 @@ fn sphere_groom(
         n,
         "the sphere has enough vertices for the test"
     );
-    (vertices, triangles, curve_points, counts)
+    Groom(vertices, triangles, curve_points, counts)
 }
 
-fn arrays<'a>(
-    g: &'a (Vec<[f32; 3]>, Vec<[u32; 3]>, Vec<[f32; 3]>, Vec<u32>),
-    weights: Option<&'a [f32]>,
-) -> GroomArrays<'a> {
+fn arrays<'a>(g: &'a Groom, weights: Option<&'a [f32]>) -> GroomArrays<'a> {
     GroomArrays {
         scalp_vertices: &g.0,
         scalp_triangles: &g.1,

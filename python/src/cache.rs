@@ -19,6 +19,9 @@ pub struct PyCache {
     reader: CacheReader,
 }
 
+/// `(positions, velocities)`, each `(P, 3)` float32.
+type FrameArrays<'py> = (Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>);
+
 fn cache_error(e: hair_cache::CacheError) -> PyErr {
     CacheError::new_err(e.to_string())
 }
@@ -66,11 +69,7 @@ impl PyCache {
     }
 
     /// `(positions, velocities)` of frame `n`, each (P, 3) float32.
-    fn frame<'py>(
-        &mut self,
-        py: Python<'py>,
-        n: u32,
-    ) -> PyResult<(Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>)> {
+    fn frame<'py>(&mut self, py: Python<'py>, n: u32) -> PyResult<FrameArrays<'py>> {
         let f = guard(|| self.reader.read_frame(n).map_err(cache_error))?;
         Ok((
             rows_to_numpy(py, f.positions),
@@ -80,11 +79,7 @@ impl PyCache {
 
     /// `(positions, velocities)` at `time` s, between frames by cubic Hermite interpolation
     /// with the cached velocities (motion-blur samples).
-    fn sample<'py>(
-        &mut self,
-        py: Python<'py>,
-        time: f64,
-    ) -> PyResult<(Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>)> {
+    fn sample<'py>(&mut self, py: Python<'py>, time: f64) -> PyResult<FrameArrays<'py>> {
         let f = guard(|| {
             self.reader
                 .sample(time, Interpolation::Hermite)
