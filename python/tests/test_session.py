@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import hairsys
-from conftest import REPO, hairsys_binary, read_mcap_frames, sphere_groom, uv_sphere
+from hairsys_testing import REPO, hairsys_binary, read_mcap_frames, sphere_groom, uv_sphere
 
 SMALL_SCENE = """
 [scene]
