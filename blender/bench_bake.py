@@ -29,6 +29,11 @@ SCENE = f"""
 name = "bench"
 fps = 24.0
 frames = [1, {FRAMES}]
+[physics]
+stretch_stiffness = 40.0
+bend_stiffness = 0.5
+goal_stiffness = 0.0
+air_drag = 2.0
 [scalp.mesh]
 kind = "uv-sphere"
 radius = 0.1
@@ -42,6 +47,7 @@ count = {COUNT}
 length = {LENGTH}
 segments = {POINTS - 1}
 seed = 1
+radius = 0.001
 """
 
 
@@ -50,7 +56,8 @@ def blender_bake(path):
     import hairsys_blender
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    hairsys_blender.register()
+    if not hasattr(bpy.types.Object, "hairsys"):
+        hairsys_blender.register()
     scene = bpy.context.scene
     scene.frame_start, scene.frame_end, scene.render.fps = 1, FRAMES, 24
     bpy.ops.mesh.primitive_uv_sphere_add(radius=0.1, segments=32, ring_count=16)

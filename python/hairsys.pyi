@@ -52,6 +52,8 @@ class FrameReport(TypedDict):
     point_substeps: int
     contact_points: int
     max_stretch: float
+    step_ms: float
+    """Wall time of the library's step (GIL released), ms."""
 
 class CacheSummary(TypedDict):
     path: str

@@ -206,7 +206,7 @@ impl PySession {
     /// (V, 3) float32/float64, m, in the scalp's body space placed by `scalp_matrix` (world
     /// space with no matrix). Neither: the scene's keyframes (or the scalp stays). Releases the
     /// GIL while it computes. Returns a dict of the frame's figures (frame, substeps, steps,
-    /// point_substeps, contact_points, max_stretch). Raises ArgumentError, SolverError,
+    /// point_substeps, contact_points, max_stretch, and step_ms: the library step's wall time). Raises ArgumentError, SolverError,
     /// SessionFailedError, CacheError.
     #[pyo3(signature = (scalp_matrix=None, scalp_vertices=None))]
     fn step<'py>(
@@ -247,8 +247,10 @@ impl PySession {
         });
         set?;
         let inner = this.session_mut();
+        let started = std::time::Instant::now();
         let result =
             py.detach(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| inner.step())));
+        let step_ms = started.elapsed().as_secs_f64() * 1e3;
         let report = match result {
             Ok(r) => r.map_err(to_py)?,
             Err(payload) => {
@@ -257,7 +259,9 @@ impl PySession {
                 return Err(InternalError::new_err(message));
             }
         };
-        report_dict(py, &report)
+        let d = report_dict(py, &report)?;
+        d.set_item("step_ms", step_ms)?;
+        Ok(d)
     }
 
     /// Positions of every point, m, shape (P, 3) float32, read-only, **no copy**: a view of the
