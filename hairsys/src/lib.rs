@@ -21,6 +21,8 @@
 //! | scrub: go back to an earlier frame | [`Session::snapshot`], [`Session::restore`] |
 //! | continue a killed run | [`run::SimulateOptions::resume`] |
 //! | export render children of a cached frame | [`children::export`] |
+//! | children of the session's current frame, in memory | [`Session::children`] |
+//! | simulate a host's curves on its mesh, given as arrays | [`Session::from_groom`] |
 //! | hair cards of a strips scene | [`cards::export_cards`] |
 //!
 //! ```no_run
@@ -38,11 +40,14 @@
 pub mod cards;
 pub mod children;
 pub mod error;
+pub mod groom_input;
+pub mod host_cache;
 pub mod preview;
 pub mod resume;
 pub mod run;
 pub mod scene;
 pub mod session;
+pub mod session_children;
 
 pub use error::{Error, Result};
 pub use session::{Session, Snapshot};

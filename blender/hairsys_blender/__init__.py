@@ -1,0 +1,282 @@
+"""hairsys for Blender: bake hair Curves on their (deforming) surface mesh with hairsys and play
+the MCAP cache back.
+
+Select a hair Curves object whose Surface is a mesh, open Properties > Physics > hairsys, set
+the cache path and the parameters, press Bake (progress in the status bar, Esc cancels and keeps
+the frames baked so far). With Playback on, the curves take the cache's positions whenever the
+frame changes. Every frame of a bake hands hairsys the evaluated surface (armature, shape keys,
+any modifier) in world space and the poses of the collider collection's meshes.
+"""
+
+import bpy
+import numpy as np
+from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty,
+                       StringProperty)
+
+from . import playback
+from .bake import REST_ATTRIBUTE
+
+
+class HairsysSettings(bpy.types.PropertyGroup):
+    """hairsys settings of a hair Curves object."""
+
+    cache_path: StringProperty(
+        name="Cache", subtype="FILE_PATH", default="//hair.mcap",
+        description="MCAP cache the bake writes and playback reads (// = next to the .blend)")
+    playback: BoolProperty(
+        name="Playback", default=True,
+        description="Set the curves from the cache whenever the frame changes")
+    substeps: IntProperty(
+        name="Substeps", default=0, min=0, max=100000,
+        description="Force substeps per frame; 0 = derived from the stability bound")
+    threads: IntProperty(
+        name="Threads", default=0, min=0, max=256,
+        description="Threads of the bake; 0 = all cores")
+    stretch_stiffness: FloatProperty(
+        name="Stretch Stiffness", default=40.0, min=0.0, unit="NONE",
+        description="Springs between neighbouring points, N/m")
+    bend_stiffness: FloatProperty(
+        name="Bend Stiffness", default=0.5, min=0.0,
+        description="Springs towards the rest direction, N/m")
+    goal_stiffness: FloatProperty(
+        name="Goal Stiffness", default=0.0, min=0.0,
+        description="Springs towards the animated rest shape, N/m, times each point's goal weight")
+    air_drag: FloatProperty(
+        name="Air Drag", default=2.0, min=0.0,
+        description="Decay rate of velocity in still air, 1/s")
+    mass_per_length: FloatProperty(
+        name="Mass per Length", default=0.001, min=1e-9, precision=5,
+        description="Linear density of a strand, kg/m")
+    radius: FloatProperty(
+        name="Radius", default=0.001, min=0.0, unit="LENGTH", precision=4,
+        description="Strand (wisp) radius: its collision sphere")
+    max_snap_distance: FloatProperty(
+        name="Max Snap Distance", default=0.025, min=0.0, unit="LENGTH",
+        description="Largest distance a curve's root may lie from the surface")
+    weight_source: EnumProperty(
+        name="Goal Weights", default="NONE",
+        items=[("NONE", "None", "No goal springs (weights 0)"),
+               ("ATTRIBUTE", "Curve Attribute", "A float attribute of the curves (point or curve domain)"),
+               ("VERTEX_GROUP", "Vertex Group", "A vertex group of the surface, at each curve's root")],
+        description="Where the per-point goal (pin) weights come from, 0-1")
+    weight_name: StringProperty(
+        name="Weight Name", default="goal",
+        description="Name of the curve attribute or surface vertex group holding the goal weights")
+    surface_collision: BoolProperty(
+        name="Surface Collision", default=True,
+        description="Hair collides with its surface mesh (rest shape moved rigidly: the library "
+                    "does not follow the surface's deformation in collisions yet)")
+    surface_thickness: FloatProperty(
+        name="Surface Thickness", default=0.002, min=0.0, unit="LENGTH",
+        description="Distance kept between hair and the surface, on top of the strand radius")
+    surface_friction: FloatProperty(
+        name="Surface Friction", default=0.3, min=0.0,
+        description="Coulomb friction coefficient between hair and the surface")
+    collider_collection: PointerProperty(
+        name="Colliders", type=bpy.types.Collection,
+        description="Mesh objects hair collides with (rigid motion of their object matrices)")
+    collider_thickness: FloatProperty(
+        name="Collider Thickness", default=0.002, min=0.0, unit="LENGTH",
+        description="Distance kept between hair and the colliders")
+    collider_friction: FloatProperty(
+        name="Collider Friction", default=0.3, min=0.0,
+        description="Coulomb friction coefficient between hair and the colliders")
+
+
+def hair_object(context):
+    obj = context.object
+    return obj if obj is not None and obj.type == "CURVES" else None
+
+
+class HAIRSYS_OT_bake(bpy.types.Operator):
+    """Simulate the hair over the scene's frame range on the evaluated surface and write the cache"""
+
+    bl_idname = "hairsys.bake"
+    bl_label = "Bake Hair"
+    bl_options = {"REGISTER"}
+
+    _baker = None
+    _timer = None
+
+    @classmethod
+    def poll(cls, context):
+        return hair_object(context) is not None
+
+    def _start(self, context):
+        from .bake import Baker
+
+        playback.baking = True
+        try:
+            obj = hair_object(context)
+            playback.forget(bpy.path.abspath(obj.hairsys.cache_path))
+            self._baker = Baker(context, obj)
+        except (ValueError, OSError) as e:
+            playback.baking = False
+            self.report({"ERROR"}, f"hairsys: {e}")
+            return False
+        return True
+
+    def _end(self, context, cancelled):
+        playback.baking = False
+        summary = self._baker.finish()
+        frame = self._baker.frame
+        start = self._baker.start_frame
+        self._baker = None
+        context.scene.frame_set(start)
+        word = "cancelled after" if cancelled else "baked"
+        self.report({"WARNING" if cancelled else "INFO"},
+                    f"hairsys: {word} frame {frame}: {summary['frames']} frames in {summary['path']}")
+
+    def execute(self, context):
+        """Blocking bake (scripts, background mode)."""
+        if not self._start(context):
+            return {"CANCELLED"}
+        try:
+            while self._baker.step(context):
+                pass
+        except (ValueError, RuntimeError, OSError) as e:
+            self.report({"ERROR"}, f"hairsys: frame {self._baker.frame}: {e}")
+            self._end(context, cancelled=True)
+            return {"CANCELLED"}
+        self._end(context, cancelled=False)
+        return {"FINISHED"}
+
+    def invoke(self, context, event):
+        if not self._start(context):
+            return {"CANCELLED"}
+        wm = context.window_manager
+        wm.progress_begin(0, 100)
+        self._timer = wm.event_timer_add(0.0001, window=context.window)
+        wm.modal_handler_add(self)
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        wm = context.window_manager
+        if event.type == "ESC":
+            self._stop(context, cancelled=True)
+            return {"CANCELLED"}
+        if event.type != "TIMER":
+            return {"PASS_THROUGH"}
+        try:
+            more = self._baker.step(context)
+        except (ValueError, RuntimeError, OSError) as e:
+            self.report({"ERROR"}, f"hairsys: frame {self._baker.frame}: {e}")
+            self._stop(context, cancelled=True)
+            return {"CANCELLED"}
+        wm.progress_update(int(100 * self._baker.progress))
+        context.workspace.status_text_set(
+            f"hairsys: frame {self._baker.frame} of {self._baker.last} (Esc to cancel)")
+        if more:
+            return {"RUNNING_MODAL"}
+        self._stop(context, cancelled=False)
+        return {"FINISHED"}
+
+    def _stop(self, context, cancelled):
+        wm = context.window_manager
+        wm.event_timer_remove(self._timer)
+        wm.progress_end()
+        context.workspace.status_text_set(None)
+        self._end(context, cancelled)
+
+
+class HAIRSYS_OT_play_frame(bpy.types.Operator):
+    """Set the hair from the cache at the current frame"""
+
+    bl_idname = "hairsys.play_frame"
+    bl_label = "Load Cached Frame"
+
+    @classmethod
+    def poll(cls, context):
+        return hair_object(context) is not None
+
+    def execute(self, context):
+        obj = hair_object(context)
+        try:
+            ok = playback.apply_frame(obj, context.scene.frame_current)
+        except (OSError, ValueError) as e:
+            self.report({"ERROR"}, f"hairsys: {e}")
+            return {"CANCELLED"}
+        if not ok:
+            self.report({"WARNING"}, "hairsys: the cache has no such frame (or other curves)")
+            return {"CANCELLED"}
+        return {"FINISHED"}
+
+
+class HAIRSYS_OT_restore_groom(bpy.types.Operator):
+    """Put the groom's own curve positions back (playback replaced them) and stop playback"""
+
+    bl_idname = "hairsys.restore_groom"
+    bl_label = "Restore Groom"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        obj = hair_object(context)
+        return obj is not None and REST_ATTRIBUTE in obj.data.attributes
+
+    def execute(self, context):
+        obj = hair_object(context)
+        rest = obj.data.attributes[REST_ATTRIBUTE]
+        buf = np.empty(len(rest.data) * 3, dtype=np.float32)
+        rest.data.foreach_get("vector", buf)
+        obj.data.attributes["position"].data.foreach_set("vector", buf)
+        obj.data.update_tag()
+        obj.hairsys.playback = False
+        return {"FINISHED"}
+
+
+class HAIRSYS_PT_panel(bpy.types.Panel):
+    bl_label = "hairsys"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "physics"
+
+    @classmethod
+    def poll(cls, context):
+        return hair_object(context) is not None
+
+    def draw(self, context):
+        s = context.object.hairsys
+        col = self.layout.column()
+        col.prop(s, "cache_path")
+        row = col.row()
+        row.operator(HAIRSYS_OT_bake.bl_idname, icon="PHYSICS")
+        row.prop(s, "playback")
+        col.operator(HAIRSYS_OT_restore_groom.bl_idname)
+        col.separator()
+        for name in ("stretch_stiffness", "bend_stiffness", "goal_stiffness", "air_drag",
+                     "mass_per_length", "radius", "substeps", "threads", "max_snap_distance"):
+            col.prop(s, name)
+        col.separator()
+        col.prop(s, "weight_source")
+        if s.weight_source != "NONE":
+            col.prop(s, "weight_name")
+        col.separator()
+        col.prop(s, "surface_collision")
+        if s.surface_collision:
+            col.prop(s, "surface_thickness")
+            col.prop(s, "surface_friction")
+        col.prop(s, "collider_collection")
+        if s.collider_collection is not None:
+            col.prop(s, "collider_thickness")
+            col.prop(s, "collider_friction")
+
+
+CLASSES = (HairsysSettings, HAIRSYS_OT_bake, HAIRSYS_OT_play_frame, HAIRSYS_OT_restore_groom,
+           HAIRSYS_PT_panel)
+
+
+def register():
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+    bpy.types.Object.hairsys = PointerProperty(type=HairsysSettings)
+    if playback.on_frame_change not in bpy.app.handlers.frame_change_post:
+        bpy.app.handlers.frame_change_post.append(playback.on_frame_change)
+
+
+def unregister():
+    if playback.on_frame_change in bpy.app.handlers.frame_change_post:
+        bpy.app.handlers.frame_change_post.remove(playback.on_frame_change)
+    del bpy.types.Object.hairsys
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)

@@ -1,0 +1,196 @@
+"""Baking: hand hairsys the evaluated (deformed) surface every frame, write an MCAP cache.
+
+`Baker` does the work one frame at a time, so the modal operator (Esc cancels, progress in the
+window manager) and a blocking bake (background mode, tests) share it. Everything handed to
+hairsys is in world space, meters, Z up (Blender's convention): the surface's evaluated mesh
+(armature, shape keys, any modifier) times its `matrix_world`, the curves' points times the
+hair object's `matrix_world`; the scalp matrix stays the identity, so the surface may deform
+and scale freely. Mesh colliders are handed over as rigid bodies: their evaluated mesh at the
+first frame in world space, then each frame the rigid motion `M(f) @ M(first)^-1` of their
+object matrix (a collider that deforms or scales over time is refused by hairsys with a message;
+deforming colliders are pending the library's `Session.set_collider_vertices`).
+"""
+
+import numpy as np
+
+import hairsys
+
+
+def world_points(matrix, local):
+    """(N, 3) points `local` transformed by the 4x4 `matrix` (a `mathutils.Matrix`)."""
+    m = np.array(matrix, dtype=np.float64)
+    return local @ m[:3, :3].T + m[:3, 3]
+
+
+def evaluated_mesh(obj, depsgraph, triangles=False):
+    """The evaluated (deformed) mesh of `obj` in world space: vertices (V, 3) float64 and, when
+    asked, triangles (T, 3) int32."""
+    ev = obj.evaluated_get(depsgraph)
+    mesh = ev.to_mesh()
+    try:
+        co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+        mesh.vertices.foreach_get("co", co)
+        verts = world_points(ev.matrix_world, co.reshape(-1, 3).astype(np.float64))
+        tris = None
+        if triangles:
+            mesh.calc_loop_triangles()
+            tris = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int32)
+            mesh.loop_triangles.foreach_get("vertices", tris)
+            tris = tris.reshape(-1, 3)
+        return verts, tris
+    finally:
+        ev.to_mesh_clear()
+
+
+#: Point attribute keeping the groom's own positions (object space) once playback overwrites
+#: `position`; bakes start from it, and "Restore Groom" puts it back.
+REST_ATTRIBUTE = "hairsys_rest"
+
+
+def rest_positions(hair_obj):
+    """The groom's rest positions (object space, (P, 3) float32), saved into the
+    `REST_ATTRIBUTE` point attribute the first time they are asked for."""
+    curves = hair_obj.data
+    n = len(curves.points)
+    local = np.empty(n * 3, dtype=np.float32)
+    rest = curves.attributes.get(REST_ATTRIBUTE)
+    if rest is not None and (rest.domain != "POINT" or len(rest.data) != n):
+        curves.attributes.remove(rest)
+        rest = None
+    if rest is None:
+        curves.attributes["position"].data.foreach_get("vector", local)
+        rest = curves.attributes.new(REST_ATTRIBUTE, "FLOAT_VECTOR", "POINT")
+        rest.data.foreach_set("vector", local)
+    else:
+        rest.data.foreach_get("vector", local)
+    return local.reshape(-1, 3)
+
+
+def curve_arrays(hair_obj):
+    """The hair object's groom: world-space rest points (P, 3) and points per curve (C,)."""
+    curves = hair_obj.data
+    local = rest_positions(hair_obj)
+    offsets = np.empty(len(curves.curves) + 1, dtype=np.int32)
+    curves.curve_offset_data.foreach_get("value", offsets)
+    return world_points(hair_obj.matrix_world, local.astype(np.float64)), np.diff(offsets)
+
+
+def goal_weights(hair_obj, settings, surface_verts, points, counts):
+    """Per-point goal weights from the chosen source, or None.
+
+    ATTRIBUTE: a float attribute of the curves on the point or curve domain. VERTEX_GROUP: a
+    vertex group of the surface mesh; each curve takes the weight of the surface vertex nearest
+    its root, for all its points.
+    """
+    source = settings.weight_source
+    if source == "NONE":
+        return None
+    if source == "ATTRIBUTE":
+        attr = hair_obj.data.attributes.get(settings.weight_name)
+        if attr is None or attr.data_type != "FLOAT" or attr.domain not in {"POINT", "CURVE"}:
+            raise ValueError(
+                f"the hair has no float attribute {settings.weight_name!r} on points or curves; "
+                "add one or choose another weight source")
+        values = np.empty(len(attr.data), dtype=np.float32)
+        attr.data.foreach_get("value", values)
+        w = values if attr.domain == "POINT" else np.repeat(values, counts)
+        return np.clip(w, 0.0, 1.0)
+    surface = hair_obj.data.surface
+    group = surface.vertex_groups.get(settings.weight_name)
+    if group is None:
+        raise ValueError(
+            f"the surface {surface.name!r} has no vertex group {settings.weight_name!r}")
+    per_vertex = np.zeros(len(surface.data.vertices), dtype=np.float32)
+    for v in surface.data.vertices:
+        for g in v.groups:
+            if g.group == group.index:
+                per_vertex[v.index] = g.weight
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    roots = points[starts]
+    nearest = [int(np.argmin(np.linalg.norm(surface_verts - r, axis=1))) for r in roots]
+    return np.repeat(per_vertex[nearest], counts)
+
+
+def collider_objects(settings):
+    """The mesh objects of the collider collection (empty without one)."""
+    coll = settings.collider_collection
+    if coll is None:
+        return []
+    return [o for o in coll.all_objects if o.type == "MESH"]
+
+
+class Baker:
+    """Bakes `hair_obj` over the scene's frame range into `settings.cache_path`, frame by
+    frame (`step()` until it returns False), then `finish()`."""
+
+    def __init__(self, context, hair_obj):
+        import bpy
+
+        self.scene = context.scene
+        self.hair = hair_obj
+        self.settings = hair_obj.hairsys
+        surface = hair_obj.data.surface
+        if surface is None or surface.type != "MESH":
+            raise ValueError(f"{hair_obj.name!r} has no surface mesh: set it in the Curves "
+                             "object's Surface panel")
+        self.surface = surface
+        s = self.settings
+        self.first = self.scene.frame_start
+        self.last = self.scene.frame_end
+        #: The frame to go back to when the bake ends.
+        self.start_frame = self.scene.frame_current
+        self.scene.frame_set(self.first)
+        depsgraph = context.evaluated_depsgraph_get()
+        verts, tris = evaluated_mesh(surface, depsgraph, triangles=True)
+        points, counts = curve_arrays(hair_obj)
+        weights = goal_weights(hair_obj, s, verts, points, counts)
+        self.colliders = collider_objects(s)
+        specs = []
+        self.collider_start = []
+        for obj in self.colliders:
+            cv, ct = evaluated_mesh(obj, depsgraph, triangles=True)
+            specs.append({"shape": "mesh", "vertices": cv, "triangles": ct,
+                          "thickness": s.collider_thickness, "friction": s.collider_friction})
+            self.collider_start.append(np.array(obj.matrix_world, dtype=np.float64))
+        fps = self.scene.render.fps / self.scene.render.fps_base
+        options = dict(
+            fps=fps, first_frame=self.first, substeps=s.substeps if s.substeps > 0 else "auto",
+            gravity=tuple(self.scene.gravity) if self.scene.use_gravity else (0.0, 0.0, 0.0),
+            stretch_stiffness=s.stretch_stiffness, bend_stiffness=s.bend_stiffness,
+            goal_stiffness=s.goal_stiffness, air_drag=s.air_drag,
+            mass_per_length=s.mass_per_length, radius=s.radius,
+            max_snap_distance=s.max_snap_distance,
+            scalp_collider=s.surface_collision, scalp_thickness=s.surface_thickness,
+            scalp_friction=s.surface_friction, colliders=specs,
+        )
+        if s.threads > 0:
+            options["threads"] = s.threads
+        if weights is not None:
+            options["goal_weights"] = weights
+        self.session = hairsys.Session.from_groom(verts, tris, points, counts, **options)
+        self.path = bpy.path.abspath(s.cache_path)
+        self.session.write_cache(self.path)
+        self.frame = self.first
+
+    @property
+    def progress(self):
+        """Fraction of the frames baked, 0-1."""
+        return (self.frame - self.first) / max(1, self.last - self.first)
+
+    def step(self, context):
+        """Bakes the next frame; False when every frame is baked."""
+        if self.frame >= self.last:
+            return False
+        self.frame += 1
+        self.scene.frame_set(self.frame)
+        depsgraph = context.evaluated_depsgraph_get()
+        verts, _ = evaluated_mesh(self.surface, depsgraph)
+        for i, (obj, start) in enumerate(zip(self.colliders, self.collider_start)):
+            motion = np.array(obj.matrix_world, dtype=np.float64) @ np.linalg.inv(start)
+            self.session.set_collider_pose(i, motion)
+        self.session.step(scalp_vertices=verts)
+        return True
+
+    def finish(self):
+        """Finishes the cache (also after a cancel: the frames baked so far are kept)."""
+        return self.session.finish_cache()

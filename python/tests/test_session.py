@@ -1,0 +1,396 @@
+"""The hairsys Python module: shapes, zero copy, GIL release, errors, snapshots, caches, and
+bit-identity with the `hairsys simulate` command."""
+
+import pathlib
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import hairsys
+from hairsys_testing import REPO, hairsys_binary, read_mcap_frames, sphere_groom, uv_sphere
+
+SMALL_SCENE = """
+[scene]
+name = "small"
+fps = 24.0
+frames = [1, 12]
+[scalp.mesh]
+kind = "builtin-head"
+[scalp.motion]
+keys = [
+    { frame = 1, translation = [0.0, 0.0, 0.0], rotation_deg = [0.0, 0.0, 0.0] },
+    { frame = 12, translation = [0.0, 0.05, 0.0], rotation_deg = [0.0, 0.0, 60.0] },
+]
+[scalp.collider]
+thickness = 0.002
+friction = 0.3
+[hair]
+count = 150
+length = 0.2
+segments = 8
+seed = 3
+region = { direction = [0.0, 0.3, 1.0], max_angle_deg = 90.0 }
+"""
+
+
+@pytest.fixture
+def small_scene(tmp_path):
+    p = tmp_path / "small.toml"
+    p.write_text(SMALL_SCENE)
+    return p
+
+
+def rotation_z(deg, t=(0.0, 0.0, 0.0)):
+    a = np.radians(deg)
+    m = np.eye(4)
+    m[:2, :2] = [[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]]
+    m[:3, 3] = t
+    return m
+
+
+def test_shapes_and_layout(groom):
+    v, t, pts, counts = groom
+    s = hairsys.Session.from_groom(v, t, pts, counts)
+    assert s.positions.shape == (len(pts), 3) and s.positions.dtype == np.float32
+    assert s.velocities.shape == (len(pts), 3)
+    off = s.strand_offsets
+    assert off.dtype == np.uint32 and off[0] == 0 and off[-1] == len(pts)
+    assert np.array_equal(np.diff(off), counts)
+    assert (s.strand_count, s.point_count, s.frame, s.fps) == (len(counts), len(pts), 1, 24.0)
+    # At rest the strands are the curves (roots were on the scalp already).
+    np.testing.assert_allclose(s.positions, pts, atol=1e-5)
+
+
+def test_positions_are_views_of_the_session_without_copies(groom):
+    s = hairsys.Session.from_groom(*groom)
+    a, b = s.positions, s.positions
+    assert np.shares_memory(a, b)
+    assert a.base is s and not a.flags.writeable and not a.flags.owndata
+    with pytest.raises(ValueError):
+        a[0, 0] = 1.0
+    address = a.__array_interface__["data"][0]
+    snap = s.snapshot()
+    before = np.array(a)
+    s.step(scalp_matrix=rotation_z(20))
+    # The same memory shows the new frame: never reallocated by step or restore.
+    assert s.positions.__array_interface__["data"][0] == address
+    assert not np.array_equal(a, before)
+    s.restore(snap)
+    assert s.positions.__array_interface__["data"][0] == address
+    assert np.array_equal(a, before)
+    # The view keeps the session alive.
+    del s
+    assert np.array_equal(a, before)
+
+
+def test_step_releases_the_gil():
+    s = hairsys.Session.from_scene(None)  # default scene: 4000 strands, ~ 100 ms a frame
+    ticks = []
+    done = threading.Event()
+
+    def step():
+        for _ in range(3):
+            s.step()
+        done.set()
+
+    th = threading.Thread(target=step)
+    th.start()
+    while not done.is_set():
+        ticks.append(time.perf_counter())
+        time.sleep(0.001)
+    th.join()
+    # Python ran in this thread while the other stepped: many ticks, no long gaps.
+    assert len(ticks) > 20, f"only {len(ticks)} ticks while stepping"
+    gaps = np.diff(ticks)
+    assert gaps.max() < 0.05, f"the main thread was blocked {gaps.max():.3f} s"
+    assert s.frame == 4
+
+
+def test_other_calls_on_a_stepping_session_raise_instead_of_reading_a_torn_frame():
+    s = hairsys.Session.from_scene(None)
+    errors = []
+    th = threading.Thread(target=lambda: [s.step() for _ in range(2)])
+    th.start()
+    while th.is_alive():
+        try:
+            s.positions
+        except RuntimeError as e:
+            errors.append(e)
+    th.join()
+    assert errors, "positions was read while a step was computing"
+    assert "borrow" in str(errors[0])
+
+
+def test_deforming_scalp_moves_the_roots_onto_the_surface(groom):
+    v, t, pts, counts = groom
+    s = hairsys.Session.from_groom(v, t, pts, counts)
+    off = s.strand_offsets[:-1]
+    for f in range(1, 6):
+        deformed = v * np.array([1.0 + 0.05 * f, 1.0, 1.0 - 0.04 * f]) + [0.0, 0.01 * f, 0.0]
+        s.step(scalp_vertices=deformed.astype(np.float32))
+    roots = s.positions[off]
+    # The roots were at vertices: they follow those vertices exactly.
+    idx = [int(np.argmin(np.linalg.norm(v - p, axis=1))) for p in pts[off]]
+    np.testing.assert_allclose(roots, deformed[idx], atol=1e-6)
+
+
+def test_rigid_matrix_and_body_space_vertices_agree(groom):
+    v, t, pts, counts = groom
+    a = hairsys.Session.from_groom(v, t, pts, counts)
+    b = hairsys.Session.from_groom(v, t, pts, counts)
+    m = rotation_z(30, (0.0, 0.02, 0.0))
+    a.step(scalp_matrix=m)
+    b.step(scalp_matrix=m, scalp_vertices=v)
+    np.testing.assert_allclose(a.positions, b.positions, atol=1e-6)
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(scalp_vertices=np.zeros((5, 3))), r"scalp_vertices: 5 vertices given, the scalp mesh has \d+"),
+        (dict(scalp_vertices=np.zeros((10, 2))), r"scalp_vertices: has shape \[10, 2\], expected \(\d+, 3\)"),
+        (dict(scalp_vertices=np.zeros((10, 3), dtype=np.int32)), r"scalp_vertices: has dtype kind 'i'"),
+        (dict(scalp_vertices="nope"), r"scalp_vertices"),
+        (dict(scalp_matrix=np.diag([2.0, 2.0, 2.0, 1.0])), r"scalp_matrix: is not rigid .* identity matrix"),
+        (dict(scalp_matrix=np.eye(3)), r"scalp_matrix: has shape \[3, 3\], expected \(4, 4\)"),
+    ],
+)
+def test_bad_step_arguments_raise_argument_error(groom, kwargs, match):
+    s = hairsys.Session.from_groom(*groom)
+    with pytest.raises(hairsys.ArgumentError, match=match):
+        s.step(**kwargs)
+    assert s.frame == 1
+
+
+def test_nan_vertices_are_refused(groom):
+    v, t, pts, counts = groom
+    s = hairsys.Session.from_groom(v, t, pts, counts)
+    bad = v.copy()
+    bad[7, 1] = np.nan
+    with pytest.raises(hairsys.ArgumentError, match="scalp_vertices: vertex 7 is not finite"):
+        s.step(scalp_vertices=bad)
+    with pytest.raises(hairsys.ArgumentError, match="scalp_vertices"):
+        hairsys.Session.from_groom(bad, t, pts, counts)
+
+
+def test_bad_groom_arrays_raise_argument_error(groom):
+    v, t, pts, counts = groom
+    with pytest.raises(hairsys.ArgumentError, match="curve_counts: add up to"):
+        hairsys.Session.from_groom(v, t, pts, counts[:-1])
+    with pytest.raises(hairsys.ArgumentError, match=r"scalp_triangles: has shape \[\d+, 4\]"):
+        hairsys.Session.from_groom(v, np.zeros((4, 4), dtype=int), pts, counts)
+    with pytest.raises(hairsys.ArgumentError, match="scalp_triangles: has dtype kind 'f'"):
+        hairsys.Session.from_groom(v, t.astype(float), pts, counts)
+    with pytest.raises(hairsys.ArgumentError, match="scalp_triangles: entry .* is -1"):
+        hairsys.Session.from_groom(v, t * 0 - 1, pts, counts)
+    with pytest.raises(hairsys.ArgumentError, match="goal_weights: .* shape"):
+        hairsys.Session.from_groom(v, t, pts, counts, goal_weights=np.ones(3))
+    with pytest.raises(hairsys.ArgumentError, match="bogus: is not an option"):
+        hairsys.Session.from_groom(v, t, pts, counts, bogus=1)
+    with pytest.raises(hairsys.ArgumentError, match="curve_points: .*max_snap_distance"):
+        hairsys.Session.from_groom(v, t, pts + [0.0, 0.0, 1.0], counts)
+    assert issubclass(hairsys.ArgumentError, ValueError)
+
+
+def test_collider_ids_and_poses_are_checked(groom):
+    v, t, pts, counts = groom
+    s = hairsys.Session.from_groom(
+        v, t, pts, counts,
+        colliders=[{"shape": "sphere", "radius": 0.03, "matrix": rotation_z(0, (0.3, 0, 0))}],
+        scalp_collider=True, scalp_thickness=0.001,
+    )
+    assert s.collider_count == 2
+    s.set_collider_pose(0, rotation_z(10, (0.25, 0, 0)))
+    with pytest.raises(hairsys.ArgumentError, match="collider 5: does not exist: this session has 2"):
+        s.set_collider_pose(5, np.eye(4))
+    with pytest.raises(hairsys.ArgumentError, match="collider -1: does not exist"):
+        s.set_collider_pose(-1, np.eye(4))
+    with pytest.raises(hairsys.ArgumentError, match="collider 1: is the scalp collider"):
+        s.set_collider_pose(1, np.eye(4))
+    with pytest.raises(hairsys.ArgumentError, match="matrix: is not rigid"):
+        s.set_collider_pose(0, np.diag([1.0, 1.0, 3.0, 1.0]))
+    with pytest.raises(hairsys.ArgumentError, match=r'colliders\[0\]: shape "cube"'):
+        hairsys.Session.from_groom(v, t, pts, counts, colliders=[{"shape": "cube"}])
+    s.step()
+
+
+def test_a_sphere_collider_pushes_hair_out(groom):
+    v, t, pts, counts = groom
+    # A sphere that sweeps through the hair from the side.
+    s = hairsys.Session.from_groom(
+        v, t, pts, counts, gravity=(0.0, 0.0, 0.0),
+        colliders=[{"shape": "sphere", "radius": 0.04, "matrix": rotation_z(0, (0.3, 0, 0.12))}],
+    )
+    for f in range(24):
+        x = 0.3 - 0.3 * (f + 1) / 24
+        s.step()
+        s.set_collider_pose(0, rotation_z(0, (x, 0, 0.12)))
+    s.step()
+    d = np.linalg.norm(s.positions - [0.0, 0.0, 0.12], axis=1)
+    assert d.min() > 0.04 - 0.002, f"a point is {0.04 - d.min():.4f} m inside the sphere"
+
+
+def test_stepping_after_a_failure_raises_until_restore(groom):
+    s = hairsys.Session.from_groom(*groom)
+    snap = s.snapshot()
+    s.goal_stiffness = -1.0
+    with pytest.raises(hairsys.SolverError, match="goal_stiffness"):
+        s.step()
+    with pytest.raises(hairsys.SessionFailedError, match="restore a snapshot"):
+        s.step()
+    s.restore(snap)  # the snapshot holds the solver, parameters included
+    assert s.frame == 1 and s.goal_stiffness == 0.0
+    s.step()
+    assert s.frame == 2
+
+
+def test_parameters_are_read_and_written(groom):
+    s = hairsys.Session.from_groom(*groom)
+    s.gravity = (0.0, 0.0, -1.0)
+    assert list(s.gravity) == [0.0, 0.0, -1.0]
+    s.goal_stiffness = 3.0
+    s.air_drag = 1.5
+    assert (s.goal_stiffness, s.air_drag) == (3.0, 1.5)
+    assert s.hair_hair_friction is None
+    with pytest.raises(hairsys.ArgumentError, match="hair–hair is off"):
+        s.hair_hair_friction = 0.5
+    with pytest.raises(hairsys.ArgumentError, match="field 0 does not exist"):
+        s.set_field_strength(0, 1.0)
+    h = hairsys.Session.from_groom(*groom, hair_hair_friction=0.2)
+    assert abs(h.hair_hair_friction - 0.2) < 1e-7
+    h.hair_hair_friction = 0.6
+    assert abs(h.hair_hair_friction - 0.6) < 1e-7
+    h.step()
+
+
+def test_gravity_setter_changes_the_motion(groom):
+    a = hairsys.Session.from_groom(*groom)
+    b = hairsys.Session.from_groom(*groom)
+    b.gravity = (0.0, 0.0, 0.0)
+    for _ in range(5):
+        a.step()
+        b.step()
+    tips = a.strand_offsets[1:] - 1
+    assert a.positions[tips, 2].mean() < b.positions[tips, 2].mean() - 1e-3
+
+
+def test_goal_weights_hold_strands_to_their_rest_shape(groom):
+    v, t, pts, counts = groom
+    free = hairsys.Session.from_groom(v, t, pts, counts, goal_stiffness=2.0)
+    held = hairsys.Session.from_groom(v, t, pts, counts, goal_stiffness=2.0, goal_weights=np.ones(len(pts)))
+    for _ in range(12):
+        free.step()
+        held.step()
+    dev = lambda s: np.linalg.norm(s.positions - pts, axis=1).max()
+    assert dev(held) < 0.5 * dev(free)
+
+
+def test_snapshot_restore_gives_identical_frames(small_scene):
+    s = hairsys.Session.from_scene(small_scene)
+    for _ in range(3):
+        s.step()
+    snap = s.snapshot()
+    assert snap.frame == 4
+    first = []
+    for _ in range(4):
+        s.step()
+        first.append(np.array(s.positions))
+    s.restore(snap)
+    assert s.frame == 4
+    for f in first:
+        s.step()
+        assert np.array_equal(s.positions, f)
+
+
+def test_cache_is_readable_by_mcap_and_by_hairsys_cache(tmp_path, small_scene):
+    s = hairsys.Session.from_scene(small_scene)
+    path = tmp_path / "out.mcap"
+    s.write_cache(path)
+    kept = {1: np.array(s.positions)}
+    for _ in range(5):
+        s.step()
+        kept[s.frame] = np.array(s.positions)
+    summary = s.finish_cache()
+    assert summary["frames"] == 6 and summary["first_frame"] == 1 and path.exists()
+    frames, meta = read_mcap_frames(path)
+    assert sorted(frames) == list(range(1, 7))
+    assert meta["fps"] == "24" and "small" in meta["scene_toml"]
+    for f, p in kept.items():
+        assert np.array_equal(frames[f][0], p)
+    c = hairsys.Cache(path)
+    assert c.frames == list(range(1, 7)) and len(c) == 6 and c.point_count == s.point_count
+    pos, vel = c.frame(4)
+    assert pos.flags.owndata or pos.base is not None
+    assert np.array_equal(pos, kept[4]) and vel.shape == pos.shape
+    with pytest.raises(hairsys.CacheError, match="frame 40"):
+        c.frame(40)
+    with pytest.raises(hairsys.CacheError):
+        hairsys.Cache(tmp_path / "missing.mcap")
+    assert issubclass(hairsys.CacheError, OSError)
+
+
+def test_restore_is_refused_while_recording(tmp_path, groom):
+    s = hairsys.Session.from_groom(*groom)
+    snap = s.snapshot()
+    s.write_cache(tmp_path / "c.mcap")
+    with pytest.raises(hairsys.ArgumentError, match="finish the cache first"):
+        s.restore(snap)
+    s.finish_cache()
+
+
+def test_scene_errors_name_the_file(tmp_path):
+    p = tmp_path / "bad.toml"
+    p.write_text("[scene]\nframes = [1, 10]\nbogus = 1\n")
+    with pytest.raises(hairsys.SceneError, match="bad.toml"):
+        hairsys.Session.from_scene(p)
+    with pytest.raises(hairsys.SceneError, match="cannot read"):
+        hairsys.Session.from_scene(tmp_path / "none.toml")
+
+
+def test_children_are_numpy_arrays(groom):
+    s = hairsys.Session.from_groom(*groom)
+    s.step()
+    c = s.children(per_parent=3)
+    assert len(c) == 3 * s.strand_count
+    assert c.points.shape == (int(c.vertex_counts.sum()), 3) and c.points.dtype == np.float32
+    assert c.widths.shape == (len(c.points),)
+    assert c.parent.max() == s.strand_count - 1
+    starts = np.concatenate([[0], np.cumsum(c.vertex_counts)[:-1]]).astype(np.int64)
+    roots = c.points[starts]
+    parent_roots = s.positions[s.strand_offsets[c.parent]]
+    assert np.linalg.norm(roots - parent_roots, axis=1).max() <= 0.005 * 1.01
+
+
+def test_interpolated_sim_hairs(groom):
+    v, t, pts, counts = groom
+    s = hairsys.Session.from_groom(v, t, pts, counts, sim_hairs=200, k=3, points=7, seed=2)
+    assert s.strand_count == 200 and s.point_count == 1400
+
+
+def test_threads_option_gives_the_same_bits(small_scene):
+    a = hairsys.Session.from_scene(small_scene, threads=1)
+    b = hairsys.Session.from_scene(small_scene, threads=2)
+    for _ in range(4):
+        a.step()
+        b.step()
+    assert np.array_equal(a.positions, b.positions)
+    with pytest.raises(hairsys.ArgumentError, match="threads"):
+        hairsys.Session.from_scene(small_scene, threads=0)
+
+
+def test_python_session_is_bit_identical_to_hairsys_simulate(tmp_path, small_scene):
+    out = tmp_path / "cli.mcap"
+    subprocess.run([hairsys_binary(), "simulate", str(small_scene), "--cache", str(out), "--quiet"],
+                   check=True)
+    frames, _ = read_mcap_frames(out)
+    assert sorted(frames) == list(range(1, 13))
+    s = hairsys.Session.from_scene(small_scene)
+    assert np.array_equal(s.positions, frames[1][0])
+    for f in range(2, 13):
+        s.step()
+        assert s.frame == f
+        assert np.array_equal(s.positions, frames[f][0]), f"frame {f} differs"
+        assert np.array_equal(s.velocities, frames[f][1]), f"frame {f} velocities differ"
