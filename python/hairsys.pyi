@@ -211,6 +211,13 @@ class Session:
         Raises ArgumentError for an id that does not exist, the scalp collider (set the scalp
         instead) or a matrix that is not rigid.
         """
+    def set_collider_vertices(self, id: int, vertices: _Floats) -> None:
+        """Deforms mesh collider `id`: (V, 3) vertices, m, its body space, at the end of the
+        next frame (same count and order as the mesh it was made with).
+
+        Raises ArgumentError for an id that does not exist, a sphere or capsule, a wrong vertex
+        count or a non-finite vertex.
+        """
     gravity: tuple[float, float, float]
     """Gravity, m/s²."""
     goal_stiffness: float

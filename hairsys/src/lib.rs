@@ -41,7 +41,6 @@ pub mod cards;
 pub mod children;
 pub mod error;
 pub mod groom_input;
-pub mod host_cache;
 pub mod preview;
 pub mod resume;
 pub mod run;

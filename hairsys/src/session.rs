@@ -45,6 +45,7 @@ use hair_core::{
     RootFrame, Scalp, StrandSet, StrandSolver, TriMesh,
 };
 use nalgebra::{Isometry3, Vector3};
+use sha2::{Digest, Sha256};
 
 use crate::error::{Error, Result};
 use crate::scene::{SceneFile, Simulation};
@@ -526,10 +527,38 @@ impl Session {
 
     /// Starts recording to the MCAP cache at `path` (written as `path.partial`, renamed by
     /// [`Session::finish_recording`]): the current frame now, then every step.
+    ///
+    /// A cache names the scene that made it by a hash (`--resume` compares it). A session a host
+    /// assembled without a scene file ([`Session::new`], [`Session::from_groom`]) is named by
+    /// what it starts from instead: SHA-256 of the strand layout (offsets, rest lengths, radii),
+    /// the current positions and velocities, the fps and the frame number.
     pub fn record(&mut self, path: &Path, options: WriterOptions) -> Result<()> {
-        let header = self.cache_header();
-        let writer = CacheWriter::create(path, &header, &CacheLayout::of(&self.strands), options)?;
+        let mut header = self.cache_header();
+        let layout = CacheLayout::of(&self.strands);
+        if header.scene_hash.is_empty() {
+            header.scene_hash = self.state_hash(&layout);
+        }
+        let writer = CacheWriter::create(path, &header, &layout, options)?;
         self.record_into(writer)
+    }
+
+    /// SHA-256 (hex) of the layout and the current state (see [`Session::record`]).
+    fn state_hash(&self, layout: &CacheLayout) -> String {
+        let mut h = Sha256::new();
+        for o in &layout.offsets {
+            h.update(o.to_le_bytes());
+        }
+        for x in layout.rest_lengths.iter().chain(&layout.radii) {
+            h.update(x.to_le_bytes());
+        }
+        for p in self.positions().iter().chain(self.velocities()) {
+            for c in p {
+                h.update(c.to_le_bytes());
+            }
+        }
+        h.update(self.fps.to_le_bytes());
+        h.update(self.frame().to_le_bytes());
+        h.finalize().iter().map(|b| format!("{b:02x}")).collect()
     }
 
     /// Records into `writer` (already holding any earlier frames, e.g. those a resumed run

@@ -205,7 +205,7 @@ fn a_groom_session_records_a_readable_cache_named_by_its_start() {
     let mut hashes = Vec::new();
     for name in ["a.mcap", "b.mcap"] {
         let mut s = Session::from_groom(&arrays(&g, None), &GroomOptions::default()).unwrap();
-        s.record_host(&dir.path().join(name), Default::default())
+        s.record(&dir.path().join(name), Default::default())
             .unwrap();
         s.step().unwrap();
         let summary = s.finish_recording().unwrap();

@@ -338,6 +338,31 @@ impl PySession {
         })
     }
 
+    /// Deforms mesh collider `id`: `vertices` (V, 3) float, its shape at the end of the next
+    /// frame in its body space (same count and order as the mesh it was made with); within the
+    /// frame each vertex moves in a straight line and friction acts against that motion. Raises
+    /// ArgumentError for an id that does not exist, a sphere or capsule, a wrong count or a
+    /// non-finite vertex.
+    fn set_collider_vertices(&mut self, id: i64, vertices: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.check()?;
+        let id = u32::try_from(id).map_err(|_| {
+            argument(
+                &format!("collider {id}"),
+                format!(
+                    "does not exist: this session has {} collider(s)",
+                    self.session().colliders().len()
+                ),
+            )
+        })?;
+        with_float_rows::<3, _>(vertices, "vertices", "(V, 3)", |rows| {
+            guard(|| {
+                self.session_mut()
+                    .set_collider_vertices(ColliderId(id), rows)
+                    .map_err(to_py)
+            })
+        })
+    }
+
     /// Gravity, m/s², as (x, y, z).
     #[getter]
     fn get_gravity(&mut self) -> PyResult<[f32; 3]> {
@@ -504,7 +529,7 @@ impl PySession {
         };
         guard(|| {
             self.session_mut()
-                .record_host(&path, options)
+                .record(&path, options)
                 .map_err(to_py)
         })
     }
