@@ -43,6 +43,7 @@ pub mod inextensible;
 mod kernel;
 pub(crate) mod lanes;
 pub mod params;
+pub mod sag_free;
 pub mod stability;
 
 use std::time::{Duration, Instant};
@@ -64,6 +65,7 @@ pub use inextensible::Inextensibility;
 use kernel::{ContactSlice, GroupKernel, Scratch, StepConstants, StrandView};
 use lanes::Lane;
 use lanes::LANES;
+pub use sag_free::{make_sag_free, SagFreeLimits, SagFreeReport};
 pub use params::{HairParams, Integrator, KernelChoice, SolverSettings, Substeps};
 pub use stability::StabilityBound;
 
