@@ -46,8 +46,9 @@ pub use model::{Component, ComponentSet, ModelFigures, StrandSolver, StripFigure
 pub use rod::{ProjectionReport, RodFrameReport, RodParams, RodSolver, StrandModel};
 pub use solver::energy::{energy, Energy};
 pub use solver::{
-    kernel_instructions, FrameReport, HairParams, Inextensibility, Integrator, KernelChoice,
-    PhaseTimes, Solver, SolverSettings, StabilityBound, Substeps,
+    kernel_instructions, make_sag_free, FrameReport, HairParams, Inextensibility, Integrator,
+    KernelChoice, PhaseTimes, SagFreeLimits, SagFreeReport, Solver, SolverSettings, StabilityBound,
+    Substeps,
 };
 pub use strands::{Anchor, Scalp, StrandInput, StrandSet};
 pub use volume::{HairHairSettings, VoxelGrid};

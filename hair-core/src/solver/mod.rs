@@ -65,8 +65,8 @@ pub use inextensible::Inextensibility;
 use kernel::{ContactSlice, GroupKernel, Scratch, StepConstants, StrandView};
 use lanes::Lane;
 use lanes::LANES;
-pub use sag_free::{make_sag_free, SagFreeLimits, SagFreeReport};
 pub use params::{HairParams, Integrator, KernelChoice, SolverSettings, Substeps};
+pub use sag_free::{make_sag_free, SagFreeLimits, SagFreeReport};
 pub use stability::StabilityBound;
 
 /// Points a parallel work item holds at most (about a few L2-sized blocks of strands).

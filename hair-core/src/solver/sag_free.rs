@@ -152,7 +152,11 @@ fn geometry(x: &[Vector3<f32>], root: &RootFrame) -> Geometry {
     for j in 0..n - 1 {
         let (a, b) = (t[j], t[j + 1]);
         let c = 1.0 + a.dot(&b);
-        beta.push(if c > 1e-6 { a.cross(&b) / c } else { Vector3::zeros() });
+        beta.push(if c > 1e-6 {
+            a.cross(&b) / c
+        } else {
+            Vector3::zeros()
+        });
     }
     beta.push(Vector3::zeros());
     Geometry {
