@@ -262,3 +262,54 @@ fn hair_on_the_builtin_head_holds_its_groom_when_sag_free() {
     assert!(v < SPEED, "speed {v} m/s");
     assert!(plain > 1e-2, "plain sag {plain} m");
 }
+
+/// Cost of the initialisation on the default scene's hair: 4,000 strands × 16 segments on the
+/// built-in head. Run with
+/// `cargo test --release -p hairsys-tests --test sag_free -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn cost_on_the_default_scene_size() {
+    let head = hair_groom::builtin_head();
+    let opts = hair_groom::GenerateOptions {
+        count: 4000,
+        length: 0.25,
+        segments: 16,
+        seed: 1,
+        radius: 1e-4,
+        mass_per_length: DENSITY,
+        goal_root: 0.0,
+        goal_tip: 0.0,
+        region: hair_groom::Region::All,
+        length_variation: 0.3,
+    };
+    let inputs = hair_groom::generate(&head, &opts).unwrap();
+    let scalp = Scalp {
+        mesh: Some(head),
+        body: Isometry3::identity(),
+    };
+    let mut strands = set_on(&scalp, inputs.iter().cloned());
+    let roots = strands.root_frames(&scalp);
+    let p = params(10.0);
+    let start = std::time::Instant::now();
+    let report = make_sag_free(&mut strands, &p, &roots, SagFreeLimits::default()).unwrap();
+    let took = start.elapsed();
+    println!(
+        "sag-free on 4000 × 16: {:.1} ms; balanced {}, unbalanced {}, max turn {:.2}°, max |r| change {:.3}, max residual {:.2e} N (max weight {:.2e} N)",
+        took.as_secs_f64() * 1e3,
+        report.balanced,
+        report.unbalanced.len(),
+        report.max_turn.to_degrees(),
+        report.max_length_change,
+        report.max_residual,
+        report.max_weight
+    );
+    // With the default bending (0.5 N/m) most horizontal 25 cm strands cannot be held.
+    let weak = params(0.5);
+    let mut strands = set_on(&scalp, inputs);
+    let report = make_sag_free(&mut strands, &weak, &roots, SagFreeLimits::default()).unwrap();
+    println!(
+        "with k_b = 0.5 N/m: balanced {}, unbalanced {}",
+        report.balanced,
+        report.unbalanced.len()
+    );
+}
