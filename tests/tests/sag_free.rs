@@ -313,3 +313,36 @@ fn cost_on_the_default_scene_size() {
         report.unbalanced.len()
     );
 }
+
+/// `[solver] sag_free = true` in a scene file: the default scene's hair, with a bending stiff
+/// enough to hold it, starts in equilibrium; with the default 0.5 N/m it is refused with a
+/// message naming the key and the fix.
+#[test]
+fn scene_key_sag_free_balances_the_hair_or_says_why_not() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    let text = std::fs::read_to_string(dir.join("default.toml")).unwrap();
+    let with_key = text.replacen("[solver]\n", "[solver]\nsag_free = true\n", 1);
+    assert_ne!(with_key, text);
+    let refused = hairsys::scene::SceneFile::parse(&with_key, "default.toml", dir.clone())
+        .unwrap()
+        .build()
+        .unwrap_err()
+        .to_string();
+    assert!(
+        refused.contains("sag_free") && refused.contains("bend_stiffness"),
+        "{refused}"
+    );
+    let stiff = with_key.replacen("bend_stiffness = 0.5 ", "bend_stiffness = 10.0", 1);
+    assert_ne!(stiff, with_key);
+    let sim = hairsys::scene::SceneFile::parse(&stiff, "default.toml", dir)
+        .unwrap()
+        .build()
+        .unwrap();
+    let scalp = sim.scalp_at(sim.first_frame as f32);
+    let roots = sim.strands.root_frames(&scalp);
+    let residual = (0..sim.strands.len())
+        .flat_map(|s| residual_forces(&sim.strands, s, &sim.params, &roots[s]))
+        .fold(0.0f64, |a, f| a.max(f.norm()));
+    println!("default scene, k_b = 10 N/m, sag-free: largest residual {residual:.2e} N");
+    assert!(residual < 1e-6, "residual {residual} N");
+}
