@@ -294,6 +294,13 @@ impl StrandSet {
         &self.bend_rest
     }
 
+    /// Mutable rest directions, for rest-state solvers such as sag-free initialisation
+    /// ([`crate::solver::sag_free`]). A rest direction need not be a unit vector: its length
+    /// scales the bending spring's target distance `l_j |r_j|`.
+    pub fn bend_rest_mut(&mut self) -> &mut [RestDirection] {
+        &mut self.bend_rest
+    }
+
     /// Checks every anchor against the scalp (mesh present, sample on a valid triangle).
     pub fn validate_anchors(&self, scalp: &Scalp) -> Result<()> {
         for (strand, anchor) in self.anchors.iter().enumerate() {

@@ -46,6 +46,7 @@ pub mod inextensible;
 mod kernel;
 pub(crate) mod lanes;
 pub mod params;
+pub mod sag_free;
 pub mod stability;
 mod strain_limit;
 
@@ -69,6 +70,7 @@ use kernel::{ContactSlice, GroupKernel, Scratch, StepConstants, StrandView};
 use lanes::Lane;
 use lanes::LANES;
 pub use params::{HairParams, Integrator, KernelChoice, SolverSettings, Substeps};
+pub use sag_free::{make_sag_free, SagFreeLimits, SagFreeReport};
 pub use stability::StabilityBound;
 
 /// Points a parallel work item holds at most (about a few L2-sized blocks of strands).

@@ -149,6 +149,11 @@ pub struct SolverSection {
     /// only): segment lengths restored, stretching velocities removed. Off by default.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub inextensibility: bool,
+    /// Sag-free initialisation (mass-spring model): rest directions solved so that the groom is
+    /// a static equilibrium under gravity at the first frame (see
+    /// `hair_core::solver::sag_free`). Off by default.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub sag_free: bool,
 }
 
 impl Default for SolverSection {
@@ -161,6 +166,7 @@ impl Default for SolverSection {
             max_strain: None,
             model: StrandModel::MassSpring,
             inextensibility: false,
+            sag_free: false,
         }
     }
 }
@@ -664,6 +670,33 @@ impl SceneFile {
             .validate_anchors(&scalp)
             .map_err(|e| err(e.to_string()))?;
         sim.strands.reset_to_rest(&scalp);
+        if s.solver.sag_free {
+            if s.solver.model != StrandModel::MassSpring {
+                return Err(err(
+                    "[solver] sag_free is for the mass-spring model; remove it or set \
+                     model = \"mass-spring\""
+                        .into(),
+                ));
+            }
+            let roots = sim.strands.root_frames(&scalp);
+            let report = hair_core::make_sag_free(
+                &mut sim.strands,
+                &sim.params,
+                &roots,
+                hair_core::SagFreeLimits::default(),
+            )
+            .map_err(|e| err(e.to_string()))?;
+            if let Some(&first_bad) = report.unbalanced.first() {
+                return Err(err(format!(
+                    "[solver] sag_free: {} of {} strands (first: strand {first_bad}) cannot be held \
+                     in their groomed shape by the bending springs without turning a rest \
+                     direction more than 60°; raise [physics] bend_stiffness, shorten the hair \
+                     or groom it to hang",
+                    report.unbalanced.len(),
+                    sim.strands.len()
+                )));
+            }
+        }
         if let Some(h) = &sim.hair_hair {
             fields::check_grid(h, &sim.strands.positions).map_err(err)?;
         }
