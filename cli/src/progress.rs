@@ -39,10 +39,9 @@ impl Progress {
     pub fn tick<T: Serialize>(&self, event: &T) {
         match self {
             Progress::Bar(bar) => bar.inc(1),
-            Progress::Json => println!(
-                "{}",
-                serde_json::to_string(event).expect("events serialise")
-            ),
+            Progress::Json => {
+                crate::output::line(&serde_json::to_string(event).expect("events serialise"))
+            }
             Progress::Quiet => {}
         }
     }
