@@ -553,6 +553,13 @@ impl SceneFile {
                 wanted.max(1.0)
             }
         };
+        if settings.steps > MAX_SUBSTEPS {
+            return Err(self.error(format!(
+                "[solver] steps = {}: more than {MAX_SUBSTEPS} collision steps per frame never \
+                 finishes; use a few (1–8)",
+                settings.steps
+            )));
+        }
         let [first, last] = s.scene.frames;
         let frames = f64::from(last.saturating_sub(first));
         let work = strands.point_count() as f64 * substeps * f64::from(settings.steps) * frames;
