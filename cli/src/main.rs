@@ -949,6 +949,8 @@ fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
     let frames = run.frames;
     let [first, last] = scene.scene.scene.frames;
     let (first, last) = frames.unwrap_or((first, last));
+    // The bar counts the frames stepped (FIRST is the rest frame, written without a step), as
+    // the summary's `frames` does; the cache holds one more.
     let progress = Progress::new(last.saturating_sub(first) as u64, quiet, json, "simulating");
     let opts = SimulateOptions {
         scene,
@@ -960,7 +962,7 @@ fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
         kernel: run.kernel,
     };
     let result = simulate(&opts, |r| {
-        progress.tick(&json!({
+        progress.tick_frame(r.frame, &json!({
             "event": "frame",
             "frame": r.frame,
             "max_stretch": r.max_stretch,

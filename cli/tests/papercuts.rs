@@ -442,3 +442,57 @@ fn huge_child_counts_and_motion_samples_are_refused_not_aborted() {
         assert!(stderr(&o).contains("--allow-large"), "{}", stderr(&o));
     }
 }
+
+// Issue 18, item 4: one writer per cache.
+
+#[test]
+fn a_second_writer_on_the_same_cache_is_refused_with_the_first_ones_pid() {
+    let dir = tempdir("two-writers");
+    // The default scene over 48 frames runs long enough in a test build to overlap.
+    let mut first = Command::new(env!("CARGO_BIN_EXE_hairsys"))
+        .args(["simulate", "--cache", "w.mcap", "--quiet"])
+        .current_dir(&dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let pid_file = dir.join("w.mcap.partial.pid");
+    let t0 = std::time::Instant::now();
+    while !pid_file.exists() {
+        assert!(
+            t0.elapsed().as_secs() < 120,
+            "the first run never started writing"
+        );
+        assert!(
+            first.try_wait().unwrap().is_none(),
+            "the first run ended too soon"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let second = hairsys(&["simulate", "--cache", "w.mcap", "--force"], &dir);
+    let resumed = hairsys(&["simulate", "--cache", "w.mcap", "--resume"], &dir);
+    let still_running = first.try_wait().unwrap().is_none();
+    let _ = first.kill();
+    let _ = first.wait();
+    assert!(
+        still_running,
+        "the first run ended before the second one was tried"
+    );
+    for o in [&second, &resumed] {
+        assert_eq!(code(o), 1, "{}", stderr(o));
+        let e = stderr(o);
+        assert!(
+            e.contains(&format!("process {}", first.id())),
+            "names the holder's PID: {e}"
+        );
+    }
+    // The first run's lock died with it: a third run takes over with --force.
+    let o = hairsys(
+        &[
+            "simulate", "--frames", "1-2", "--cache", "w.mcap", "--force", "--quiet",
+        ],
+        &dir,
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(dir.join("w.mcap").exists() && !pid_file.exists());
+}

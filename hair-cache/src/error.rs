@@ -23,6 +23,18 @@ pub enum CacheError {
         /// What the operating system said.
         source: io::Error,
     },
+    /// Another writer holds the lock on the `.partial` file: two runs on one cache path.
+    #[error(
+        "`{}` is being written by {holder}: one run writes a cache at a time; wait for it, \
+         stop it, or choose another --cache path",
+        .partial.display()
+    )]
+    Locked {
+        /// The locked `.partial` file.
+        partial: PathBuf,
+        /// Who holds it: "process 1234", or "another process" when its id is unknown.
+        holder: String,
+    },
     /// The writer's inputs (header, layout, output path) are invalid; nothing was written.
     #[error("cannot write cache `{}`: {detail}", .path.display())]
     InvalidInput {

@@ -242,7 +242,10 @@ fn export_inner(
         // A sample past the first or last cached frame is taken at that frame: the cache holds
         // nothing beyond it to interpolate, and extrapolating velocities would invent motion.
         let sampled = match cached {
-            Some((a, b)) if time_code < a || time_code > b => {
+            // Only the samples around a cached frame: a frame outside the cache is an error.
+            Some((a, b))
+                if (a..=b).contains(&f64::from(frame)) && !(a..=b).contains(&time_code) =>
+            {
                 clamped_samples.push(time_code);
                 time_code.clamp(a, b)
             }
