@@ -140,7 +140,7 @@ mod tests {
     #[test]
     fn a_billion_steps_are_over_the_default_work_budget_and_a_small_run_is_not() {
         let b = Budget::default();
-        assert!(b.check_work("steps", 1e9 * 1000.0).is_err());
+        assert!(b.check_work("steps", 1e9 * 1e5).is_err());
         assert!(b.check_work("steps", 1e6 * 48.0).is_ok());
     }
 }
