@@ -81,10 +81,7 @@ impl CardsArgs {
 pub fn run(args: &CardsArgs) -> Result<(), String> {
     let summary = export_cards(&args.options())?;
     if args.json {
-        crate::output::line(&format!(
-            "{}",
-            serde_json::to_string(&summary).map_err(|e| e.to_string())?
-        ));
+        crate::output::line(&serde_json::to_string(&summary).map_err(|e| e.to_string())?);
     } else if !args.quiet {
         crate::output::line(&format!(
             "wrote {}: {} cards ({} hairs), {} vertices, {} quads, {} time sample(s)",
