@@ -81,12 +81,9 @@ impl CardsArgs {
 pub fn run(args: &CardsArgs) -> Result<(), String> {
     let summary = export_cards(&args.options())?;
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string(&summary).map_err(|e| e.to_string())?
-        );
+        crate::output::line(&serde_json::to_string(&summary).map_err(|e| e.to_string())?);
     } else if !args.quiet {
-        println!(
+        crate::output::line(&format!(
             "wrote {}: {} cards ({} hairs), {} vertices, {} quads, {} time sample(s)",
             summary.out,
             summary.cards,
@@ -94,7 +91,7 @@ pub fn run(args: &CardsArgs) -> Result<(), String> {
             summary.vertices,
             summary.quads,
             summary.time_samples
-        );
+        ));
     }
     Ok(())
 }

@@ -4,4 +4,5 @@
 
 pub mod bench;
 pub mod cards;
+pub mod output;
 pub mod progress;

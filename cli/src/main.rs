@@ -3,14 +3,16 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{CommandFactory, Parser, Subcommand, ValueEnum};
 use hair_cache::foxglove::FoxgloveOptions;
 use hair_cache::{CacheReader, Compression, Interpolation, Precision, WriterOptions};
 use hair_core::KernelChoice;
 use hair_render::ChildCount;
+use hairsys::budget::Budget;
 use hairsys::children::{export, parse_shutter, ChildOverrides, ExportOptions, Format};
 use hairsys::run::{simulate, SimulateOptions};
 use hairsys::scene::{SceneFile, DEFAULT_SCENE};
+use hairsys_cli::output;
 use hairsys_cli::progress::Progress;
 use serde_json::json;
 
@@ -20,6 +22,10 @@ use serde_json::json;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Lift the memory and time budgets checked before work (hair points, children × points ×
+    /// samples, points × substeps × steps × frames) for a run you know is large.
+    #[arg(long, global = true)]
+    allow_large: bool,
 }
 
 #[derive(Subcommand)]
@@ -31,7 +37,8 @@ enum Command {
         /// Cache file to write (MCAP). Written as CACHE.partial and renamed when complete.
         #[arg(long, default_value = "out.mcap")]
         cache: PathBuf,
-        /// Frame range FIRST-LAST overriding the scene's; the hair starts at rest at FIRST.
+        /// Frame range FIRST-LAST (or one frame N, the rest frame alone) overriding the scene's;
+        /// the hair starts at rest at FIRST.
         #[arg(long, value_parser = parse_range)]
         frames: Option<(u32, u32)>,
         /// Worker threads (default: all cores).
@@ -40,6 +47,9 @@ enum Command {
         /// Continue the interrupted run left in CACHE.partial from its last complete frame.
         #[arg(long)]
         resume: bool,
+        /// Replace an existing complete CACHE, or discard a killed run's CACHE.partial.
+        #[arg(long, conflicts_with = "resume")]
+        force: bool,
         /// Cache chunk compression.
         #[arg(long, value_enum, default_value_t = CompressionArg::None)]
         compression: CompressionArg,
@@ -47,10 +57,13 @@ enum Command {
         /// size, error at most (extent)/131070 per axis (about 23 µm over 3 m).
         #[arg(long)]
         quantize: bool,
-        /// Also write a foxglove.SceneUpdate channel showing up to N strands per frame (default 500),
-        /// to scrub the run in Foxglove.
-        #[arg(long, value_name = "N", num_args = 0..=1, default_missing_value = "500")]
-        foxglove: Option<usize>,
+        /// Also write a foxglove.SceneUpdate channel showing some strands per frame, to scrub the
+        /// run in Foxglove.
+        #[arg(long)]
+        foxglove: bool,
+        /// Strands the Foxglove channel shows per frame (implies --foxglove).
+        #[arg(long, value_name = "N", default_value_t = 500)]
+        foxglove_strands: usize,
         /// Print nothing but errors.
         #[arg(long, conflicts_with = "json")]
         quiet: bool,
@@ -78,6 +91,13 @@ enum Command {
         #[command(subcommand)]
         command: GroomCommand,
     },
+    /// Print a shell completion script: `hairsys completions bash > /etc/bash_completion.d/hairsys`.
+    Completions {
+        /// The shell.
+        shell: clap_complete::Shell,
+    },
+    /// Print the manual page (roff): `hairsys man > hairsys.1; man ./hairsys.1`.
+    Man,
     /// Speed against accuracy: reference cases, the Pareto chart, the stability map.
     Bench {
         /// Small cases and grids (seconds instead of minutes).
@@ -107,21 +127,27 @@ enum RenderCommand {
 
 #[derive(clap::Args)]
 struct ExportArgs {
-    /// Cache to read (the scene stored in it gives the roots); without it, the rest state.
-    #[arg(long)]
+    /// Cache to read (the scene stored in it gives the roots). One of --cache, --scene or
+    /// --default-scene is required.
+    #[arg(long, required_unless_present_any = ["scene", "default_scene"])]
     cache: Option<PathBuf>,
     /// Scene file: the rest state to export without --cache, or a scene overriding the cache's.
     #[arg(long)]
     scene: Option<PathBuf>,
+    /// Export the rest state of the built-in default scene (see `hairsys scene init`).
+    #[arg(long, conflicts_with_all = ["cache", "scene"])]
+    default_scene: bool,
     /// Frame to export (with --cache).
     #[arg(long)]
     frame: Option<u32>,
-    /// Shutter interval OPEN,CLOSE in frames around the frame.
-    #[arg(long, value_parser = parse_shutter, default_value = "-0.25,0.25", allow_hyphen_values = true)]
-    shutter: (f64, f64),
-    /// Motion samples over the shutter (USD time samples); 1 = no motion blur.
-    #[arg(long, default_value_t = 1)]
-    motion_samples: usize,
+    /// Shutter interval OPEN,CLOSE in frames around the frame [-0.25,0.25]; giving it without
+    /// --motion-samples takes 3 samples.
+    #[arg(long, value_parser = parse_shutter, allow_hyphen_values = true)]
+    shutter: Option<(f64, f64)>,
+    /// Motion samples over the shutter (USD time samples; 3 when only --shutter is given);
+    /// 1 = no motion blur. Samples past the first or last cached frame are clamped to it.
+    #[arg(long)]
+    motion_samples: Option<usize>,
     /// Children per parent strand [scene [children] per_parent, else 10].
     #[arg(long, conflicts_with = "count")]
     children_per_parent: Option<u32>,
@@ -153,10 +179,10 @@ struct ExportArgs {
     /// Seed of the children's random values [scene, else 0].
     #[arg(long)]
     seed: Option<u64>,
-    /// Output format.
-    #[arg(long, value_enum, default_value_t = FormatArg::Usd)]
-    format: FormatArg,
-    /// Output file (.usda for usd, .hair for hair).
+    /// Output format [from the extension of --out: .usda, .hair]; must agree with the extension.
+    #[arg(long, value_enum)]
+    format: Option<FormatArg>,
+    /// Output file: .usda (USD BasisCurves text) or .hair.
     #[arg(short, long)]
     out: PathBuf,
     /// Print nothing but errors.
@@ -177,7 +203,7 @@ enum ChildModeArg {
 }
 
 /// Children output format.
-#[derive(Clone, Copy, ValueEnum)]
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum FormatArg {
     /// USD BasisCurves (.usda).
     Usd,
@@ -288,6 +314,20 @@ enum CacheCommand {
     },
 }
 
+/// `println!` through [`output`]: a closed or full stdout ends the command cleanly.
+macro_rules! outln {
+    ($($arg:tt)*) => {
+        output::line(&format!($($arg)*))
+    };
+}
+
+/// `print!` through [`output`].
+macro_rules! outw {
+    ($($arg:tt)*) => {
+        output::write(&format!($($arg)*))
+    };
+}
+
 /// Environment variable choosing the compiled copy of the mass-spring kernel: `baseline` runs
 /// the portable copy on any CPU (to compare speeds, or to check on one machine that both copies
 /// give the same bits); unset or `auto`, the fastest copy the CPU has.
@@ -308,20 +348,26 @@ fn kernel_from_env() -> Result<KernelChoice, String> {
     }
 }
 
+/// Parses `--frames FIRST-LAST`, or `N` as the range of one frame `N-N`.
 fn parse_range(s: &str) -> Result<(u32, u32), String> {
-    let (a, b) = s
-        .split_once('-')
-        .ok_or_else(|| format!("`{s}` is not a range; write FIRST-LAST, e.g. 1-48"))?;
     let num = |t: &str| {
-        t.trim()
-            .parse::<u32>()
-            .map_err(|_| format!("`{t}` is not a frame number (whole number ≥ 0)"))
+        t.trim().parse::<u32>().map_err(|_| {
+            format!("`{t}` is not a frame number (whole number ≥ 0); write FIRST-LAST, e.g. 1-48, or one frame N")
+        })
     };
-    Ok((num(a)?, num(b)?))
+    match s.split_once('-') {
+        Some((a, b)) => Ok((num(a)?, num(b)?)),
+        None => num(s).map(|n| (n, n)),
+    }
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    let budget = if cli.allow_large {
+        Budget::UNLIMITED
+    } else {
+        Budget::default()
+    };
     let kernel = match kernel_from_env() {
         Ok(k) => k,
         Err(e) => {
@@ -338,13 +384,18 @@ fn main() -> ExitCode {
             quiet,
             json,
             resume,
+            force,
             compression,
             foxglove,
+            foxglove_strands,
             quantize,
         } => {
+            let foxglove = foxglove || foxglove_strands != 500;
             let writer = WriterOptions {
                 compression: compression.into(),
-                foxglove: foxglove.map(|max_strands| FoxgloveOptions { max_strands }),
+                foxglove: foxglove.then_some(FoxgloveOptions {
+                    max_strands: foxglove_strands,
+                }),
                 precision: if quantize {
                     Precision::Quantized16
                 } else {
@@ -359,21 +410,26 @@ fn main() -> ExitCode {
                 threads,
                 writer,
                 resume,
+                force,
                 kernel,
+                budget,
             };
             run_simulate(run, quiet, json)
         }
         Command::Scene {
             command: SceneCommand::Init,
         } => {
-            emit(DEFAULT_SCENE);
+            output::write(DEFAULT_SCENE);
             0
         }
         Command::Scene {
             command: SceneCommand::Check { scene },
-        } => match SceneFile::load(&scene).and_then(|s| s.build()) {
+        } => match SceneFile::load(&scene).and_then(|mut s| {
+            s.budget = budget;
+            s.build()
+        }) {
             Ok(sim) => {
-                println!(
+                outln!(
                     "{}: ok — {} strands, {} points, frames {}–{} at {} fps",
                     scene.display(),
                     sim.strands.len(),
@@ -383,7 +439,7 @@ fn main() -> ExitCode {
                     sim.settings.fps
                 );
                 if sim.model == hair_core::StrandModel::Rod {
-                    println!(
+                    outln!(
                         "  model: {} (a = {} m, b/a = {}, E = {} Pa)",
                         sim.model.name(),
                         sim.rod.semi_major_axis,
@@ -392,16 +448,16 @@ fn main() -> ExitCode {
                     );
                 }
                 if let Some(guides) = &sim.guides_report {
-                    println!("  guides: {guides}");
+                    outln!("  guides: {guides}");
                 }
                 if let Some(h) = &sim.hair_hair {
-                    println!(
+                    outln!(
                         "  hair-hair: {} m cells, friction {}, repulsion {} m²/s² above volume fraction {}",
                         h.cell_size, h.friction, h.repulsion, h.target_density
                     );
                 }
                 if !sim.fields.is_empty() {
-                    println!("  force fields: {}", sim.fields.len());
+                    outln!("  force fields: {}", sim.fields.len());
                 }
                 0
             }
@@ -415,19 +471,22 @@ fn main() -> ExitCode {
         } => match hair_cache::summarize(&file) {
             Ok(summary) => {
                 if json {
-                    println!(
+                    outln!(
                         "{}",
                         serde_json::to_string_pretty(&summary).expect("summaries serialise")
                     );
                 } else {
-                    println!("{}", file.display());
-                    print!("{summary}");
+                    outln!("{}", file.display());
+                    outw!("{summary}");
+                    if !summary.to_string().ends_with('\n') {
+                        outln!("");
+                    }
                 }
                 0
             }
             Err(e) => {
                 eprintln!("error: {e}");
-                1
+                2
             }
         },
         Command::Cache {
@@ -444,13 +503,13 @@ fn main() -> ExitCode {
         } => report(recover(&broken, &fixed)),
         Command::RenderChildren {
             command: RenderCommand::Export(args),
-        } => report(export_children(*args)),
+        } => report(export_children(*args, budget)),
         Command::RenderChildren {
             command: RenderCommand::Cards(args),
-        } => report(hairsys_cli::cards::run(&args)),
+        } => report(hairsys_cli::cards::run(&args).map_err(Failure::input)),
         Command::Groom {
             command: GroomCommand::Export { scene, out },
-        } => report(export_guides(&scene, &out)),
+        } => report(export_guides(&scene, &out, budget)),
         Command::Groom {
             command:
                 GroomCommand::Info {
@@ -460,19 +519,41 @@ fn main() -> ExitCode {
                     json,
                 },
         } => report(groom_info(&file, scale, up_axis, json)),
+        Command::Completions { shell } => {
+            let mut text = Vec::new();
+            clap_complete::generate(shell, &mut Cli::command(), "hairsys", &mut text);
+            output::write(&String::from_utf8_lossy(&text));
+            0
+        }
+        Command::Man => {
+            let mut text = Vec::new();
+            match clap_mangen::Man::new(Cli::command()).render(&mut text) {
+                Ok(()) => {
+                    output::write(&String::from_utf8_lossy(&text));
+                    0
+                }
+                Err(e) => {
+                    eprintln!("error: cannot render the manual page ({e})");
+                    1
+                }
+            }
+        }
         Command::Bench {
             quick,
             out,
             quiet,
             json,
-        } => report(hairsys_cli::bench::cli(&hairsys_cli::bench::BenchOptions {
-            quick,
-            out,
-            json,
-            quiet,
-        })),
+        } => report(
+            hairsys_cli::bench::cli(&hairsys_cli::bench::BenchOptions {
+                quick,
+                out,
+                json,
+                quiet,
+            })
+            .map_err(Failure::run),
+        ),
     };
-    ExitCode::from(code as u8)
+    ExitCode::from(output::finish(code) as u8)
 }
 
 /// What `simulate` was asked to run.
@@ -483,33 +564,139 @@ struct RunArgs {
     threads: Option<usize>,
     writer: WriterOptions,
     resume: bool,
+    force: bool,
     kernel: KernelChoice,
+    budget: Budget,
 }
 
-/// Writes `text` to stdout; a reader that closed the pipe early (`| head`) is not an error.
-fn emit(text: &str) {
-    use std::io::Write;
-    match std::io::stdout().lock().write_all(text.as_bytes()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
-            eprintln!("error: cannot write to stdout ({e})")
+/// A command's failure with its exit code: 2 for bad input (files, options), 1 for work that
+/// failed (writing an output, a run).
+struct Failure {
+    code: i32,
+    message: String,
+}
+
+impl Failure {
+    /// Bad input (exit code 2).
+    fn input(message: impl Into<String>) -> Self {
+        Failure {
+            code: 2,
+            message: message.into(),
         }
-        _ => {}
+    }
+
+    /// Failed work (exit code 1).
+    fn run(message: impl Into<String>) -> Self {
+        Failure {
+            code: 1,
+            message: message.into(),
+        }
     }
 }
 
-/// Prints an error and gives the exit code (0 done, 1 failed).
-fn report(result: Result<(), String>) -> i32 {
+impl From<hairsys::Error> for Failure {
+    fn from(e: hairsys::Error) -> Self {
+        Failure {
+            code: e.exit_code(),
+            message: e.to_string(),
+        }
+    }
+}
+
+/// Prints an error and gives the exit code (0 done, 1 failed, 2 bad input).
+fn report(result: Result<(), Failure>) -> i32 {
     match result {
         Ok(()) => 0,
         Err(e) => {
-            eprintln!("error: {e}");
-            1
+            eprintln!("error: {}", e.message);
+            e.code
+        }
+    }
+}
+
+/// The format `out`'s extension names, or `None` for another extension.
+fn format_of(out: &Path) -> Option<FormatArg> {
+    match out.extension()?.to_str()?.to_ascii_lowercase().as_str() {
+        "usda" => Some(FormatArg::Usd),
+        "hair" => Some(FormatArg::Hair),
+        _ => None,
+    }
+}
+
+/// The export format: `--format` if given (it must agree with the extension of `out`), else
+/// the extension's.
+fn export_format(format: Option<FormatArg>, out: &Path) -> Result<Format, Failure> {
+    let ext = out
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let from_ext = format_of(out);
+    let chosen = match (format, from_ext) {
+        (Some(f), Some(e)) if f != e => {
+            return Err(Failure::input(format!(
+                "-o {}: the extension says {} but --format {} was given; use .{} for --format {}, \
+                 or drop --format",
+                out.display(),
+                e.name(),
+                f.name(),
+                f.extension(),
+                f.name()
+            )))
+        }
+        (_, Some(e)) => e,
+        (Some(f), None) => {
+            return Err(Failure::input(format!(
+                "-o {}: give the file the extension .{} for --format {}",
+                out.display(),
+                f.extension(),
+                f.name()
+            )))
+        }
+        (None, None) => {
+            let hint = match ext.as_deref() {
+                Some("usdc" | "usd" | "usdz") => {
+                    " (binary USD is not supported yet: write .usda text, which every USD reader opens)"
+                }
+                Some("abc") => " (Alembic is not supported: write .usda)",
+                _ => "",
+            };
+            return Err(Failure::input(format!(
+                "-o {}: unknown output extension{hint}; use .usda (USD BasisCurves) or .hair",
+                out.display()
+            )));
+        }
+    };
+    Ok(match chosen {
+        FormatArg::Usd => Format::Usd,
+        FormatArg::Hair => Format::Hair,
+    })
+}
+
+impl FormatArg {
+    /// The `--format` value.
+    fn name(self) -> &'static str {
+        match self {
+            FormatArg::Usd => "usd",
+            FormatArg::Hair => "hair",
+        }
+    }
+
+    /// The file extension.
+    fn extension(self) -> &'static str {
+        match self {
+            FormatArg::Usd => "usda",
+            FormatArg::Hair => "hair",
         }
     }
 }
 
 /// `render-children export`.
-fn export_children(a: ExportArgs) -> Result<(), String> {
+fn export_children(a: ExportArgs, budget: Budget) -> Result<(), Failure> {
+    let format = export_format(a.format, &a.out)?;
+    let motion_samples = match (a.motion_samples, a.shutter) {
+        (Some(n), _) => n,
+        (None, Some(_)) => 3,
+        (None, None) => 1,
+    };
     let count = match (a.children_per_parent, a.count) {
         (_, Some(n)) => Some(ChildCount::Total(n)),
         (Some(n), None) => Some(ChildCount::PerParent(n)),
@@ -519,8 +706,8 @@ fn export_children(a: ExportArgs) -> Result<(), String> {
         cache: a.cache,
         scene: a.scene,
         frame: a.frame,
-        shutter: a.shutter,
-        motion_samples: a.motion_samples,
+        shutter: a.shutter.unwrap_or((-0.25, 0.25)),
+        motion_samples,
         children: ChildOverrides {
             count,
             interpolated: a.mode.map(|m| matches!(m, ChildModeArg::Interpolated)),
@@ -532,48 +719,65 @@ fn export_children(a: ExportArgs) -> Result<(), String> {
             seed: a.seed,
         },
         display: a.display,
-        format: match a.format {
-            FormatArg::Usd => Format::Usd,
-            FormatArg::Hair => Format::Hair,
-        },
+        format,
         out: a.out,
+        budget,
     };
     let progress = Progress::new(opts.motion_samples as u64, a.quiet, false, "children");
     let summary = export(&opts, || progress.tick(&()));
     progress.finish();
     let summary = summary?;
+    if !summary.clamped_samples.is_empty() && !a.quiet {
+        eprintln!(
+            "note: motion sample(s) at frame(s) {} lie outside the cached frames and were \
+             clamped to the nearest cached frame (the hair holds still there)",
+            summary
+                .clamped_samples
+                .iter()
+                .map(|f| format!("{f}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
     if a.json {
-        println!(
+        outln!(
             "{}",
             serde_json::to_string(&summary).expect("summaries serialise")
         );
     } else if !a.quiet {
-        println!(
+        outln!(
             "wrote {}: {} children, {} points, {} time sample(s)",
-            summary.out, summary.curves, summary.points, summary.time_samples
+            summary.out,
+            summary.curves,
+            summary.points,
+            summary.time_samples
         );
     }
     Ok(())
 }
 
 /// `groom export`: a scene's guides, in world space at rest, to a groom file.
-fn export_guides(scene: &Path, out: &Path) -> Result<(), String> {
+fn export_guides(scene: &Path, out: &Path, budget: Budget) -> Result<(), Failure> {
     let sim = SceneFile::load(scene)
-        .and_then(|s| s.build())
-        .map_err(|e| e.to_string())?;
+        .and_then(|mut s| {
+            s.budget = budget;
+            s.build()
+        })
+        .map_err(|e| Failure::input(e.to_string()))?;
     let (Some(mesh), false) = (sim.rest_mesh(), sim.guides.is_empty()) else {
-        return Err(format!(
+        return Err(Failure::input(format!(
             "{}: the scene has no [guides] to export",
             scene.display()
-        ));
+        )));
     };
-    let groom = hair_groom::guides_to_groom(mesh, &sim.guides).map_err(|e| e.to_string())?;
+    let groom = hair_groom::guides_to_groom(mesh, &sim.guides)
+        .map_err(|e| Failure::input(format!("{}: {e}", scene.display())))?;
     let opts = hair_groom::ImportOptions {
         scale: 1.0,
         up_axis: hair_groom::UpAxis::Z,
     };
-    hair_groom::write_groom(out, &groom, &opts).map_err(|e| e.to_string())?;
-    println!(
+    hair_groom::write_groom(out, &groom, &opts).map_err(|e| Failure::run(e.to_string()))?;
+    outln!(
         "wrote {}: {} guides, {} points (meters, Z up)",
         out.display(),
         groom.len(),
@@ -583,13 +787,22 @@ fn export_guides(scene: &Path, out: &Path) -> Result<(), String> {
 }
 
 /// `groom info`: a groom file's summary.
-fn groom_info(file: &Path, scale: f32, up_axis: UpAxisArg, json: bool) -> Result<(), String> {
+fn groom_info(file: &Path, scale: f32, up_axis: UpAxisArg, json: bool) -> Result<(), Failure> {
     let up_axis = match up_axis {
         UpAxisArg::Y => hair_groom::UpAxis::Y,
         UpAxisArg::Z => hair_groom::UpAxis::Z,
     };
     let groom = hair_groom::read_groom(file, &hair_groom::ImportOptions { scale, up_axis })
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| {
+            let e = e.to_string();
+            // Name the file even when the reader's message does not.
+            let name = file.display().to_string();
+            Failure::input(if e.contains(&name) {
+                e
+            } else {
+                format!("{name}: {e}")
+            })
+        })?;
     let info = hair_groom::groom_info(&groom);
     if json {
         let (lo, hi) = info.bounds;
@@ -601,61 +814,73 @@ fn groom_info(file: &Path, scale: f32, up_axis: UpAxisArg, json: bool) -> Result
             "length_m": { "min": info.length_min, "mean": info.length_mean, "max": info.length_max },
             "bounds_m": [[lo.x, lo.y, lo.z], [hi.x, hi.y, hi.z]],
         });
-        println!(
+        outln!(
             "{}",
             serde_json::to_string_pretty(&doc).expect("summaries serialise")
         );
     } else {
-        println!("{}", file.display());
-        println!("{info}");
+        outln!("{}", file.display());
+        outln!("{}", info.to_string().trim_end());
     }
     Ok(())
 }
 
 /// `cache sample`: positions at `time` as JSON.
-fn sample(file: &Path, time: f64, linear: bool, out: Option<&Path>) -> Result<(), String> {
-    let mut reader = CacheReader::open(file).map_err(|e| e.to_string())?;
+fn sample(file: &Path, time: f64, linear: bool, out: Option<&Path>) -> Result<(), Failure> {
+    let mut reader = CacheReader::open(file).map_err(|e| Failure::input(e.to_string()))?;
     let interpolation = if linear {
         Interpolation::Linear
     } else {
         Interpolation::Hermite
     };
-    let (a, b) = reader.frames_around(time).map_err(|e| e.to_string())?;
+    let (a, b) = reader
+        .frames_around(time)
+        .map_err(|e| Failure::input(e.to_string()))?;
     let sample = reader
         .sample(time, interpolation)
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| Failure::input(e.to_string()))?;
+    let offsets: Vec<u64> = reader.layout().offsets.iter().map(|&o| o as u64).collect();
     let doc = json!({
         "file": file.display().to_string(),
         "time": sample.time,
         "between_frames": [a, b],
         "interpolation": if linear { "linear" } else { "hermite" },
         "points": sample.positions.len(),
+        "strand_offsets": offsets,
         "positions": sample.positions.iter().map(|p| [p.x, p.y, p.z]).collect::<Vec<_>>(),
         "velocities": sample.velocities.iter().map(|v| [v.x, v.y, v.z]).collect::<Vec<_>>(),
     });
     let text = serde_json::to_string(&doc).expect("samples serialise");
     match out {
         Some(path) => std::fs::write(path, text + "\n").map_err(|e| {
-            format!(
+            Failure::run(format!(
                 "{}: cannot write the sample ({e}); check the directory",
                 path.display()
-            )
+            ))
         }),
         None => {
-            emit(&(text + "\n"));
+            output::line(&text);
             Ok(())
         }
     }
 }
 
 /// `cache recover`: every complete frame of `broken` into a complete cache at `fixed`.
-fn recover(broken: &Path, fixed: &Path) -> Result<(), String> {
-    let recovery = hair_cache::recover(broken).map_err(|e| e.to_string())?;
+fn recover(broken: &Path, fixed: &Path) -> Result<(), Failure> {
+    if same_file(broken, fixed) {
+        return Err(Failure::input(format!(
+            "cache recover {} {}: both name the same file; write the recovered cache to another \
+             path (recovering over the input would destroy it)",
+            broken.display(),
+            fixed.display()
+        )));
+    }
+    let recovery = hair_cache::recover(broken).map_err(|e| Failure::input(e.to_string()))?;
     if recovery.frames.is_empty() {
-        return Err(format!(
+        return Err(Failure::input(format!(
             "{}: no complete frame to recover",
             broken.display()
-        ));
+        )));
     }
     match &recovery.warning {
         Some(w) => eprintln!("warning: {}: {w}", broken.display()),
@@ -663,13 +888,52 @@ fn recover(broken: &Path, fixed: &Path) -> Result<(), String> {
     }
     let summary = recovery
         .write(fixed, WriterOptions::default())
-        .map_err(|e| e.to_string())?;
-    println!("wrote {}", fixed.display());
-    print!("{summary}");
+        .map_err(|e| Failure::run(e.to_string()))?;
+    outln!("wrote {}", fixed.display());
+    outw!("{summary}");
+    Ok(())
+}
+
+/// Whether `a` and `b` are the same file (same device and inode, so also through different
+/// paths or links); false when either does not exist.
+fn same_file(a: &Path, b: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(x), Ok(y)) => x.dev() == y.dev() && x.ino() == y.ino(),
+        _ => false,
+    }
+}
+
+/// Refuses to start a run over a complete cache or a killed run's `.partial` without `--force`.
+fn check_overwrite(cache: &Path, resume: bool, force: bool) -> Result<(), String> {
+    if resume || force {
+        return Ok(());
+    }
+    if cache.exists() {
+        return Err(format!(
+            "{} already exists; give --force to replace it, or another --cache path",
+            cache.display()
+        ));
+    }
+    if let Ok(partial) = hair_cache::partial_path(cache) {
+        if partial.exists() {
+            return Err(format!(
+                "{} is left by a run that was killed (or is still running): continue it with \
+                 --resume, keep its frames with `hairsys cache recover {} FIXED.mcap`, or \
+                 discard it with --force",
+                partial.display(),
+                partial.display()
+            ));
+        }
+    }
     Ok(())
 }
 
 fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
+    if let Err(e) = check_overwrite(&run.cache, run.resume, run.force) {
+        eprintln!("error: {e}");
+        return 2;
+    }
     let scene = match run.scene {
         Some(path) => match SceneFile::load(&path) {
             Ok(s) => s,
@@ -680,9 +944,13 @@ fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
         },
         None => SceneFile::builtin_default(),
     };
+    let mut scene = scene;
+    scene.budget = run.budget;
     let frames = run.frames;
     let [first, last] = scene.scene.scene.frames;
     let (first, last) = frames.unwrap_or((first, last));
+    // The bar counts the frames stepped (FIRST is the rest frame, written without a step), as
+    // the summary's `frames` does; the cache holds one more.
     let progress = Progress::new(last.saturating_sub(first) as u64, quiet, json, "simulating");
     let opts = SimulateOptions {
         scene,
@@ -694,7 +962,7 @@ fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
         kernel: run.kernel,
     };
     let result = simulate(&opts, |r| {
-        progress.tick(&json!({
+        progress.tick_frame(r.frame, &json!({
             "event": "frame",
             "frame": r.frame,
             "max_stretch": r.max_stretch,
@@ -713,10 +981,10 @@ fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
                 eprintln!("warning: the interrupted run kept {warning}");
             }
             if json {
-                println!("{}", json!({ "event": "done", "summary": summary }));
+                outln!("{}", json!({ "event": "done", "summary": summary }));
             } else if !quiet {
-                println!("wrote {}", opts.cache.display());
-                print!("{summary}");
+                outln!("wrote {}", opts.cache.display());
+                outw!("{summary}");
             }
             0
         }

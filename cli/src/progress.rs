@@ -26,9 +26,17 @@ impl Progress {
         } else {
             let bar = ProgressBar::new(total);
             bar.set_style(
-                ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} {per_sec} ETA {eta}")
-                    .expect("the template is valid")
-                    .progress_chars("=> "),
+                ProgressStyle::with_template(
+                    "{msg}{prefix} [{bar:30}] {pos}/{len} {rate} ETA {eta}",
+                )
+                .expect("the template is valid")
+                .with_key(
+                    "rate",
+                    |state: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+                        let _ = write!(w, "{:.1}/s", state.per_sec());
+                    },
+                )
+                .progress_chars("=> "),
             );
             bar.set_message(what.to_string());
             Progress::Bar(bar)
@@ -39,12 +47,19 @@ impl Progress {
     pub fn tick<T: Serialize>(&self, event: &T) {
         match self {
             Progress::Bar(bar) => bar.inc(1),
-            Progress::Json => println!(
-                "{}",
-                serde_json::to_string(event).expect("events serialise")
-            ),
+            Progress::Json => {
+                crate::output::line(&serde_json::to_string(event).expect("events serialise"))
+            }
             Progress::Quiet => {}
         }
+    }
+
+    /// Reports one unit of work done at `frame` (shown on the bar as the current frame).
+    pub fn tick_frame<T: Serialize>(&self, frame: u32, event: &T) {
+        if let Progress::Bar(bar) = self {
+            bar.set_prefix(format!(" frame {frame}"));
+        }
+        self.tick(event);
     }
 
     /// Removes the bar.

@@ -109,7 +109,7 @@ fn quiet_prints_nothing_and_frames_override_the_range() {
 fn cache_info_on_a_missing_file_fails_clearly() {
     let dir = tempdir("missing");
     let out = hairsys(&["cache", "info", "nothing.mcap"], &dir);
-    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("nothing.mcap"));
 }
 

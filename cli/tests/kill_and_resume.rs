@@ -224,6 +224,6 @@ fn sample_between_frames_and_at_a_frame() {
     assert_eq!(mid["between_frames"], serde_json::json!([2, 3]));
     assert_eq!(mid["points"], 170);
     let outside = hairsys(&["cache", "sample", "c.mcap", "--time", "10"], &dir);
-    assert_eq!(outside.status.code(), Some(1));
+    assert_eq!(outside.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&outside.stderr).contains("c.mcap"));
 }

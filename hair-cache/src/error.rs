@@ -23,6 +23,18 @@ pub enum CacheError {
         /// What the operating system said.
         source: io::Error,
     },
+    /// Another writer holds the lock on the `.partial` file: two runs on one cache path.
+    #[error(
+        "`{}` is being written by {holder}: one run writes a cache at a time; wait for it, \
+         stop it, or choose another --cache path",
+        .partial.display()
+    )]
+    Locked {
+        /// The locked `.partial` file.
+        partial: PathBuf,
+        /// Who holds it: "process 1234", or "another process" when its id is unknown.
+        holder: String,
+    },
     /// The writer's inputs (header, layout, output path) are invalid; nothing was written.
     #[error("cannot write cache `{}`: {detail}", .path.display())]
     InvalidInput {
@@ -148,8 +160,10 @@ pub enum CacheError {
     /// The file is a `.partial` cache: its writer has not finished.
     #[error(
         "`{}` is an unfinished cache: its writer was killed or is still running, and only a \
-         finished run is renamed to `{}`; wait for the run to finish or re-run it",
-        .path.display(), .finished.display()
+         finished run is renamed to `{}`. If the run is still going, wait for it; if it was \
+         killed, continue it with `hairsys simulate SCENE --cache {} --resume`, or keep its \
+         complete frames with `hairsys cache recover {} FIXED.mcap`",
+        .path.display(), .finished.display(), .finished.display(), .path.display()
     )]
     Unfinished {
         /// The `.partial` file.
@@ -219,15 +233,27 @@ pub enum CacheError {
     },
     /// A time outside the cached frames was asked for.
     #[error(
-        "`{}` holds no frame at or around {time} s: it holds {range}; pick a time in that range",
-        .path.display()
+        "`{}` holds no frame at or around frame {} ({time:.4} s): it holds {range}; pick a \
+         frame in that range",
+        .path.display(), short(*.frame)
     )]
     TimeOutOfRange {
         /// The file read.
         path: PathBuf,
         /// The time asked for, s.
         time: f64,
-        /// The cached range in words ("frames 1–120, 0.0417 s – 5 s", "no frame").
+        /// The time asked for in frames (time × fps), possibly fractional.
+        frame: f64,
+        /// The cached range in words ("frames 1–120 (0.0417 s – 5.0000 s)", "no frame").
         range: String,
     },
+}
+
+/// A frame number in short form: whole frames without decimals, sub-frames to 3 decimals.
+fn short(frame: f64) -> String {
+    if frame.fract() == 0.0 && frame.abs() < 1e15 {
+        format!("{frame:.0}")
+    } else {
+        format!("{frame:.3}")
+    }
 }

@@ -238,6 +238,7 @@ impl CacheReader {
         let out_of_range = || CacheError::TimeOutOfRange {
             path: self.path.clone(),
             time,
+            frame: time * fps,
             range: self.range_text(),
         };
         let ns = time_to_ns(time).ok_or_else(out_of_range)?;
@@ -275,7 +276,7 @@ impl CacheReader {
     fn range_text(&self) -> String {
         match (self.frames.first(), self.frames.last(), self.time_range()) {
             (Some(a), Some(b), Some((t0, t1))) => {
-                format!("frames {a}–{b}, {t0} s – {t1} s")
+                format!("frames {a}–{b} ({t0:.4} s – {t1:.4} s)")
             }
             _ => "no frame".into(),
         }

@@ -220,11 +220,7 @@ impl CacheWriter {
             ));
         }
         let partial = partial_path(&path)?;
-        let file = File::create(&partial).map_err(|source| CacheError::Create {
-            partial: partial.clone(),
-            path: path.clone(),
-            source,
-        })?;
+        let file = lock_partial(&partial, &path)?;
         let write_err = |source| CacheError::Write {
             path: partial.clone(),
             source,
@@ -439,12 +435,15 @@ impl CacheWriter {
             .into_inner()
             .map_err(|e| io("flush", e.into_error()))?;
         file.sync_all().map_err(|e| io("sync", e))?;
-        drop(file);
+        // Renamed while still locked, so no second writer can take the `.partial` in between;
+        // the lock goes with the file, released when it is closed just after.
         fs::rename(&self.partial, &self.path).map_err(|e| CacheError::Io {
             path: self.path.clone(),
             action: "rename the finished `.partial` file to",
             source: e,
         })?;
+        drop(file);
+        let _ = fs::remove_file(pid_path(&self.partial));
         sync_parent_dir(&self.path)?;
         let bytes = fs::metadata(&self.path)
             .map_err(|e| CacheError::Io {
@@ -470,6 +469,52 @@ impl CacheWriter {
     }
 }
 
+/// The sidecar `<partial>.pid` holding the process id of the writer that locks `<partial>`: for
+/// the message a second writer gets, never for the locking itself.
+pub fn pid_path(partial: &Path) -> PathBuf {
+    let mut name = partial.as_os_str().to_os_string();
+    name.push(".pid");
+    PathBuf::from(name)
+}
+
+/// Opens `partial` without truncating it and takes an exclusive lock on it (the operating
+/// system's file lock, released when the file is closed — also when the process is killed, so a
+/// killed run never blocks the next), then empties it and records this process's id beside it.
+/// A `.partial` locked by another writer is refused with that writer's process id.
+fn lock_partial(partial: &Path, path: &Path) -> Result<File, CacheError> {
+    let create = |source| CacheError::Create {
+        partial: partial.to_path_buf(),
+        path: path.to_path_buf(),
+        source,
+    };
+    let file = fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .create(true)
+        .truncate(false)
+        .open(partial)
+        .map_err(create)?;
+    match file.try_lock() {
+        Ok(()) => {}
+        Err(fs::TryLockError::WouldBlock) => {
+            let holder = fs::read_to_string(pid_path(partial))
+                .ok()
+                .map(|p| p.trim().to_string())
+                .filter(|p| !p.is_empty())
+                .map_or("another process".to_string(), |p| format!("process {p}"));
+            return Err(CacheError::Locked {
+                partial: partial.to_path_buf(),
+                holder,
+            });
+        }
+        Err(fs::TryLockError::Error(e)) => return Err(create(e)),
+    }
+    file.set_len(0).map_err(create)?;
+    // The id is only for the message above; failing to write it does not stop the run.
+    let _ = fs::write(pid_path(partial), format!("{}\n", std::process::id()));
+    Ok(file)
+}
+
 impl Drop for CacheWriter {
     /// Without `finish`: closes the open chunk so its frames reach the file, and leaves
     /// `<path>.partial` without a summary. Errors cannot be reported here and are ignored.
@@ -478,6 +523,7 @@ impl Drop for CacheWriter {
             let _ = mcap.flush();
             // `into_inner` does not write the summary, unlike dropping the MCAP writer.
             drop(mcap.into_inner());
+            let _ = fs::remove_file(pid_path(&self.partial));
         }
     }
 }

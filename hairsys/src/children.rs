@@ -18,6 +18,8 @@ use hair_render::{
 };
 use nalgebra::Vector3;
 
+use crate::budget::{Budget, BYTES_PER_CHILD_POINT};
+use crate::error::Error;
 use crate::scene::children::DEFAULT_NEIGHBOURS;
 use crate::scene::{ScalpMesh, SceneFile, Simulation};
 
@@ -50,6 +52,8 @@ pub struct ExportOptions {
     pub format: Format,
     /// Output path.
     pub out: PathBuf,
+    /// Memory limit checked before the children are generated (children × points × samples).
+    pub budget: Budget,
 }
 
 /// Child settings that override the scene's `[children]` section (`None`: the scene's value, or
@@ -129,6 +133,9 @@ pub struct ExportSummary {
     pub points: usize,
     /// Time samples written (1 without motion blur).
     pub time_samples: usize,
+    /// Motion samples that fell outside the cached frames and were clamped to the first or
+    /// last cached frame (the hair held still there), with the frames they asked for.
+    pub clamped_samples: Vec<f64>,
 }
 
 /// Parses `--shutter OPEN,CLOSE` (frames relative to the sampled frame, e.g. `-0.25,0.25`).
@@ -161,7 +168,26 @@ pub fn open_cache(cache: &Path, scene: Option<&Path>) -> Result<(SceneFile, Cach
 }
 
 /// Generates and writes the children; `on_sample` is called after each time sample.
-pub fn export(opts: &ExportOptions, mut on_sample: impl FnMut()) -> Result<ExportSummary, String> {
+///
+/// Errors are [`Error::Usage`] (exit code 2) for bad input — options, the scene, the cache
+/// read — and [`Error::Output`] (exit code 1) when the output cannot be written.
+pub fn export(opts: &ExportOptions, on_sample: impl FnMut()) -> Result<ExportSummary, Error> {
+    let mut written = false;
+    let result = export_inner(opts, on_sample, &mut written);
+    result.map_err(|e| {
+        if written {
+            Error::Output(e)
+        } else {
+            Error::Usage(e)
+        }
+    })
+}
+
+fn export_inner(
+    opts: &ExportOptions,
+    mut on_sample: impl FnMut(),
+    writing: &mut bool,
+) -> Result<ExportSummary, String> {
     if opts.motion_samples == 0 {
         return Err("--motion-samples 0: use at least 1 sample".into());
     }
@@ -201,13 +227,33 @@ pub fn export(opts: &ExportOptions, mut on_sample: impl FnMut()) -> Result<Expor
         }
         (None, None) => sim.first_frame,
     };
+    check_children_budget(opts, &sim, &settings)?;
     let offsets = shutter_offsets(opts.shutter, opts.motion_samples)?;
+    let cached = reader.as_ref().and_then(|r| {
+        Some((
+            f64::from(*r.frame_numbers().first()?),
+            f64::from(*r.frame_numbers().last()?),
+        ))
+    });
+    let mut clamped_samples = Vec::new();
     let mut samples: Vec<(f64, ChildBuffers)> = Vec::with_capacity(offsets.len());
     for offset in offsets {
         let time_code = frame as f64 + offset;
+        // A sample past the first or last cached frame is taken at that frame: the cache holds
+        // nothing beyond it to interpolate, and extrapolating velocities would invent motion.
+        let sampled = match cached {
+            // Only the samples around a cached frame: a frame outside the cache is an error.
+            Some((a, b))
+                if (a..=b).contains(&f64::from(frame)) && !(a..=b).contains(&time_code) =>
+            {
+                clamped_samples.push(time_code);
+                time_code.clamp(a, b)
+            }
+            _ => time_code,
+        };
         let positions = match reader.as_mut() {
             Some(r) => {
-                r.sample(time_code / fps, Interpolation::Hermite)
+                r.sample(sampled / fps, Interpolation::Hermite)
                     .map_err(|e| e.to_string())?
                     .positions
             }
@@ -228,6 +274,7 @@ pub fn export(opts: &ExportOptions, mut on_sample: impl FnMut()) -> Result<Expor
     }
     let centre = samples.len() / 2;
     let out = &opts.out;
+    *writing = true;
     match opts.format {
         Format::Hair => {
             hair_render::export::hair::export_hair(out, &samples[centre].1)
@@ -265,7 +312,32 @@ pub fn export(opts: &ExportOptions, mut on_sample: impl FnMut()) -> Result<Expor
         } else {
             1
         },
+        clamped_samples,
     })
+}
+
+/// Refuses children × points × samples over `opts.budget` before any child is generated.
+fn check_children_budget(
+    opts: &ExportOptions,
+    sim: &Simulation,
+    settings: &ChildSettings,
+) -> Result<(), String> {
+    let parents = sim.strands.len();
+    let children = match settings.count {
+        ChildCount::PerParent(n) => f64::from(n) * parents as f64,
+        ChildCount::Total(n) => n as f64,
+    };
+    let points_per_child = sim.strands.point_count() as f64 / parents.max(1) as f64;
+    let samples = opts.motion_samples as f64;
+    let bytes = children * points_per_child * samples * BYTES_PER_CHILD_POINT as f64;
+    opts.budget
+        .check_bytes(
+            &format!(
+                "{children} children × {points_per_child:.0} points × {samples} motion samples"
+            ),
+            bytes,
+        )
+        .map_err(|e| e.to_string())
 }
 
 /// Offsets (frames) of `n` samples evenly over the shutter, both ends included; the centre for 1.
@@ -288,37 +360,17 @@ fn scalp_colors(scene: &SceneFile) -> Result<Option<Vec<[f32; 3]>>, String> {
         return Ok(None);
     };
     let path = scene.base_dir.join(path);
-    // The options `hair_groom::load_obj` reads the scalp with, so the vertices come in its order.
-    let load = tobj::LoadOptions {
-        single_index: true,
-        triangulate: true,
-        ignore_points: true,
-        ignore_lines: true,
-    };
-    let failed = |e: &dyn std::fmt::Display| {
+    // The same bounded OBJ reader the scalp itself is loaded with (vertices in its order; a
+    // hostile face index is an error, not a panic).
+    let Some(colors) = hair_groom::load_obj_vertex_colors(&path).map_err(|e| {
         format!(
             "[scalp.mesh] {}: cannot read its vertex colors ({e})",
             path.display()
         )
+    })?
+    else {
+        return Ok(None);
     };
-    let file = std::fs::File::open(&path).map_err(|e| failed(&e))?;
-    // Material libraries are not needed (nor opened, as by `hair_groom::load_obj`).
-    let (models, _) = tobj::load_obj_buf(&mut std::io::BufReader::new(file), &load, |_| {
-        Err(tobj::LoadError::OpenFileFailed)
-    })
-    .map_err(|e| failed(&e))?;
-    let mut colors = Vec::new();
-    for model in &models {
-        let mesh = &model.mesh;
-        if mesh.vertex_color.len() != mesh.positions.len() {
-            return Ok(None);
-        }
-        colors.extend(
-            mesh.vertex_color
-                .chunks_exact(3)
-                .map(|c| [c[0], c[1], c[2]]),
-        );
-    }
     if let Some(i) = colors.iter().position(|c| !c.iter().all(|x| x.is_finite())) {
         return Err(format!(
             "[scalp.mesh] {}: vertex {i} has a non-finite color {:?}; fix its `v x y z r g b` line",

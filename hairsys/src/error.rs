@@ -29,6 +29,9 @@ pub enum Error {
         /// The solver's error.
         source: hair_core::HairError,
     },
+    /// An output file could not be written (exit code 1): names the file and the reason.
+    #[error("{0}")]
+    Output(String),
     /// The cache could not be written or read (exit code 1).
     #[error("{0}")]
     Cache(#[from] hair_cache::CacheError),
@@ -52,7 +55,7 @@ impl Error {
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Scene(_) | Error::Usage(_) | Error::Argument { .. } => 2,
-            Error::Solver { .. } | Error::Cache(_) | Error::Failed { .. } => 1,
+            Error::Solver { .. } | Error::Cache(_) | Error::Output(_) | Error::Failed { .. } => 1,
         }
     }
 

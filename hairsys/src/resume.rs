@@ -82,6 +82,26 @@ pub fn resume(cache: &Path, scene_hash: &str, sim: &mut Simulation) -> Result<Re
             sim.last_frame
         )));
     }
+    // A frame with a non-finite position or velocity cannot be continued from (and the solver
+    // would then report a "divergence" the run never had): refuse it by frame and point.
+    for f in &recovery.frames {
+        let bad = f
+            .positions
+            .iter()
+            .chain(&f.velocities)
+            .position(|v| !v.iter().all(|x| x.is_finite()));
+        if let Some(i) = bad {
+            let point = i % f.positions.len().max(1);
+            return Err(Error::Usage(format!(
+                "--resume: {} holds a non-finite position or velocity at frame {}, point {point} \
+                 (a damaged or hand-edited file): it cannot be continued; recover the frames \
+                 before it with `hairsys cache recover`, or run without --resume (--force) to \
+                 start over",
+                partial.display(),
+                f.frame
+            )));
+        }
+    }
     sim.strands.positions.copy_from_slice(&last.positions);
     sim.strands.velocities.copy_from_slice(&last.velocities);
     sim.first_frame = last.frame;

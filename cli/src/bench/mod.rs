@@ -429,14 +429,14 @@ pub fn cli(opts: &BenchOptions) -> Result<(), String> {
     let report = run(opts).map_err(|e| e.to_string())?;
     if opts.json {
         let json = serde_json::to_string(&report).map_err(|e| e.to_string())?;
-        println!("{json}");
+        crate::output::line(&json);
     } else if !opts.quiet {
-        println!(
+        crate::output::line(&format!(
             "bench done in {:.0} s: {} in {}",
             report.seconds,
             report::FILES.join(", "),
             opts.out.display()
-        );
+        ));
     }
     Ok(())
 }

@@ -17,6 +17,8 @@ use hair_core::{
     StrandInput, StrandModel, StrandSet, StrandSolver, Substeps, TriMesh,
 };
 use hair_groom::{GenerateOptions, ObjOptions, Region, UpAxis};
+
+use crate::budget::Budget;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
@@ -390,7 +392,14 @@ pub struct SceneFile {
     pub text: String,
     /// The parsed scene.
     pub scene: Scene,
+    /// Memory and time limits [`Self::build`] checks before allocating (default
+    /// [`Budget::default`]; a host or `--allow-large` lifts them).
+    pub budget: Budget,
 }
+
+/// Largest scene file read, bytes (16 MiB): a scene is a page of TOML text (the default is
+/// under 10 KiB); anything larger is the wrong file, and is refused before it is read.
+pub const MAX_SCENE_FILE_BYTES: u64 = 16 << 20;
 
 impl SceneFile {
     /// The built-in default scene.
@@ -403,12 +412,23 @@ impl SceneFile {
         .expect("the built-in default scene parses (checked by a test)")
     }
 
-    /// Reads and parses a scene file.
+    /// Reads and parses a scene file: a regular file of at most [`MAX_SCENE_FILE_BYTES`] (a
+    /// device, FIFO or directory is refused by name before it is opened).
     pub fn load(path: &Path) -> Result<Self, SceneError> {
         let origin = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+        let bytes =
+            hair_groom::input_file::read_regular_file(path, MAX_SCENE_FILE_BYTES).map_err(|e| {
+                SceneError {
+                    file: origin.clone(),
+                    message: format!("cannot read the scene file: {e}"),
+                }
+            })?;
+        let text = String::from_utf8(bytes).map_err(|e| SceneError {
             file: origin.clone(),
-            message: format!("cannot read the scene file ({e}); check the path"),
+            message: format!(
+                "not a text file (byte {} is not UTF-8); a scene is TOML text",
+                e.utf8_error().valid_up_to()
+            ),
         })?;
         let base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         Self::parse(&text, &origin, base_dir)
@@ -425,6 +445,7 @@ impl SceneFile {
             base_dir,
             text: text.to_string(),
             scene,
+            budget: Budget::default(),
         })
     }
 
@@ -463,6 +484,102 @@ impl SceneFile {
             }
         }
         Ok(h.finalize().iter().map(|b| format!("{b:02x}")).collect())
+    }
+
+    /// Refuses, before anything is generated, hair whose point count (from `[hair]`, generated
+    /// `[guides]` and `[sim_hairs]`) is over [`Self::budget`]'s memory.
+    fn check_point_budget(&self) -> Result<(), SceneError> {
+        let s = &self.scene;
+        let over = |e: crate::budget::OverBudget| self.error(e.to_string());
+        if let Some(h) = &s.hair {
+            let points = h.count as f64 * (f64::from(h.segments) + 1.0);
+            self.budget
+                .check_points(
+                    &format!(
+                        "[hair] count = {} × (segments + 1 = {}) points",
+                        h.count,
+                        u64::from(h.segments) + 1
+                    ),
+                    points,
+                )
+                .map_err(over)?;
+        }
+        let mut per_guide = None;
+        if let Some(g) = &s.guides {
+            let per = f64::from(g.segments.unwrap_or(0)) + 1.0;
+            per_guide = Some(per);
+            if let Some(count) = g.count {
+                self.budget
+                    .check_points(
+                        &format!("[guides] count = {count} × (segments + 1 = {per}) points"),
+                        count as f64 * per,
+                    )
+                    .map_err(over)?;
+            }
+        }
+        if let Some(h) = &s.sim_hairs {
+            if let Some(count) = h.count {
+                let per = h.points.map(|p| p as f64).or(per_guide).unwrap_or(1.0);
+                self.budget
+                    .check_points(
+                        &format!("[sim_hairs] count = {count} × {per} points"),
+                        count as f64 * per,
+                    )
+                    .map_err(over)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Refuses a run whose force substeps (explicit or resolved from `"auto"` by the stability
+    /// bound of `strands`) exceed [`crate::budget::MAX_SUBSTEPS`], or whose work (points ×
+    /// substeps × steps × frames) is over [`Self::budget`].
+    fn check_work_budget(
+        &self,
+        settings: &SolverSettings,
+        strands: &StrandSet,
+    ) -> Result<(), SceneError> {
+        use crate::budget::MAX_SUBSTEPS;
+        let s = &self.scene;
+        let substeps = match settings.substeps {
+            Substeps::Fixed(n) => f64::from(n),
+            Substeps::Auto => {
+                let bound = hair_core::StabilityBound::of(strands, &s.physics);
+                let wanted = f64::from(bound.auto_substeps(settings.step_dt()));
+                if wanted > f64::from(MAX_SUBSTEPS) {
+                    return Err(self.error(format!(
+                        "[solver] substeps = \"auto\" resolves to {wanted:.3e} force substeps per \
+                         step (limit {MAX_SUBSTEPS}): the stability bound {:.3e} s is set by \
+                         [physics] stretch_stiffness = {} N over the mass of a segment \
+                         (mass_per_length × segment length); lower stretch_stiffness, raise \
+                         mass_per_length, or use [solver] model = \"rod\"",
+                        bound.dt_max, s.physics.stretch_stiffness
+                    )));
+                }
+                wanted.max(1.0)
+            }
+        };
+        if settings.steps > MAX_SUBSTEPS {
+            return Err(self.error(format!(
+                "[solver] steps = {}: more than {MAX_SUBSTEPS} collision steps per frame never \
+                 finishes; use a few (1–8)",
+                settings.steps
+            )));
+        }
+        let [first, last] = s.scene.frames;
+        let frames = f64::from(last.saturating_sub(first));
+        let work = strands.point_count() as f64 * substeps * f64::from(settings.steps) * frames;
+        self.budget
+            .check_work(
+                &format!(
+                    "the run ({} points × {substeps} substeps × [solver] steps = {} × {frames} \
+                     frames)",
+                    strands.point_count(),
+                    settings.steps
+                ),
+                work,
+            )
+            .map_err(|e| self.error(e.to_string()))
     }
 
     fn error(&self, message: String) -> SceneError {
@@ -533,6 +650,7 @@ impl SceneFile {
             .validate()
             .map_err(|e| err(format!("[scalp.motion] {e}")))?;
 
+        self.check_point_budget()?;
         let rest_mesh = self.scalp_mesh()?;
         let mut strands = StrandSet::new();
         if let Some(hair) = &s.hair {
@@ -600,6 +718,7 @@ impl SceneFile {
                 "the scene has no hair: add a [hair] section or [[strands]]".into(),
             ));
         }
+        self.check_work_budget(&settings, &strands)?;
         let colliders = self.colliders()?;
         if let Some(c) = &s.contacts {
             c.validate().map_err(|e| err(format!("[contacts] {e}")))?;

@@ -1,0 +1,498 @@
+//! Issue 21 (CLI papercuts) and the command half of issue 18 (budgets, output, exit codes),
+//! each row through the real binary. Exit codes as README says: 0 done, 1 failed, 2 bad input.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+
+use common::{hairsys, tempdir};
+
+fn code(o: &Output) -> i32 {
+    o.status.code().expect("exited, not killed by a signal")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// A 3-frame run of the default scene into `dir/name`.
+fn small_cache(dir: &Path, name: &str) {
+    let o = hairsys(
+        &["simulate", "--frames", "1-3", "--cache", name, "--quiet"],
+        dir,
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+}
+
+/// A scene file on a uv sphere with `hair` as its `[hair]` section and `extra` appended.
+fn scene(dir: &Path, hair: &str, extra: &str) -> std::path::PathBuf {
+    let path = dir.join("scene.toml");
+    std::fs::write(
+        &path,
+        format!(
+            "[scene]\nname = \"t\"\nfps = 24.0\nframes = [1, 3]\n\n[scalp.mesh]\nkind = \
+             \"uv-sphere\"\nradius = 0.1\nsegments = 8\nrings = 6\n\n[hair]\n{hair}\n{extra}"
+        ),
+    )
+    .unwrap();
+    path
+}
+
+#[test]
+fn foxglove_flag_alone_does_not_swallow_the_scene_argument() {
+    let dir = tempdir("foxglove-flag");
+    let s = scene(&dir, "count = 10\nlength = 0.1\nsegments = 4", "");
+    let o = hairsys(
+        &[
+            "simulate",
+            "--foxglove",
+            s.to_str().unwrap(),
+            "--cache",
+            "f.mcap",
+            "--quiet",
+        ],
+        &dir,
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+}
+
+#[test]
+fn frames_given_as_one_number_is_parsed_as_a_range_of_one() {
+    let dir = tempdir("frames-one");
+    let o = hairsys(&["simulate", "--frames", "3", "--cache", "o.mcap"], &dir);
+    // `3` parses (no clap "invalid value" error, exit 2 from the parser with "invalid value").
+    assert!(!stderr(&o).contains("invalid value"), "{}", stderr(&o));
+}
+
+#[test]
+fn simulate_refuses_to_overwrite_a_complete_cache_without_force() {
+    let dir = tempdir("overwrite");
+    small_cache(&dir, "a.mcap");
+    let o = hairsys(&["simulate", "--frames", "1-2", "--cache", "a.mcap"], &dir);
+    assert_eq!(code(&o), 2);
+    assert!(stderr(&o).contains("--force"), "{}", stderr(&o));
+    let o = hairsys(
+        &[
+            "simulate", "--frames", "1-2", "--cache", "a.mcap", "--force", "--quiet",
+        ],
+        &dir,
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+}
+
+#[test]
+fn simulate_over_a_killed_runs_partial_asks_for_resume_or_force() {
+    let dir = tempdir("partial-left");
+    std::fs::write(dir.join("p.mcap.partial"), b"left by a killed run").unwrap();
+    let o = hairsys(&["simulate", "--frames", "1-2", "--cache", "p.mcap"], &dir);
+    assert_eq!(code(&o), 2);
+    let e = stderr(&o);
+    assert!(
+        e.contains("--resume") && e.contains("--force") && e.contains("cache recover"),
+        "{e}"
+    );
+    assert!(dir.join("p.mcap.partial").exists(), "the partial is kept");
+}
+
+#[test]
+fn cache_info_text_ends_with_a_newline() {
+    let dir = tempdir("info-newline");
+    small_cache(&dir, "a.mcap");
+    let o = hairsys(&["cache", "info", "a.mcap"], &dir);
+    assert_eq!(code(&o), 0);
+    assert!(stdout(&o).ends_with('\n'), "{:?}", stdout(&o));
+}
+
+#[test]
+fn cache_info_of_a_partial_names_recover_and_resume() {
+    let dir = tempdir("info-partial");
+    small_cache(&dir, "a.mcap");
+    std::fs::copy(dir.join("a.mcap"), dir.join("b.mcap.partial")).unwrap();
+    let o = hairsys(&["cache", "info", "b.mcap.partial"], &dir);
+    assert_eq!(code(&o), 2);
+    let e = stderr(&o);
+    assert!(e.contains("cache recover") && e.contains("--resume"), "{e}");
+}
+
+#[test]
+fn out_of_range_time_is_reported_in_frame_numbers() {
+    let dir = tempdir("range-frames");
+    small_cache(&dir, "a.mcap");
+    let o = hairsys(&["cache", "sample", "a.mcap", "--time", "10"], &dir);
+    assert_eq!(code(&o), 2);
+    let e = stderr(&o);
+    // 10 s at 24 fps is frame 240; the cache holds frames 1–3.
+    assert!(e.contains("frame 240") && e.contains("frames 1–3"), "{e}");
+    assert!(!e.contains("0.041666666666666664"), "{e}");
+}
+
+#[test]
+fn cache_sample_json_has_strand_offsets_that_split_the_positions() {
+    let dir = tempdir("sample-offsets");
+    small_cache(&dir, "a.mcap");
+    let o = hairsys(&["cache", "sample", "a.mcap", "--time", "0.0625"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let offsets: Vec<u64> = doc["strand_offsets"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_u64().unwrap())
+        .collect();
+    assert_eq!(offsets[0], 0);
+    assert!(offsets.windows(2).all(|w| w[0] < w[1]));
+    assert_eq!(
+        *offsets.last().unwrap() as usize,
+        doc["positions"].as_array().unwrap().len()
+    );
+}
+
+#[test]
+fn motion_samples_on_the_last_cached_frame_are_clamped_and_say_so() {
+    let dir = tempdir("clamp");
+    small_cache(&dir, "a.mcap");
+    let o = hairsys(
+        &[
+            "render-children",
+            "export",
+            "--cache",
+            "a.mcap",
+            "--frame",
+            "3",
+            "--motion-samples",
+            "3",
+            "--count",
+            "100",
+            "-o",
+            "c.usda",
+        ],
+        &dir,
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stderr(&o).contains("clamped"), "{}", stderr(&o));
+}
+
+#[test]
+fn shutter_alone_implies_motion_samples() {
+    let dir = tempdir("shutter");
+    small_cache(&dir, "a.mcap");
+    let o = hairsys(
+        &[
+            "render-children",
+            "export",
+            "--cache",
+            "a.mcap",
+            "--frame",
+            "2",
+            "--shutter",
+            "-0.5,0.5",
+            "--count",
+            "100",
+            "-o",
+            "c.usda",
+            "--json",
+        ],
+        &dir,
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(doc["time_samples"].as_u64().unwrap() > 1, "{doc}");
+}
+
+#[test]
+fn export_extension_picks_the_format_and_a_mismatch_is_refused() {
+    let dir = tempdir("ext");
+    let base = [
+        "render-children",
+        "export",
+        "--default-scene",
+        "--count",
+        "50",
+    ];
+    let run = |extra: &[&str]| {
+        let mut args = base.to_vec();
+        args.extend_from_slice(extra);
+        hairsys(&args, &dir)
+    };
+    let o = run(&["-o", "a.abc"]);
+    assert_eq!(code(&o), 2);
+    assert!(!dir.join("a.abc").exists());
+    let o = run(&["-o", "a.usdc"]);
+    assert_eq!(code(&o), 2);
+    assert!(stderr(&o).contains(".usda"), "{}", stderr(&o));
+    let o = run(&["--format", "hair", "-o", "a.usda"]);
+    assert_eq!(code(&o), 2);
+    assert!(!dir.join("a.usda").exists());
+    let o = run(&["-o", "a.hair", "--quiet"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    // Cem Yuksel's .hair starts with the magic "HAIR".
+    assert_eq!(&std::fs::read(dir.join("a.hair")).unwrap()[..4], b"HAIR");
+}
+
+#[test]
+fn export_without_cache_or_scene_says_what_to_give() {
+    let dir = tempdir("export-source");
+    let o = hairsys(&["render-children", "export", "-o", "a.usda"], &dir);
+    assert_eq!(code(&o), 2);
+    assert!(stderr(&o).contains("--cache"), "{}", stderr(&o));
+    assert!(!dir.join("a.usda").exists());
+}
+
+#[test]
+fn completions_and_man_page_come_from_the_command_definitions() {
+    let dir = tempdir("completions");
+    for shell in ["bash", "zsh", "fish"] {
+        let o = hairsys(&["completions", shell], &dir);
+        assert_eq!(code(&o), 0);
+        let text = stdout(&o);
+        assert!(
+            text.contains("render-children") && text.contains("allow-large"),
+            "{shell}"
+        );
+    }
+    let o = hairsys(&["man"], &dir);
+    assert_eq!(code(&o), 0);
+    let text = stdout(&o);
+    assert!(
+        text.starts_with(".ie") || text.contains(".TH hairsys 1"),
+        "{text}"
+    );
+    assert!(text.contains("simulate"));
+}
+
+// Issue 18, item 5: output.
+
+#[test]
+fn a_closed_stdout_pipe_ends_the_run_with_exit_1_not_a_panic_and_the_cache_is_written() {
+    let dir = tempdir("epipe");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_hairsys"))
+        .args(["simulate", "--frames", "1-4", "--cache", "p.mcap", "--json"])
+        .current_dir(&dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // the reader goes away before the first line
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("cannot write to stdout"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(dir.join("p.mcap").exists(), "the run finished its cache");
+}
+
+#[test]
+fn a_full_stdout_ends_the_command_with_exit_1_not_a_panic() {
+    let dir = tempdir("full");
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_hairsys"))
+        .args(["scene", "init"])
+        .current_dir(&dir)
+        .stdout(full)
+        .output()
+        .unwrap();
+    assert_eq!(code(&o), 1);
+    assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+}
+
+// Issue 18, item 6: exit codes (bad input is 2 in every command).
+
+#[test]
+fn bad_files_in_groom_cache_and_render_children_exit_2() {
+    let dir = tempdir("exit2");
+    std::fs::write(dir.join("junk.mcap"), b"not a cache").unwrap();
+    std::fs::write(dir.join("junk.hair"), b"not a groom").unwrap();
+    for args in [
+        vec!["cache", "info", "junk.mcap"],
+        vec!["cache", "info", "missing.mcap"],
+        vec!["cache", "sample", "junk.mcap", "--time", "0"],
+        vec!["cache", "recover", "junk.mcap", "fixed.mcap"],
+        vec!["groom", "info", "junk.hair"],
+        vec!["groom", "info", "/dev/zero"],
+        vec!["groom", "export", "missing.toml", "-o", "g.hair"],
+        vec![
+            "render-children",
+            "export",
+            "--cache",
+            "junk.mcap",
+            "--frame",
+            "1",
+            "-o",
+            "c.usda",
+        ],
+        vec!["scene", "check", "/dev/zero"],
+    ] {
+        let o = hairsys(&args, &dir);
+        assert_eq!(code(&o), 2, "{args:?}: {}", stderr(&o));
+        assert!(!stderr(&o).contains("panicked"), "{args:?}");
+    }
+}
+
+#[test]
+fn cache_recover_onto_its_own_input_is_refused_also_through_another_path() {
+    let dir = tempdir("recover-same");
+    small_cache(&dir, "a.mcap");
+    let before = std::fs::read(dir.join("a.mcap")).unwrap();
+    for fixed in ["a.mcap", "./a.mcap"] {
+        let o = hairsys(&["cache", "recover", "a.mcap", fixed], &dir);
+        assert_eq!(code(&o), 2, "{}", stderr(&o));
+    }
+    std::fs::hard_link(dir.join("a.mcap"), dir.join("link.mcap")).unwrap();
+    let o = hairsys(&["cache", "recover", "a.mcap", "link.mcap"], &dir);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert_eq!(std::fs::read(dir.join("a.mcap")).unwrap(), before);
+}
+
+// Issue 18, item 3: budgets before work.
+
+#[test]
+fn ten_million_hairs_are_refused_by_scene_check_with_the_estimate_and_the_flag() {
+    let dir = tempdir("budget-hair");
+    let s = scene(&dir, "count = 10000000\nlength = 0.1\nsegments = 32", "");
+    let o = hairsys(&["scene", "check", s.to_str().unwrap()], &dir);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("[hair] count = 10000000") && e.contains("--allow-large"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_huge_guide_count_is_refused_before_generation() {
+    let dir = tempdir("budget-guides");
+    let s = scene(
+        &dir,
+        "count = 10\nlength = 0.1\nsegments = 4",
+        "\n[guides]\ncount = 123456789012\nlength = 0.1\nsegments = 8\n",
+    );
+    let o = hairsys(&["scene", "check", s.to_str().unwrap()], &dir);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("[guides] count = 123456789012"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn auto_substeps_from_a_huge_stretch_stiffness_are_capped_naming_it() {
+    let dir = tempdir("budget-auto");
+    let s = scene(
+        &dir,
+        "count = 10\nlength = 0.1\nsegments = 4",
+        "\n[physics]\nstretch_stiffness = 1e15\n",
+    );
+    let o = hairsys(&["scene", "check", s.to_str().unwrap()], &dir);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("stretch_stiffness"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_tiny_mass_per_length_is_capped_like_a_stiff_spring() {
+    let dir = tempdir("budget-mass");
+    let s = scene(
+        &dir,
+        "count = 10\nlength = 0.1\nsegments = 4\nmass_per_length = 1e-30",
+        "",
+    );
+    let o = hairsys(&["scene", "check", s.to_str().unwrap()], &dir);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("mass_per_length"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_billion_steps_per_frame_are_refused_before_the_run() {
+    let dir = tempdir("budget-steps");
+    let s = scene(
+        &dir,
+        "count = 10\nlength = 0.1\nsegments = 4",
+        "\n[solver]\nsteps = 1000000000\n",
+    );
+    let o = hairsys(&["scene", "check", s.to_str().unwrap()], &dir);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("steps = 1000000000"), "{}", stderr(&o));
+}
+
+#[test]
+fn huge_child_counts_and_motion_samples_are_refused_not_aborted() {
+    let dir = tempdir("budget-children");
+    for extra in [["--count", "100000000"], ["--motion-samples", "1000000000"]] {
+        let mut args = vec![
+            "render-children",
+            "export",
+            "--default-scene",
+            "-o",
+            "c.usda",
+        ];
+        args.extend_from_slice(&extra);
+        let o = hairsys(&args, &dir);
+        assert_eq!(code(&o), 2, "{extra:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains("--allow-large"), "{}", stderr(&o));
+    }
+}
+
+// Issue 18, item 4: one writer per cache.
+
+#[test]
+fn a_second_writer_on_the_same_cache_is_refused_with_the_first_ones_pid() {
+    let dir = tempdir("two-writers");
+    // The default scene over 48 frames runs long enough in a test build to overlap.
+    let mut first = Command::new(env!("CARGO_BIN_EXE_hairsys"))
+        .args(["simulate", "--cache", "w.mcap", "--quiet"])
+        .current_dir(&dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let pid_file = dir.join("w.mcap.partial.pid");
+    let t0 = std::time::Instant::now();
+    while !pid_file.exists() {
+        assert!(
+            t0.elapsed().as_secs() < 120,
+            "the first run never started writing"
+        );
+        assert!(
+            first.try_wait().unwrap().is_none(),
+            "the first run ended too soon"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let second = hairsys(&["simulate", "--cache", "w.mcap", "--force"], &dir);
+    let resumed = hairsys(&["simulate", "--cache", "w.mcap", "--resume"], &dir);
+    let still_running = first.try_wait().unwrap().is_none();
+    let _ = first.kill();
+    let _ = first.wait();
+    assert!(
+        still_running,
+        "the first run ended before the second one was tried"
+    );
+    for o in [&second, &resumed] {
+        assert_eq!(code(o), 1, "{}", stderr(o));
+        let e = stderr(o);
+        assert!(
+            e.contains(&format!("process {}", first.id())),
+            "names the holder's PID: {e}"
+        );
+    }
+    // The first run's lock died with it: a third run takes over with --force.
+    let o = hairsys(
+        &[
+            "simulate", "--frames", "1-2", "--cache", "w.mcap", "--force", "--quiet",
+        ],
+        &dir,
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(dir.join("w.mcap").exists() && !pid_file.exists());
+}

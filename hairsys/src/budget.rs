@@ -1,0 +1,146 @@
+//! Budgets checked before work: a scene's memory and a run's time are estimated from the
+//! scene's numbers before anything is allocated or stepped, and refused with the estimate, the
+//! limit and the way to lift it. A typo (`count = 10000000` for `10000`, `steps = 1000000000`)
+//! then costs an error message, not minutes of swapping or a run that never prints.
+//!
+//! The estimates are deliberately coarse upper bounds — orders of magnitude, not accounting:
+//! memory is counted as points × [`BYTES_PER_POINT`] (positions, velocities, rest state, masses
+//! and the solver's scratch, each a few 4- or 8-byte numbers per point, rounded up), children as
+//! points × samples × [`BYTES_PER_CHILD_POINT`], and time as point-substeps (points × force
+//! substeps × steps per frame × frames), the unit `hairsys simulate` reports its throughput in.
+//! [`Budget::default`] lets through every scene in `scenes/` and the bench with room to spare;
+//! a host that knows better sets its own [`Budget`] (or [`Budget::UNLIMITED`]) on the
+//! [`SceneFile`](crate::scene::SceneFile) or the export options, and the command lifts it with
+//! `--allow-large`.
+
+use std::fmt;
+
+/// Bytes counted per simulated point (an upper estimate, see the [module](self) docs).
+pub const BYTES_PER_POINT: u64 = 256;
+
+/// Bytes counted per child point and time sample: position (12), width (4), colour (12),
+/// rounded up for the output buffers.
+pub const BYTES_PER_CHILD_POINT: u64 = 32;
+
+/// Largest force substep count per step, explicit or resolved from `substeps = "auto"`.
+pub const MAX_SUBSTEPS: u32 = 1_000_000;
+
+/// Limits on memory and time accepted before work starts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Budget {
+    /// Largest estimated memory, bytes.
+    pub memory_bytes: u64,
+    /// Largest estimated work of a run, point-substeps.
+    pub point_substeps: f64,
+}
+
+impl Default for Budget {
+    /// 8 GiB and 10¹³ point-substeps (the run's time is this over the `point_substeps_per_s`
+    /// a run reports).
+    fn default() -> Self {
+        Budget {
+            memory_bytes: 8 << 30,
+            point_substeps: 1e13,
+        }
+    }
+}
+
+/// Something over budget: what, the estimate, the limit and the fix.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OverBudget {
+    /// What was estimated, naming the scene keys or flags it comes from.
+    pub what: String,
+    /// The estimate (bytes or point-substeps).
+    pub estimate: f64,
+    /// The limit it exceeds.
+    pub limit: f64,
+    /// The unit, `"bytes"` or `"point-substeps"`.
+    pub unit: &'static str,
+}
+
+impl fmt::Display for OverBudget {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} needs about {} {} (limit {}); lower it, or lift the limit with --allow-large \
+             (library: `Budget::UNLIMITED`)",
+            self.what,
+            short(self.estimate, self.unit),
+            self.unit,
+            short(self.limit, self.unit),
+        )
+    }
+}
+
+/// `x` readably: GiB for bytes, scientific notation otherwise.
+fn short(x: f64, unit: &str) -> String {
+    if unit == "bytes" && x >= (1u64 << 30) as f64 {
+        format!("{:.1} Gi", x / (1u64 << 30) as f64)
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
+impl Budget {
+    /// No limit: a host that has its own checks.
+    pub const UNLIMITED: Budget = Budget {
+        memory_bytes: u64::MAX,
+        point_substeps: f64::INFINITY,
+    };
+
+    /// Checks `points` simulated points (a product of scene numbers, computed in f64 so it
+    /// cannot overflow) against the memory limit.
+    pub fn check_points(&self, what: &str, points: f64) -> Result<(), OverBudget> {
+        self.check_bytes(what, points * BYTES_PER_POINT as f64)
+    }
+
+    /// Checks an estimate in bytes against the memory limit.
+    pub fn check_bytes(&self, what: &str, bytes: f64) -> Result<(), OverBudget> {
+        if bytes <= self.memory_bytes as f64 {
+            return Ok(());
+        }
+        Err(OverBudget {
+            what: what.to_string(),
+            estimate: bytes,
+            limit: self.memory_bytes as f64,
+            unit: "bytes",
+        })
+    }
+
+    /// Checks a run's work, point-substeps, against the time limit.
+    pub fn check_work(&self, what: &str, point_substeps: f64) -> Result<(), OverBudget> {
+        if point_substeps <= self.point_substeps {
+            return Ok(());
+        }
+        Err(OverBudget {
+            what: what.to_string(),
+            estimate: point_substeps,
+            limit: self.point_substeps,
+            unit: "point-substeps",
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ten_million_strands_of_33_points_are_over_the_default_memory_budget() {
+        let err = Budget::default()
+            .check_points("[hair] count × (segments + 1)", 1e7 * 33.0)
+            .unwrap_err();
+        assert_eq!(err.estimate, 1e7 * 33.0 * BYTES_PER_POINT as f64);
+        assert!(err.to_string().contains("--allow-large"), "{err}");
+        assert!(Budget::UNLIMITED
+            .check_points("[hair] count", 1e7 * 33.0)
+            .is_ok());
+    }
+
+    #[test]
+    fn a_billion_steps_are_over_the_default_work_budget_and_a_small_run_is_not() {
+        let b = Budget::default();
+        assert!(b.check_work("steps", 1e9 * 1e5).is_err());
+        assert!(b.check_work("steps", 1e6 * 48.0).is_ok());
+    }
+}
