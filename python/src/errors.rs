@@ -73,7 +73,7 @@ pub fn to_py(e: hairsys::Error) -> PyErr {
         }
         hairsys::Error::Solver { .. } => SolverError::new_err(message),
         hairsys::Error::Failed { .. } => SessionFailedError::new_err(message),
-        hairsys::Error::Cache(_) => CacheError::new_err(message),
+        hairsys::Error::Cache(_) | hairsys::Error::Output(_) => CacheError::new_err(message),
     }
 }
 
