@@ -86,6 +86,9 @@ enum Command {
         #[command(subcommand)]
         command: RenderCommand,
     },
+    /// Pictures of a run on the CPU: cached frames or sub-frames (or a scene's rest state) with
+    /// the scalp and colliders, from camera presets, as one PNG or a contact sheet.
+    Preview(Box<PreviewArgs>),
     /// Groom files (guide curves): .hair, .tfx, .obj (polylines), .usda (BasisCurves).
     Groom {
         #[command(subcommand)]
@@ -507,6 +510,7 @@ fn main() -> ExitCode {
         Command::RenderChildren {
             command: RenderCommand::Cards(args),
         } => report(hairsys_cli::cards::run(&args).map_err(Failure::input)),
+        Command::Preview(args) => report(run_preview(&args)),
         Command::Groom {
             command: GroomCommand::Export { scene, out },
         } => report(export_guides(&scene, &out, budget)),
@@ -604,6 +608,92 @@ impl From<hairsys::Error> for Failure {
 }
 
 /// Prints an error and gives the exit code (0 done, 1 failed, 2 bad input).
+/// Arguments of `preview`.
+#[derive(clap::Args)]
+struct PreviewArgs {
+    /// Cache to draw frames of (the scene stored in it places the scalp and colliders).
+    #[arg(long)]
+    cache: Option<PathBuf>,
+    /// Scene file: its rest state without --cache, or a scene overriding the cache's.
+    #[arg(long)]
+    scene: Option<PathBuf>,
+    /// Frames to draw, comma-separated; fractional frames are sub-frame samples (cubic Hermite
+    /// with the cached velocities) [default: the cache's first frame].
+    #[arg(long, value_delimiter = ',')]
+    frames: Vec<f64>,
+    /// Camera presets, comma-separated: front, side, back, three-quarter.
+    #[arg(long, value_delimiter = ',', default_value = "three-quarter")]
+    views: Vec<String>,
+    /// Tile width, pixels.
+    #[arg(long, default_value_t = 800)]
+    width: u32,
+    /// Tile height, pixels.
+    #[arg(long, default_value_t = 800)]
+    height: u32,
+    /// Mark points inside colliders and segments stretched beyond --stretch-limit in red.
+    #[arg(long)]
+    highlight: bool,
+    /// Relative elongation --highlight marks (0.01 = 1 %).
+    #[arg(long, default_value_t = 0.01)]
+    stretch_limit: f32,
+    /// Tiles per row of a contact sheet [default: one per view].
+    #[arg(long)]
+    columns: Option<u32>,
+    /// The PNG to write.
+    #[arg(short, long)]
+    out: PathBuf,
+    /// Print the summary as JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// `preview`: draws the frames and writes the PNG.
+fn run_preview(a: &PreviewArgs) -> Result<(), Failure> {
+    let views = a
+        .views
+        .iter()
+        .map(|v| {
+            hair_render::preview::View::parse(v)
+                .map_err(|e| Failure::input(format!("--views {v}: {e}")))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    hairsys::preview::check_output(&a.out).map_err(Failure::input)?;
+    let opts = hairsys::preview::PreviewOptions {
+        cache: a.cache.clone(),
+        scene: a.scene.clone(),
+        frames: a.frames.clone(),
+        views,
+        width: a.width,
+        height: a.height,
+        highlight: a.highlight,
+        stretch_limit: a.stretch_limit,
+        columns: a.columns,
+        out: a.out.clone(),
+    };
+    let summary = hairsys::preview::preview(&opts).map_err(Failure::input)?;
+    if a.json {
+        output::line(&serde_json::to_string(&summary).expect("summaries serialise"));
+    } else {
+        output::line(&format!(
+            "wrote {}: {} tile(s), {}×{} px, {:.0} ms per tile{}",
+            summary.out,
+            summary.tiles,
+            summary.width,
+            summary.height,
+            summary.ms_per_tile,
+            if a.highlight {
+                format!(
+                    "; marked {} point(s) inside colliders, {} stretched segment(s)",
+                    summary.points_inside, summary.stretched_segments
+                )
+            } else {
+                String::new()
+            }
+        ));
+    }
+    Ok(())
+}
+
 fn report(result: Result<(), Failure>) -> i32 {
     match result {
         Ok(()) => 0,

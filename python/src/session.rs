@@ -527,11 +527,7 @@ impl PySession {
             },
             ..WriterOptions::default()
         };
-        guard(|| {
-            self.session_mut()
-                .record(&path, options)
-                .map_err(to_py)
-        })
+        guard(|| self.session_mut().record(&path, options).map_err(to_py))
     }
 
     /// Finishes the cache being written (index, summary, renamed to its final name); returns
