@@ -10,7 +10,7 @@
 use std::path::{Path, PathBuf};
 
 use hair_cache::{CacheReader, Interpolation};
-use hair_core::{Anchor, MeshSample};
+use hair_core::{Anchor, MeshSample, Scalp, StrandSet};
 use hair_render::export::usd::{self, Motion, MotionSample, UsdOptions};
 use hair_render::{
     generate, ChildBuffers, ChildCount, ChildMode, ChildSettings, DisplayLod, Lod, Parents,
@@ -261,14 +261,15 @@ fn export_inner(
         };
         samples.push((
             time_code,
-            children_at(
-                &sim,
+            children_of(
+                &sim.strands,
                 &positions,
+                &sim.scalp_at(time_code as f32),
                 colors.as_deref(),
-                time_code as f32,
                 &settings,
                 lod,
-            )?,
+            )
+            .map_err(|e| e.to_string())?,
         ));
         on_sample();
     }
@@ -381,20 +382,19 @@ fn scalp_colors(scene: &SceneFile) -> Result<Option<Vec<[f32; 3]>>, String> {
     Ok(Some(colors))
 }
 
-/// Children of the simulation level at `positions`, rooted on the scalp at `frame` (its vertex
-/// colors, if given, color the children's roots).
-fn children_at(
-    sim: &Simulation,
+/// Children of `strands` at `positions` (m), rooted on `scalp` (mesh samples, root frames and
+/// the scalp's UVs; `colors`, one RGB per scalp vertex, colour the roots): the one generation
+/// behind the export from a cache and [`crate::Session::children`].
+pub(crate) fn children_of(
+    strands: &StrandSet,
     positions: &[Vector3<f32>],
+    scalp: &Scalp,
     colors: Option<&[[f32; 3]]>,
-    frame: f32,
     settings: &ChildSettings,
     lod: Lod,
-) -> Result<ChildBuffers, String> {
-    let scalp = sim.scalp_at(frame);
-    let roots = sim.strands.root_frames(&scalp);
-    let samples: Vec<Option<MeshSample>> = sim
-        .strands
+) -> Result<ChildBuffers, hair_render::RenderError> {
+    let roots = strands.root_frames(scalp);
+    let samples: Vec<Option<MeshSample>> = strands
         .anchors()
         .iter()
         .map(|a| match a {
@@ -402,19 +402,13 @@ fn children_at(
             Anchor::Body(_) => None,
         })
         .collect();
-    let err = |e: hair_render::RenderError| e.to_string();
-    let mut parents = Parents::new(positions, sim.strands.offsets())
-        .map_err(err)?
-        .with_root_frames(&roots)
-        .map_err(err)?;
+    let mut parents = Parents::new(positions, strands.offsets())?.with_root_frames(&roots)?;
     if let Some(mesh) = &scalp.mesh {
-        parents = parents
-            .with_scalp(ScalpRoots {
-                mesh,
-                samples: &samples,
-                colors,
-            })
-            .map_err(err)?;
+        parents = parents.with_scalp(ScalpRoots {
+            mesh,
+            samples: &samples,
+            colors,
+        })?;
     }
-    generate(&parents, settings, lod).map_err(err)
+    generate(&parents, settings, lod)
 }

@@ -6,9 +6,9 @@
 //! scalp, so a host (the Python module, a DCC's viewport) gets children without writing a cache.
 //! The result is [`hair_render`]'s flat buffers, ready for a host's curves or an exporter.
 
-use hair_core::{Anchor, MeshSample};
-use hair_render::{generate, ChildBuffers, ChildSettings, Lod, Parents, ScalpRoots};
+use hair_render::{ChildBuffers, ChildSettings, Lod};
 
+use crate::children::children_of;
 use crate::error::{Error, Result};
 use crate::Session;
 
@@ -22,52 +22,33 @@ impl Session {
         lod: Lod,
         colors: Option<&[[f32; 3]]>,
     ) -> Result<ChildBuffers> {
-        let err = |e: hair_render::RenderError| Error::argument("children", e.to_string());
-        let strands = self.strands();
-        let roots = strands.root_frames(self.scalp());
-        let samples: Vec<Option<MeshSample>> = strands
-            .anchors()
-            .iter()
-            .map(|a| match a {
-                Anchor::Surface(s) => Some(*s),
-                Anchor::Body(_) => None,
-            })
-            .collect();
-        let mut parents = Parents::new(&strands.positions, strands.offsets())
-            .map_err(err)?
-            .with_root_frames(&roots)
-            .map_err(err)?;
-        match (&self.scalp().mesh, colors) {
-            (Some(mesh), _) => {
-                if let Some(c) = colors {
-                    if c.len() != mesh.positions().len() {
-                        return Err(Error::argument(
-                            "colors",
-                            format!(
-                                "{} colors for {} scalp vertices: give shape ({}, 3)",
-                                c.len(),
-                                mesh.positions().len(),
-                                mesh.positions().len()
-                            ),
-                        ));
-                    }
-                }
-                parents = parents
-                    .with_scalp(ScalpRoots {
-                        mesh,
-                        samples: &samples,
-                        colors,
-                    })
-                    .map_err(err)?;
-            }
-            (None, Some(_)) => {
+        if let (Some(c), Some(mesh)) = (colors, &self.scalp().mesh) {
+            let n = mesh.positions().len();
+            if c.len() != n {
                 return Err(Error::argument(
                     "colors",
-                    "this session's scalp has no mesh to take root colors from",
-                ))
+                    format!(
+                        "{} colors for {n} scalp vertices: give shape ({n}, 3)",
+                        c.len()
+                    ),
+                ));
             }
-            (None, None) => {}
         }
-        generate(&parents, settings, lod).map_err(err)
+        if colors.is_some() && self.scalp().mesh.is_none() {
+            return Err(Error::argument(
+                "colors",
+                "this session's scalp has no mesh to take root colors from",
+            ));
+        }
+        let strands = self.strands();
+        children_of(
+            strands,
+            &strands.positions,
+            self.scalp(),
+            colors,
+            settings,
+            lod,
+        )
+        .map_err(|e| Error::argument("children", e.to_string()))
     }
 }
