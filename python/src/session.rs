@@ -103,6 +103,20 @@ impl PySession {
         self.inner.get_mut().unwrap_or_else(|p| p.into_inner())
     }
 
+    /// A collider id from Python; a negative or too large one is an ArgumentError (the session
+    /// refuses ids it does not have by name).
+    fn collider_id(&self, id: i64) -> PyResult<ColliderId> {
+        u32::try_from(id).map(ColliderId).map_err(|_| {
+            argument(
+                &format!("collider {id}"),
+                format!(
+                    "does not exist: this session has {} collider(s)",
+                    self.session().colliders().len()
+                ),
+            )
+        })
+    }
+
     fn check(&self) -> PyResult<()> {
         match &self.broken {
             Some(why) => Err(InternalError::new_err(format!(
@@ -321,19 +335,11 @@ impl PySession {
     /// that is not rigid.
     fn set_collider_pose(&mut self, id: i64, matrix: &Bound<'_, PyAny>) -> PyResult<()> {
         self.check()?;
-        let id = u32::try_from(id).map_err(|_| {
-            argument(
-                &format!("collider {id}"),
-                format!(
-                    "does not exist: this session has {} collider(s)",
-                    self.session().colliders().len()
-                ),
-            )
-        })?;
+        let id = self.collider_id(id)?;
         let pose = isometry(matrix, "matrix")?;
         guard(|| {
             self.session_mut()
-                .set_collider_pose(ColliderId(id), pose)
+                .set_collider_pose(id, pose)
                 .map_err(to_py)
         })
     }
@@ -345,19 +351,11 @@ impl PySession {
     /// non-finite vertex.
     fn set_collider_vertices(&mut self, id: i64, vertices: &Bound<'_, PyAny>) -> PyResult<()> {
         self.check()?;
-        let id = u32::try_from(id).map_err(|_| {
-            argument(
-                &format!("collider {id}"),
-                format!(
-                    "does not exist: this session has {} collider(s)",
-                    self.session().colliders().len()
-                ),
-            )
-        })?;
+        let id = self.collider_id(id)?;
         with_float_rows::<3, _>(vertices, "vertices", "(V, 3)", |rows| {
             guard(|| {
                 self.session_mut()
-                    .set_collider_vertices(ColliderId(id), rows)
+                    .set_collider_vertices(id, rows)
                     .map_err(to_py)
             })
         })
