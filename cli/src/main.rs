@@ -14,6 +14,7 @@ use hairsys::run::{simulate, SimulateOptions};
 use hairsys::scene::{SceneFile, DEFAULT_SCENE};
 use hairsys_cli::output;
 use hairsys_cli::progress::Progress;
+use hairsys_cli::quality_text;
 use serde_json::json;
 
 /// A Blender-style hair system: guide hairs, mass-spring simulation, MCAP point caches.
@@ -642,6 +643,11 @@ struct PreviewArgs {
     /// The PNG to write.
     #[arg(short, long)]
     out: PathBuf,
+    /// Also measure every frame of --cache and print its quality report: points inside
+    /// colliders and the deepest, stretch and compression (p50/p99/max), hairpins, drift from
+    /// the groom at the first stepped and the last frame, velocity–position mismatch.
+    #[arg(long)]
+    report: bool,
     /// Print the summary as JSON.
     #[arg(long)]
     json: bool,
@@ -658,6 +664,11 @@ fn run_preview(a: &PreviewArgs) -> Result<(), Failure> {
         })
         .collect::<Result<Vec<_>, _>>()?;
     hairsys::preview::check_output(&a.out).map_err(Failure::input)?;
+    if a.report && a.cache.is_none() {
+        return Err(Failure::input(
+            "--report measures the frames of a run: give --cache",
+        ));
+    }
     let opts = hairsys::preview::PreviewOptions {
         cache: a.cache.clone(),
         scene: a.scene.clone(),
@@ -671,8 +682,18 @@ fn run_preview(a: &PreviewArgs) -> Result<(), Failure> {
         out: a.out.clone(),
     };
     let summary = hairsys::preview::preview(&opts).map_err(Failure::input)?;
+    let quality = match (&a.cache, a.report) {
+        (Some(cache), true) => Some(
+            hairsys::quality::cache_quality(cache, a.scene.as_deref()).map_err(Failure::input)?,
+        ),
+        _ => None,
+    };
     if a.json {
-        output::line(&serde_json::to_string(&summary).expect("summaries serialise"));
+        let mut value = serde_json::to_value(&summary).expect("summaries serialise");
+        if let Some(q) = &quality {
+            value["quality"] = serde_json::to_value(q).expect("reports serialise");
+        }
+        output::line(&value.to_string());
     } else {
         output::line(&format!(
             "wrote {}: {} tile(s), {}×{} px, {:.0} ms per tile{}",
@@ -690,6 +711,9 @@ fn run_preview(a: &PreviewArgs) -> Result<(), Failure> {
                 String::new()
             }
         ));
+        if let Some(q) = &quality {
+            output::line(&quality_text::describe(q));
+        }
     }
     Ok(())
 }

@@ -50,9 +50,9 @@ pub use quality::{QualityInput, QualityOptions, QualityReport};
 pub use rod::{ProjectionReport, RodFrameReport, RodParams, RodSolver, StrandModel};
 pub use solver::energy::{energy, Energy};
 pub use solver::{
-    kernel_instructions, make_sag_free, FrameReport, HairParams, Inextensibility, Integrator,
-    KernelChoice, PhaseTimes, SagFreeLimits, SagFreeReport, Solver, SolverSettings, StabilityBound,
-    Substeps,
+    kernel_instructions, make_sag_free, make_sag_free_supported, FrameReport, HairParams,
+    Inextensibility, Integrator, KernelChoice, PhaseTimes, SagFreeLimits, SagFreeReport, Solver,
+    SolverSettings, StabilityBound, Substeps,
 };
 pub use strands::{Anchor, Scalp, StrandInput, StrandSet};
 pub use volume::{HairHairSettings, VoxelGrid};

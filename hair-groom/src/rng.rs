@@ -18,6 +18,8 @@ pub(crate) enum Purpose {
     Lengths,
     /// Poisson-disk candidates and their density tests ([`crate::sampling`]).
     Poisson,
+    /// Layer heights of hair laid over the scalp ([`crate::style`]).
+    Layers,
 }
 
 /// The generator for `purpose` under the user's `seed`.
@@ -28,6 +30,7 @@ pub(crate) fn stream(seed: u64, purpose: Purpose) -> Pcg64 {
         Purpose::Roots => 0,
         Purpose::Lengths => 0x6c65_6e67_7468_7321, // "lengths!"
         Purpose::Poisson => 0x706f_6973_736f_6e21, // "poisson!"
+        Purpose::Layers => 0x6c61_7965_7273_2121,  // "layers!!"
     };
     Pcg64::seed_from_u64(seed ^ tag)
 }

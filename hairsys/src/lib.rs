@@ -43,6 +43,7 @@ pub mod children;
 pub mod error;
 pub mod groom_input;
 pub mod preview;
+pub mod quality;
 pub mod resume;
 pub mod run;
 pub mod scene;

@@ -45,7 +45,7 @@ use crate::error::{HairError, Result};
 use crate::strands::{Scalp, StrandSet};
 
 pub use distribution::Distribution;
-pub use penetration::{inside_flags, Penetration};
+pub use penetration::{inside_flags, resting_normals, Penetration};
 pub use shape::{Drift, Hairpins, Strain};
 
 /// One frame of strands, borrowed: the layout of a [`StrandSet`] (strand-contiguous points).

@@ -80,6 +80,58 @@ pub(crate) fn depth(colliders: &Colliders, x: &Vector3<f32>, radius: f32) -> Opt
     deepest
 }
 
+/// Per point of `positions` (m, collision radii `radii` in m): the outward unit normal (world) of
+/// the collider surface a free point (`inv_mass > 0`) rests on — its collision sphere within
+/// `reach` (m) of touching the thickened surface, or inside it — or zero where it rests on
+/// nothing. Where several colliders reach a point, the deepest contact's normal is taken. This is
+/// the support [`crate::make_sag_free_supported`] lets carry weight.
+pub fn resting_normals(
+    colliders: &Colliders,
+    positions: &[Vector3<f32>],
+    radii: &[f32],
+    inv_mass: &[f32],
+    reach: f32,
+) -> Vec<Vector3<f32>> {
+    positions
+        .par_iter()
+        .enumerate()
+        .map(|(i, x)| {
+            let free = inv_mass.get(i).is_some_and(|&w| w > 0.0);
+            let radius = radii.get(i).copied().unwrap_or(0.0);
+            if !free {
+                return Vector3::zeros();
+            }
+            let mut best: Option<(f32, Vector3<f32>)> = None;
+            for e in &colliders.entries {
+                let keep = radius + e.thickness;
+                let local = e.end.inverse_transform_point(&Point3::from(*x)).coords;
+                let (centre, enclosing) = e.bounding_sphere;
+                if (local - centre).norm() > enclosing + keep + reach {
+                    continue;
+                }
+                let proj = e.shape.project_local_point(to_glam(&local), false);
+                let offset = local - from_glam(proj.point);
+                let dist = offset.norm();
+                let inside = e.surface == Surface::Solid && proj.is_inside;
+                let signed = if inside { -dist } else { dist };
+                if signed > keep + reach || dist < 1e-9 {
+                    continue;
+                }
+                let normal = if inside {
+                    -offset / dist
+                } else {
+                    offset / dist
+                };
+                let depth = keep - signed;
+                if best.is_none_or(|(d, _)| depth > d) {
+                    best = Some((depth, e.end.rotation * normal));
+                }
+            }
+            best.map_or_else(Vector3::zeros, |(_, n)| n)
+        })
+        .collect()
+}
+
 /// Per point of `positions` (m, collision radii `radii` in m): is it a free point (`inv_mass > 0`)
 /// deeper than `tolerance` (m) inside any of `colliders` at their current poses? For marking
 /// them in a picture (`hairsys preview --highlight`).

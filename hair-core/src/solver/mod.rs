@@ -70,7 +70,7 @@ use kernel::{ContactSlice, GroupKernel, Scratch, StepConstants, StrandView};
 use lanes::Lane;
 use lanes::LANES;
 pub use params::{HairParams, Integrator, KernelChoice, SolverSettings, Substeps};
-pub use sag_free::{make_sag_free, SagFreeLimits, SagFreeReport};
+pub use sag_free::{make_sag_free, make_sag_free_supported, SagFreeLimits, SagFreeReport};
 pub use stability::StabilityBound;
 
 /// Points a parallel work item holds at most (about a few L2-sized blocks of strands).

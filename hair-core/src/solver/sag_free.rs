@@ -65,8 +65,11 @@
 //!   absurd rest shape.
 //! - Equilibrium is not stability: a long strand standing up against gravity balanced by weak
 //!   springs is an equilibrium that may buckle under the first disturbance.
-//! - Contacts, force fields, hair–hair forces and air drag are not part of the balance: the
-//!   groom should lie outside colliders; fields and hair–hair forces are disturbances.
+//! - Force fields, hair–hair forces and air drag are not part of the balance; fields and
+//!   hair–hair forces are disturbances. Contacts are, where the caller says which points rest on
+//!   a collider ([`make_sag_free_supported`]): at such a point the collider takes the outward
+//!   part of the force the spring before it would have to supply (a unilateral push, solved in
+//!   the same sweep), so hair lying on a head is carried by the head, as real hair is.
 //! - Goal springs are included (their force at the groomed shape is zero when positions are the
 //!   rest shape placed by the root frames).
 //! - Only the mass-spring kernel is covered (the strip model's edge strands run the same kernel
@@ -267,8 +270,15 @@ pub fn residual_forces(
 }
 
 /// Bending spring forces `f_j` (N, on point `j + 1`) that balance `load` at every free point
-/// exactly, solved from the tip to the root; springs before kinematic points get zero.
-fn balancing_forces(g: &Geometry, load: &[Vector3<f64>], free: &[bool]) -> Vec<Vector3<f64>> {
+/// exactly, solved from the tip to the root; springs before kinematic points get zero. A point
+/// with a non-zero `support` normal rests on a collider, which takes the outward part of the
+/// force the spring before it would otherwise have to push with.
+fn balancing_forces(
+    g: &Geometry,
+    load: &[Vector3<f64>],
+    free: &[bool],
+    support: &[Vector3<f64>],
+) -> Vec<Vector3<f64>> {
     let n = load.len();
     let m = n - 1;
     let mut f = vec![Vector3::zeros(); m];
@@ -299,6 +309,13 @@ fn balancing_forces(g: &Geometry, load: &[Vector3<f64>], free: &[bool]) -> Vec<V
         } else {
             Vector3::zeros()
         };
+        if let Some(n) = support.get(i).filter(|n| n.norm_squared() > 0.0) {
+            // The collider pushes out (never pulls): it carries the outward component.
+            let outward = f[i - 1].dot(n);
+            if outward > 0.0 {
+                f[i - 1] -= n * outward;
+            }
+        }
         react_next = react_i;
         suffix_after = suffix_next;
         suffix_next = suffix_prev;
@@ -312,11 +329,30 @@ fn balancing_forces(g: &Geometry, load: &[Vector3<f64>], free: &[bool]) -> Vec<V
 /// be balanced within `limits` keep their groomed rest directions and are listed in the report.
 ///
 /// Call it after [`StrandSet::reset_to_rest`] (or with any positions that should hold still) and
-/// before the first step. Cost: one pass over the points (a few µs per strand).
+/// before the first step. Cost: one pass over the points (a few µs per strand). Nothing rests on
+/// a collider here; see [`make_sag_free_supported`].
 pub fn make_sag_free(
     strands: &mut StrandSet,
     params: &HairParams,
     roots: &[RootFrame],
+    limits: SagFreeLimits,
+) -> Result<SagFreeReport> {
+    make_sag_free_supported(strands, params, roots, &[], limits)
+}
+
+/// [`make_sag_free`] for a groom that rests on colliders: `supports` holds, per point of
+/// `strands` (or is empty for none), the outward unit normal of the collider surface the point
+/// rests on, or zero (see [`crate::quality::resting_normals`]). A resting point's collider takes
+/// the outward part of its load — a unilateral contact pushes, never pulls — so the bending
+/// springs carry only what the head does not: hair lying on a scalp keeps a nearly unbent rest
+/// shape instead of one pre-curved against its whole weight, which would curl up wherever the
+/// hair later leaves the scalp. At frame 1 the contact response supplies that push once gravity
+/// has pressed the point into the contact zone (by a fraction of the contact tolerance).
+pub fn make_sag_free_supported(
+    strands: &mut StrandSet,
+    params: &HairParams,
+    roots: &[RootFrame],
+    supports: &[Vector3<f32>],
     limits: SagFreeLimits,
 ) -> Result<SagFreeReport> {
     params.validate()?;
@@ -325,6 +361,16 @@ pub fn make_sag_free(
             name: "roots".into(),
             value: roots.len().to_string(),
             fix: format!("give one root frame per strand ({})", strands.len()),
+        });
+    }
+    if !supports.is_empty() && supports.len() != strands.positions.len() {
+        return Err(HairError::Parameter {
+            name: "supports".into(),
+            value: supports.len().to_string(),
+            fix: format!(
+                "give one normal per point ({}) or none",
+                strands.positions.len()
+            ),
         });
     }
     let kb = params.bend_stiffness as f64;
@@ -343,7 +389,12 @@ pub fn make_sag_free(
                 report.max_weight = report.max_weight.max(m * params.gravity().norm());
             }
         }
-        let f = balancing_forces(&g, &load, &free);
+        let support: Vec<Vector3<f64>> = if supports.is_empty() {
+            Vec::new()
+        } else {
+            supports[p.clone()].iter().map(|n| n.cast()).collect()
+        };
+        let f = balancing_forces(&g, &load, &free, &support);
         let needs_bending = f.iter().any(|f| *f != Vector3::zeros());
         let finite = f.iter().all(|f| f.iter().all(|c| c.is_finite()));
         if !finite || (needs_bending && kb == 0.0) {
@@ -377,6 +428,12 @@ pub fn make_sag_free(
         report.max_length_change = report.max_length_change.max(stretch as f32);
         let residual = residual_forces(strands, s, params, root)
             .iter()
+            .enumerate()
+            .map(|(i, r)| match support.get(i) {
+                // What presses a resting point into its collider is the contact's to carry.
+                Some(n) if r.dot(n) < 0.0 => r - n * r.dot(n),
+                _ => *r,
+            })
             .fold(0.0f64, |a, r| a.max(r.norm()));
         report.max_residual = report.max_residual.max(residual as f32);
     }

@@ -28,6 +28,7 @@ pub mod fields;
 pub mod guides;
 pub mod motion;
 pub mod strips;
+pub mod style;
 
 use fields::{FieldSection, HairHairSection};
 use guides::{GuidesSection, SimHairsSection};
@@ -153,7 +154,9 @@ pub struct SolverSection {
     pub inextensibility: bool,
     /// Sag-free initialisation (mass-spring model): rest directions solved so that the groom is
     /// a static equilibrium under gravity at the first frame (see
-    /// `hair_core::solver::sag_free`). Off by default.
+    /// `hair_core::solver::sag_free`); hair within two strand radii of a collider (the scalp
+    /// collider included) rests on it, which carries the outward part of its weight. Off by
+    /// default.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub sag_free: bool,
 }
@@ -338,6 +341,10 @@ pub struct HairSection {
     /// Where on the scalp hair grows: `{ direction = [x, y, z], max_angle_deg = a }`.
     #[serde(default)]
     pub region: Option<RegionSection>,
+    /// `[hair.style]`: lay the hair over the scalp (combed, parted, lifted, falling) instead of
+    /// growing it straight along the normals.
+    #[serde(default)]
+    pub style: Option<style::StyleSection>,
 }
 
 fn default_radius() -> f32 {
@@ -679,8 +686,13 @@ impl SceneFile {
                     },
                 },
             };
-            let inputs =
+            let mut inputs =
                 hair_groom::generate(mesh, &opts).map_err(|e| err(format!("[hair] {e}")))?;
+            if let Some(style) = &hair.style {
+                let opts = style.options(&s.physics.gravity(), hair.seed);
+                hair_groom::lay_over_scalp(&mut inputs, mesh, &opts)
+                    .map_err(|e| err(format!("[hair.style] {e}")))?;
+            }
             for input in inputs {
                 strands
                     .push(input)
@@ -798,10 +810,24 @@ impl SceneFile {
                 ));
             }
             let roots = sim.strands.root_frames(&scalp);
-            let report = hair_core::make_sag_free(
+            // Hair lying on the scalp or a collider is carried by it: points within two strand
+            // radii of touching (a layered groom's lower layers) rest on it.
+            let colliders = sim
+                .colliders_at(first as f32)
+                .map_err(|e| err(sim.collider_message(&e)))?;
+            let reach = 2.0 * sim.strands.radii().iter().fold(0.0f32, |a, &r| a.max(r));
+            let supports = hair_core::quality::resting_normals(
+                &colliders,
+                &sim.strands.positions,
+                sim.strands.radii(),
+                sim.strands.inverse_masses(),
+                reach,
+            );
+            let report = hair_core::make_sag_free_supported(
                 &mut sim.strands,
                 &sim.params,
                 &roots,
+                &supports,
                 hair_core::SagFreeLimits::default(),
             )
             .map_err(|e| err(e.to_string()))?;

@@ -1,0 +1,477 @@
+//! Laying hair over the scalp: a groom that is combed (and optionally parted), leaves the scalp at
+//! a lift angle, follows the head at a layer height and falls under gravity past it — the shape a
+//! brushed head of hair has, in place of straight strands along the surface normals.
+//!
+//! # How a strand is laid
+//!
+//! Each strand keeps its root, point count and every segment length; only directions change. It
+//! is walked from the root, one segment at a time, in world space:
+//!
+//! 1. **Where it wants to go.** At the scalp point nearest the segment's start (parry's exact
+//!    projection onto the triangle mesh, smooth normal `n` there), the *flow* is the comb
+//!    direction plus, with a part, the part-plane normal pointing away from the part on the
+//!    root's side; its tangential part (`flow − (flow·n) n`) is scaled by the scalp's *support*
+//!    `max(0, n·up)` — a scalp facing up carries combed hair, one facing sideways or down lets
+//!    it fall — and by [`StyleOptions::comb_weight`], and the gravity direction is added. On top
+//!    of the head the flow wins (gravity points into the scalp there); where the head turns
+//!    away, gravity wins and the hair falls.
+//! 2. **How fast it may turn.** The segment direction turns towards the target by at most
+//!    [`StyleOptions::max_curvature`] × segment length (radians): the strand is a smooth curve of
+//!    bounded curvature, never a fold at one point.
+//! 3. **How high it lies.** Each strand has a layer height `h = clearance + layer · u` (`u`
+//!    uniform in [0, 1) from the seed), reached by rising at the lift angle from the root: the
+//!    allowed height after an arc length `a` is `min(h, a · sin(lift))`. A point that would lie
+//!    lower than that above the scalp (signed along the normal at its nearest scalp point) is
+//!    lifted to it, and the segment is re-aimed through the lifted point at its own length.
+//!
+//! The first segment leaves the root at the lift angle from the tangent plane, towards the flow.
+//! With `clearance` at least the strand radius plus the collider thickness, a laid groom starts
+//! clear of the scalp collider; layers make the volume that hair–hair interaction keeps.
+//!
+//! A scalp whose normals point inwards lays hair inside it: the smooth normals of
+//! [`TriMesh::evaluate`] must point out of the head (they do for the built-in head, the UV sphere
+//! and meshes exported with outward normals).
+
+use hair_core::{Anchor, StrandInput, TriMesh};
+use nalgebra::{Unit, UnitQuaternion, Vector3};
+use parry3d::math::Vector;
+use parry3d::query::PointQueryWithLocation;
+
+use crate::error::{parameter, GroomError};
+use crate::rng::{self, Purpose};
+use hair_core::{HairError, MeshSample};
+
+/// A part: hair on each side of a plane is combed away from it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Part {
+    /// Normal of the part plane (world, any non-zero length).
+    pub normal: Vector3<f32>,
+    /// A point of the part plane, m (world).
+    pub point: Vector3<f32>,
+    /// How strongly hair is combed away from the part, relative to the comb direction (≥ 0).
+    pub weight: f32,
+}
+
+/// How hair is laid over the scalp. Angles in degrees, lengths in m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StyleOptions {
+    /// World direction hair is combed towards on the scalp (any non-zero length; Z up).
+    pub comb: Vector3<f32>,
+    /// Weight of the combed flow against gravity (≥ 0): 0 lets hair fall straight down the scalp,
+    /// larger values keep it in the comb direction further down the sides.
+    pub comb_weight: f32,
+    /// An optional part.
+    pub part: Option<Part>,
+    /// Angle at which hair leaves the scalp, from the tangent plane, degrees in (0, 90].
+    pub lift_deg: f32,
+    /// Least height of the hair above the scalp, m (≥ 0): the strand radius plus the scalp
+    /// collider's thickness and a margin keeps a laid groom clear of the collider.
+    pub clearance: f32,
+    /// Depth of the hair layer above `clearance`, m (≥ 0): strand heights spread uniformly over it.
+    pub layer: f32,
+    /// Largest curvature of a laid strand, 1/m (> 0): the inverse of its tightest bend radius.
+    pub max_curvature: f32,
+    /// Gravity direction (any non-zero length), usually −Z.
+    pub down: Vector3<f32>,
+    /// Seed of the per-strand layer heights.
+    pub seed: u64,
+}
+
+impl StyleOptions {
+    /// Checks every option's range, naming the first one at fault (the scene keys under
+    /// `[hair.style]`).
+    fn validate(&self) -> Result<(), GroomError> {
+        let vector = |name: &str, v: &Vector3<f32>| {
+            let n = v.norm();
+            if n.is_finite() && n > 0.0 {
+                Ok(())
+            } else {
+                Err(parameter(
+                    name,
+                    format!("({}, {}, {})", v.x, v.y, v.z),
+                    "must be a finite, non-zero vector (world space, Z up)",
+                ))
+            }
+        };
+        vector("comb", &self.comb)?;
+        vector("down", &self.down)?;
+        let non_negative = |name: &str, x: f32, what: &str| {
+            if x.is_finite() && x >= 0.0 {
+                Ok(())
+            } else {
+                Err(parameter(name, x, what))
+            }
+        };
+        non_negative(
+            "comb_weight",
+            self.comb_weight,
+            "must be a finite weight ≥ 0",
+        )?;
+        non_negative("clearance", self.clearance, "must be a finite height ≥ 0 m")?;
+        non_negative("layer", self.layer, "must be a finite depth ≥ 0 m")?;
+        if !(self.lift_deg > 0.0 && self.lift_deg <= 90.0) {
+            return Err(parameter(
+                "lift_deg",
+                self.lift_deg,
+                "must lie in (0, 90] degrees from the scalp's tangent plane",
+            ));
+        }
+        if !(self.max_curvature.is_finite() && self.max_curvature > 0.0) {
+            return Err(parameter(
+                "max_curvature",
+                self.max_curvature,
+                "must be a finite curvature > 0 1/m (1 / tightest bend radius)",
+            ));
+        }
+        if let Some(part) = self.part {
+            vector("part.normal", &part.normal)?;
+            if !part.point.iter().all(|c| c.is_finite()) {
+                return Err(parameter(
+                    "part.point",
+                    format!("({}, {}, {})", part.point.x, part.point.y, part.point.z),
+                    "must be a finite point (m)",
+                ));
+            }
+            non_negative("part.weight", part.weight, "must be a finite weight ≥ 0")?;
+        }
+        Ok(())
+    }
+}
+
+/// The scalp as a searchable surface: nearest point and its smooth normal.
+struct Surface<'a> {
+    mesh: &'a TriMesh,
+    query: parry3d::shape::TriMesh,
+}
+
+impl<'a> Surface<'a> {
+    fn new(mesh: &'a TriMesh) -> Result<Self, GroomError> {
+        let vertices = mesh
+            .positions()
+            .iter()
+            .map(|p| Vector::new(p.x, p.y, p.z))
+            .collect();
+        let query = parry3d::shape::TriMesh::new(vertices, mesh.triangles().to_vec())
+            .map_err(|e| HairError::Mesh(format!("the scalp cannot be searched: {e}")))?;
+        Ok(Self { mesh, query })
+    }
+
+    /// The nearest scalp point to `p` and the smooth normal there.
+    fn nearest(&self, p: &Vector3<f32>) -> (Vector3<f32>, Vector3<f32>) {
+        let (proj, (triangle, location)) = self
+            .query
+            .project_local_point_and_get_location(Vector::new(p.x, p.y, p.z), false);
+        let w = location
+            .barycentric_coordinates()
+            .unwrap_or([1.0, 0.0, 0.0])
+            .map(|x| x.clamp(0.0, 1.0));
+        let sum: f32 = w.iter().sum();
+        let frame = self.mesh.evaluate(&MeshSample {
+            triangle,
+            weights: w.map(|x| x / sum),
+        });
+        (
+            Vector3::new(proj.point.x, proj.point.y, proj.point.z),
+            frame.rotation * Vector3::z(),
+        )
+    }
+}
+
+/// Lays every surface-rooted strand of `strands` over `mesh` (the scalp at the rest pose the
+/// strands' anchors refer to) as `opts` says; strands anchored in body space (explicit point
+/// lists) are left as given. Roots, point counts and segment lengths are kept.
+pub fn lay_over_scalp(
+    strands: &mut [StrandInput],
+    mesh: &TriMesh,
+    opts: &StyleOptions,
+) -> Result<(), GroomError> {
+    opts.validate()?;
+    let surface = Surface::new(mesh)?;
+    let mut heights = rng::stream(opts.seed, Purpose::Layers);
+    for strand in strands.iter_mut() {
+        let Anchor::Surface(sample) = strand.anchor else {
+            continue;
+        };
+        let u = rng::unit_f32(&mut heights);
+        let frame = mesh.evaluate(&sample);
+        let world: Vec<Vector3<f32>> = strand.rest.iter().map(|p| frame.to_world(p)).collect();
+        let laid = lay_strand(&surface, &world, opts, opts.clearance + opts.layer * u);
+        strand.rest = laid.iter().map(|p| frame.to_local(p)).collect();
+    }
+    Ok(())
+}
+
+/// The flow at a scalp point with normal `n` for a strand rooted at `root`: the comb (and part)
+/// direction made tangential and scaled by the scalp's support there (at most unit length), or
+/// `None` where nothing of it is left.
+fn tangential_flow(
+    opts: &StyleOptions,
+    root: &Vector3<f32>,
+    n: &Vector3<f32>,
+) -> Option<Vector3<f32>> {
+    let mut flow = opts.comb.normalize();
+    if let Some(part) = opts.part {
+        let m = part.normal.normalize();
+        let side = if (root - part.point).dot(&m) >= 0.0 {
+            1.0
+        } else {
+            -1.0
+        };
+        flow += m * (side * part.weight);
+    }
+    // Combed hair follows the flow where the scalp carries it (its normal points up, against
+    // gravity) and falls where the scalp turns away: the flow is weighted by that support.
+    let support = (-n.dot(&opts.down.normalize())).max(0.0);
+    let t = (flow - n * flow.dot(n)) * support;
+    let len = t.norm();
+    (len > 1e-6).then(|| t / len.max(1.0))
+}
+
+/// One strand laid from its world points (root first) at layer height `height` (m).
+fn lay_strand(
+    surface: &Surface,
+    world: &[Vector3<f32>],
+    opts: &StyleOptions,
+    height: f32,
+) -> Vec<Vector3<f32>> {
+    let root = world[0];
+    let down = opts.down.normalize();
+    let lift = opts.lift_deg.to_radians();
+    let (_, n0) = surface.nearest(&root);
+    let flow0 = tangential_flow(opts, &root, &n0)
+        .map(|f| f.normalize())
+        .unwrap_or_else(|| {
+            let t = down - n0 * down.dot(&n0);
+            if t.norm() > 1e-6 {
+                t.normalize()
+            } else {
+                hair_core::mesh::any_perpendicular(&n0)
+            }
+        });
+    let mut direction = (flow0 * lift.cos() + n0 * lift.sin()).normalize();
+    let mut out = Vec::with_capacity(world.len());
+    out.push(root);
+    let mut p = root;
+    let mut arc = 0.0f32;
+    for w in world.windows(2) {
+        let length = (w[1] - w[0]).norm();
+        if !(length > 0.0 && length.is_finite()) {
+            out.push(p);
+            continue;
+        }
+        if out.len() > 1 {
+            let (_, n) = surface.nearest(&p);
+            let flow = tangential_flow(opts, &root, &n).unwrap_or_else(Vector3::zeros);
+            let target = flow * opts.comb_weight + down;
+            if target.norm() > 1e-6 {
+                direction =
+                    turn_towards(&direction, &target.normalize(), opts.max_curvature * length);
+            }
+        }
+        arc += length;
+        let allowed = height.min(arc * lift.sin());
+        let mut next = p + direction * length;
+        for _ in 0..3 {
+            let (c, n) = surface.nearest(&next);
+            let above = (next - c).dot(&n);
+            if above >= allowed - 1e-6 {
+                break;
+            }
+            let lifted = c + n * allowed;
+            let d = lifted - p;
+            if d.norm() < 1e-9 {
+                break;
+            }
+            direction = d.normalize();
+            next = p + direction * length;
+        }
+        out.push(next);
+        p = next;
+    }
+    out
+}
+
+/// `from` turned towards `to` (both unit) by at most `max_angle` radians.
+fn turn_towards(from: &Vector3<f32>, to: &Vector3<f32>, max_angle: f32) -> Vector3<f32> {
+    let angle = from.angle(to);
+    if angle <= max_angle {
+        return *to;
+    }
+    let axis = from.cross(to);
+    match Unit::try_new(axis, 1e-9) {
+        Some(axis) => UnitQuaternion::from_axis_angle(&axis, max_angle) * from,
+        // Opposite directions: turn about any perpendicular axis.
+        None => {
+            let axis = Unit::new_normalize(hair_core::mesh::any_perpendicular(from));
+            UnitQuaternion::from_axis_angle(&axis, max_angle) * from
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::uv_sphere;
+    use crate::{generate, GenerateOptions, Region};
+
+    fn options() -> StyleOptions {
+        StyleOptions {
+            comb: Vector3::y(),
+            comb_weight: 1.0,
+            part: None,
+            lift_deg: 30.0,
+            clearance: 0.004,
+            layer: 0.01,
+            max_curvature: 40.0,
+            down: -Vector3::z(),
+            seed: 2,
+        }
+    }
+
+    fn hair(mesh: &TriMesh) -> Vec<StrandInput> {
+        generate(
+            mesh,
+            &GenerateOptions {
+                count: 200,
+                length: 0.3,
+                segments: 20,
+                seed: 1,
+                radius: 0.002,
+                mass_per_length: 1e-3,
+                goal_root: 0.0,
+                goal_tip: 0.0,
+                region: Region::Cone {
+                    direction: Vector3::z(),
+                    max_angle_deg: 80.0,
+                },
+                length_variation: 0.2,
+            },
+        )
+        .unwrap()
+    }
+
+    fn world(mesh: &TriMesh, s: &StrandInput) -> Vec<Vector3<f32>> {
+        let Anchor::Surface(sample) = s.anchor else {
+            unreachable!("generated strands are surface-rooted")
+        };
+        let frame = mesh.evaluate(&sample);
+        s.rest.iter().map(|p| frame.to_world(p)).collect()
+    }
+
+    #[test]
+    fn laid_hair_keeps_roots_and_lengths_stays_above_the_scalp_and_turns_smoothly() {
+        let radius = 0.1;
+        let mesh = uv_sphere(radius, 48, 24).unwrap();
+        let before = hair(&mesh);
+        let mut after = before.clone();
+        let opts = options();
+        lay_over_scalp(&mut after, &mesh, &opts).unwrap();
+        // The sphere's facets lie inside the true sphere by at most its sagitta.
+        let sagitta = radius * (1.0 - (std::f32::consts::PI / 24.0).cos());
+        for (b, a) in before.iter().zip(&after) {
+            assert_eq!(a.rest[0], b.rest[0]);
+            let (wb, wa) = (world(&mesh, b), world(&mesh, a));
+            for (sb, sa) in wb.windows(2).zip(wa.windows(2)) {
+                let (lb, la) = ((sb[1] - sb[0]).norm(), (sa[1] - sa[0]).norm());
+                assert!((lb - la).abs() < 1e-5 * lb.max(1e-3), "{lb} vs {la}");
+            }
+            // Every point after the root lies outside the sphere (height ≥ 0 up to facets).
+            for p in &wa[1..] {
+                assert!(p.norm() > radius - sagitta - 1e-5, "{} inside", p.norm());
+            }
+            // Turns between segments stay within the curvature limit (plus a lift correction,
+            // which only ever turns a segment outwards by the small angle the facets demand).
+            for s in wa.windows(3) {
+                let (d0, d1) = (s[1] - s[0], s[2] - s[1]);
+                let turn = d0.angle(&d1);
+                assert!(turn < 1.0, "turn {turn} rad at one point");
+            }
+        }
+    }
+
+    #[test]
+    fn combed_hair_goes_the_comb_way_and_falls_past_the_head() {
+        let mesh = uv_sphere(0.1, 48, 24).unwrap();
+        let mut strands = hair(&mesh);
+        lay_over_scalp(&mut strands, &mesh, &options()).unwrap();
+        let mut tips_below = 0;
+        let mut tips_back = 0;
+        for s in &strands {
+            let w = world(&mesh, s);
+            let tip = w[w.len() - 1];
+            tips_below += usize::from(tip.z < w[0].z);
+            tips_back += usize::from(tip.y > w[0].y);
+        }
+        // 30 cm hair on a 10 cm head combed towards +Y: tips hang below and behind their roots.
+        assert!(
+            tips_below > 190,
+            "{tips_below} of 200 tips below their roots"
+        );
+        assert!(
+            tips_back > 150,
+            "{tips_back} of 200 tips behind their roots"
+        );
+    }
+
+    #[test]
+    fn a_part_sends_each_side_its_own_way() {
+        let mesh = uv_sphere(0.1, 48, 24).unwrap();
+        let mut strands = hair(&mesh);
+        let mut opts = options();
+        opts.comb = -Vector3::z();
+        opts.part = Some(Part {
+            normal: Vector3::x(),
+            point: Vector3::zeros(),
+            weight: 2.0,
+        });
+        lay_over_scalp(&mut strands, &mesh, &opts).unwrap();
+        for s in &strands {
+            let w = world(&mesh, s);
+            if w[0].x.abs() > 0.01 {
+                // The second point moves away from the part plane on the root's side.
+                assert!(w[2].x * w[0].x.signum() > w[0].x.abs(), "{:?}", &w[..3]);
+            }
+        }
+    }
+
+    #[test]
+    fn bad_options_are_named() {
+        let mesh = uv_sphere(0.1, 16, 8).unwrap();
+        let mut strands = hair(&mesh);
+        for (opts, name) in [
+            (
+                StyleOptions {
+                    comb: Vector3::zeros(),
+                    ..options()
+                },
+                "comb",
+            ),
+            (
+                StyleOptions {
+                    lift_deg: 0.0,
+                    ..options()
+                },
+                "lift_deg",
+            ),
+            (
+                StyleOptions {
+                    max_curvature: f32::NAN,
+                    ..options()
+                },
+                "max_curvature",
+            ),
+            (
+                StyleOptions {
+                    clearance: -1.0,
+                    ..options()
+                },
+                "clearance",
+            ),
+        ] {
+            let err = lay_over_scalp(&mut strands, &mesh, &opts)
+                .unwrap_err()
+                .to_string();
+            assert!(err.contains(name), "{err}");
+        }
+    }
+}
