@@ -61,11 +61,18 @@ pub fn cache_quality(cache: &Path, scene: Option<&Path>) -> Result<RunQuality, S
     let mut first_step = None;
     let mut last = QualityReport::default();
     let mut previous = reader.read_frame(numbers[0]).map_err(|e| e.to_string())?;
+    // Built once (a mesh collider's search tree is the costly part) and posed per frame.
+    let mut colliders = sim
+        .colliders_at(numbers[0] as f32)
+        .map_err(|e| sim.collider_message(&e))?;
     for (k, &n) in numbers.iter().enumerate().skip(1) {
         let frame = reader.read_frame(n).map_err(|e| e.to_string())?;
         let f = n as f32;
-        let colliders = sim.colliders_at(f).map_err(|e| sim.collider_message(&e))?;
-        let reference = rest_positions(&sim.strands, &sim.scalp_at(f));
+        let scalp = sim.scalp_at(f);
+        sim.pose_colliders(&mut colliders, f)
+            .and_then(|()| colliders.place_scalp(&scalp))
+            .map_err(|e| sim.collider_message(&e))?;
+        let reference = rest_positions(&sim.strands, &scalp);
         let input = QualityInput {
             frame: Frame {
                 offsets: sim.strands.offsets(),
