@@ -158,6 +158,13 @@ impl<'a> Surface<'a> {
 
     /// The nearest scalp point to `p` and the smooth normal there.
     fn nearest(&self, p: &Vector3<f32>) -> (Vector3<f32>, Vector3<f32>) {
+        let (c, n, _) = self.nearest_with_face(p);
+        (c, n)
+    }
+
+    /// The nearest scalp point to `p`, the smooth normal there and the unit normal of its
+    /// triangle (outward for a consistently wound scalp).
+    fn nearest_with_face(&self, p: &Vector3<f32>) -> (Vector3<f32>, Vector3<f32>, Vector3<f32>) {
         let (proj, (triangle, location)) = self
             .query
             .project_local_point_and_get_location(Vector::new(p.x, p.y, p.z), false);
@@ -170,10 +177,36 @@ impl<'a> Surface<'a> {
             triangle,
             weights: w.map(|x| x / sum),
         });
+        let smooth = frame.rotation * Vector3::z();
+        let [a, b, c] = self.mesh.corners(triangle as usize);
+        let face = (b - a).cross(&(c - a));
+        let face = if face.norm() > 0.0 {
+            face.normalize()
+        } else {
+            smooth
+        };
         (
             Vector3::new(proj.point.x, proj.point.y, proj.point.z),
-            frame.rotation * Vector3::z(),
+            smooth,
+            face,
         )
+    }
+
+    /// Signed distance of `p` from the scalp (negative behind the nearest triangle), m, and the
+    /// point at `height` above the scalp nearest `p`: along `p`'s offset from the surface when
+    /// `p` is outside, along the triangle's normal otherwise.
+    fn height_and_lift(&self, p: &Vector3<f32>, height: f32) -> (f32, Vector3<f32>) {
+        let (c, _, face) = self.nearest_with_face(p);
+        let offset = p - c;
+        let distance = offset.norm();
+        let outside = offset.dot(&face) >= 0.0;
+        let signed = if outside { distance } else { -distance };
+        let direction = if outside && distance > 1e-7 {
+            offset / distance
+        } else {
+            face
+        };
+        (signed, c + direction * height)
     }
 }
 
@@ -225,6 +258,69 @@ fn tangential_flow(
     let t = (flow - n * flow.dot(n)) * support;
     let len = t.norm();
     (len > 1e-6).then(|| t / len.max(1.0))
+}
+
+/// Lifts every surface-rooted strand of `strands` out of `mesh` (the scalp at the rest pose the
+/// anchors refer to): walking each strand from its root, a point lying less than `clearance`
+/// (m) above the scalp — measured along the smooth normal at its nearest scalp point, negative
+/// inside — is lifted to that height and its segment re-aimed through it at its own length, so
+/// roots, point counts and segment lengths are kept. Points within the first `clearance` of arc
+/// length from the root rise with it (a hair leaves the scalp where it grows). For grooms that
+/// dip into a scalp they were not made on: interpolated hair between guides on a curved head, a
+/// groom fitted to a finer mesh than the collider. Returns the number of points lifted.
+pub fn lift_out_of_scalp(
+    strands: &mut [StrandInput],
+    mesh: &TriMesh,
+    clearance: f32,
+) -> Result<usize, GroomError> {
+    if !(clearance.is_finite() && clearance >= 0.0) {
+        return Err(parameter(
+            "clearance",
+            clearance,
+            "must be a finite height ≥ 0 m",
+        ));
+    }
+    let surface = Surface::new(mesh)?;
+    let mut lifted = 0;
+    for strand in strands.iter_mut() {
+        let Anchor::Surface(sample) = strand.anchor else {
+            continue;
+        };
+        let frame = mesh.evaluate(&sample);
+        let mut world: Vec<Vector3<f32>> = strand.rest.iter().map(|p| frame.to_world(p)).collect();
+        let mut arc = 0.0f32;
+        for j in 1..world.len() {
+            let length = (world[j] - world[j - 1]).norm();
+            arc += length;
+            let allowed = clearance.min(arc);
+            let mut moved_any = false;
+            // Re-aiming at the lifted point keeps the segment's length, which can leave the
+            // point short of it on a curved scalp: a few rounds converge.
+            for _ in 0..16 {
+                let (height, target) = surface.height_and_lift(&world[j], allowed);
+                if height >= allowed - 1e-6 || length == 0.0 {
+                    break;
+                }
+                let aim = target - world[j - 1];
+                if aim.norm() < 1e-9 {
+                    break;
+                }
+                // The rest of the strand moves rigidly with this point, keeping its shape.
+                let moved = world[j - 1] + aim.normalize() * length;
+                let shift = moved - world[j];
+                for p in &mut world[j..] {
+                    *p += shift;
+                }
+                moved_any = true;
+            }
+            if !moved_any {
+                continue;
+            }
+            lifted += 1;
+        }
+        strand.rest = world.iter().map(|p| frame.to_local(p)).collect();
+    }
+    Ok(lifted)
 }
 
 /// One strand laid from its world points (root first) at layer height `height` (m).
@@ -432,6 +528,40 @@ mod tests {
                 assert!(w[2].x * w[0].x.signum() > w[0].x.abs(), "{:?}", &w[..3]);
             }
         }
+    }
+
+    #[test]
+    fn hair_dipping_into_the_scalp_is_lifted_out_keeping_roots_and_lengths() {
+        let radius = 0.1;
+        let mesh = uv_sphere(radius, 48, 24).unwrap();
+        // Straight hair grown tangentially (along the surface's local x): it cuts into the
+        // sphere's curvature right away.
+        let mut strands = hair(&mesh);
+        for s in &mut strands {
+            let n = s.rest.len();
+            s.rest = (0..n)
+                .map(|i| Vector3::new(0.3 * i as f32 / (n - 1) as f32, 0.0, 0.0))
+                .collect();
+        }
+        let before = strands.clone();
+        let clearance = 0.002;
+        let lifted = lift_out_of_scalp(&mut strands, &mesh, clearance).unwrap();
+        assert!(lifted > 0);
+        let sagitta = radius * (1.0 - (std::f32::consts::PI / 24.0).cos());
+        for (b, a) in before.iter().zip(&strands) {
+            let (wb, wa) = (world(&mesh, b), world(&mesh, a));
+            assert!((wa[0] - wb[0]).norm() < 1e-6);
+            for (sb, sa) in wb.windows(2).zip(wa.windows(2)) {
+                let (lb, la) = ((sb[1] - sb[0]).norm(), (sa[1] - sa[0]).norm());
+                assert!((lb - la).abs() < 1e-5, "{lb} vs {la}");
+            }
+            for p in &wa[2..] {
+                assert!(p.norm() > radius - sagitta, "{} inside", p.norm());
+            }
+        }
+        // Already clear: nothing moves.
+        let again = lift_out_of_scalp(&mut strands, &mesh, clearance * 0.5).unwrap();
+        assert_eq!(again, 0);
     }
 
     #[test]

@@ -78,6 +78,17 @@ pub struct SimHairsSection {
     /// Where sim hairs grow.
     #[serde(default)]
     pub region: Option<RegionSection>,
+    /// Sim hairs grow only within this distance (m, straight line) of an enabled guide's root:
+    /// where the groom grows hair, not on the rest of the scalp mesh (a bust's neck and
+    /// shoulders). Absent: the whole region.
+    #[serde(default)]
+    pub max_guide_distance: Option<f32>,
+    /// Lift interpolated hair out of the scalp to at least this height, m (absent: as
+    /// interpolated). Hair blended between guides on a curved head, or guides made on a finer
+    /// mesh than this scalp, can dip into it; a scalp collider would then start with hair
+    /// inside. The hair radius plus the collider's thickness starts it touching.
+    #[serde(default)]
+    pub clearance: Option<f32>,
     /// Guides blended per hair.
     #[serde(default = "default_k")]
     pub k: usize,
@@ -238,6 +249,10 @@ pub fn build(
         _ => return Err("[sim_hairs] give exactly one of `count` (area-weighted roots) or `min_distance` (Poisson disk, m)".into()),
     }
     .map_err(|e| format!("[sim_hairs] {e}"))?;
+    let roots = match sim.max_guide_distance {
+        None => roots,
+        Some(d) => near_guides(mesh, &guides_list, &enabled, roots, d, sim)?,
+    };
     let points = sim
         .points
         .unwrap_or_else(|| guides_list.first().map_or(2, |g| g.rest.len()));
@@ -251,7 +266,7 @@ pub fn build(
     };
     let hairs = hair_groom::interpolate(mesh, &guides_list, &enabled, &roots, &opts)
         .map_err(|e| format!("[sim_hairs] {e}"))?;
-    let inputs = hairs
+    let mut inputs = hairs
         .into_iter()
         .map(|h| {
             StrandInput::uniform(
@@ -264,6 +279,10 @@ pub fn build(
             )
         })
         .collect::<Vec<_>>();
+    if let Some(clearance) = sim.clearance {
+        hair_groom::lift_out_of_scalp(&mut inputs, mesh, clearance)
+            .map_err(|e| format!("[sim_hairs] {e}"))?;
+    }
     let report = format!(
         "{source}; {} enabled; {} sim hairs of {points} points from the {} nearest",
         enabled.iter().filter(|&&e| e).count(),
@@ -275,4 +294,101 @@ pub fn build(
         inputs,
         report,
     })
+}
+
+/// Most area-weighted draws per wanted root when sim hairs must grow near the guides: a groom
+/// covering a thousandth of the region is still filled; a smaller one is refused by name.
+const MAX_DRAWS_PER_ROOT: usize = 1000;
+
+/// The roots of `roots` within `max_distance` (m) of an enabled guide root. With `count`, more
+/// area-weighted roots are drawn (the same sequence, extended) until `count` are near the guides.
+fn near_guides(
+    mesh: &TriMesh,
+    guides: &[Guide],
+    enabled: &[bool],
+    roots: Vec<hair_core::MeshSample>,
+    max_distance: f32,
+    sim: &SimHairsSection,
+) -> Result<Vec<hair_core::MeshSample>, String> {
+    if !(max_distance.is_finite() && max_distance > 0.0) {
+        return Err(format!(
+            "[sim_hairs] max_guide_distance = {max_distance}: use a finite distance > 0 m, e.g. 0.01"
+        ));
+    }
+    let guide_roots: Vec<Vector3<f32>> = guides
+        .iter()
+        .zip(enabled)
+        .filter(|(_, &e)| e)
+        .map(|(g, _)| mesh.evaluate(&g.root).origin)
+        .collect();
+    let grid = PointGrid::new(&guide_roots, max_distance);
+    let near = |r: &hair_core::MeshSample| grid.any_within(&mesh.evaluate(r).origin);
+    let Some(count) = sim.count else {
+        return Ok(roots.into_iter().filter(near).collect());
+    };
+    let mut kept: Vec<_> = Vec::with_capacity(count);
+    let mut drawn = 0;
+    let mut batch = roots;
+    loop {
+        drawn += batch.len();
+        kept.extend(batch.into_iter().filter(near).take(count - kept.len()));
+        if kept.len() == count {
+            return Ok(kept);
+        }
+        if drawn >= count.saturating_mul(MAX_DRAWS_PER_ROOT) {
+            return Err(format!(
+                "[sim_hairs] max_guide_distance = {max_distance} m: only {} of {count} roots found \
+                 near the guide roots in {drawn} draws; raise max_guide_distance or check that \
+                 the guides were snapped onto this scalp",
+                kept.len()
+            ));
+        }
+        // The area-weighted sequence is a prefix sequence: draw it longer, keep the new part.
+        let longer = (drawn * 2).min(count.saturating_mul(MAX_DRAWS_PER_ROOT));
+        let all = hair_groom::sample_area_weighted(mesh, longer, sim.seed, &region(&sim.region))
+            .map_err(|e| format!("[sim_hairs] {e}"))?;
+        batch = all[drawn..].to_vec();
+    }
+}
+
+/// Points hashed into cubic cells of one search radius, to ask "is any within the radius?" by
+/// looking at the 27 cells around a query.
+struct PointGrid<'a> {
+    points: &'a [Vector3<f32>],
+    radius: f32,
+    cells: std::collections::HashMap<[i64; 3], Vec<usize>>,
+}
+
+impl<'a> PointGrid<'a> {
+    fn cell(p: &Vector3<f32>, radius: f32) -> [i64; 3] {
+        [p.x, p.y, p.z].map(|c| (c / radius).floor() as i64)
+    }
+
+    fn new(points: &'a [Vector3<f32>], radius: f32) -> Self {
+        let mut cells: std::collections::HashMap<[i64; 3], Vec<usize>> = Default::default();
+        for (i, p) in points.iter().enumerate() {
+            cells.entry(Self::cell(p, radius)).or_default().push(i);
+        }
+        Self {
+            points,
+            radius,
+            cells,
+        }
+    }
+
+    fn any_within(&self, q: &Vector3<f32>) -> bool {
+        let [x, y, z] = Self::cell(q, self.radius);
+        (-1..=1).any(|dx| {
+            (-1..=1).any(|dy| {
+                (-1..=1).any(|dz| {
+                    self.cells
+                        .get(&[x + dx, y + dy, z + dz])
+                        .is_some_and(|list| {
+                            list.iter()
+                                .any(|&i| (self.points[i] - q).norm() <= self.radius)
+                        })
+                })
+            })
+        })
+    }
 }
