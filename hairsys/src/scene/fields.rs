@@ -236,6 +236,9 @@ mod tests {
             .build()
             .unwrap_err()
             .to_string();
-        assert!(e.contains("[hair_hair] parameter `hair_hair.friction` = 2"), "{e}");
+        assert!(
+            e.contains("[hair_hair] parameter `hair_hair.friction` = 2"),
+            "{e}"
+        );
     }
 }

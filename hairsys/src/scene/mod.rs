@@ -13,9 +13,8 @@ use std::path::{Path, PathBuf};
 use hair_core::strips::{HeadShape, StripSolver};
 use hair_core::{
     Anchor, Collider, ColliderId, ColliderShape, Colliders, ContactSettings, HairError,
-    HairHairSettings, HairParams,
-    Integrator, KernelChoice, RodParams, RodSolver, RootFrame, Scalp, Solver, SolverSettings,
-    StrandInput, StrandModel, StrandSet, StrandSolver, Substeps, TriMesh,
+    HairHairSettings, HairParams, Integrator, KernelChoice, RodParams, RodSolver, RootFrame, Scalp,
+    Solver, SolverSettings, StrandInput, StrandModel, StrandSet, StrandSolver, Substeps, TriMesh,
 };
 use hair_groom::{GenerateOptions, ObjOptions, Region, UpAxis};
 
@@ -911,10 +910,7 @@ impl SceneFile {
         scale: f32,
         up_axis: UpAxis,
     ) -> Result<TriMesh, hair_groom::GroomError> {
-        let opts = ObjOptions {
-            scale,
-            up_axis,
-        };
+        let opts = ObjOptions { scale, up_axis };
         hair_groom::load_obj(&self.base_dir.join(path), &opts)
     }
 }
