@@ -234,6 +234,10 @@ class Session:
         """Strength of force field `index` at the next frame."""
     def set_field_strength(self, index: int, value: float) -> None:
         """Sets force field `index`'s strength (constant from now on)."""
+    def set_field_direction(self, index: int, direction: tuple[float, float, float]) -> None:
+        """Sets force field `index`'s direction (normalised; not zero): wind flow, vortex axis."""
+    def set_field_center(self, index: int, center: tuple[float, float, float]) -> None:
+        """Sets force field `index`'s center, m: vortex axis point, point force, falloff origin."""
     def snapshot(self) -> Snapshot:
         """A copy of the state at the current frame."""
     def restore(self, snapshot: Snapshot) -> None:

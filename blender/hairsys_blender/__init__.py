@@ -64,8 +64,7 @@ class HairsysSettings(bpy.types.PropertyGroup):
         description="Name of the curve attribute or surface vertex group holding the goal weights")
     surface_collision: BoolProperty(
         name="Surface Collision", default=True,
-        description="Hair collides with its surface mesh (rest shape moved rigidly: the library "
-                    "does not follow the surface's deformation in collisions yet)")
+        description="Hair collides with its surface mesh, as evaluated (deformed) at every frame")
     surface_thickness: FloatProperty(
         name="Surface Thickness", default=0.002, min=0.0, unit="LENGTH",
         description="Distance kept between hair and the surface, on top of the strand radius")
@@ -74,7 +73,8 @@ class HairsysSettings(bpy.types.PropertyGroup):
         description="Coulomb friction coefficient between hair and the surface")
     collider_collection: PointerProperty(
         name="Colliders", type=bpy.types.Collection,
-        description="Mesh objects hair collides with (rigid motion of their object matrices)")
+        description="Mesh objects hair collides with, as evaluated (moved, deformed) at every "
+                    "frame; their modifiers must keep the vertex count")
     collider_thickness: FloatProperty(
         name="Collider Thickness", default=0.002, min=0.0, unit="LENGTH",
         description="Distance kept between hair and the colliders")

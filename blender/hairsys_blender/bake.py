@@ -5,10 +5,12 @@ window manager) and a blocking bake (background mode, tests) share it. Everythin
 hairsys is in world space, meters, Z up (Blender's convention): the surface's evaluated mesh
 (armature, shape keys, any modifier) times its `matrix_world`, the curves' points times the
 hair object's `matrix_world`; the scalp matrix stays the identity, so the surface may deform
-and scale freely. Mesh colliders are handed over as rigid bodies: their evaluated mesh at the
-first frame in world space, then each frame the rigid motion `M(f) @ M(first)^-1` of their
-object matrix (a collider that deforms or scales over time is refused by hairsys with a message;
-deforming colliders are pending the library's `Session.set_collider_vertices`).
+and scale freely. Mesh colliders deform too: each frame a collider object's matrix is split into
+its rigid part `R` (rotation and translation, the collider's pose, so a turning object turns
+within the frame instead of cutting its corners) and the rest `R^-1 M` (scale, shear), which is
+applied with the evaluated mesh (armature, shape keys, any modifier that keeps the vertex count)
+to give the body-space vertices handed to `Session.set_collider_vertices`; within a frame each
+vertex moves in a straight line and friction acts against that motion.
 """
 
 import numpy as np
@@ -22,15 +24,29 @@ def world_points(matrix, local):
     return local @ m[:3, :3].T + m[:3, 3]
 
 
-def evaluated_mesh(obj, depsgraph, triangles=False):
-    """The evaluated (deformed) mesh of `obj` in world space: vertices (V, 3) float64 and, when
-    asked, triangles (T, 3) int32."""
+def rigid_part(matrix):
+    """The rigid part of the 4x4 `matrix`: rotation (the orthogonal polar factor of its 3x3, so
+    scale and shear are left out) and translation, as a 4x4 float64 array."""
+    m = np.array(matrix, dtype=np.float64)
+    u, _, vt = np.linalg.svd(m[:3, :3])
+    if np.linalg.det(u @ vt) < 0:  # a mirroring matrix: keep a proper rotation
+        u[:, -1] *= -1
+    pose = np.eye(4)
+    pose[:3, :3] = u @ vt
+    pose[:3, 3] = m[:3, 3]
+    return pose
+
+
+def evaluated_mesh(obj, depsgraph, triangles=False, matrix=None):
+    """The evaluated (deformed) mesh of `obj`: vertices (V, 3) float64 transformed by `matrix`
+    (default: its world matrix) and, when asked, triangles (T, 3) int32."""
     ev = obj.evaluated_get(depsgraph)
     mesh = ev.to_mesh()
     try:
         co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
         mesh.vertices.foreach_get("co", co)
-        verts = world_points(ev.matrix_world, co.reshape(-1, 3).astype(np.float64))
+        m = ev.matrix_world if matrix is None else matrix
+        verts = world_points(m, co.reshape(-1, 3).astype(np.float64))
         tris = None
         if triangles:
             mesh.calc_loop_triangles()
@@ -119,6 +135,15 @@ def collider_objects(settings):
     return [o for o in coll.all_objects if o.type == "MESH"]
 
 
+def collider_state(obj, depsgraph, triangles=False):
+    """A collider object now: its pose (the rigid part of its world matrix, 4x4), its evaluated
+    mesh's vertices in the pose's body space (V, 3) and, when asked, its triangles (T, 3)."""
+    pose = rigid_part(obj.matrix_world)
+    body = np.linalg.inv(pose) @ np.array(obj.matrix_world, dtype=np.float64)
+    verts, tris = evaluated_mesh(obj, depsgraph, triangles=triangles, matrix=body)
+    return pose, verts, tris
+
+
 class Baker:
     """Bakes `hair_obj` over the scene's frame range into `settings.cache_path`, frame by
     frame (`step()` until it returns False), then `finish()`."""
@@ -146,12 +171,12 @@ class Baker:
         weights = goal_weights(hair_obj, s, verts, points, counts)
         self.colliders = collider_objects(s)
         specs = []
-        self.collider_start = []
+        self.collider_counts = []
         for obj in self.colliders:
-            cv, ct = evaluated_mesh(obj, depsgraph, triangles=True)
-            specs.append({"shape": "mesh", "vertices": cv, "triangles": ct,
+            pose, cv, ct = collider_state(obj, depsgraph, triangles=True)
+            specs.append({"shape": "mesh", "vertices": cv, "triangles": ct, "matrix": pose,
                           "thickness": s.collider_thickness, "friction": s.collider_friction})
-            self.collider_start.append(np.array(obj.matrix_world, dtype=np.float64))
+            self.collider_counts.append(len(cv))
         fps = self.scene.render.fps / self.scene.render.fps_base
         options = dict(
             fps=fps, first_frame=self.first, substeps=s.substeps if s.substeps > 0 else "auto",
@@ -185,9 +210,15 @@ class Baker:
         self.scene.frame_set(self.frame)
         depsgraph = context.evaluated_depsgraph_get()
         verts, _ = evaluated_mesh(self.surface, depsgraph)
-        for i, (obj, start) in enumerate(zip(self.colliders, self.collider_start)):
-            motion = np.array(obj.matrix_world, dtype=np.float64) @ np.linalg.inv(start)
-            self.session.set_collider_pose(i, motion)
+        for i, (obj, count) in enumerate(zip(self.colliders, self.collider_counts)):
+            pose, cv, _ = collider_state(obj, depsgraph)
+            if len(cv) != count:
+                raise ValueError(
+                    f"collider {obj.name!r} has {len(cv)} vertices at frame {self.frame} but "
+                    f"{count} at frame {self.first}: a collider's modifiers must keep its vertex "
+                    "count (remove or apply the modifier that changes it)")
+            self.session.set_collider_pose(i, pose)
+            self.session.set_collider_vertices(i, cv)
         self.session.step(scalp_vertices=verts)
         return True
 

@@ -8,6 +8,7 @@
 //! normal, local x the tangent along the triangle's first edge and local y the bitangent.
 
 use nalgebra::{Isometry3, Matrix3, Rotation3, UnitQuaternion, Vector2, Vector3};
+#[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
 use crate::error::{HairError, Result};
@@ -212,7 +213,8 @@ fn unit_or(v: Vector3<f32>, fallback: Vector3<f32>) -> Vector3<f32> {
 }
 
 /// A stable point on a mesh surface: triangle index and barycentric weights (summing to 1).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub struct MeshSample {
     /// Index into [`TriMesh::triangles`].
     pub triangle: u32,

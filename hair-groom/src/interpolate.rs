@@ -40,6 +40,8 @@ const SAME_ROOT: f32 = 1e-6;
 
 /// How the distance between two roots is measured.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum Distance {
     /// Along the surface, approximated by shortest edge paths (see the module docs): guides on
     /// the far side of a parting or an ear do not count as near. Costs one Dijkstra run and 4

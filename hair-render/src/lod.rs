@@ -10,6 +10,8 @@ use crate::error::{parameter, Result};
 
 /// Reduced counts and steps for the viewport.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
 pub struct DisplayLod {
     /// Fraction of each parent's children shown, in (0, 1].
     pub fraction: f32,

@@ -148,6 +148,19 @@ impl PySession {
         Ok(array)
     }
 
+    /// Force field `index`, or an ArgumentError naming the index and the count.
+    fn field_mut(&mut self, index: usize) -> PyResult<&mut hair_core::ForceField> {
+        self.check()?;
+        let fields = self.session_mut().fields_mut();
+        let n = fields.len();
+        fields.get_mut(index).ok_or_else(|| {
+            argument(
+                "index",
+                format!("field {index} does not exist ({n} fields)"),
+            )
+        })
+    }
+
     fn params(&mut self) -> PyResult<&mut hair_core::HairParams> {
         self.check()?;
         self.session_mut().params_mut().ok_or_else(|| {
@@ -436,19 +449,37 @@ impl PySession {
 
     /// Sets force field `index`'s strength (constant from now on, replacing its keys).
     fn set_field_strength(&mut self, index: usize, value: f32) -> PyResult<()> {
-        self.check()?;
         if !value.is_finite() {
             return Err(argument("value", "is not finite"));
         }
-        let fields = self.session_mut().fields_mut();
-        let n = fields.len();
-        let f = fields.get_mut(index).ok_or_else(|| {
-            argument(
-                "index",
-                format!("field {index} does not exist ({n} fields)"),
-            )
-        })?;
-        f.strength = hair_core::Strength::Constant(value);
+        self.field_mut(index)?.strength = hair_core::Strength::Constant(value);
+        Ok(())
+    }
+
+    /// Sets force field `index`'s direction (x, y, z), any length but not zero: the wind's flow,
+    /// the vortex's and a tube falloff's axis.
+    fn set_field_direction(&mut self, index: usize, direction: [f32; 3]) -> PyResult<()> {
+        let d = nalgebra::Vector3::from(direction);
+        if !(d.iter().all(|c| c.is_finite()) && d.norm() > 0.0) {
+            return Err(argument(
+                "direction",
+                format!("= {direction:?}: give a finite, non-zero (x, y, z)"),
+            ));
+        }
+        self.field_mut(index)?.direction = d / d.norm();
+        Ok(())
+    }
+
+    /// Sets force field `index`'s center (x, y, z), m: the vortex's axis point, a point force's
+    /// source and the falloff's origin.
+    fn set_field_center(&mut self, index: usize, center: [f32; 3]) -> PyResult<()> {
+        if !center.iter().all(|c| c.is_finite()) {
+            return Err(argument(
+                "center",
+                format!("= {center:?}: give a finite (x, y, z) in m"),
+            ));
+        }
+        self.field_mut(index)?.center = nalgebra::Vector3::from(center);
         Ok(())
     }
 

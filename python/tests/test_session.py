@@ -394,3 +394,39 @@ def test_python_session_is_bit_identical_to_hairsys_simulate(tmp_path, small_sce
         assert s.frame == f
         assert np.array_equal(s.positions, frames[f][0]), f"frame {f} differs"
         assert np.array_equal(s.velocities, frames[f][1]), f"frame {f} velocities differ"
+
+
+WIND_SCENE = """version = 1
+[scene]
+frames = [1, 13]
+[physics]
+air_drag = 2.0
+[[strands]]
+points = [[0, 0, 0], [0, 0, -0.05], [0, 0, -0.1], [0, 0, -0.15], [0, 0, -0.2]]
+[[fields]]
+type = "wind"
+strength = 3.0
+direction = [1, 0, 0]
+"""
+
+
+def test_field_direction_and_center_setters_turn_the_wind(tmp_path):
+    path = tmp_path / "wind.toml"
+    path.write_text(WIND_SCENE)
+    east = hairsys.Session.from_scene(str(path))
+    west = hairsys.Session.from_scene(str(path))
+    assert west.field_count == 1
+    west.set_field_direction(0, (-2.0, 0.0, 0.0))  # any length: normalised
+    west.set_field_center(0, (0.0, 0.0, 1.0))  # no falloff: the center changes nothing
+    for _ in range(6):
+        east.step()
+        west.step()
+    tip_east, tip_west = east.positions[-1], west.positions[-1]
+    assert tip_east[0] > 0.01, tip_east
+    np.testing.assert_allclose(tip_west, tip_east * [-1, 1, 1], atol=1e-6)
+    with pytest.raises(hairsys.ArgumentError, match="direction"):
+        west.set_field_direction(0, (0.0, 0.0, 0.0))
+    with pytest.raises(hairsys.ArgumentError, match="center"):
+        west.set_field_center(0, (float("nan"), 0.0, 0.0))
+    with pytest.raises(hairsys.ArgumentError, match="field 3 does not exist"):
+        west.set_field_direction(3, (1.0, 0.0, 0.0))

@@ -1,13 +1,15 @@
 //! Settings of hair–object collision: how finely fast colliders are stepped and the speed at which
 //! deep penetrations are removed.
 
+#[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
 use crate::error::{check_positive, HairError, Result};
 
 /// How contacts are stepped (scene section `[contacts]`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
 pub struct ContactSettings {
     /// Largest error (m) the contact model may make within one collision step because its
     /// collider moved; a frame whose colliders move farther than that allows is split into more

@@ -27,6 +27,8 @@ mod noise;
 
 use nalgebra::Vector3;
 use rayon::prelude::*;
+#[cfg(feature = "serde")]
+use serde::{Deserialize, Serialize};
 
 use crate::error::{HairError, Result};
 
@@ -35,8 +37,11 @@ pub use noise::{noise, noise3};
 /// Points per parallel work item of [`evaluate`].
 const CHUNK: usize = 4096;
 
-/// A field's strength over time.
+/// A field's strength over time. With the `serde` feature it reads a number (constant) or a list
+/// of `[frame, value]` pairs (keys), as the scene's `strength` key.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", serde(untagged))]
 pub enum Strength {
     /// The same at every frame.
     Constant(f32),
@@ -68,8 +73,11 @@ impl Strength {
     }
 }
 
-/// How a field's strength falls off with distance.
+/// How a field's strength falls off with distance (`"none"`, `"sphere"`, `"tube"` with the
+/// `serde` feature).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum FalloffShape {
     /// Full strength everywhere.
     #[default]
@@ -82,7 +90,12 @@ pub enum FalloffShape {
 
 /// Distance falloff, as Blender's: factor `(1 + d − min_distance)^−power` for
 /// `min_distance ≤ d ≤ max_distance`, 1 closer than `min_distance`, 0 beyond `max_distance`.
+///
+/// With the `serde` feature every key is optional (the default is no falloff) and unknown keys
+/// are refused.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
 pub struct Falloff {
     /// What the distance is measured from.
     pub shape: FalloffShape,

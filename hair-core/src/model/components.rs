@@ -2,6 +2,7 @@
 //! solver runs, for reports. A set, not strings, so a host can ask `contains(Component::Goal)`
 //! and a report lists them in one fixed order.
 
+#[cfg(feature = "serde")]
 use serde::{Serialize, Serializer};
 
 /// One part of a strand model. The order of the variants is the order reports list them in.
@@ -116,6 +117,7 @@ impl std::fmt::Display for Component {
     }
 }
 
+#[cfg(feature = "serde")]
 impl Serialize for Component {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         s.serialize_str(self.name())
@@ -174,6 +176,7 @@ impl std::fmt::Display for ComponentSet {
     }
 }
 
+#[cfg(feature = "serde")]
 impl Serialize for ComponentSet {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         s.collect_seq(self.iter())

@@ -8,7 +8,9 @@
 //! below [`SMALLEST`] (including 0) count as 0, and a quantile above 2¹⁰ reads 2¹⁰ (the
 //! maximum stays exact). Binning costs a few integer operations per value.
 
+#[cfg(feature = "serde")]
 use serde::ser::SerializeStruct;
+#[cfg(feature = "serde")]
 use serde::{Serialize, Serializer};
 
 /// Mantissa bits kept by a bin (relative bin width 2⁻⁷).
@@ -129,6 +131,7 @@ impl std::fmt::Debug for Distribution {
     }
 }
 
+#[cfg(feature = "serde")]
 impl Serialize for Distribution {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         let mut s = serializer.serialize_struct("Distribution", 4)?;

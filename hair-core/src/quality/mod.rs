@@ -38,6 +38,7 @@ mod penetration;
 mod shape;
 
 use nalgebra::Vector3;
+#[cfg(feature = "serde")]
 use serde::Serialize;
 
 use crate::contacts::Colliders;
@@ -206,7 +207,8 @@ impl Default for QualityOptions {
 
 /// The quality of one frame or, merged, of a run. Absent parts (`None`, `null` in JSON) were
 /// not measured: no colliders, no previous frame, no reference.
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
 pub struct QualityReport {
     /// Frames measured.
     pub frames: u32,

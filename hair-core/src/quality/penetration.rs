@@ -12,6 +12,7 @@
 
 use nalgebra::{Point3, Vector3};
 use rayon::prelude::*;
+#[cfg(feature = "serde")]
 use serde::Serialize;
 
 use crate::contacts::collider_set::Surface;
@@ -22,7 +23,8 @@ use crate::contacts::Colliders;
 const CHUNK: usize = 2048;
 
 /// Hair points found inside colliders, merged over frames.
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
 pub struct Penetration {
     /// Depth below which a point counts as touching, not inside, m.
     pub tolerance: f32,

@@ -1,6 +1,7 @@
 //! Shape measures of one frame: segment strain, hairpin folds and drift from a reference shape.
 
 use nalgebra::Vector3;
+#[cfg(feature = "serde")]
 use serde::Serialize;
 
 use super::distribution::Distribution;
@@ -10,7 +11,8 @@ use super::Frame;
 const HAIRPIN_COS: f32 = 0.0;
 
 /// Segment strain `len/rest − 1`, split into its two signs.
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
 pub struct Strain {
     /// Stretch of every segment, `max(0, len/rest − 1)` (dimensionless; 0.01 = 1 %).
     pub stretch: Distribution,
@@ -28,7 +30,8 @@ impl Strain {
 
 /// Hairpin folds: interior points where the strand turns by more than 90° (the angle between
 /// the segments before and after the point).
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
 pub struct Hairpins {
     /// Points turning by more than 90°, summed over frames.
     pub count: u64,
@@ -49,7 +52,8 @@ impl Hairpins {
 
 /// Distance of points from a reference shape (the groom or rest positions), for "does the shape
 /// hold after settling".
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
 pub struct Drift {
     /// Root-mean-square distance of the free points from their reference, m.
     pub rms: f32,
@@ -59,7 +63,7 @@ pub struct Drift {
     pub tip_rms: f32,
     /// Largest distance of a tip from its reference, m.
     pub tip_max: f32,
-    #[serde(skip)]
+    #[cfg_attr(feature = "serde", serde(skip))]
     sums: DriftSums,
 }
 

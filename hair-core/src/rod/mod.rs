@@ -74,6 +74,7 @@ use std::time::Instant;
 
 use nalgebra::{UnitQuaternion, Vector3};
 use rayon::prelude::*;
+#[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
 use crate::contacts::collider_set::Surface;
@@ -98,8 +99,9 @@ const FAILED_RESIDUAL: f64 = 1e-2;
 const AUTO_SAFETY: f64 = 0.5;
 
 /// Which strand model a hair system runs (the scene's `[solver] model`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum StrandModel {
     /// The mass-spring chain of seed 001 ([`crate::Solver`]), the default.
     #[default]
@@ -128,7 +130,8 @@ impl StrandModel {
 }
 
 /// What the projections of one frame did (the rod model's own figures for reports and benches).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
 pub struct ProjectionReport {
     /// Projections run (strands × substeps, plus extra contact rounds).
     pub projections: u64,

@@ -12,14 +12,16 @@
 //!
 //! so the bending stiffnesses are `E I₁ ≤ E I₂` and the twist stiffness is `G J` (N·m²).
 
+#[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
 use crate::error::{HairError, Result};
 
 /// Material and projection settings of the rod model (the scene's `[rod]` table). Gravity and
 /// air drag come from the hair system's [`crate::HairParams`].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
 pub struct RodParams {
     /// Young's modulus of the strand, Pa (keratin: about 3.9e9).
     pub youngs_modulus: f32,

@@ -1,13 +1,15 @@
 //! Physical parameters of a hair system and the solver's time-stepping settings.
 
 use nalgebra::Vector3;
+#[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
 use crate::error::{check_non_negative, check_positive, HairError, Result};
 
 /// Material and environment of a hair system (SI units).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
 pub struct HairParams {
     /// Gravitational acceleration, m/s² (Z up: (0, 0, −9.81)).
     pub gravity: [f32; 3],
@@ -61,7 +63,8 @@ impl HairParams {
 }
 
 /// How many force substeps each collision step takes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub enum Substeps {
     /// Exactly this many substeps per step.
     Fixed(u32),
@@ -70,8 +73,9 @@ pub enum Substeps {
 }
 
 /// Time integration scheme of the force substeps.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Integrator {
     /// `v += dt·a(x, v); x += dt·v` — symplectic, the default.
     SemiImplicitEuler,
@@ -81,8 +85,9 @@ pub enum Integrator {
 
 /// Which compiled copy of the mass-spring kernel runs (see [`crate::kernel_instructions`]). Both
 /// copies give the same bits; the choice only changes speed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum KernelChoice {
     /// The fastest copy this CPU runs (AVX2 where it has it).
     #[default]
@@ -93,7 +98,8 @@ pub enum KernelChoice {
 }
 
 /// Time stepping of the solver.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub struct SolverSettings {
     /// Frames per second of the animation.
     pub fps: f32,
@@ -110,7 +116,7 @@ pub struct SolverSettings {
     /// inextensible; `None` switches it off.
     pub max_strain: Option<f32>,
     /// Which compiled copy of the kernel runs (same bits either way).
-    #[serde(default)]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub kernel: KernelChoice,
 }
 

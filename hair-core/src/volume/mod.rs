@@ -44,6 +44,7 @@ mod grid;
 
 use nalgebra::Vector3;
 use rayon::prelude::*;
+#[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
 use crate::error::{check_non_negative, check_positive, HairError, Result};
@@ -54,8 +55,9 @@ pub use grid::{
 };
 
 /// Settings of voxel hair–hair interaction.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
 pub struct HairHairSettings {
     /// Edge length of a grid cell, m (a few hair radii to a few cm).
     pub cell_size: f32,

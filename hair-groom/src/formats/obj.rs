@@ -17,6 +17,8 @@ use crate::error::GroomError;
 
 /// Which axis points up in the file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum UpAxis {
     /// Y up (Maya, most OBJ exporters' default, Blender's OBJ exporter default): converted to Z
     /// up by (x, y, z) -> (x, -z, y), so the file's front (+Z) faces -Y as in Blender.

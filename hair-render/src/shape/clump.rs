@@ -10,6 +10,8 @@ use crate::error::{check_range, Result};
 
 /// Clump factor and shape (both dimensionless).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
 pub struct Clump {
     /// How far tips are drawn to the parent, in [−1, 1]: 1 on the parent, 0 none, −1 twice as far.
     pub factor: f32,

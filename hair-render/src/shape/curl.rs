@@ -10,6 +10,8 @@ use crate::error::{check_range, Result};
 
 /// Curl radius and frequency.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
 pub struct Curl {
     /// Helix radius, meters (≥ 0; 0 turns curl off).
     pub radius: f32,

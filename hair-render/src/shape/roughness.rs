@@ -16,6 +16,8 @@ use crate::rng::{ChildRng, Purpose};
 
 /// Amplitudes (meters) and sizes of the three roughness kinds.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
 pub struct Roughness {
     /// Amplitude of the uniform noise, meters (≥ 0).
     pub uniform: f32,

@@ -7,6 +7,8 @@ use crate::error::{check_range, Result};
 
 /// Root and tip widths (meters) and the taper exponent.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
 pub struct Taper {
     /// Width at the root, meters (diameter, ≥ 0).
     pub root: f32,

@@ -2,6 +2,13 @@
 //! `hairsys render-children export` makes them. Every key is optional (defaults of
 //! `hair_render::ChildSettings`); the command's flags override the section.
 //!
+//! The inline tables are hair-render's own types read through its `serde` feature: `clump` is
+//! `hair_render::Clump`, `curl` `Curl`, `roughness` `Roughness`, `width` `Taper` and `display`
+//! `DisplayLod` (each key optional, defaults of the type). The section itself is not
+//! `ChildSettings`, on purpose: the file says `per_parent` or `count` where the library has the
+//! [`ChildCount`] enum, `mode` and `neighbours` where it has [`ChildMode`], and flattens
+//! `ChildSettings::shape`'s fields into the section; and every key may be left out.
+//!
 //! ```toml
 //! [children]
 //! mode = "interpolated"     # "simple" (around one parent) or "interpolated" (between parents)
@@ -52,25 +59,25 @@ pub struct ChildrenSection {
     pub subdivisions: Option<u32>,
     /// Clump factor and shape.
     #[serde(default)]
-    pub clump: Option<ClumpSection>,
+    pub clump: Option<Clump>,
     /// Curl radius (m) and frequency (turns per meter).
     #[serde(default)]
-    pub curl: Option<CurlSection>,
+    pub curl: Option<Curl>,
     /// Roughness amplitudes and sizes, m.
     #[serde(default)]
-    pub roughness: Option<RoughnessSection>,
+    pub roughness: Option<Roughness>,
     /// Random shortening per child, fraction of the length.
     #[serde(default)]
     pub length_variation: Option<f32>,
     /// Width (diameter) at root and tip, m, and the taper exponent.
     #[serde(default)]
-    pub width: Option<WidthSection>,
+    pub width: Option<Taper>,
     /// Fraction of the length over which curl and roughness grow from 0 at the root.
     #[serde(default)]
     pub root_ramp: Option<f32>,
     /// Display level of detail (`--display`).
     #[serde(default)]
-    pub display: Option<DisplaySection>,
+    pub display: Option<DisplayLod>,
 }
 
 /// `mode = "simple" | "interpolated"`.
@@ -82,103 +89,6 @@ pub enum ModeValue {
     Simple,
     /// Between several parents.
     Interpolated,
-}
-
-/// `clump = { factor, shape }`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ClumpSection {
-    /// In [−1, 1]: 1 draws the tips onto the parent.
-    #[serde(default)]
-    pub factor: f32,
-    /// Exponent of the clump profile along the length (1 linear).
-    #[serde(default = "one")]
-    pub shape: f32,
-}
-
-/// `curl = { radius, frequency }`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CurlSection {
-    /// Helix radius, m (0 = off).
-    #[serde(default)]
-    pub radius: f32,
-    /// Turns per meter of hair.
-    #[serde(default)]
-    pub frequency: f32,
-}
-
-/// `roughness = { uniform, uniform_size, endpoint, endpoint_shape, smooth, smooth_size }`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RoughnessSection {
-    /// Amplitude of the short-wavelength noise, m.
-    #[serde(default)]
-    pub uniform: f32,
-    /// Its wavelength, m.
-    #[serde(default = "uniform_size")]
-    pub uniform_size: f32,
-    /// Tip amplitude of the splayed ends, m.
-    #[serde(default)]
-    pub endpoint: f32,
-    /// Exponent of the endpoint roughness along the length.
-    #[serde(default = "one")]
-    pub endpoint_shape: f32,
-    /// Amplitude of the long-wavelength noise, m.
-    #[serde(default)]
-    pub smooth: f32,
-    /// Its wavelength, m.
-    #[serde(default = "smooth_size")]
-    pub smooth_size: f32,
-}
-
-/// `width = { root, tip, shape }`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct WidthSection {
-    /// Diameter at the root, m.
-    #[serde(default = "root_width")]
-    pub root: f32,
-    /// Diameter at the tip, m.
-    #[serde(default = "tip_width")]
-    pub tip: f32,
-    /// Taper exponent (1 linear).
-    #[serde(default = "one")]
-    pub shape: f32,
-}
-
-/// `display = { fraction, subdivisions }`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct DisplaySection {
-    /// Fraction of each parent's children shown, (0, 1].
-    #[serde(default = "display_fraction")]
-    pub fraction: f32,
-    /// Catmull–Rom pieces per parent segment at display level (1 = the parent's points).
-    #[serde(default = "one_u32")]
-    pub subdivisions: u32,
-}
-
-fn one() -> f32 {
-    1.0
-}
-fn one_u32() -> u32 {
-    1
-}
-fn uniform_size() -> f32 {
-    Roughness::default().uniform_size
-}
-fn smooth_size() -> f32 {
-    Roughness::default().smooth_size
-}
-fn root_width() -> f32 {
-    Taper::default().root
-}
-fn tip_width() -> f32 {
-    Taper::default().tip
-}
-fn display_fraction() -> f32 {
-    DisplayLod::default().fraction
 }
 
 /// Default neighbours of interpolated children.
@@ -214,28 +124,11 @@ impl ChildrenSection {
             };
         let defaults = Shape::default();
         let shape = Shape {
-            clump: self.clump.map_or(defaults.clump, |c| Clump {
-                factor: c.factor,
-                shape: c.shape,
-            }),
-            curl: self.curl.map_or(defaults.curl, |c| Curl {
-                radius: c.radius,
-                frequency: c.frequency,
-            }),
-            roughness: self.roughness.map_or(defaults.roughness, |r| Roughness {
-                uniform: r.uniform,
-                uniform_size: r.uniform_size,
-                endpoint: r.endpoint,
-                endpoint_shape: r.endpoint_shape,
-                smooth: r.smooth,
-                smooth_size: r.smooth_size,
-            }),
+            clump: self.clump.unwrap_or(defaults.clump),
+            curl: self.curl.unwrap_or(defaults.curl),
+            roughness: self.roughness.unwrap_or(defaults.roughness),
             length_variation: self.length_variation.unwrap_or(defaults.length_variation),
-            taper: self.width.map_or(defaults.taper, |w| Taper {
-                root: w.root,
-                tip: w.tip,
-                shape: w.shape,
-            }),
+            taper: self.width.unwrap_or(defaults.taper),
             root_ramp: self.root_ramp.unwrap_or(defaults.root_ramp),
         };
         let settings = ChildSettings {
@@ -246,10 +139,7 @@ impl ChildrenSection {
             shape,
             mode,
         };
-        let display = self.display.map_or(DisplayLod::default(), |d| DisplayLod {
-            fraction: d.fraction,
-            subdivisions: d.subdivisions,
-        });
+        let display = self.display.unwrap_or_default();
         settings
             .validate()
             .and_then(|()| Lod::Display(display).validate())

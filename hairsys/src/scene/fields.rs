@@ -2,6 +2,10 @@
 //! "Hair-Hair collision"; see `hair_core::volume`) and force fields (Blender's effectors; see
 //! `hair_core::fields`).
 //!
+//! `[hair_hair]` is `hair_core::HairHairSettings` itself, and a field's `strength` and `falloff`
+//! are `hair_core::Strength` and `hair_core::Falloff` (their `serde` feature); the `[[fields]]`
+//! table around them is this module's [`FieldSection`] (see there why).
+//!
 //! ```toml
 //! [hair_hair]
 //! cell_size = 0.01        # m, edge of a grid cell
@@ -25,48 +29,12 @@
 //! second the pattern drifts).
 
 use hair_core::{
-    Falloff, FalloffShape, FieldKind, ForceField, HairError, HairHairSettings, Solver, Strength,
-    VoxelGrid,
+    Falloff, FieldKind, ForceField, HairError, HairHairSettings, Solver, Strength, VoxelGrid,
 };
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::scene::Simulation;
-
-/// `[hair_hair]`: voxel hair–hair interaction.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct HairHairSection {
-    /// Edge length of a grid cell, m.
-    pub cell_size: f32,
-    /// Fraction (0–1) of the way velocities move towards the grid velocity per collision step.
-    #[serde(default)]
-    pub friction: f32,
-    /// Repulsion strength, m²/s² (0 = off).
-    #[serde(default)]
-    pub repulsion: f32,
-    /// Hair volume fraction (0–1) above which repulsion pushes hair apart.
-    #[serde(default = "default_target")]
-    pub target_density: f32,
-}
-
-fn default_target() -> f32 {
-    HairHairSettings::default().target_density
-}
-
-impl HairHairSection {
-    /// The settings, validated; errors name the key and the fix.
-    pub fn settings(&self) -> Result<HairHairSettings, String> {
-        let s = HairHairSettings {
-            cell_size: self.cell_size,
-            friction: self.friction,
-            repulsion: self.repulsion,
-            target_density: self.target_density,
-        };
-        s.validate().map_err(|e| format!("[hair_hair] {e}"))?;
-        Ok(s)
-    }
-}
 
 /// Field types of `[[fields]] type`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -84,48 +52,13 @@ pub enum FieldType {
     Force,
 }
 
-/// A strength: a number, or `[frame, value]` keys.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(untagged)]
-pub enum StrengthValue {
-    /// The same at every frame.
-    Constant(f32),
-    /// `[[frame, value], …]`, linear in between, held outside.
-    Keys(Vec<[f32; 2]>),
-}
-
-/// `falloff = { … }` of a field.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct FalloffSection {
-    /// `"none"`, `"sphere"` (distance from `center`) or `"tube"` (distance from the axis).
-    #[serde(default)]
-    pub shape: FalloffShapeValue,
-    /// Exponent: the factor is `(1 + d − min_distance)^−power`.
-    #[serde(default)]
-    pub power: f32,
-    /// Full strength within this distance, m.
-    #[serde(default)]
-    pub min_distance: f32,
-    /// No effect beyond this distance, m.
-    #[serde(default)]
-    pub max_distance: Option<f32>,
-}
-
-/// Falloff shapes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum FalloffShapeValue {
-    /// Full strength everywhere.
-    #[default]
-    None,
-    /// By distance from the center.
-    Sphere,
-    /// By distance from the axis.
-    Tube,
-}
-
 /// `[[fields]]`: one force field.
+///
+/// Not `hair_core::ForceField` itself, on purpose: the file spells a field flat (`type = "wind"`
+/// beside `noise`, `seed`, `size`, `flow`) where the library nests the per-type values in
+/// [`FieldKind`] variants, and the section refuses a key that does not apply to its type
+/// (`noise` on a vortex) by name. `strength` and `falloff` are the library's own
+/// [`Strength`] and [`Falloff`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FieldSection {
@@ -135,8 +68,8 @@ pub struct FieldSection {
     /// What the field does.
     #[serde(rename = "type")]
     pub kind: FieldType,
-    /// Strength (units by type, see the module doc).
-    pub strength: StrengthValue,
+    /// Strength (units by type, see the module doc): a number, or `[[frame, value], …]` keys.
+    pub strength: Strength,
     /// Center, m.
     #[serde(default)]
     pub center: [f32; 3],
@@ -155,9 +88,9 @@ pub struct FieldSection {
     /// Turbulence only: drift of the pattern, feature sizes per second.
     #[serde(default)]
     pub flow: Option<f32>,
-    /// Distance falloff (absent: none).
+    /// Distance falloff (absent: none): `{ shape, power, min_distance, max_distance }`.
     #[serde(default)]
-    pub falloff: Option<FalloffSection>,
+    pub falloff: Option<Falloff>,
 }
 
 fn up() -> [f32; 3] {
@@ -204,30 +137,12 @@ impl FieldSection {
             FieldType::Drag => FieldKind::Drag,
             FieldType::Force => FieldKind::Force,
         };
-        let f = self.falloff.unwrap_or(FalloffSection {
-            shape: FalloffShapeValue::None,
-            power: 0.0,
-            min_distance: 0.0,
-            max_distance: None,
-        });
         let mut field = ForceField {
             kind,
             center: Vector3::from(self.center),
             direction: Vector3::from(self.direction),
-            strength: match &self.strength {
-                StrengthValue::Constant(s) => Strength::Constant(*s),
-                StrengthValue::Keys(k) => Strength::Keys(k.iter().map(|&[f, v]| (f, v)).collect()),
-            },
-            falloff: Falloff {
-                shape: match f.shape {
-                    FalloffShapeValue::None => FalloffShape::None,
-                    FalloffShapeValue::Sphere => FalloffShape::Sphere,
-                    FalloffShapeValue::Tube => FalloffShape::Tube,
-                },
-                power: f.power,
-                min_distance: f.min_distance,
-                max_distance: f.max_distance,
-            },
+            strength: self.strength.clone(),
+            falloff: self.falloff.unwrap_or_default(),
         };
         field
             .validate(index)
@@ -262,5 +177,68 @@ impl Simulation {
             solver = solver.with_fields(self.fields.clone())?;
         }
         Ok(solver)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::scene::{SceneFile, DEFAULT_SCENE};
+    use hair_core::{Falloff, FalloffShape, HairHairSettings, Strength};
+    use std::path::PathBuf;
+
+    fn parse(extra: &str) -> Result<SceneFile, String> {
+        let text = format!("{DEFAULT_SCENE}\n{extra}");
+        SceneFile::parse(&text, "f.toml", PathBuf::from(".")).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn hair_hair_and_field_keys_read_into_the_library_types() {
+        let s = parse(
+            "[hair_hair]\ncell_size = 0.02\nfriction = 0.3\n\n[[fields]]\ntype = \"wind\"\n\
+             strength = [[1, 0.0], [24, 2.0]]\nfalloff = { shape = \"tube\", power = 2, \
+             max_distance = 1.0 }\n",
+        )
+        .unwrap()
+        .scene;
+        assert_eq!(
+            s.hair_hair,
+            Some(HairHairSettings {
+                cell_size: 0.02,
+                friction: 0.3,
+                ..HairHairSettings::default()
+            })
+        );
+        let f = &s.fields[0];
+        assert_eq!(f.strength, Strength::Keys(vec![(1.0, 0.0), (24.0, 2.0)]));
+        assert_eq!(
+            f.falloff,
+            Some(Falloff {
+                shape: FalloffShape::Tube,
+                power: 2.0,
+                min_distance: 0.0,
+                max_distance: Some(1.0),
+            })
+        );
+    }
+
+    #[test]
+    fn unknown_keys_in_library_types_are_refused_naming_the_file_and_the_key() {
+        let e = parse("[hair_hair]\ncell_sise = 0.02\n").unwrap_err();
+        assert!(
+            e.starts_with("f.toml: ") && e.contains("unknown field `cell_sise`"),
+            "{e}"
+        );
+        let e = parse("[[fields]]\ntype = \"drag\"\nstrength = 1.0\nfalloff = { reach = 2 }\n")
+            .unwrap_err();
+        assert!(e.contains("unknown field `reach`"), "{e}");
+        let e = parse("[hair_hair]\nfriction = 2.0\n")
+            .unwrap()
+            .build()
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("[hair_hair] parameter `hair_hair.friction` = 2"),
+            "{e}"
+        );
     }
 }

@@ -7,12 +7,12 @@ use std::path::{Path, PathBuf};
 use hair_core::{Anchor, StrandInput, TriMesh};
 use hair_groom::{
     Curl, Distance, GrowDirection, Guide, GuideOptions, ImportOptions, InterpolateOptions, Region,
-    SnapOptions,
+    SnapOptions, UpAxis,
 };
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-use crate::scene::{RegionSection, UpAxisValue};
+use crate::scene::RegionSection;
 
 /// `[guides]`: import `file`, or generate `count` guides.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -26,7 +26,7 @@ pub struct GuidesSection {
     pub scale: f32,
     /// The file's up axis: `"z"` (default) or `"y"`.
     #[serde(default)]
-    pub up_axis: UpAxisValue,
+    pub up_axis: UpAxis,
     /// Largest distance a root may be moved onto the scalp, m; farther roots are refused.
     #[serde(default = "default_snap")]
     pub max_snap_distance: f32,
@@ -97,7 +97,7 @@ pub struct SimHairsSection {
     pub points: Option<usize>,
     /// `"surface"` (default) or `"euclidean"` root distances.
     #[serde(default)]
-    pub distance: DistanceValue,
+    pub distance: Distance,
     /// Linear density, kg/m.
     #[serde(default = "default_density")]
     pub mass_per_length: f32,
@@ -110,17 +110,6 @@ pub struct SimHairsSection {
     /// Goal weight at the tip.
     #[serde(default)]
     pub goal_tip: f32,
-}
-
-/// How root distances are measured.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum DistanceValue {
-    /// Along the scalp surface.
-    #[default]
-    Surface,
-    /// Straight line.
-    Euclidean,
 }
 
 fn one() -> f32 {
@@ -168,7 +157,7 @@ pub fn build(
 ) -> Result<GuidedHair, String> {
     let (guides_list, source) = match &guides.file {
         Some(file) => {
-            let up_axis = guides.up_axis.into();
+            let up_axis = guides.up_axis;
             let path = base_dir.join(file);
             let groom = hair_groom::read_groom(
                 &path,
@@ -259,10 +248,7 @@ pub fn build(
     let opts = InterpolateOptions {
         k: sim.k,
         points,
-        distance: match sim.distance {
-            DistanceValue::Surface => Distance::Surface,
-            DistanceValue::Euclidean => Distance::Euclidean,
-        },
+        distance: sim.distance,
     };
     let hairs = hair_groom::interpolate(mesh, &guides_list, &enabled, &roots, &opts)
         .map_err(|e| format!("[sim_hairs] {e}"))?;

@@ -12,9 +12,9 @@ use std::path::{Path, PathBuf};
 
 use hair_core::strips::{HeadShape, StripSolver};
 use hair_core::{
-    Anchor, Collider, ColliderId, ColliderShape, Colliders, ContactSettings, HairError, HairParams,
-    Integrator, KernelChoice, RodParams, RodSolver, RootFrame, Scalp, Solver, SolverSettings,
-    StrandInput, StrandModel, StrandSet, StrandSolver, Substeps, TriMesh,
+    Anchor, Collider, ColliderId, ColliderShape, Colliders, ContactSettings, HairError,
+    HairHairSettings, HairParams, Integrator, KernelChoice, RodParams, RodSolver, RootFrame, Scalp,
+    Solver, SolverSettings, StrandInput, StrandModel, StrandSet, StrandSolver, Substeps, TriMesh,
 };
 use hair_groom::{GenerateOptions, ObjOptions, Region, UpAxis};
 
@@ -29,8 +29,11 @@ pub mod guides;
 pub mod motion;
 pub mod strips;
 pub mod style;
+pub mod version;
 
-use fields::{FieldSection, HairHairSection};
+pub use version::SCENE_VERSION;
+
+use fields::FieldSection;
 use guides::{GuidesSection, SimHairsSection};
 use motion::RigidMotion;
 
@@ -51,6 +54,14 @@ pub struct SceneError {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
+    /// `version`: the scene format version, 1 to [`SCENE_VERSION`]; absent = 1 (files written
+    /// before the key existed). Left out of the serialised scene when 1, so the scene hash that
+    /// guards `--resume` is the same with or without the line.
+    #[serde(
+        default = "version::first_version",
+        skip_serializing_if = "version::is_first"
+    )]
+    pub version: u32,
     /// `[scene]`: name, frame range, frame rate.
     pub scene: SceneSection,
     /// `[solver]`: time stepping.
@@ -86,9 +97,10 @@ pub struct Scene {
     /// `[solver] model = "rod"`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rod: Option<RodParams>,
-    /// `[hair_hair]`: voxel hair–hair friction and repulsion (see [`fields`]).
+    /// `[hair_hair]`: voxel hair–hair friction and repulsion (see [`HairHairSettings`]; every key
+    /// optional, `cell_size` 0.01 m by default).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub hair_hair: Option<HairHairSection>,
+    pub hair_hair: Option<HairHairSettings>,
     /// `[[fields]]`: force fields (wind, vortex, turbulence, drag, force; see [`fields`]).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub fields: Vec<FieldSection>,
@@ -131,6 +143,11 @@ pub enum SubstepsValue {
 }
 
 /// `[solver]`.
+///
+/// Not [`SolverSettings`] itself, on purpose: the frame rate comes from `[scene] fps`,
+/// `substeps` is spelled `"auto"` or a count (checked with a range in the error), the kernel
+/// copy is a run option rather than part of the scene, and the section also chooses the strand
+/// model and its projections (`model`, `inextensibility`, `sag_free`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SolverSection {
@@ -205,6 +222,9 @@ pub struct ScalpCollider {
 }
 
 /// `[[colliders]]`: one collider.
+///
+/// Not [`Collider`] itself: the file names an OBJ path (relative to the scene file) where the
+/// library holds the loaded mesh, and adds a name and keyframed motion.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ColliderSection {
@@ -251,7 +271,7 @@ pub enum ColliderShapeSection {
         scale: f32,
         /// The file's up axis: `"z"` (default) or `"y"` (converted to Z up).
         #[serde(default)]
-        up_axis: UpAxisValue,
+        up_axis: UpAxis,
     },
 }
 
@@ -282,7 +302,7 @@ pub enum ScalpMesh {
         scale: f32,
         /// The file's up axis: `"z"` (default) or `"y"` (converted to Z up).
         #[serde(default)]
-        up_axis: UpAxisValue,
+        up_axis: UpAxis,
     },
 }
 
@@ -290,27 +310,11 @@ fn one() -> f32 {
     1.0
 }
 
-/// Up axis of an OBJ file.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum UpAxisValue {
-    /// Y up (Maya, most exporters); converted to Z up.
-    Y,
-    /// Z up (Blender's convention).
-    #[default]
-    Z,
-}
-
-impl From<UpAxisValue> for UpAxis {
-    fn from(v: UpAxisValue) -> Self {
-        match v {
-            UpAxisValue::Y => UpAxis::Y,
-            UpAxisValue::Z => UpAxis::Z,
-        }
-    }
-}
-
 /// `[hair]`: hair generated on the scalp (see [`GenerateOptions`]).
+///
+/// Not [`GenerateOptions`] itself, on purpose: `count`, `length` and `segments` are required
+/// here (a scene that grows hair says how much), and `region` is an optional cone table where
+/// the library has the [`Region`] enum.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct HairSection {
@@ -355,7 +359,8 @@ fn default_density() -> f32 {
     1e-3
 }
 
-/// A cone of surface normals.
+/// A cone of surface normals: `{ direction = [x, y, z], max_angle_deg = a }` (absent = the whole
+/// scalp, [`Region::All`]; TOML has no spelling for an enum's unit variant beside a table).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RegionSection {
@@ -441,8 +446,13 @@ impl SceneFile {
         Self::parse(&text, &origin, base_dir)
     }
 
-    /// Parses scene text; `origin` names it in errors.
+    /// Parses scene text; `origin` names it in errors. A `version` newer than [`SCENE_VERSION`]
+    /// is refused (see [`version`]).
     pub fn parse(text: &str, origin: &str, base_dir: PathBuf) -> Result<Self, SceneError> {
+        version::check(text).map_err(|message| SceneError {
+            file: origin.to_string(),
+            message,
+        })?;
         let scene: Scene = toml::from_str(text).map_err(|e| SceneError {
             file: origin.to_string(),
             message: format!("not a valid scene: {}", e.to_string().trim_end()),
@@ -745,12 +755,10 @@ impl SceneFile {
                     .into(),
             ));
         }
-        let hair_hair = s
-            .hair_hair
-            .as_ref()
-            .map(|h| h.settings())
-            .transpose()
-            .map_err(err)?;
+        let hair_hair = s.hair_hair;
+        if let Some(h) = &hair_hair {
+            h.validate().map_err(|e| err(format!("[hair_hair] {e}")))?;
+        }
         let fields = s
             .fields
             .iter()
@@ -926,12 +934,9 @@ impl SceneFile {
         &self,
         path: &Path,
         scale: f32,
-        up_axis: UpAxisValue,
+        up_axis: UpAxis,
     ) -> Result<TriMesh, hair_groom::GroomError> {
-        let opts = ObjOptions {
-            scale,
-            up_axis: up_axis.into(),
-        };
+        let opts = ObjOptions { scale, up_axis };
         hair_groom::load_obj(&self.base_dir.join(path), &opts)
     }
 }

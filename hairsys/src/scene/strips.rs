@@ -11,6 +11,11 @@ use serde::{Deserialize, Serialize};
 use crate::scene::RegionSection;
 
 /// `[strips]`.
+///
+/// Not a pair of `hair_core::strips` types, on purpose: the section is one flat table where the
+/// library splits growth ([`StripGrowth`]) from stepping ([`StripSettings`]), gives the root
+/// angle in degrees where [`RootAngleLimit`] holds radians, and adds scene-only choices of which
+/// triangles grow strips (`every`, `max_strips`, `region`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct StripsSection {
