@@ -43,6 +43,11 @@ pub struct StripsSection {
     pub max_strips: Option<u32>,
     /// Triangles whose normal lies within this cone; absent = the whole scalp.
     pub region: Option<RegionSection>,
+    /// Lay both edge strands of every strip over the scalp (see [`crate::scene::style`]) so the
+    /// cards lie on the head instead of standing out along the normals. `layer` should be 0 (both
+    /// edges at one height) and the lift within `root_angle_deg` of the normal.
+    #[serde(default)]
+    pub style: Option<crate::scene::style::StyleSection>,
 }
 
 impl Default for StripsSection {
@@ -62,6 +67,7 @@ impl Default for StripsSection {
             every: 1,
             max_strips: None,
             region: None,
+            style: None,
         }
     }
 }
@@ -179,8 +185,9 @@ pub fn build_into(
     };
     let settings = section.settings()?;
     let set = section.build(mesh)?;
+    let mut inputs = Vec::with_capacity(set.strands.len());
     for s in 0..set.strands.len() {
-        let input = hair_core::StrandInput {
+        inputs.push(hair_core::StrandInput {
             anchor: set.strands.anchors()[s],
             rest: set.strands.rest_local()[set.strands.points(s)].to_vec(),
             mass: set.strands.masses()[set.strands.points(s)].to_vec(),
@@ -190,7 +197,15 @@ pub fn build_into(
                 .iter()
                 .map(|&w| w == 0.0)
                 .collect(),
-        };
+        });
+    }
+    if let Some(style) = &section.style {
+        // One seed for every strip: with `layer = 0` both edges of a card lie at one height.
+        let opts = style.options(&scene.physics.gravity(), 0);
+        hair_groom::lay_over_scalp(&mut inputs, mesh, &opts)
+            .map_err(|e| format!("[strips.style] {e}"))?;
+    }
+    for input in inputs {
         strands.push(input).map_err(|e| format!("[strips] {e}"))?;
     }
     Ok(Some(settings))
