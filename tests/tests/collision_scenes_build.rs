@@ -46,10 +46,11 @@ fn parity_with_an_analytic_sphere_head_builds() {
 }
 
 #[test]
-fn default_scene_collision_keys_parse_when_uncommented() {
+fn default_scene_collider_keys_parse_when_uncommented() {
+    // The default scene collides with its head; more colliders are shown commented.
     let start = DEFAULT_SCENE
-        .find("# [scalp.collider]")
-        .expect("the default scene documents [scalp.collider]");
+        .find("# [[colliders]]")
+        .expect("the default scene documents [[colliders]]");
     // The collision block runs to the next blank line (other commented sections follow it).
     let uncommented: String = DEFAULT_SCENE[start..]
         .lines()
@@ -65,4 +66,10 @@ fn default_scene_collision_keys_parse_when_uncommented() {
     assert!(sim.has_colliders());
     assert_eq!(sim.colliders.len(), 1);
     assert!(sim.scalp_collider.is_some());
+    assert!(SceneFile::parse(DEFAULT_SCENE, "default.toml", ".".into())
+        .unwrap()
+        .build()
+        .unwrap()
+        .scalp_collider
+        .is_some());
 }
