@@ -217,7 +217,8 @@ mod tests {
         let base = crate::scene::DEFAULT_SCENE;
         let with_children = format!("{base}\n[children]\ncount = 5000\nseed = 3\n");
         assert_eq!(hash(base), hash(&with_children));
-        let stiffer = base.replacen("bend_stiffness = 0.5 ", "bend_stiffness = 0.7 ", 1);
+        let stiffer = base.replacen("bend_stiffness = 5.0 ", "bend_stiffness = 5.5 ", 1);
+        assert_ne!(stiffer, base);
         assert_ne!(
             hash(base),
             hash(&stiffer),

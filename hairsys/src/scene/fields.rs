@@ -186,8 +186,17 @@ mod tests {
     use hair_core::{Falloff, FalloffShape, HairHairSettings, Strength};
     use std::path::PathBuf;
 
+    /// The default scene without its own `[hair_hair]`, then `extra`.
     fn parse(extra: &str) -> Result<SceneFile, String> {
-        let text = format!("{DEFAULT_SCENE}\n{extra}");
+        let start = DEFAULT_SCENE
+            .find("\n[hair_hair]")
+            .expect("the default has hair–hair");
+        let end = start + 1 + DEFAULT_SCENE[start + 1..].find("\n\n").unwrap();
+        let text = format!(
+            "{}{}\n{extra}",
+            &DEFAULT_SCENE[..start],
+            &DEFAULT_SCENE[end..]
+        );
         SceneFile::parse(&text, "f.toml", PathBuf::from(".")).map_err(|e| e.to_string())
     }
 
