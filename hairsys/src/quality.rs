@@ -9,12 +9,13 @@
 //! after the motion (the shipped scenes end in their starting pose). Frame 1 of a cache is the
 //! state before any step, so the first frame reported here is the first *stepped* frame.
 //!
-//! Cost: one pass over the cache's frames, linear in points (a few operations per point and an
-//! exact parry projection per point near a collider); see BENCHMARKS.md.
+//! Cost: one pass over the cache's frames, linear in points: a few operations per point, and an
+//! exact parry projection only for points that may have reached a collider since the previous
+//! frame ([`PenetrationMemory`]); see BENCHMARKS.md.
 
 use std::path::Path;
 
-use hair_core::quality::{measure, rest_positions, Frame, Previous};
+use hair_core::quality::{measure_remembered, rest_positions, Frame, PenetrationMemory, Previous};
 use hair_core::{QualityInput, QualityOptions, QualityReport};
 use serde::Serialize;
 
@@ -61,6 +62,7 @@ pub fn cache_quality(cache: &Path, scene: Option<&Path>) -> Result<RunQuality, S
     let mut first_step = None;
     let mut last = QualityReport::default();
     let mut previous = reader.read_frame(numbers[0]).map_err(|e| e.to_string())?;
+    let mut memory = PenetrationMemory::new();
     // Built once (a mesh collider's search tree is the costly part) and posed per frame.
     let mut colliders = sim
         .colliders_at(numbers[0] as f32)
@@ -90,7 +92,8 @@ pub fn cache_quality(cache: &Path, scene: Option<&Path>) -> Result<RunQuality, S
             colliders: (!colliders.is_empty()).then_some(&colliders),
             reference: Some(&reference),
         };
-        let report = measure(&input, &options).map_err(|e| format!("frame {n}: {e}"))?;
+        let report = measure_remembered(&input, &options, &mut memory)
+            .map_err(|e| format!("frame {n}: {e}"))?;
         run.merge(&report);
         if first_step.is_none() {
             first_step = Some(report.clone());

@@ -46,7 +46,7 @@ use crate::error::{HairError, Result};
 use crate::strands::{Scalp, StrandSet};
 
 pub use distribution::Distribution;
-pub use penetration::{inside_flags, resting_normals, Penetration};
+pub use penetration::{inside_flags, resting_normals, Penetration, PenetrationMemory};
 pub use shape::{Drift, Hairpins, Strain};
 
 /// One frame of strands, borrowed: the layout of a [`StrandSet`] (strand-contiguous points).
@@ -258,6 +258,26 @@ fn merge_option<T: Clone>(a: &mut Option<T>, b: &Option<T>, merge: impl Fn(&mut 
 /// Measures one frame. Errors name the array that does not fit the frame's layout, or a
 /// non-positive `dt` or tolerance.
 pub fn measure(input: &QualityInput, options: &QualityOptions) -> Result<QualityReport> {
+    measure_inner(input, options, None)
+}
+
+/// [`measure`] for one frame of a run, with `memory` carried from the run's previous frame: the
+/// same report, but points that cannot have reached a collider since they were last measured
+/// are not projected again (see [`PenetrationMemory`]). Give every frame of a run, in order,
+/// the same memory.
+pub fn measure_remembered(
+    input: &QualityInput,
+    options: &QualityOptions,
+    memory: &mut PenetrationMemory,
+) -> Result<QualityReport> {
+    measure_inner(input, options, Some(memory))
+}
+
+fn measure_inner(
+    input: &QualityInput,
+    options: &QualityOptions,
+    memory: Option<&mut PenetrationMemory>,
+) -> Result<QualityReport> {
     let frame = &input.frame;
     frame.validate()?;
     let n = frame.positions.len();
@@ -304,6 +324,7 @@ pub fn measure(input: &QualityInput, options: &QualityOptions) -> Result<Quality
             frame.radii,
             &|i| frame.is_free(i),
             tolerance,
+            memory,
         )
     });
     Ok(QualityReport {

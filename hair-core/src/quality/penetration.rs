@@ -56,6 +56,87 @@ impl Penetration {
     }
 }
 
+/// What a run's penetration measurement remembers from frame to frame to skip work: per point and
+/// collider, a lower bound of the signed distance of the point's centre from the collider's
+/// surface (m) and the body-space position it holds at. The signed distance is 1-Lipschitz in
+/// the body-space position, so `bound − |moved|` still bounds it a frame later; a point whose
+/// bound exceeds its radius plus the collider's thickness cannot be inside and is not projected.
+/// The result is exactly the memoryless measurement's; hair away from colliders, or moving with
+/// them (a head), then costs a subtraction and a norm per point. Bounds of a collider whose mesh
+/// was moved to other vertices are dropped.
+#[derive(Debug, Clone, Default)]
+pub struct PenetrationMemory {
+    /// Per collider, the shape version the bounds were measured on.
+    versions: Vec<u64>,
+    /// Point-major, one per point and collider: (lower bound of the signed distance, m;
+    /// body-space position it was measured at, m).
+    bounds: Vec<(f32, Vector3<f32>)>,
+}
+
+impl PenetrationMemory {
+    /// Empty memory: the first frame measured with it projects every point near a collider.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Forgets every bound that no longer applies: all of them when the point count or the
+    /// colliders changed, a collider's when its mesh was moved to other vertices.
+    fn prepare(&mut self, colliders: &Colliders, points: usize) {
+        let e = colliders.entries.len();
+        let unknown = (f32::NEG_INFINITY, Vector3::zeros());
+        if self.versions.len() != e || self.bounds.len() != points * e {
+            self.versions = colliders.entries.iter().map(|c| c.version).collect();
+            self.bounds = vec![unknown; points * e];
+            return;
+        }
+        for (c, entry) in colliders.entries.iter().enumerate() {
+            if self.versions[c] != entry.version {
+                self.versions[c] = entry.version;
+                for i in 0..points {
+                    self.bounds[i * e + c] = unknown;
+                }
+            }
+        }
+    }
+}
+
+/// [`depth`] with `memory` (one entry per collider of this point): colliders the point cannot
+/// reach by its bound are skipped, the others measured and their bounds renewed.
+fn depth_remembered(
+    colliders: &Colliders,
+    x: &Vector3<f32>,
+    radius: f32,
+    memory: &mut [(f32, Vector3<f32>)],
+) -> Option<f32> {
+    let mut deepest: Option<f32> = None;
+    for (e, slot) in colliders.entries.iter().zip(memory) {
+        let keep = radius + e.thickness;
+        let local = e.end.inverse_transform_point(&Point3::from(*x)).coords;
+        if slot.0 - (local - slot.1).norm() >= keep {
+            continue;
+        }
+        let (centre, enclosing) = e.bounding_sphere;
+        let to_sphere = (local - centre).norm() - enclosing;
+        if to_sphere > keep {
+            *slot = (to_sphere, local);
+            continue;
+        }
+        let proj = e.shape.project_local_point(to_glam(&local), false);
+        let dist = (local - from_glam(proj.point)).norm();
+        let signed = if e.surface == Surface::Solid && proj.is_inside {
+            -dist
+        } else {
+            dist
+        };
+        *slot = (signed, local);
+        if signed < keep {
+            let d = keep - signed;
+            deepest = Some(deepest.map_or(d, |b| b.max(d)));
+        }
+    }
+    deepest
+}
+
 /// Depth (m) of a sphere of `radius` centred at `x` (world, m) inside the deepest of
 /// `colliders`, or `None` when it reaches none of them.
 pub(crate) fn depth(colliders: &Colliders, x: &Vector3<f32>, radius: f32) -> Option<f32> {
@@ -165,28 +246,60 @@ pub(crate) fn measure(
     radii: &[f32],
     free: &(dyn Fn(usize) -> bool + Sync),
     tolerance: f32,
+    memory: Option<&mut PenetrationMemory>,
 ) -> Penetration {
-    let (checked, inside, deepest) = positions
-        .par_chunks(CHUNK)
-        .enumerate()
-        .map(|(k, chunk)| {
-            let mut out = (0u64, 0u64, 0.0f32);
-            for (j, x) in chunk.iter().enumerate() {
-                let i = k * CHUNK + j;
-                if !free(i) {
-                    continue;
-                }
-                out.0 += 1;
-                if let Some(d) = depth(colliders, x, radii[i]) {
-                    out.2 = out.2.max(d);
-                    if d > tolerance {
-                        out.1 += 1;
-                    }
-                }
+    let count = |(i, x, d): (
+        usize,
+        &Vector3<f32>,
+        &mut dyn FnMut(usize, &Vector3<f32>) -> Option<f32>,
+    ),
+                 out: &mut (u64, u64, f32)| {
+        if !free(i) {
+            return;
+        }
+        out.0 += 1;
+        if let Some(d) = d(i, x) {
+            out.2 = out.2.max(d);
+            if d > tolerance {
+                out.1 += 1;
             }
-            out
-        })
-        .reduce(|| (0, 0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2.max(b.2)));
+        }
+    };
+    let sum = |a: (u64, u64, f32), b: (u64, u64, f32)| (a.0 + b.0, a.1 + b.1, a.2.max(b.2));
+    let (checked, inside, deepest) = match memory {
+        Some(memory) if !colliders.entries.is_empty() => {
+            memory.prepare(colliders, positions.len());
+            let e = colliders.entries.len();
+            positions
+                .par_chunks(CHUNK)
+                .zip(memory.bounds.par_chunks_mut(CHUNK * e))
+                .enumerate()
+                .map(|(k, (chunk, bounds))| {
+                    let mut out = (0u64, 0u64, 0.0f32);
+                    let mut remembered = |i: usize, x: &Vector3<f32>| {
+                        let j = i - k * CHUNK;
+                        depth_remembered(colliders, x, radii[i], &mut bounds[j * e..(j + 1) * e])
+                    };
+                    for (j, x) in chunk.iter().enumerate() {
+                        count((k * CHUNK + j, x, &mut remembered), &mut out);
+                    }
+                    out
+                })
+                .reduce(|| (0, 0, 0.0), sum)
+        }
+        _ => positions
+            .par_chunks(CHUNK)
+            .enumerate()
+            .map(|(k, chunk)| {
+                let mut out = (0u64, 0u64, 0.0f32);
+                let mut exact = |i: usize, x: &Vector3<f32>| depth(colliders, x, radii[i]);
+                for (j, x) in chunk.iter().enumerate() {
+                    count((k * CHUNK + j, x, &mut exact), &mut out);
+                }
+                out
+            })
+            .reduce(|| (0, 0, 0.0), sum),
+    };
     let fraction = if checked > 0 {
         inside as f64 / checked as f64
     } else {
