@@ -509,7 +509,7 @@ fn main() -> ExitCode {
         } => report(export_children(*args, budget)),
         Command::RenderChildren {
             command: RenderCommand::Cards(args),
-        } => report(hairsys_cli::cards::run(&args).map_err(Failure::input)),
+        } => report(hairsys_cli::cards::run(&args).map_err(Failure::from)),
         Command::Preview(args) => report(run_preview(&args)),
         Command::Groom {
             command: GroomCommand::Export { scene, out },
