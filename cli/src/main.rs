@@ -324,13 +324,6 @@ macro_rules! outln {
     };
 }
 
-/// `print!` through [`output`].
-macro_rules! outw {
-    ($($arg:tt)*) => {
-        output::write(&format!($($arg)*))
-    };
-}
-
 /// Environment variable choosing the compiled copy of the mass-spring kernel: `baseline` runs
 /// the portable copy on any CPU (to compare speeds, or to check on one machine that both copies
 /// give the same bits); unset or `auto`, the fastest copy the CPU has.
@@ -480,10 +473,7 @@ fn main() -> ExitCode {
                     );
                 } else {
                     outln!("{}", file.display());
-                    outw!("{summary}");
-                    if !summary.to_string().ends_with('\n') {
-                        outln!("");
-                    }
+                    output::block(&summary.to_string());
                 }
                 0
             }
@@ -980,7 +970,7 @@ fn recover(broken: &Path, fixed: &Path) -> Result<(), Failure> {
         .write(fixed, WriterOptions::default())
         .map_err(|e| Failure::run(e.to_string()))?;
     outln!("wrote {}", fixed.display());
-    outw!("{summary}");
+    output::block(&summary.to_string());
     Ok(())
 }
 
@@ -1039,9 +1029,14 @@ fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
     let frames = run.frames;
     let [first, last] = scene.scene.scene.frames;
     let (first, last) = frames.unwrap_or((first, last));
-    // The bar counts the frames stepped (FIRST is the rest frame, written without a step), as
-    // the summary's `frames` does; the cache holds one more.
-    let progress = Progress::new(last.saturating_sub(first) as u64, quiet, json, "simulating");
+    // The bar counts frames written, the first (rest) frame included, as the summary and
+    // `cache info` do; the first is written before the first step.
+    let progress = Progress::new(
+        u64::from(last.saturating_sub(first)) + 1,
+        quiet,
+        json,
+        "simulating",
+    );
     let opts = SimulateOptions {
         scene,
         cache: run.cache,
@@ -1052,7 +1047,8 @@ fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
         kernel: run.kernel,
     };
     let result = simulate(&opts, |r| {
-        progress.tick_frame(r.frame, &json!({
+        let written = u64::from(r.frame.saturating_sub(first)) + 1;
+        progress.frame_written(r.frame, written, &json!({
             "event": "frame",
             "frame": r.frame,
             "max_stretch": r.max_stretch,
@@ -1074,7 +1070,7 @@ fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
                 outln!("{}", json!({ "event": "done", "summary": summary }));
             } else if !quiet {
                 outln!("wrote {}", opts.cache.display());
-                outw!("{summary}");
+                output::block(&summary.to_string());
             }
             0
         }

@@ -496,3 +496,119 @@ fn a_second_writer_on_the_same_cache_is_refused_with_the_first_ones_pid() {
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     assert!(dir.join("w.mcap").exists() && !pid_file.exists());
 }
+
+// Issue 21: one frame count everywhere.
+
+/// `simulate --json`'s summary, the text summary and `cache info --json` for one run.
+fn counts_of_a_run(dir: &Path, args: &[&str], cache: &str) -> (u64, u64, String, u64) {
+    let mut json_args = vec!["simulate", "--cache", cache, "--json"];
+    json_args.extend_from_slice(args);
+    let o = hairsys(&json_args, dir);
+    assert_eq!(code(&o), 0, "{args:?}: {}", stderr(&o));
+    let text = stdout(&o);
+    let done: serde_json::Value = serde_json::from_str(text.lines().last().unwrap()).unwrap();
+    let summary = &done["summary"];
+    assert_eq!(summary["frames"], summary["cache"]["frames"], "{summary}");
+    let frame_events = text.lines().filter(|l| l.contains("\"frame\"")).count() as u64;
+    let info = hairsys(&["cache", "info", cache, "--json"], dir);
+    let info: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    (
+        summary["frames"].as_u64().unwrap(),
+        summary["stepped"].as_u64().unwrap(),
+        format!("{frame_events}"),
+        info["frames"].as_u64().unwrap(),
+    )
+}
+
+#[test]
+fn simulate_json_text_summary_and_cache_info_give_one_frame_count() {
+    let dir = tempdir("frame-counts");
+    let s = scene(&dir, "count = 10\nlength = 0.1\nsegments = 4", "");
+    let s = s.to_str().unwrap();
+    // The scene's own range (frames 1–3) and a --frames override (2–6): frames written, the
+    // first (rest) frame included, are what the cache holds; `stepped` counts the steps.
+    for (args, frames) in [(vec![s], 3u64), (vec![s, "--frames", "2-6"], 5)] {
+        let cache = format!("c{frames}.mcap");
+        let (written, stepped, events, info) = counts_of_a_run(&dir, &args, &cache);
+        assert_eq!((written, info), (frames, frames), "{args:?}");
+        assert_eq!(stepped, frames - 1);
+        assert_eq!(
+            events,
+            (frames - 1).to_string(),
+            "one event per stepped frame"
+        );
+        let mut text_args = vec!["simulate", "--cache", "t.mcap", "--force"];
+        text_args.extend_from_slice(&args);
+        let o = hairsys(&text_args, &dir);
+        assert_eq!(code(&o), 0, "{}", stderr(&o));
+        let text = stdout(&o);
+        assert!(text.contains(&format!("{frames} frames written")), "{text}");
+        assert!(text.ends_with('\n'), "{text:?}");
+    }
+    // A resumed run counts the frames it took over: a complete 1–3 cache as the partial of a
+    // 1–6 run is continued from frame 3 and the result holds (and reports) 6 frames.
+    std::fs::copy(dir.join("c3.mcap"), dir.join("r.mcap.partial")).unwrap();
+    let (written, stepped, _, info) =
+        counts_of_a_run(&dir, &[s, "--frames", "1-6", "--resume"], "r.mcap");
+    assert_eq!((written, stepped, info), (6, 3, 6));
+}
+
+// Issue 18: --resume refuses a damaged last frame.
+
+/// Byte offset of the first occurrence of `needle` in `hay` at or after `from`.
+fn find(hay: &[u8], needle: &[u8], from: usize) -> Option<usize> {
+    hay[from..]
+        .windows(needle.len())
+        .position(|w| w == needle)
+        .map(|i| i + from)
+}
+
+#[test]
+fn resume_from_a_partial_whose_last_frame_holds_nan_is_refused_by_frame() {
+    let dir = tempdir("resume-nan");
+    let s = scene(&dir, "count = 10\nlength = 0.1\nsegments = 4", "");
+    let s = s.to_str().unwrap();
+    let o = hairsys(&["simulate", s, "--cache", "a.mcap", "--quiet"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    // The tip of the last strand at the last frame (3), as f32 little-endian bytes in the
+    // uncompressed cache: it moved, so its bytes differ from the earlier frames'.
+    let mut reader = hair_cache::CacheReader::open(dir.join("a.mcap")).unwrap();
+    let last = reader.read_frame(3).unwrap();
+    let first = reader.read_frame(1).unwrap();
+    let tip = *last.positions.last().unwrap();
+    assert_ne!(tip, *first.positions.last().unwrap());
+    let needle: Vec<u8> = tip.iter().flat_map(|c| c.to_le_bytes()).collect();
+    let mut bytes = std::fs::read(dir.join("a.mcap")).unwrap();
+    let at = find(&bytes, &needle, 0).expect("the tip's bytes are in the file");
+    bytes[at..at + 4].copy_from_slice(&f32::NAN.to_le_bytes());
+    // Walk the MCAP records (magic, then opcode u8, length u64, body) to the chunk holding the
+    // damaged bytes and mark its CRC "not computed" (0, as MCAP allows), so the chunk reads as
+    // intact: a file a buggy writer or a hand edit could leave.
+    let mut pos = 8;
+    loop {
+        let len = u64::from_le_bytes(bytes[pos + 1..pos + 9].try_into().unwrap()) as usize;
+        let body = pos + 9;
+        if bytes[pos] == 0x06 && (body..body + len).contains(&at) {
+            // Chunk body: start time u64, end time u64, uncompressed size u64, CRC u32.
+            bytes[body + 24..body + 28].copy_from_slice(&0u32.to_le_bytes());
+            break;
+        }
+        pos = body + len;
+        assert!(pos < bytes.len(), "no chunk holds the damaged bytes");
+    }
+    std::fs::write(dir.join("b.mcap.partial"), &bytes).unwrap();
+    let o = hairsys(
+        &[
+            "simulate", s, "--frames", "1-6", "--cache", "b.mcap", "--resume",
+        ],
+        &dir,
+    );
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("non-finite") && e.contains("frame 3") && !e.contains("diverge"),
+        "{e}"
+    );
+    assert!(!dir.join("b.mcap").exists());
+    assert!(dir.join("b.mcap.partial").exists(), "the partial is kept");
+}

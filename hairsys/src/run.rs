@@ -39,8 +39,17 @@ pub struct SimulateOptions {
 pub struct RunSummary {
     /// Scene name.
     pub scene: String,
-    /// Frames simulated (not counting the rest frame).
+    /// Frames written to the cache, the first (rest) frame included: the count `cache info`,
+    /// the progress bar and the text summary give (with `--resume`, the frames taken over from
+    /// the interrupted run count too).
     pub frames: u32,
+    /// Frames this run stepped the solver through: `frames - 1` for a fresh run (the first frame
+    /// is the rest state, written without a step), fewer when it resumed.
+    pub stepped: u32,
+    /// First frame of the run (the rest state).
+    pub first_frame: u32,
+    /// Last frame of the run.
+    pub last_frame: u32,
     /// Strands simulated.
     pub strands: usize,
     /// Points simulated.
@@ -176,7 +185,10 @@ pub fn simulate(
     let solver = session.solver();
     Ok(RunSummary {
         scene: opts.scene.scene.scene.name.clone(),
-        frames: last_frame - first_frame,
+        frames: last_frame - first_frame + 1,
+        stepped,
+        first_frame,
+        last_frame,
         strands: session.strands().len(),
         points: session.strands().point_count(),
         threads,
@@ -251,8 +263,15 @@ impl std::fmt::Display for RunSummary {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         writeln!(
             f,
-            "simulated {} frames of {} strands ({} points) on {} threads ({} kernel)",
-            self.frames, self.strands, self.points, self.threads, self.kernel
+            "{} frames written ({}–{}, {} stepped) of {} strands ({} points) on {} threads ({} kernel)",
+            self.frames,
+            self.first_frame,
+            self.last_frame,
+            self.stepped,
+            self.strands,
+            self.points,
+            self.threads,
+            self.kernel
         )?;
         writeln!(
             f,
