@@ -612,3 +612,160 @@ fn resume_from_a_partial_whose_last_frame_holds_nan_is_refused_by_frame() {
     assert!(!dir.join("b.mcap").exists());
     assert!(dir.join("b.mcap.partial").exists(), "the partial is kept");
 }
+
+#[test]
+fn ten_million_frames_given_by_frames_are_refused_by_the_work_budget_and_allow_large_lifts_it() {
+    let dir = tempdir("budget-frames");
+    // 4000 × 17 points (the default scene) × its 136 substeps × 10⁷ frames is far over 10¹³
+    // point-substeps (10⁶ frames would be 9.2e12, just under); the scene's own 48 frames are not.
+    let o = hairsys(
+        &["simulate", "--frames", "1-10000000", "--cache", "f.mcap"],
+        &dir,
+    );
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("--frames 1-10000000") && e.contains("--allow-large"),
+        "{e}"
+    );
+    assert!(!dir.join("f.mcap").exists() && !dir.join("f.mcap.partial").exists());
+    // --allow-large lets the same run start (killed at once: it would take days).
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_hairsys"))
+        .args([
+            "simulate",
+            "--frames",
+            "1-10000000",
+            "--cache",
+            "f.mcap",
+            "--allow-large",
+            "--quiet",
+        ])
+        .current_dir(&dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let t0 = std::time::Instant::now();
+    while !dir.join("f.mcap.partial").exists() {
+        if let Some(status) = child.try_wait().unwrap() {
+            panic!("the run ended ({status}) instead of starting");
+        }
+        assert!(t0.elapsed().as_secs() < 120, "the run never started");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+}
+
+#[test]
+fn the_snap_distance_error_lists_the_causes_once_in_order_with_an_unapplied_transform_first() {
+    let dir = tempdir("snap-message");
+    // The Sintel groom (in centimetres, Y up, converted right) on a sphere far smaller than her
+    // head: every root is far from the scalp.
+    let tfx = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../data/sintel/sintel_hair.tfx"
+    );
+    std::fs::write(
+        dir.join("far.toml"),
+        format!(
+            "[scene]\nframes = [1, 3]\n[scalp.mesh]\nkind = \"uv-sphere\"\nradius = 0.1\n\
+             segments = 12\nrings = 8\n[guides]\nfile = \"{tfx}\"\nscale = 0.01\nup_axis = \
+             \"y\"\n[sim_hairs]\ncount = 10\n"
+        ),
+    )
+    .unwrap();
+    let o = hairsys(&["scene", "check", "far.toml"], &dir);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    let e = stderr(&o);
+    let at = |what: &str| {
+        assert_eq!(e.matches(what).count(), 1, "`{what}` once: {e}");
+        e.find(what).unwrap()
+    };
+    let order = [
+        at("Apply › All Transforms"),
+        at("`scale`"),
+        at("`up_axis`"),
+        at("another scalp"),
+        at("`max_snap_distance`"),
+    ];
+    assert!(order.windows(2).all(|w| w[0] < w[1]), "{e}");
+    assert!(e.starts_with("error: ") && e.contains("[guides]"), "{e}");
+}
+
+// Issue 21: `scene init` shows every section, commented, and each one works uncommented.
+
+/// The scene with the commented block that starts at line `start` (`# [section]`) uncommented
+/// up to the next blank line.
+fn uncomment_block(lines: &[&str], start: usize) -> String {
+    let mut out: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+    let mut i = start;
+    while i < lines.len() && !lines[i].trim().is_empty() {
+        let l = lines[i];
+        out[i] = l
+            .strip_prefix("# ")
+            .or_else(|| l.strip_prefix('#'))
+            .unwrap_or(l)
+            .to_string();
+        i += 1;
+    }
+    out.join("\n") + "\n"
+}
+
+#[test]
+fn scene_init_shows_every_optional_section_commented_and_each_uncommented_checks() {
+    let dir = tempdir("init-sections");
+    let o = hairsys(&["scene", "init"], &dir);
+    assert_eq!(code(&o), 0);
+    let text = stdout(&o);
+    let lines: Vec<&str> = text.lines().collect();
+    let headers: Vec<(usize, String)> = lines
+        .iter()
+        .enumerate()
+        .filter_map(|(i, l)| {
+            let h = l.strip_prefix("# [")?;
+            let name = h.split(']').next()?.trim_start_matches('[');
+            Some((i, name.to_string()))
+        })
+        .collect();
+    let names: Vec<&str> = headers.iter().map(|(_, n)| n.as_str()).collect();
+    for section in [
+        "guides",
+        "sim_hairs",
+        "strands",
+        "scalp.collider",
+        "colliders",
+        "contacts",
+        "hair_hair",
+        "fields",
+        "children",
+        "rod",
+        "strips",
+    ] {
+        assert!(
+            names.contains(&section),
+            "[{section}] missing from {names:?}"
+        );
+    }
+    for (start, name) in &headers {
+        // [sim_hairs] interpolates from [guides]: it is uncommented with the [guides] block.
+        if name == "sim_hairs" {
+            continue;
+        }
+        let mut scene = uncomment_block(&lines, *start);
+        match name.as_str() {
+            "rod" => scene = scene.replace("# model = \"mass-spring\"", "model = \"rod\""),
+            "strips" => {
+                scene = scene.replace("# model = \"mass-spring\"", "model = \"strips\"");
+                // Strips replace the strands of [hair]: drop that section.
+                let from = scene.find("\n[hair]\n").unwrap();
+                let to = from + 1 + scene[from + 1..].find("\n\n").unwrap();
+                scene.replace_range(from..to, "");
+            }
+            _ => {}
+        }
+        std::fs::write(dir.join("s.toml"), &scene).unwrap();
+        let o = hairsys(&["scene", "check", "s.toml"], &dir);
+        assert_eq!(code(&o), 0, "[{name}] uncommented: {}", stderr(&o));
+    }
+}

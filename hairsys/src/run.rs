@@ -141,7 +141,24 @@ pub fn simulate(
                 "--threads {threads}: cannot start the thread pool ({e})"
             ))
         })?;
+    let steps = sim.settings.steps;
     let mut session = Session::from_simulation(sim, &opts.scene, scene_hash)?;
+    if let Some((first, last)) = opts.frames {
+        // The scene's build checked the work of the scene's own range; --frames replaces it.
+        let start = resumed.as_ref().map_or(first_frame, Resumed::last_frame);
+        let (points, substeps) = (session.strands().point_count(), session.solver().substeps());
+        let frames = last_frame - start;
+        opts.scene
+            .budget
+            .check_work(
+                &format!(
+                    "--frames {first}-{last}: the run ({points} points × {substeps} substeps × \
+                     [solver] steps = {steps} × {frames} frames)"
+                ),
+                points as f64 * f64::from(substeps) * f64::from(steps) * f64::from(frames),
+            )
+            .map_err(|e| Error::Usage(e.to_string()))?;
+    }
     session.set_thread_pool(std::sync::Arc::new(pool));
     let mut components = session.solver().components(session.strands());
     if !session.colliders().is_empty() {
