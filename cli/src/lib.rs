@@ -6,3 +6,4 @@ pub mod bench;
 pub mod cards;
 pub mod output;
 pub mod progress;
+pub mod scene_check;

@@ -254,10 +254,15 @@ enum UpAxisArg {
 enum SceneCommand {
     /// Print the built-in default scene, every key commented (redirect it to a file to start one).
     Init,
-    /// Check a scene file and print what it builds, without simulating.
+    /// Check a scene file and print everything a run of it will use, without simulating:
+    /// strands, frames, the model, the substeps (what "auto" resolves to), the components,
+    /// colliders (name, shape, motion), hair–hair, force fields, guides and the budget figures.
     Check {
         /// Scene file (TOML).
         scene: PathBuf,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
     },
 }
 
@@ -419,49 +424,8 @@ fn main() -> ExitCode {
             0
         }
         Command::Scene {
-            command: SceneCommand::Check { scene },
-        } => match SceneFile::load(&scene).and_then(|mut s| {
-            s.budget = budget;
-            s.build()
-        }) {
-            Ok(sim) => {
-                outln!(
-                    "{}: ok — {} strands, {} points, frames {}–{} at {} fps",
-                    scene.display(),
-                    sim.strands.len(),
-                    sim.strands.point_count(),
-                    sim.first_frame,
-                    sim.last_frame,
-                    sim.settings.fps
-                );
-                if sim.model == hair_core::StrandModel::Rod {
-                    outln!(
-                        "  model: {} (a = {} m, b/a = {}, E = {} Pa)",
-                        sim.model.name(),
-                        sim.rod.semi_major_axis,
-                        sim.rod.axis_ratio,
-                        sim.rod.youngs_modulus
-                    );
-                }
-                if let Some(guides) = &sim.guides_report {
-                    outln!("  guides: {guides}");
-                }
-                if let Some(h) = &sim.hair_hair {
-                    outln!(
-                        "  hair-hair: {} m cells, friction {}, repulsion {} m²/s² above volume fraction {}",
-                        h.cell_size, h.friction, h.repulsion, h.target_density
-                    );
-                }
-                if !sim.fields.is_empty() {
-                    outln!("  force fields: {}", sim.fields.len());
-                }
-                0
-            }
-            Err(e) => {
-                eprintln!("error: {e}");
-                2
-            }
-        },
+            command: SceneCommand::Check { scene, json },
+        } => report(check_scene(&scene, json, budget)),
         Command::Cache {
             command: CacheCommand::Info { file, json },
         } => match hair_cache::summarize(&file) {
@@ -767,6 +731,27 @@ impl FormatArg {
             FormatArg::Hair => "hair",
         }
     }
+}
+
+/// `scene check`: builds the scene and its solver and prints what a run will use.
+fn check_scene(scene: &Path, json: bool, budget: Budget) -> Result<(), Failure> {
+    let sim = SceneFile::load(scene)
+        .and_then(|mut s| {
+            s.budget = budget;
+            s.build()
+        })
+        .map_err(|e| Failure::input(e.to_string()))?;
+    let report = hairsys_cli::scene_check::report(&scene.display().to_string(), &sim, budget)
+        .map_err(Failure::input)?;
+    if json {
+        outln!(
+            "{}",
+            serde_json::to_string(&report).expect("reports serialise")
+        );
+    } else {
+        output::block(&report.to_string());
+    }
+    Ok(())
 }
 
 /// `render-children export`.

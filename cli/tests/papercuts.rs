@@ -769,3 +769,79 @@ fn scene_init_shows_every_optional_section_commented_and_each_uncommented_checks
         assert_eq!(code(&o), 0, "[{name}] uncommented: {}", stderr(&o));
     }
 }
+
+// Issue 21: `scene check` prints everything the run will use.
+
+#[test]
+fn scene_check_reports_what_the_run_then_uses_colliders_model_substeps_components_budget() {
+    let dir = tempdir("check-everything");
+    let s = scene(
+        &dir,
+        "count = 20\nlength = 0.1\nsegments = 4",
+        "\n[scalp.collider]\nfriction = 0.3\n\n[[colliders]]\nname = \"ball\"\nshape = { kind = \
+         \"sphere\", radius = 0.05 }\nmotion = { keys = [{ frame = 1, translation = [0.0, 0.3, \
+         0.0] }, { frame = 3, translation = [0.0, 0.2, 0.0] }] }\n\n[hair_hair]\ncell_size = \
+         0.02\nfriction = 0.2\n\n[[fields]]\ntype = \"drag\"\nstrength = 1.0\n",
+    );
+    let s = s.to_str().unwrap();
+    let o = hairsys(&["scene", "check", s, "--json"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let check: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let o = hairsys(&["simulate", s, "--cache", "c.mcap", "--json"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let text = stdout(&o);
+    let done: serde_json::Value = serde_json::from_str(text.lines().last().unwrap()).unwrap();
+    let run = &done["summary"];
+    // What check promised is what the run used.
+    for key in ["substeps", "model", "components", "strands", "points"] {
+        assert_eq!(check[key], run[key], "{key}: check {check} run {run}");
+    }
+    assert_eq!(check["substeps_auto"], true);
+    assert_eq!(check["dt_bound"], run["dt_bound"]);
+    let names: Vec<&str> = check["colliders"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["scalp", "ball"]);
+    let ball = &check["colliders"][1];
+    assert!(ball["shape"]
+        .as_str()
+        .unwrap()
+        .contains("sphere, radius 0.05 m"));
+    assert!(ball["motion"].as_str().unwrap().contains("2 keys"));
+    assert_eq!(check["hair_hair"]["cell_size"], 0.02);
+    assert_eq!(check["fields"], serde_json::json!(["drag"]));
+    // The budget figures: points × 256 bytes, points × substeps × steps × frames stepped.
+    let points = check["points"].as_f64().unwrap();
+    let substeps = check["substeps"].as_f64().unwrap();
+    assert_eq!(
+        check["budget"]["memory_bytes"].as_f64().unwrap(),
+        points * 256.0
+    );
+    assert_eq!(
+        check["budget"]["point_substeps"].as_f64().unwrap(),
+        points * substeps * 2.0
+    );
+    assert_eq!(
+        check["budget"]["point_substeps_limit"].as_f64().unwrap(),
+        1e13
+    );
+    // The text names the same things.
+    let o = hairsys(&["scene", "check", s], &dir);
+    let text = stdout(&o);
+    for needle in [
+        "model: mass-spring",
+        &format!("substeps: {substeps} per step (\"auto\" resolved)"),
+        "collider scalp",
+        "collider ball: sphere, radius 0.05 m; motion: 2 keys",
+        "hair-hair: 0.02 m cells",
+        "force fields: drag",
+        "components: ",
+        "budget: memory",
+    ] {
+        assert!(text.contains(needle), "{needle}: {text}");
+    }
+    assert!(text.ends_with('\n'));
+}
