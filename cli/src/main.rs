@@ -229,7 +229,8 @@ enum GroomCommand {
     Info {
         /// Groom file; the format comes from the extension.
         file: PathBuf,
-        /// Meters per file unit (the Sintel sample: 0.01).
+        /// Meters per file unit (the Sintel sample: 0.01). A scale that makes the longest strand
+        /// shorter than 1 mm or longer than 10 m is refused as implausible for hair.
         #[arg(long, default_value_t = 1.0)]
         scale: f32,
         /// The file's up axis; Y-up files are turned to Z up.
@@ -869,6 +870,7 @@ fn groom_info(file: &Path, scale: f32, up_axis: UpAxisArg, json: bool) -> Result
             })
         })?;
     let info = hair_groom::groom_info(&groom);
+    check_scale(file, scale, info.length_max).map_err(Failure::input)?;
     if json {
         let (lo, hi) = info.bounds;
         let doc = json!({
@@ -888,6 +890,36 @@ fn groom_info(file: &Path, scale: f32, up_axis: UpAxisArg, json: bool) -> Result
         outln!("{}", info.to_string().trim_end());
     }
     Ok(())
+}
+
+/// Shortest and longest plausible length of the longest strand of a groom, m: from stubble
+/// (1 mm) to far beyond floor-length hair (10 m). A longest strand outside this range means the
+/// `--scale` is off, by far more than any real groom differs (1e12 or 1e-12 still give finite
+/// coordinates, so nothing else catches it).
+const PLAUSIBLE_LONGEST_STRAND: (f64, f64) = (1e-3, 10.0);
+
+/// Refuses a `--scale` that makes the longest strand (`longest`, m after scaling) implausible
+/// for hair, naming the flag, the length and the scale that would make it about 30 cm.
+fn check_scale(file: &Path, scale: f32, longest: f64) -> Result<(), String> {
+    let (lo, hi) = PLAUSIBLE_LONGEST_STRAND;
+    if (lo..=hi).contains(&longest) {
+        return Ok(());
+    }
+    let hint = if longest > 0.0 && longest.is_finite() {
+        let decades = (longest / 0.3).log10().round() as i32;
+        format!(
+            "; the file's units are likely off by 10^{decades}: try --scale {:.0e}",
+            f64::from(scale) * 10f64.powi(-decades)
+        )
+    } else {
+        String::new()
+    };
+    Err(format!(
+        "{}: --scale {scale:e} makes the longest strand {longest:e} m, outside the {lo} m – \
+         {hi} m of real hair; give --scale in meters per file unit (1 for meters, 0.01 for \
+         centimetres){hint}",
+        file.display()
+    ))
 }
 
 /// `cache sample`: positions at `time` as JSON.

@@ -845,3 +845,33 @@ fn scene_check_reports_what_the_run_then_uses_colliders_model_substeps_component
     }
     assert!(text.ends_with('\n'));
 }
+
+#[test]
+fn an_absurd_scale_with_finite_coordinates_is_refused_naming_the_flag_and_a_fix() {
+    let dir = tempdir("absurd-scale");
+    let tfx = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../data/sintel/sintel_hair.tfx"
+    );
+    // The Sintel groom is in centimetres (strands of 3.8–20.6 units).
+    for scale in ["1e12", "1e-12", "1"] {
+        let o = hairsys(
+            &["groom", "info", tfx, "--scale", scale, "--up-axis", "y"],
+            &dir,
+        );
+        assert_eq!(code(&o), 2, "--scale {scale}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.contains(&format!("--scale {:e}", scale.parse::<f32>().unwrap()))
+                && e.contains("sintel_hair.tfx"),
+            "{e}"
+        );
+        // The suggestion is centimetres: 20.6 cm / 0.3 m rounds to 10^0.
+        assert!(e.contains("try --scale 1e-2"), "{e}");
+    }
+    let o = hairsys(
+        &["groom", "info", tfx, "--scale", "0.01", "--up-axis", "y"],
+        &dir,
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+}
