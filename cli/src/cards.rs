@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 
+use hair_render::export::cards_obj::ObjUpAxis;
 use hairsys::cards::{export_cards, CardsFormat, CardsOptions};
 use hairsys::children::parse_shutter;
 
@@ -13,6 +14,15 @@ pub enum CardsFormatArg {
     Usd,
     /// Wavefront OBJ with vt (the centre sample only).
     Obj,
+}
+
+/// Up axis of an OBJ file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ObjUpAxisArg {
+    /// Y up, the OBJ convention (what Blender's OBJ importer assumes by default).
+    Y,
+    /// Z up, as simulated (tell the importer the file is Z up).
+    Z,
 }
 
 /// Arguments of `render-children cards`.
@@ -45,6 +55,10 @@ pub struct CardsArgs {
     /// Gap kept between card vertices and the head, m (with [scalp.collider]).
     #[arg(long, default_value_t = 1e-3)]
     pub clearance: f32,
+    /// Up axis of an OBJ file: Y (the OBJ convention, what Blender's importer assumes) writes
+    /// simulated (x, y, z) as (x, z, -y); Z writes them as simulated. USD declares Z up.
+    #[arg(long, value_enum, default_value_t = ObjUpAxisArg::Y)]
+    pub up_axis: ObjUpAxisArg,
     /// Output file (.usda for usd, .obj for obj).
     #[arg(short, long)]
     pub out: PathBuf,
@@ -72,16 +86,20 @@ impl CardsArgs {
             rows_per_segment: self.rows_per_segment,
             columns: self.columns,
             clearance: self.clearance,
+            up_axis: match self.up_axis {
+                ObjUpAxisArg::Y => ObjUpAxis::Y,
+                ObjUpAxisArg::Z => ObjUpAxis::Z,
+            },
             out: self.out.clone(),
         }
     }
 }
 
 /// Runs `render-children cards` and prints its summary (text, JSON or nothing).
-pub fn run(args: &CardsArgs) -> Result<(), String> {
+pub fn run(args: &CardsArgs) -> Result<(), hairsys::Error> {
     let summary = export_cards(&args.options())?;
     if args.json {
-        crate::output::line(&serde_json::to_string(&summary).map_err(|e| e.to_string())?);
+        crate::output::line(&serde_json::to_string(&summary).expect("summaries serialise"));
     } else if !args.quiet {
         crate::output::line(&format!(
             "wrote {}: {} cards ({} hairs), {} vertices, {} quads, {} time sample(s)",

@@ -7,3 +7,4 @@ pub mod cards;
 pub mod output;
 pub mod progress;
 pub mod quality_text;
+pub mod scene_check;

@@ -230,7 +230,8 @@ enum GroomCommand {
     Info {
         /// Groom file; the format comes from the extension.
         file: PathBuf,
-        /// Meters per file unit (the Sintel sample: 0.01).
+        /// Meters per file unit (the Sintel sample: 0.01). A scale that makes the longest strand
+        /// shorter than 1 mm or longer than 10 m is refused as implausible for hair.
         #[arg(long, default_value_t = 1.0)]
         scale: f32,
         /// The file's up axis; Y-up files are turned to Z up.
@@ -255,10 +256,15 @@ enum UpAxisArg {
 enum SceneCommand {
     /// Print the built-in default scene, every key commented (redirect it to a file to start one).
     Init,
-    /// Check a scene file and print what it builds, without simulating.
+    /// Check a scene file and print everything a run of it will use, without simulating:
+    /// strands, frames, the model, the substeps (what "auto" resolves to), the components,
+    /// colliders (name, shape, motion), hair–hair, force fields, guides and the budget figures.
     Check {
         /// Scene file (TOML).
         scene: PathBuf,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
     },
 }
 
@@ -322,13 +328,6 @@ enum CacheCommand {
 macro_rules! outln {
     ($($arg:tt)*) => {
         output::line(&format!($($arg)*))
-    };
-}
-
-/// `print!` through [`output`].
-macro_rules! outw {
-    ($($arg:tt)*) => {
-        output::write(&format!($($arg)*))
     };
 }
 
@@ -427,49 +426,8 @@ fn main() -> ExitCode {
             0
         }
         Command::Scene {
-            command: SceneCommand::Check { scene },
-        } => match SceneFile::load(&scene).and_then(|mut s| {
-            s.budget = budget;
-            s.build()
-        }) {
-            Ok(sim) => {
-                outln!(
-                    "{}: ok — {} strands, {} points, frames {}–{} at {} fps",
-                    scene.display(),
-                    sim.strands.len(),
-                    sim.strands.point_count(),
-                    sim.first_frame,
-                    sim.last_frame,
-                    sim.settings.fps
-                );
-                if sim.model == hair_core::StrandModel::Rod {
-                    outln!(
-                        "  model: {} (a = {} m, b/a = {}, E = {} Pa)",
-                        sim.model.name(),
-                        sim.rod.semi_major_axis,
-                        sim.rod.axis_ratio,
-                        sim.rod.youngs_modulus
-                    );
-                }
-                if let Some(guides) = &sim.guides_report {
-                    outln!("  guides: {guides}");
-                }
-                if let Some(h) = &sim.hair_hair {
-                    outln!(
-                        "  hair-hair: {} m cells, friction {}, repulsion {} m²/s² above volume fraction {}",
-                        h.cell_size, h.friction, h.repulsion, h.target_density
-                    );
-                }
-                if !sim.fields.is_empty() {
-                    outln!("  force fields: {}", sim.fields.len());
-                }
-                0
-            }
-            Err(e) => {
-                eprintln!("error: {e}");
-                2
-            }
-        },
+            command: SceneCommand::Check { scene, json },
+        } => report(check_scene(&scene, json, budget)),
         Command::Cache {
             command: CacheCommand::Info { file, json },
         } => match hair_cache::summarize(&file) {
@@ -481,10 +439,7 @@ fn main() -> ExitCode {
                     );
                 } else {
                     outln!("{}", file.display());
-                    outw!("{summary}");
-                    if !summary.to_string().ends_with('\n') {
-                        outln!("");
-                    }
+                    output::block(&summary.to_string());
                 }
                 0
             }
@@ -510,7 +465,7 @@ fn main() -> ExitCode {
         } => report(export_children(*args, budget)),
         Command::RenderChildren {
             command: RenderCommand::Cards(args),
-        } => report(hairsys_cli::cards::run(&args).map_err(Failure::input)),
+        } => report(hairsys_cli::cards::run(&args).map_err(Failure::from)),
         Command::Preview(args) => report(run_preview(&args)),
         Command::Groom {
             command: GroomCommand::Export { scene, out },
@@ -803,6 +758,27 @@ impl FormatArg {
     }
 }
 
+/// `scene check`: builds the scene and its solver and prints what a run will use.
+fn check_scene(scene: &Path, json: bool, budget: Budget) -> Result<(), Failure> {
+    let sim = SceneFile::load(scene)
+        .and_then(|mut s| {
+            s.budget = budget;
+            s.build()
+        })
+        .map_err(|e| Failure::input(e.to_string()))?;
+    let report = hairsys_cli::scene_check::report(&scene.display().to_string(), &sim, budget)
+        .map_err(Failure::input)?;
+    if json {
+        outln!(
+            "{}",
+            serde_json::to_string(&report).expect("reports serialise")
+        );
+    } else {
+        output::block(&report.to_string());
+    }
+    Ok(())
+}
+
 /// `render-children export`.
 fn export_children(a: ExportArgs, budget: Budget) -> Result<(), Failure> {
     let format = export_format(a.format, &a.out)?;
@@ -918,6 +894,7 @@ fn groom_info(file: &Path, scale: f32, up_axis: UpAxisArg, json: bool) -> Result
             })
         })?;
     let info = hair_groom::groom_info(&groom);
+    check_scale(file, scale, info.length_max).map_err(Failure::input)?;
     if json {
         let (lo, hi) = info.bounds;
         let doc = json!({
@@ -937,6 +914,36 @@ fn groom_info(file: &Path, scale: f32, up_axis: UpAxisArg, json: bool) -> Result
         outln!("{}", info.to_string().trim_end());
     }
     Ok(())
+}
+
+/// Shortest and longest plausible length of the longest strand of a groom, m: from stubble
+/// (1 mm) to far beyond floor-length hair (10 m). A longest strand outside this range means the
+/// `--scale` is off, by far more than any real groom differs (1e12 or 1e-12 still give finite
+/// coordinates, so nothing else catches it).
+const PLAUSIBLE_LONGEST_STRAND: (f64, f64) = (1e-3, 10.0);
+
+/// Refuses a `--scale` that makes the longest strand (`longest`, m after scaling) implausible
+/// for hair, naming the flag, the length and the scale that would make it about 30 cm.
+fn check_scale(file: &Path, scale: f32, longest: f64) -> Result<(), String> {
+    let (lo, hi) = PLAUSIBLE_LONGEST_STRAND;
+    if (lo..=hi).contains(&longest) {
+        return Ok(());
+    }
+    let hint = if longest > 0.0 && longest.is_finite() {
+        let decades = (longest / 0.3).log10().round() as i32;
+        format!(
+            "; the file's units are likely off by 10^{decades}: try --scale {:.0e}",
+            f64::from(scale) * 10f64.powi(-decades)
+        )
+    } else {
+        String::new()
+    };
+    Err(format!(
+        "{}: --scale {scale:e} makes the longest strand {longest:e} m, outside the {lo} m – \
+         {hi} m of real hair; give --scale in meters per file unit (1 for meters, 0.01 for \
+         centimetres){hint}",
+        file.display()
+    ))
 }
 
 /// `cache sample`: positions at `time` as JSON.
@@ -1004,7 +1011,7 @@ fn recover(broken: &Path, fixed: &Path) -> Result<(), Failure> {
         .write(fixed, WriterOptions::default())
         .map_err(|e| Failure::run(e.to_string()))?;
     outln!("wrote {}", fixed.display());
-    outw!("{summary}");
+    output::block(&summary.to_string());
     Ok(())
 }
 
@@ -1063,9 +1070,14 @@ fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
     let frames = run.frames;
     let [first, last] = scene.scene.scene.frames;
     let (first, last) = frames.unwrap_or((first, last));
-    // The bar counts the frames stepped (FIRST is the rest frame, written without a step), as
-    // the summary's `frames` does; the cache holds one more.
-    let progress = Progress::new(last.saturating_sub(first) as u64, quiet, json, "simulating");
+    // The bar counts frames written, the first (rest) frame included, as the summary and
+    // `cache info` do; the first is written before the first step.
+    let progress = Progress::new(
+        u64::from(last.saturating_sub(first)) + 1,
+        quiet,
+        json,
+        "simulating",
+    );
     let opts = SimulateOptions {
         scene,
         cache: run.cache,
@@ -1076,7 +1088,8 @@ fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
         kernel: run.kernel,
     };
     let result = simulate(&opts, |r| {
-        progress.tick_frame(r.frame, &json!({
+        let written = u64::from(r.frame.saturating_sub(first)) + 1;
+        progress.frame_written(r.frame, written, &json!({
             "event": "frame",
             "frame": r.frame,
             "max_stretch": r.max_stretch,
@@ -1098,7 +1111,7 @@ fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
                 outln!("{}", json!({ "event": "done", "summary": summary }));
             } else if !quiet {
                 outln!("wrote {}", opts.cache.display());
-                outw!("{summary}");
+                output::block(&summary.to_string());
             }
             0
         }

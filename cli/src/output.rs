@@ -29,6 +29,16 @@ pub fn line(text: &str) {
     write(&format!("{text}\n"));
 }
 
+/// Writes `text` to stdout ending with exactly the newline it may lack (for multi-line
+/// summaries whose `Display` leaves the last line open, see [`write()`]).
+pub fn block(text: &str) {
+    if text.ends_with('\n') {
+        write(text);
+    } else {
+        line(text);
+    }
+}
+
 /// Whether a write to stdout has failed (the reader went away or the disk is full).
 pub fn failed() -> bool {
     FAILED.lock().unwrap_or_else(|e| e.into_inner()).is_some()

@@ -54,12 +54,17 @@ impl Progress {
         }
     }
 
-    /// Reports one unit of work done at `frame` (shown on the bar as the current frame).
-    pub fn tick_frame<T: Serialize>(&self, frame: u32, event: &T) {
-        if let Progress::Bar(bar) = self {
-            bar.set_prefix(format!(" frame {frame}"));
+    /// Reports `frame` written, the `written`-th frame of the run counting its first (so the
+    /// bar agrees with the summary and `cache info`, also when a resumed run starts part way),
+    /// with a JSON payload for `--json`.
+    pub fn frame_written<T: Serialize>(&self, frame: u32, written: u64, event: &T) {
+        match self {
+            Progress::Bar(bar) => {
+                bar.set_position(written);
+                bar.set_prefix(format!(" frame {frame}"));
+            }
+            _ => self.tick(event),
         }
-        self.tick(event);
     }
 
     /// Removes the bar.

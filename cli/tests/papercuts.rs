@@ -496,3 +496,382 @@ fn a_second_writer_on_the_same_cache_is_refused_with_the_first_ones_pid() {
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     assert!(dir.join("w.mcap").exists() && !pid_file.exists());
 }
+
+// Issue 21: one frame count everywhere.
+
+/// `simulate --json`'s summary, the text summary and `cache info --json` for one run.
+fn counts_of_a_run(dir: &Path, args: &[&str], cache: &str) -> (u64, u64, String, u64) {
+    let mut json_args = vec!["simulate", "--cache", cache, "--json"];
+    json_args.extend_from_slice(args);
+    let o = hairsys(&json_args, dir);
+    assert_eq!(code(&o), 0, "{args:?}: {}", stderr(&o));
+    let text = stdout(&o);
+    let done: serde_json::Value = serde_json::from_str(text.lines().last().unwrap()).unwrap();
+    let summary = &done["summary"];
+    assert_eq!(summary["frames"], summary["cache"]["frames"], "{summary}");
+    let frame_events = text.lines().filter(|l| l.contains("\"frame\"")).count() as u64;
+    let info = hairsys(&["cache", "info", cache, "--json"], dir);
+    let info: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    (
+        summary["frames"].as_u64().unwrap(),
+        summary["stepped"].as_u64().unwrap(),
+        format!("{frame_events}"),
+        info["frames"].as_u64().unwrap(),
+    )
+}
+
+#[test]
+fn simulate_json_text_summary_and_cache_info_give_one_frame_count() {
+    let dir = tempdir("frame-counts");
+    let s = scene(&dir, "count = 10\nlength = 0.1\nsegments = 4", "");
+    let s = s.to_str().unwrap();
+    // The scene's own range (frames 1–3) and a --frames override (2–6): frames written, the
+    // first (rest) frame included, are what the cache holds; `stepped` counts the steps.
+    for (args, frames) in [(vec![s], 3u64), (vec![s, "--frames", "2-6"], 5)] {
+        let cache = format!("c{frames}.mcap");
+        let (written, stepped, events, info) = counts_of_a_run(&dir, &args, &cache);
+        assert_eq!((written, info), (frames, frames), "{args:?}");
+        assert_eq!(stepped, frames - 1);
+        assert_eq!(
+            events,
+            (frames - 1).to_string(),
+            "one event per stepped frame"
+        );
+        let mut text_args = vec!["simulate", "--cache", "t.mcap", "--force"];
+        text_args.extend_from_slice(&args);
+        let o = hairsys(&text_args, &dir);
+        assert_eq!(code(&o), 0, "{}", stderr(&o));
+        let text = stdout(&o);
+        assert!(text.contains(&format!("{frames} frames written")), "{text}");
+        assert!(text.ends_with('\n'), "{text:?}");
+    }
+    // A resumed run counts the frames it took over: a complete 1–3 cache as the partial of a
+    // 1–6 run is continued from frame 3 and the result holds (and reports) 6 frames.
+    std::fs::copy(dir.join("c3.mcap"), dir.join("r.mcap.partial")).unwrap();
+    let (written, stepped, _, info) =
+        counts_of_a_run(&dir, &[s, "--frames", "1-6", "--resume"], "r.mcap");
+    assert_eq!((written, stepped, info), (6, 3, 6));
+}
+
+// Issue 18: --resume refuses a damaged last frame.
+
+/// Byte offset of the first occurrence of `needle` in `hay` at or after `from`.
+fn find(hay: &[u8], needle: &[u8], from: usize) -> Option<usize> {
+    hay[from..]
+        .windows(needle.len())
+        .position(|w| w == needle)
+        .map(|i| i + from)
+}
+
+#[test]
+fn resume_from_a_partial_whose_last_frame_holds_nan_is_refused_by_frame() {
+    let dir = tempdir("resume-nan");
+    let s = scene(&dir, "count = 10\nlength = 0.1\nsegments = 4", "");
+    let s = s.to_str().unwrap();
+    let o = hairsys(&["simulate", s, "--cache", "a.mcap", "--quiet"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    // The tip of the last strand at the last frame (3), as f32 little-endian bytes in the
+    // uncompressed cache: it moved, so its bytes differ from the earlier frames'.
+    let mut reader = hair_cache::CacheReader::open(dir.join("a.mcap")).unwrap();
+    let last = reader.read_frame(3).unwrap();
+    let first = reader.read_frame(1).unwrap();
+    let tip = *last.positions.last().unwrap();
+    assert_ne!(tip, *first.positions.last().unwrap());
+    let needle: Vec<u8> = tip.iter().flat_map(|c| c.to_le_bytes()).collect();
+    let mut bytes = std::fs::read(dir.join("a.mcap")).unwrap();
+    let at = find(&bytes, &needle, 0).expect("the tip's bytes are in the file");
+    bytes[at..at + 4].copy_from_slice(&f32::NAN.to_le_bytes());
+    // Walk the MCAP records (magic, then opcode u8, length u64, body) to the chunk holding the
+    // damaged bytes and mark its CRC "not computed" (0, as MCAP allows), so the chunk reads as
+    // intact: a file a buggy writer or a hand edit could leave.
+    let mut pos = 8;
+    loop {
+        let len = u64::from_le_bytes(bytes[pos + 1..pos + 9].try_into().unwrap()) as usize;
+        let body = pos + 9;
+        if bytes[pos] == 0x06 && (body..body + len).contains(&at) {
+            // Chunk body: start time u64, end time u64, uncompressed size u64, CRC u32.
+            bytes[body + 24..body + 28].copy_from_slice(&0u32.to_le_bytes());
+            break;
+        }
+        pos = body + len;
+        assert!(pos < bytes.len(), "no chunk holds the damaged bytes");
+    }
+    std::fs::write(dir.join("b.mcap.partial"), &bytes).unwrap();
+    let o = hairsys(
+        &[
+            "simulate", s, "--frames", "1-6", "--cache", "b.mcap", "--resume",
+        ],
+        &dir,
+    );
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("non-finite") && e.contains("frame 3") && !e.contains("diverge"),
+        "{e}"
+    );
+    assert!(!dir.join("b.mcap").exists());
+    assert!(dir.join("b.mcap.partial").exists(), "the partial is kept");
+}
+
+#[test]
+fn ten_million_frames_given_by_frames_are_refused_by_the_work_budget_and_allow_large_lifts_it() {
+    let dir = tempdir("budget-frames");
+    // 4000 × 17 points (the default scene) × its 136 substeps × 10⁷ frames is far over 10¹³
+    // point-substeps (10⁶ frames would be 9.2e12, just under); the scene's own 48 frames are not.
+    let o = hairsys(
+        &["simulate", "--frames", "1-10000000", "--cache", "f.mcap"],
+        &dir,
+    );
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("--frames 1-10000000") && e.contains("--allow-large"),
+        "{e}"
+    );
+    assert!(!dir.join("f.mcap").exists() && !dir.join("f.mcap.partial").exists());
+    // --allow-large lets the same run start (killed at once: it would take days).
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_hairsys"))
+        .args([
+            "simulate",
+            "--frames",
+            "1-10000000",
+            "--cache",
+            "f.mcap",
+            "--allow-large",
+            "--quiet",
+        ])
+        .current_dir(&dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let t0 = std::time::Instant::now();
+    while !dir.join("f.mcap.partial").exists() {
+        if let Some(status) = child.try_wait().unwrap() {
+            panic!("the run ended ({status}) instead of starting");
+        }
+        assert!(t0.elapsed().as_secs() < 120, "the run never started");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+}
+
+#[test]
+fn the_snap_distance_error_lists_the_causes_once_in_order_with_an_unapplied_transform_first() {
+    let dir = tempdir("snap-message");
+    // The Sintel groom (in centimetres, Y up, converted right) on a sphere far smaller than her
+    // head: every root is far from the scalp.
+    let tfx = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../data/sintel/sintel_hair.tfx"
+    );
+    std::fs::write(
+        dir.join("far.toml"),
+        format!(
+            "[scene]\nframes = [1, 3]\n[scalp.mesh]\nkind = \"uv-sphere\"\nradius = 0.1\n\
+             segments = 12\nrings = 8\n[guides]\nfile = \"{tfx}\"\nscale = 0.01\nup_axis = \
+             \"y\"\n[sim_hairs]\ncount = 10\n"
+        ),
+    )
+    .unwrap();
+    let o = hairsys(&["scene", "check", "far.toml"], &dir);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    let e = stderr(&o);
+    let at = |what: &str| {
+        assert_eq!(e.matches(what).count(), 1, "`{what}` once: {e}");
+        e.find(what).unwrap()
+    };
+    let order = [
+        at("Apply › All Transforms"),
+        at("`scale`"),
+        at("`up_axis`"),
+        at("another scalp"),
+        at("`max_snap_distance`"),
+    ];
+    assert!(order.windows(2).all(|w| w[0] < w[1]), "{e}");
+    assert!(e.starts_with("error: ") && e.contains("[guides]"), "{e}");
+}
+
+// Issue 21: `scene init` shows every section, commented, and each one works uncommented.
+
+/// The scene with the commented block that starts at line `start` (`# [section]`) uncommented
+/// up to the next blank line.
+fn uncomment_block(lines: &[&str], start: usize) -> String {
+    let mut out: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+    let mut i = start;
+    while i < lines.len() && !lines[i].trim().is_empty() {
+        let l = lines[i];
+        out[i] = l
+            .strip_prefix("# ")
+            .or_else(|| l.strip_prefix('#'))
+            .unwrap_or(l)
+            .to_string();
+        i += 1;
+    }
+    out.join("\n") + "\n"
+}
+
+#[test]
+fn scene_init_shows_every_optional_section_commented_and_each_uncommented_checks() {
+    let dir = tempdir("init-sections");
+    let o = hairsys(&["scene", "init"], &dir);
+    assert_eq!(code(&o), 0);
+    let text = stdout(&o);
+    let lines: Vec<&str> = text.lines().collect();
+    let headers: Vec<(usize, String)> = lines
+        .iter()
+        .enumerate()
+        .filter_map(|(i, l)| {
+            let h = l.strip_prefix("# [")?;
+            let name = h.split(']').next()?.trim_start_matches('[');
+            Some((i, name.to_string()))
+        })
+        .collect();
+    let names: Vec<&str> = headers.iter().map(|(_, n)| n.as_str()).collect();
+    for section in [
+        "guides",
+        "sim_hairs",
+        "strands",
+        "scalp.collider",
+        "colliders",
+        "contacts",
+        "hair_hair",
+        "fields",
+        "children",
+        "rod",
+        "strips",
+    ] {
+        assert!(
+            names.contains(&section),
+            "[{section}] missing from {names:?}"
+        );
+    }
+    for (start, name) in &headers {
+        // [sim_hairs] interpolates from [guides]: it is uncommented with the [guides] block.
+        if name == "sim_hairs" {
+            continue;
+        }
+        let mut scene = uncomment_block(&lines, *start);
+        match name.as_str() {
+            "rod" => scene = scene.replace("# model = \"mass-spring\"", "model = \"rod\""),
+            "strips" => {
+                scene = scene.replace("# model = \"mass-spring\"", "model = \"strips\"");
+                // Strips replace the strands of [hair]: drop that section.
+                let from = scene.find("\n[hair]\n").unwrap();
+                let to = from + 1 + scene[from + 1..].find("\n\n").unwrap();
+                scene.replace_range(from..to, "");
+            }
+            _ => {}
+        }
+        std::fs::write(dir.join("s.toml"), &scene).unwrap();
+        let o = hairsys(&["scene", "check", "s.toml"], &dir);
+        assert_eq!(code(&o), 0, "[{name}] uncommented: {}", stderr(&o));
+    }
+}
+
+// Issue 21: `scene check` prints everything the run will use.
+
+#[test]
+fn scene_check_reports_what_the_run_then_uses_colliders_model_substeps_components_budget() {
+    let dir = tempdir("check-everything");
+    let s = scene(
+        &dir,
+        "count = 20\nlength = 0.1\nsegments = 4",
+        "\n[scalp.collider]\nfriction = 0.3\n\n[[colliders]]\nname = \"ball\"\nshape = { kind = \
+         \"sphere\", radius = 0.05 }\nmotion = { keys = [{ frame = 1, translation = [0.0, 0.3, \
+         0.0] }, { frame = 3, translation = [0.0, 0.2, 0.0] }] }\n\n[hair_hair]\ncell_size = \
+         0.02\nfriction = 0.2\n\n[[fields]]\ntype = \"drag\"\nstrength = 1.0\n",
+    );
+    let s = s.to_str().unwrap();
+    let o = hairsys(&["scene", "check", s, "--json"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let check: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let o = hairsys(&["simulate", s, "--cache", "c.mcap", "--json"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let text = stdout(&o);
+    let done: serde_json::Value = serde_json::from_str(text.lines().last().unwrap()).unwrap();
+    let run = &done["summary"];
+    // What check promised is what the run used.
+    for key in ["substeps", "model", "components", "strands", "points"] {
+        assert_eq!(check[key], run[key], "{key}: check {check} run {run}");
+    }
+    assert_eq!(check["substeps_auto"], true);
+    assert_eq!(check["dt_bound"], run["dt_bound"]);
+    let names: Vec<&str> = check["colliders"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["scalp", "ball"]);
+    let ball = &check["colliders"][1];
+    assert!(ball["shape"]
+        .as_str()
+        .unwrap()
+        .contains("sphere, radius 0.05 m"));
+    assert!(ball["motion"].as_str().unwrap().contains("2 keys"));
+    assert_eq!(check["hair_hair"]["cell_size"], 0.02);
+    assert_eq!(check["fields"], serde_json::json!(["drag"]));
+    // The budget figures: points × 256 bytes, points × substeps × steps × frames stepped.
+    let points = check["points"].as_f64().unwrap();
+    let substeps = check["substeps"].as_f64().unwrap();
+    assert_eq!(
+        check["budget"]["memory_bytes"].as_f64().unwrap(),
+        points * 256.0
+    );
+    assert_eq!(
+        check["budget"]["point_substeps"].as_f64().unwrap(),
+        points * substeps * 2.0
+    );
+    assert_eq!(
+        check["budget"]["point_substeps_limit"].as_f64().unwrap(),
+        1e13
+    );
+    // The text names the same things.
+    let o = hairsys(&["scene", "check", s], &dir);
+    let text = stdout(&o);
+    for needle in [
+        "model: mass-spring",
+        &format!("substeps: {substeps} per step (\"auto\" resolved)"),
+        "collider scalp",
+        "collider ball: sphere, radius 0.05 m; motion: 2 keys",
+        "hair-hair: 0.02 m cells",
+        "force fields: drag",
+        "components: ",
+        "budget: memory",
+    ] {
+        assert!(text.contains(needle), "{needle}: {text}");
+    }
+    assert!(text.ends_with('\n'));
+}
+
+#[test]
+fn an_absurd_scale_with_finite_coordinates_is_refused_naming_the_flag_and_a_fix() {
+    let dir = tempdir("absurd-scale");
+    let tfx = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../data/sintel/sintel_hair.tfx"
+    );
+    // The Sintel groom is in centimetres (strands of 3.8–20.6 units).
+    for scale in ["1e12", "1e-12", "1"] {
+        let o = hairsys(
+            &["groom", "info", tfx, "--scale", scale, "--up-axis", "y"],
+            &dir,
+        );
+        assert_eq!(code(&o), 2, "--scale {scale}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.contains(&format!("--scale {:e}", scale.parse::<f32>().unwrap()))
+                && e.contains("sintel_hair.tfx"),
+            "{e}"
+        );
+        // The suggestion is centimetres: 20.6 cm / 0.3 m rounds to 10^0.
+        assert!(e.contains("try --scale 1e-2"), "{e}");
+    }
+    let o = hairsys(
+        &["groom", "info", tfx, "--scale", "0.01", "--up-axis", "y"],
+        &dir,
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+}

@@ -88,11 +88,17 @@ pub enum GroomError {
         /// What is wrong and how to fix it.
         message: String,
     },
-    /// Guide roots lie farther from the scalp than the snap threshold.
+    /// Guide roots lie farther from the scalp than the snap threshold. The message lists the
+    /// likely causes, most likely first, then the threshold to raise; callers add where the
+    /// groom came from, not more advice.
     #[error(
-        "{} guide root(s) lie farther than {max_distance} m from the scalp: {}; check the \
-         import `scale` and `up_axis`, that the groom belongs to this scalp, or raise \
-         `max_snap_distance`",
+        "{} guide root(s) lie farther than {max_distance} m from the scalp: {}. Likely causes, \
+         most likely first: (1) an object transform not applied before export, so the curves \
+         and the scalp are in different spaces (Blender: select the hair and the scalp, Object › \
+         Apply › All Transforms, export again); (2) the units: set the import `scale` to meters \
+         per file unit (0.01 for centimetres); (3) the up axis: set `up_axis` to the file's \
+         (\"y\" for Maya and most exporters); (4) a groom made for another scalp mesh. If the \
+         roots sit just off this scalp, raise `max_snap_distance` (m) above the distances shown",
         .far.len(),
         list_far(.far)
     )]

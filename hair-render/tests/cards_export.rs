@@ -8,7 +8,7 @@ use std::process::Command;
 
 use hair_core::strips::{StripGrowth, StripSet};
 use hair_core::{Scalp, TriMesh};
-use hair_render::export::cards_obj::export_cards_obj;
+use hair_render::export::cards_obj::{export_cards_obj, ObjUpAxis};
 use hair_render::export::cards_usd::{export_cards_usda, CardSample, CardUsdOptions};
 use hair_render::{build_cards, CardMesh, CardSettings};
 use nalgebra::Vector3;
@@ -230,30 +230,41 @@ fn exported_cards_pass_pixar_usd_checks_with_motion_samples() {
 }
 
 #[test]
-fn cards_obj_round_trips_through_tobj() {
+fn cards_obj_round_trips_through_tobj_in_either_up_axis() {
     let dir = tempfile::tempdir().unwrap();
     let (set, scalp) = strips(1.0);
     let cards = build_cards(&set, &scalp, &CardSettings::default(), None).unwrap();
-    let path = dir.path().join("cards.obj");
-    export_cards_obj(&path, &cards).unwrap();
-    let load = tobj::LoadOptions {
-        single_index: true,
-        triangulate: false,
-        ignore_points: true,
-        ignore_lines: true,
-    };
-    let (models, _) = tobj::load_obj(&path, &load).unwrap();
-    assert_eq!(models.len(), 1);
-    let m = &models[0].mesh;
-    // tobj renumbers vertices by first use: compare every face corner's position and UV.
-    assert_eq!(m.positions.len(), 3 * cards.positions.len());
-    assert_eq!(m.texcoords.len(), 2 * cards.uvs.len());
-    assert!(m.face_arities.iter().all(|&n| n == 4));
-    assert_eq!(m.face_arities.len(), cards.quads.len());
-    for (corner, &ours) in cards.quads.iter().flatten().enumerate() {
-        let (read, ours) = (m.indices[corner] as usize, ours as usize);
-        let p = &cards.positions[ours];
-        assert_eq!(&m.positions[3 * read..3 * read + 3], &[p.x, p.y, p.z]);
-        assert_eq!(&m.texcoords[2 * read..2 * read + 2], &cards.uvs[ours]);
+    for up in [ObjUpAxis::Y, ObjUpAxis::Z] {
+        let path = dir.path().join(format!("cards-{}.obj", up.name()));
+        export_cards_obj(&path, &cards, up).unwrap();
+        let load = tobj::LoadOptions {
+            single_index: true,
+            triangulate: false,
+            ignore_points: true,
+            ignore_lines: true,
+        };
+        let (models, _) = tobj::load_obj(&path, &load).unwrap();
+        assert_eq!(models.len(), 1);
+        let m = &models[0].mesh;
+        // tobj renumbers vertices by first use: compare every face corner's position and UV.
+        assert_eq!(m.positions.len(), 3 * cards.positions.len());
+        assert_eq!(m.texcoords.len(), 2 * cards.uvs.len());
+        assert!(m.face_arities.iter().all(|&n| n == 4));
+        assert_eq!(m.face_arities.len(), cards.quads.len());
+        for (corner, &ours) in cards.quads.iter().flatten().enumerate() {
+            let (read, ours) = (m.indices[corner] as usize, ours as usize);
+            let p = &cards.positions[ours];
+            let [x, y, z] = &m.positions[3 * read..3 * read + 3] else {
+                unreachable!("three coordinates per vertex")
+            };
+            // Y up turns Z-up (x, y, z) into (x, z, -y); an importer's Y-up → Z-up turn
+            // (x, y, z) → (x, -z, y) gives the simulated point back exactly.
+            let back = match up {
+                ObjUpAxis::Y => [*x, -*z, *y],
+                ObjUpAxis::Z => [*x, *y, *z],
+            };
+            assert_eq!(back, [p.x, p.y, p.z], "{up:?}");
+            assert_eq!(&m.texcoords[2 * read..2 * read + 2], &cards.uvs[ours]);
+        }
     }
 }

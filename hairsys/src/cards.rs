@@ -1,7 +1,8 @@
 //! `hairsys render-children cards`: the hair cards of a `model = "strips"` scene (seed 000) from
 //! a cached frame — with motion-blur samples over a shutter, read from the cache exactly like
 //! `render-children export` — or from the scene's rest state, written as a USD `Mesh` (`.usda`,
-//! `st` per vertex, all samples as `points.timeSamples`) or OBJ (the centre sample).
+//! `st` per vertex, all samples as `points.timeSamples`, `upAxis = "Z"` declared) or OBJ (the
+//! centre sample; Y up by default, the OBJ convention, see [`hair_render::export::cards_obj`]).
 //!
 //! The strips are grown again from the scene (the one stored in the cache, or `--scene`), and
 //! their edge strands take the cached positions (strip `k` = strands `2k`, `2k + 1`). With
@@ -11,11 +12,12 @@ use std::path::PathBuf;
 
 use hair_cache::Interpolation;
 use hair_core::strips::HeadShape;
-use hair_render::export::cards_obj::export_cards_obj;
+use hair_render::export::cards_obj::{export_cards_obj, ObjUpAxis};
 use hair_render::export::cards_usd::{export_cards_usda, CardSample, CardUsdOptions};
 use hair_render::{build_cards, CardMesh, CardSettings};
 
 use crate::children::open_cache;
+use crate::error::Error;
 use crate::scene::SceneFile;
 
 /// Card output format.
@@ -48,6 +50,8 @@ pub struct CardsOptions {
     pub columns: u32,
     /// Gap kept between card vertices and the head, m (with `[scalp.collider]`).
     pub clearance: f32,
+    /// Up axis of an OBJ file (Y, the OBJ convention, by default); USD declares Z.
+    pub up_axis: ObjUpAxis,
     /// Output file.
     pub out: PathBuf,
 }
@@ -69,8 +73,69 @@ pub struct CardsSummary {
     pub time_samples: usize,
 }
 
-/// Builds and writes the cards of `args`.
-pub fn export_cards(args: &CardsOptions) -> Result<CardsSummary, String> {
+/// Builds and writes the cards of `args`. Bad input (options, scene, cache) is
+/// [`Error::Usage`] (exit code 2); a file that cannot be written is [`Error::Output`] (exit
+/// code 1), as for every other command's output.
+pub fn export_cards(args: &CardsOptions) -> Result<CardsSummary, Error> {
+    let Samples {
+        meshes: samples,
+        represented_hairs,
+        fps,
+        frame,
+    } = build_samples(args).map_err(Error::Usage)?;
+    let centre = &samples[samples.len() / 2].1;
+    let time_samples = match args.format {
+        CardsFormat::Obj => {
+            export_cards_obj(&args.out, centre, args.up_axis)
+                .map_err(|e| Error::Output(e.to_string()))?;
+            1
+        }
+        CardsFormat::Usd => {
+            let motion: Vec<CardSample> = if samples.len() > 1 {
+                samples
+                    .iter()
+                    .map(|(time_code, mesh)| CardSample {
+                        time_code: *time_code,
+                        mesh,
+                    })
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            let opts = CardUsdOptions {
+                frames_per_second: fps,
+                time_code: frame as f64,
+                ..CardUsdOptions::default()
+            };
+            export_cards_usda(&args.out, centre, &motion, &opts)
+                .map_err(|e| Error::Output(e.to_string()))?;
+            samples.len()
+        }
+    };
+    Ok(CardsSummary {
+        out: args.out.display().to_string(),
+        cards: centre.cards,
+        represented_hairs,
+        vertices: centre.positions.len(),
+        quads: centre.quads.len(),
+        time_samples,
+    })
+}
+
+/// The cards of one export, before they are written.
+struct Samples {
+    /// The cards at each motion sample: (USD time code, mesh).
+    meshes: Vec<(f64, CardMesh)>,
+    /// Hairs the cards stand for.
+    represented_hairs: u64,
+    /// Frame rate, frames/s.
+    fps: f64,
+    /// The frame exported.
+    frame: u32,
+}
+
+/// The cards of `args` at each motion sample; errors are bad input.
+fn build_samples(args: &CardsOptions) -> Result<Samples, String> {
     if args.motion_samples == 0 {
         return Err("--motion-samples 0: use at least 1 sample".into());
     }
@@ -149,39 +214,10 @@ pub fn export_cards(args: &CardsOptions) -> Result<CardsSummary, String> {
             build_cards(&strips, &scalp, &settings, head.as_ref()).map_err(|e| e.to_string())?;
         samples.push((time_code, cards));
     }
-    let centre = &samples[samples.len() / 2].1;
-    let time_samples = match args.format {
-        CardsFormat::Obj => {
-            export_cards_obj(&args.out, centre).map_err(|e| e.to_string())?;
-            1
-        }
-        CardsFormat::Usd => {
-            let motion: Vec<CardSample> = if samples.len() > 1 {
-                samples
-                    .iter()
-                    .map(|(time_code, mesh)| CardSample {
-                        time_code: *time_code,
-                        mesh,
-                    })
-                    .collect()
-            } else {
-                Vec::new()
-            };
-            let opts = CardUsdOptions {
-                frames_per_second: fps,
-                time_code: frame as f64,
-                ..CardUsdOptions::default()
-            };
-            export_cards_usda(&args.out, centre, &motion, &opts).map_err(|e| e.to_string())?;
-            samples.len()
-        }
-    };
-    Ok(CardsSummary {
-        out: args.out.display().to_string(),
-        cards: centre.cards,
+    Ok(Samples {
+        meshes: samples,
         represented_hairs: strips.represented_hairs(),
-        vertices: centre.positions.len(),
-        quads: centre.quads.len(),
-        time_samples,
+        fps,
+        frame,
     })
 }

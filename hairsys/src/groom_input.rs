@@ -139,12 +139,7 @@ impl Session {
                 max_distance: options.max_snap_distance,
             },
         )
-        .map_err(|e| {
-            Error::argument(
-                "curve_points",
-                format!("{e} (raise max_snap_distance, or give the curves in the scalp's space)"),
-            )
-        })?;
+        .map_err(|e| Error::argument("curve_points", e.to_string()))?;
         let inputs = strand_inputs(&mesh, &snapped.guides, &weights, options)?;
         let mut strands = StrandSet::new();
         for (i, s) in inputs.into_iter().enumerate() {

@@ -39,8 +39,17 @@ pub struct SimulateOptions {
 pub struct RunSummary {
     /// Scene name.
     pub scene: String,
-    /// Frames simulated (not counting the rest frame).
+    /// Frames written to the cache, the first (rest) frame included: the count `cache info`,
+    /// the progress bar and the text summary give (with `--resume`, the frames taken over from
+    /// the interrupted run count too).
     pub frames: u32,
+    /// Frames this run stepped the solver through: `frames - 1` for a fresh run (the first frame
+    /// is the rest state, written without a step), fewer when it resumed.
+    pub stepped: u32,
+    /// First frame of the run (the rest state).
+    pub first_frame: u32,
+    /// Last frame of the run.
+    pub last_frame: u32,
     /// Strands simulated.
     pub strands: usize,
     /// Points simulated.
@@ -132,7 +141,24 @@ pub fn simulate(
                 "--threads {threads}: cannot start the thread pool ({e})"
             ))
         })?;
+    let steps = sim.settings.steps;
     let mut session = Session::from_simulation(sim, &opts.scene, scene_hash)?;
+    if let Some((first, last)) = opts.frames {
+        // The scene's build checked the work of the scene's own range; --frames replaces it.
+        let start = resumed.as_ref().map_or(first_frame, Resumed::last_frame);
+        let (points, substeps) = (session.strands().point_count(), session.solver().substeps());
+        let frames = last_frame - start;
+        opts.scene
+            .budget
+            .check_work(
+                &format!(
+                    "--frames {first}-{last}: the run ({points} points × {substeps} substeps × \
+                     [solver] steps = {steps} × {frames} frames)"
+                ),
+                points as f64 * f64::from(substeps) * f64::from(steps) * f64::from(frames),
+            )
+            .map_err(|e| Error::Usage(e.to_string()))?;
+    }
     session.set_thread_pool(std::sync::Arc::new(pool));
     let mut components = session.solver().components(session.strands());
     if !session.colliders().is_empty() {
@@ -176,7 +202,10 @@ pub fn simulate(
     let solver = session.solver();
     Ok(RunSummary {
         scene: opts.scene.scene.scene.name.clone(),
-        frames: last_frame - first_frame,
+        frames: last_frame - first_frame + 1,
+        stepped,
+        first_frame,
+        last_frame,
         strands: session.strands().len(),
         points: session.strands().point_count(),
         threads,
@@ -251,8 +280,15 @@ impl std::fmt::Display for RunSummary {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         writeln!(
             f,
-            "simulated {} frames of {} strands ({} points) on {} threads ({} kernel)",
-            self.frames, self.strands, self.points, self.threads, self.kernel
+            "{} frames written ({}–{}, {} stepped) of {} strands ({} points) on {} threads ({} kernel)",
+            self.frames,
+            self.first_frame,
+            self.last_frame,
+            self.stepped,
+            self.strands,
+            self.points,
+            self.threads,
+            self.kernel
         )?;
         writeln!(
             f,

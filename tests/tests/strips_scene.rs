@@ -49,6 +49,7 @@ fn args(
         rows_per_segment: 3,
         columns: 3,
         clearance: 1e-3,
+        up_axis: Default::default(),
         out,
     }
 }

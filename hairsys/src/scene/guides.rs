@@ -174,11 +174,7 @@ pub fn build(
                     max_distance: guides.max_snap_distance,
                 },
             )
-            .map_err(|e| {
-                format!(
-                    "[guides] {e} (raise max_snap_distance, or fix the groom's scale and up_axis)"
-                )
-            })?;
+            .map_err(|e| format!("[guides] {e}"))?;
             let [lo, median, hi] = snapped.distance_summary();
             let source = format!(
                 "{} guides from {}, roots snapped {:.2} / {:.2} / {:.2} mm (min / median / max)",
