@@ -1086,6 +1086,7 @@ fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
         writer: run.writer,
         resume: run.resume,
         kernel: run.kernel,
+        quality: true,
     };
     let result = simulate(&opts, |r| {
         let written = u64::from(r.frame.saturating_sub(first)) + 1;

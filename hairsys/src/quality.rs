@@ -16,20 +16,108 @@
 use std::path::Path;
 
 use hair_core::quality::{measure_remembered, rest_positions, Frame, PenetrationMemory, Previous};
-use hair_core::{QualityInput, QualityOptions, QualityReport};
+use hair_core::{Colliders, QualityInput, QualityOptions, QualityReport, Scalp, StrandSet};
+use nalgebra::Vector3;
 use serde::Serialize;
 
 use crate::children::open_cache;
 
-/// What [`cache_quality`] measured.
-#[derive(Debug, Clone, Serialize)]
+/// What [`cache_quality`] (or a run, [`QualityTracker`]) measured.
+#[derive(Debug, Clone, Default, Serialize)]
 pub struct RunQuality {
     /// Every frame after the first, merged (drift over the run included).
     pub run: QualityReport,
     /// The first stepped frame alone: did hair hold its groom when the simulation started?
     pub first_step: QualityReport,
-    /// The last cached frame alone: drift from the groom after the motion.
+    /// The last frame alone: drift from the groom after the motion.
     pub last: QualityReport,
+}
+
+/// One frame handed to a [`QualityTracker`]: the strands' layout from `strands`, the frame's
+/// positions and velocities (m, m/s), the colliders at the frame's pose and the scalp then.
+pub struct FrameToMeasure<'a> {
+    /// Frame number.
+    pub frame: u32,
+    /// Positions, m (the layout of `strands`).
+    pub positions: &'a [Vector3<f32>],
+    /// Velocities, m/s.
+    pub velocities: &'a [Vector3<f32>],
+    /// Colliders at the frame's pose (none measured when empty).
+    pub colliders: &'a Colliders,
+    /// The scalp at the frame, which places the groom for the drift.
+    pub scalp: &'a Scalp,
+}
+
+/// Measures a run frame by frame: hand it the first frame, then every stepped frame in order.
+/// It keeps a copy of the previous frame (velocity–position mismatch) and the penetration
+/// memory that lets points far from colliders skip the exact projection.
+pub struct QualityTracker {
+    options: QualityOptions,
+    memory: PenetrationMemory,
+    fps: f64,
+    previous: Option<(u32, Vec<Vector3<f32>>, Vec<Vector3<f32>>)>,
+    result: RunQuality,
+    stepped: u32,
+}
+
+impl QualityTracker {
+    /// A tracker for frames at `fps` frames per second.
+    pub fn new(fps: f64) -> Self {
+        Self {
+            options: QualityOptions::default(),
+            memory: PenetrationMemory::new(),
+            fps,
+            previous: None,
+            result: RunQuality::default(),
+            stepped: 0,
+        }
+    }
+
+    /// Measures `f` (the first frame is only remembered: it is the groom before any step).
+    pub fn add(&mut self, strands: &StrandSet, f: &FrameToMeasure) -> Result<(), String> {
+        if let Some((p, positions, velocities)) = &self.previous {
+            let reference = rest_positions(strands, f.scalp);
+            let input = QualityInput {
+                frame: Frame {
+                    offsets: strands.offsets(),
+                    positions: f.positions,
+                    velocities: f.velocities,
+                    rest_lengths: strands.rest_lengths(),
+                    radii: strands.radii(),
+                    inverse_masses: Some(strands.inverse_masses()),
+                },
+                previous: Some(Previous {
+                    positions,
+                    velocities,
+                    dt: (f.frame.saturating_sub(*p).max(1) as f64 / self.fps) as f32,
+                }),
+                colliders: (!f.colliders.is_empty()).then_some(f.colliders),
+                reference: Some(&reference),
+            };
+            let report = measure_remembered(&input, &self.options, &mut self.memory)
+                .map_err(|e| format!("frame {}: {e}", f.frame))?;
+            self.result.run.merge(&report);
+            if self.stepped == 0 {
+                self.result.first_step = report.clone();
+            }
+            self.result.last = report;
+            self.stepped += 1;
+        }
+        match &mut self.previous {
+            Some((p, positions, velocities)) => {
+                *p = f.frame;
+                positions.copy_from_slice(f.positions);
+                velocities.copy_from_slice(f.velocities);
+            }
+            None => self.previous = Some((f.frame, f.positions.to_vec(), f.velocities.to_vec())),
+        }
+        Ok(())
+    }
+
+    /// The report so far.
+    pub fn finish(self) -> RunQuality {
+        self.result
+    }
 }
 
 /// Measures every frame of the cache at `cache` (the scene stored in it, or the scene file
@@ -46,7 +134,6 @@ pub fn cache_quality(cache: &Path, scene: Option<&Path>) -> Result<RunQuality, S
             numbers.len()
         ));
     }
-    let fps = reader.header().fps;
     let cached_points = reader.layout().point_count();
     if cached_points != sim.strands.point_count() {
         return Err(format!(
@@ -57,55 +144,28 @@ pub fn cache_quality(cache: &Path, scene: Option<&Path>) -> Result<RunQuality, S
             sim.strands.point_count()
         ));
     }
-    let options = QualityOptions::default();
-    let mut run = QualityReport::default();
-    let mut first_step = None;
-    let mut last = QualityReport::default();
-    let mut previous = reader.read_frame(numbers[0]).map_err(|e| e.to_string())?;
-    let mut memory = PenetrationMemory::new();
+    let mut tracker = QualityTracker::new(reader.header().fps);
     // Built once (a mesh collider's search tree is the costly part) and posed per frame.
     let mut colliders = sim
         .colliders_at(numbers[0] as f32)
         .map_err(|e| sim.collider_message(&e))?;
-    for (k, &n) in numbers.iter().enumerate().skip(1) {
+    for &n in &numbers {
         let frame = reader.read_frame(n).map_err(|e| e.to_string())?;
         let f = n as f32;
         let scalp = sim.scalp_at(f);
         sim.pose_colliders(&mut colliders, f)
             .and_then(|()| colliders.place_scalp(&scalp))
             .map_err(|e| sim.collider_message(&e))?;
-        let reference = rest_positions(&sim.strands, &scalp);
-        let input = QualityInput {
-            frame: Frame {
-                offsets: sim.strands.offsets(),
+        tracker.add(
+            &sim.strands,
+            &FrameToMeasure {
+                frame: n,
                 positions: &frame.positions,
                 velocities: &frame.velocities,
-                rest_lengths: sim.strands.rest_lengths(),
-                radii: sim.strands.radii(),
-                inverse_masses: Some(sim.strands.inverse_masses()),
+                colliders: &colliders,
+                scalp: &scalp,
             },
-            previous: Some(Previous {
-                positions: &previous.positions,
-                velocities: &previous.velocities,
-                dt: ((n - previous.frame) as f64 / fps) as f32,
-            }),
-            colliders: (!colliders.is_empty()).then_some(&colliders),
-            reference: Some(&reference),
-        };
-        let report = measure_remembered(&input, &options, &mut memory)
-            .map_err(|e| format!("frame {n}: {e}"))?;
-        run.merge(&report);
-        if first_step.is_none() {
-            first_step = Some(report.clone());
-        }
-        if k + 1 == numbers.len() {
-            last = report;
-        }
-        previous = frame;
+        )?;
     }
-    Ok(RunQuality {
-        run,
-        first_step: first_step.unwrap_or_default(),
-        last,
-    })
+    Ok(tracker.finish())
 }

@@ -12,6 +12,7 @@ use hair_core::{Component, FrameReport, KernelChoice, ModelFigures, ProjectionRe
 use serde::Serialize;
 
 use crate::error::Error;
+use crate::quality::{FrameToMeasure, QualityTracker, RunQuality};
 use crate::resume::{resume, Resumed};
 use crate::scene::SceneFile;
 use crate::session::Session;
@@ -32,6 +33,9 @@ pub struct SimulateOptions {
     pub resume: bool,
     /// Which compiled copy of the mass-spring kernel runs (same bits either way).
     pub kernel: KernelChoice,
+    /// Measure every frame's quality (penetration, strain, hairpins, drift from the groom,
+    /// velocity–position mismatch) into [`RunSummary::quality`]; costs a few % of the run.
+    pub quality: bool,
 }
 
 /// What a finished run did.
@@ -106,6 +110,12 @@ pub struct RunSummary {
     pub resumed_from: Option<u32>,
     /// With `--resume`: what the interrupted run had lost (frames after its last complete chunk).
     pub recovery_warning: Option<String>,
+    /// The run's quality report (with [`SimulateOptions::quality`]; frames taken over by a
+    /// resumed run are not in it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub quality: Option<RunQuality>,
+    /// Mean time per frame measuring quality, ms (0 without it).
+    pub quality_ms_per_frame: f64,
 }
 
 /// Runs a scene to completion, calling `on_frame` after each frame.
@@ -188,10 +198,38 @@ pub fn simulate(
     session.record_into(writer)?;
 
     let mut totals = Totals::default();
+    let mut quality = opts
+        .quality
+        .then(|| QualityTracker::new(f64::from(session.fps())));
+    let mut quality_time = Duration::ZERO;
+    let measure = |tracker: &mut QualityTracker, session: &Session| {
+        tracker
+            .add(
+                session.strands(),
+                &FrameToMeasure {
+                    frame: session.frame(),
+                    positions: &session.strands().positions,
+                    velocities: &session.strands().velocities,
+                    colliders: session.colliders(),
+                    scalp: session.scalp(),
+                },
+            )
+            .map_err(|e| Error::Output(format!("the quality report: {e}")))
+    };
+    if let Some(tracker) = &mut quality {
+        let t0 = Instant::now();
+        measure(tracker, &session)?;
+        quality_time += t0.elapsed();
+    }
     while session.frame() < last_frame {
         let t0 = Instant::now();
         let report = session.step()?;
         totals.add(&report, t0.elapsed());
+        if let Some(tracker) = &mut quality {
+            let t0 = Instant::now();
+            measure(tracker, &session)?;
+            quality_time += t0.elapsed();
+        }
         on_frame(&report);
     }
     let cache_time = session.cache_write_time();
@@ -232,6 +270,8 @@ pub fn simulate(
         cache,
         resumed_from: resumed.as_ref().map(Resumed::last_frame),
         recovery_warning: resumed.and_then(|r| r.warning.map(|w| w.to_string())),
+        quality: quality.map(QualityTracker::finish),
+        quality_ms_per_frame: per_frame(quality_time),
     })
 }
 
@@ -328,6 +368,26 @@ impl std::fmt::Display for RunSummary {
         }
         if let Some(frame) = self.resumed_from {
             writeln!(f, "  resumed from frame {frame}")?;
+        }
+        if let Some(q) = &self.quality {
+            let r = &q.run;
+            let inside = match &r.penetration {
+                Some(p) => format!(
+                    "{:.3} % of points inside colliders (deepest {:.2} mm), ",
+                    p.inside_fraction * 100.0,
+                    p.deepest * 1e3
+                ),
+                None => String::new(),
+            };
+            writeln!(
+                f,
+                "  quality: {inside}p99 stretch {:.2} %, {} hairpin point-frames (largest turn {:.0}°); \
+                 {:.2} ms/frame (details: --json, or hairsys preview --report)",
+                r.strain.stretch.p99() * 100.0,
+                r.hairpins.count,
+                r.hairpins.max_turn_deg,
+                self.quality_ms_per_frame
+            )?;
         }
         writeln!(f, "  model: {}", self.model)?;
         if let Some(p) = &self.projection {

@@ -43,6 +43,7 @@ fn frames_and_sub_frames_of_a_cache_make_one_sheet() {
             writer: WriterOptions::default(),
             resume: false,
             kernel: Default::default(),
+            quality: false,
         },
         |_| {},
     )

@@ -79,6 +79,7 @@ fn a_host_replaying_the_scene_keyframes_gets_the_batch_runs_bits() {
             writer: WriterOptions::default(),
             resume: false,
             kernel: Default::default(),
+            quality: false,
         },
         |_| {},
     )

@@ -19,7 +19,7 @@ fn run(text: &str) -> RunQuality {
     let dir = tempfile::tempdir().unwrap();
     let cache = dir.path().join("run.mcap");
     let scene = SceneFile::parse(text, "default", ".".into()).unwrap();
-    simulate(
+    let q = simulate(
         &SimulateOptions {
             scene,
             cache: cache.clone(),
@@ -28,11 +28,18 @@ fn run(text: &str) -> RunQuality {
             writer: WriterOptions::default(),
             resume: false,
             kernel: Default::default(),
+            quality: true,
         },
         |_| {},
     )
-    .unwrap();
-    cache_quality(&cache, None).unwrap()
+    .unwrap()
+    .quality
+    .expect("asked for");
+    // The report measured during the run is the one measured from its cache afterwards.
+    let from_cache = cache_quality(&cache, None).unwrap();
+    assert_eq!(from_cache.run, q.run);
+    assert_eq!(from_cache.last, q.last);
+    q
 }
 
 fn assert_looks_like_hair(q: &RunQuality) {

@@ -44,6 +44,7 @@ fn run(threads: usize, name: &str) -> Vec<u8> {
         writer: hair_cache::WriterOptions::default(),
         resume: false,
         kernel: Default::default(),
+        quality: false,
     };
     simulate(&opts, |_| {}).unwrap();
     std::fs::read(&cache).unwrap()

@@ -68,6 +68,7 @@ fn strips_scene_simulates_and_exports_cards_from_the_cache() {
             writer: hair_cache::WriterOptions::default(),
             resume: false,
             kernel: Default::default(),
+            quality: false,
         },
         |_| {},
     )

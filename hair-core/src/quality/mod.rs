@@ -289,49 +289,61 @@ fn measure_inner(
             fix: "use a finite depth ≥ 0 m, e.g. 1e-4".into(),
         });
     }
-    let velocity_mismatch = match &input.previous {
-        Some(p) => {
-            if !(p.dt.is_finite() && p.dt > 0.0) {
-                return Err(HairError::Parameter {
-                    name: "quality.previous.dt".into(),
-                    value: p.dt.to_string(),
-                    fix: "give the time between the two frames in seconds, > 0".into(),
-                });
-            }
-            check_len("previous.positions", p.positions.len(), n)?;
-            check_len("previous.velocities", p.velocities.len(), n)?;
-            Some(motion::mismatch(
-                p.positions,
-                p.velocities,
-                frame.positions,
-                frame.velocities,
-                p.dt,
-            ))
+    if let Some(p) = &input.previous {
+        if !(p.dt.is_finite() && p.dt > 0.0) {
+            return Err(HairError::Parameter {
+                name: "quality.previous.dt".into(),
+                value: p.dt.to_string(),
+                fix: "give the time between the two frames in seconds, > 0".into(),
+            });
         }
-        None => None,
-    };
-    let drift = match input.reference {
-        Some(r) => {
-            check_len("reference", r.len(), n)?;
-            Some(shape::drift(frame, r))
-        }
-        None => None,
-    };
-    let penetration = input.colliders.map(|c| {
-        penetration::measure(
-            c,
-            frame.positions,
-            frame.radii,
-            &|i| frame.is_free(i),
-            tolerance,
-            memory,
-        )
-    });
+        check_len("previous.positions", p.positions.len(), n)?;
+        check_len("previous.velocities", p.velocities.len(), n)?;
+    }
+    if let Some(r) = input.reference {
+        check_len("reference", r.len(), n)?;
+    }
+    // The measures are independent passes over the frame: run them side by side.
+    let ((strain, hairpins), ((velocity_mismatch, drift), penetration)) = rayon::join(
+        || rayon::join(|| shape::strain(frame), || shape::hairpins(frame)),
+        || {
+            rayon::join(
+                || {
+                    rayon::join(
+                        || {
+                            input.previous.as_ref().map(|p| {
+                                motion::mismatch(
+                                    p.positions,
+                                    p.velocities,
+                                    frame.positions,
+                                    frame.velocities,
+                                    p.dt,
+                                )
+                            })
+                        },
+                        || input.reference.map(|r| shape::drift(frame, r)),
+                    )
+                },
+                || {
+                    input.colliders.map(|c| {
+                        penetration::measure(
+                            c,
+                            frame.positions,
+                            frame.radii,
+                            &|i| frame.is_free(i),
+                            tolerance,
+                            memory,
+                        )
+                    })
+                },
+            )
+        },
+    );
     Ok(QualityReport {
         frames: 1,
         points: n as u64,
-        strain: shape::strain(frame),
-        hairpins: shape::hairpins(frame),
+        strain,
+        hairpins,
         penetration,
         drift,
         velocity_mismatch,

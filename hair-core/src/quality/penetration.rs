@@ -36,7 +36,7 @@ pub struct Penetration {
     pub inside_fraction: f64,
     /// The largest fraction of points inside in any one frame.
     pub worst_frame_fraction: f64,
-    /// The deepest penetration of any point, m (0 when none is inside the thickened surface).
+    /// The deepest penetration of any point deeper than `tolerance`, m (0 when none is).
     pub deepest: f32,
 }
 
@@ -61,8 +61,9 @@ impl Penetration {
 /// surface (m) and the body-space position it holds at. The signed distance is 1-Lipschitz in
 /// the body-space position, so `bound − |moved|` still bounds it a frame later; a point whose
 /// bound exceeds its radius plus the collider's thickness cannot be inside and is not projected.
-/// The result is exactly the memoryless measurement's; hair away from colliders, or moving with
-/// them (a head), then costs a subtraction and a norm per point. Bounds of a collider whose mesh
+/// The result is exactly the memoryless measurement's (points within the contact tolerance count
+/// for nothing either way); hair away from colliders, or resting on them and moving with them (a
+/// head), then costs a subtraction and a norm per point. Bounds of a collider whose mesh
 /// was moved to other vertices are dropped.
 #[derive(Debug, Clone, Default)]
 pub struct PenetrationMemory {
@@ -106,13 +107,15 @@ fn depth_remembered(
     colliders: &Colliders,
     x: &Vector3<f32>,
     radius: f32,
+    tolerance: f32,
     memory: &mut [(f32, Vector3<f32>)],
 ) -> Option<f32> {
     let mut deepest: Option<f32> = None;
     for (e, slot) in colliders.entries.iter().zip(memory) {
         let keep = radius + e.thickness;
         let local = e.end.inverse_transform_point(&Point3::from(*x)).coords;
-        if slot.0 - (local - slot.1).norm() >= keep {
+        // Its depth is at most the tolerance: it does not count.
+        if slot.0 - (local - slot.1).norm() >= keep - tolerance {
             continue;
         }
         let (centre, enclosing) = e.bounding_sphere;
@@ -258,11 +261,9 @@ pub(crate) fn measure(
             return;
         }
         out.0 += 1;
-        if let Some(d) = d(i, x) {
+        if let Some(d) = d(i, x).filter(|&d| d > tolerance) {
+            out.1 += 1;
             out.2 = out.2.max(d);
-            if d > tolerance {
-                out.1 += 1;
-            }
         }
     };
     let sum = |a: (u64, u64, f32), b: (u64, u64, f32)| (a.0 + b.0, a.1 + b.1, a.2.max(b.2));
@@ -278,7 +279,13 @@ pub(crate) fn measure(
                     let mut out = (0u64, 0u64, 0.0f32);
                     let mut remembered = |i: usize, x: &Vector3<f32>| {
                         let j = i - k * CHUNK;
-                        depth_remembered(colliders, x, radii[i], &mut bounds[j * e..(j + 1) * e])
+                        depth_remembered(
+                            colliders,
+                            x,
+                            radii[i],
+                            tolerance,
+                            &mut bounds[j * e..(j + 1) * e],
+                        )
                     };
                     for (j, x) in chunk.iter().enumerate() {
                         count((k * CHUNK + j, x, &mut remembered), &mut out);
