@@ -60,6 +60,13 @@
 //! reference twist of parallel transport carries it (the kernel's `β`/`S` sums, unchanged from the
 //! chord spring, whose torque entered the same way).
 //!
+//! **The root joint** (point 0) is the exception: its reference is the first segment's rest
+//! direction `d_0` in the root frame itself, `κ_0 = 2 d_0 × t_0/(1 + d_0·t_0)` against zero rest
+//! curvature, `E_0 = 2 k_0 tan²(φ/2)` with `φ` the angle between the first segment and its rest
+//! direction. A strand defined hanging from an upright root frame turns 180° from the normal at
+//! rest, which no curvature binormal can hold; the turn from the rest direction can. The forces
+//! are those above with `a = d_0`; the root frame is kinematic, so nothing else changes.
+//!
 //! A segment folded exactly straight back (`a·b = −1`) has no curvature binormal and no
 //! transport; it takes no bending force there (`χ` is set to 0), a set of measure zero that the
 //! growing moment keeps joints away from.
@@ -85,6 +92,18 @@ pub fn rest_curvature(r: &RestDirection) -> (f32, f32) {
         ((-2.0 * w / c) as f32, (2.0 * u / c) as f32)
     } else {
         (0.0, 0.0)
+    }
+}
+
+/// The unit vector along a rest direction (the root joint's reference, see the module docs); the
+/// root frame's normal for a zero vector.
+pub fn root_direction(r: &RestDirection) -> nalgebra::Vector3<f32> {
+    let v = nalgebra::Vector3::new(r.t, r.u, r.w);
+    let n = v.norm();
+    if n > 0.0 {
+        v / n
+    } else {
+        nalgebra::Vector3::x()
     }
 }
 

@@ -7,7 +7,7 @@ use crate::frames::transport;
 use crate::mesh::RootFrame;
 use crate::strands::StrandSet;
 
-use super::curvature::{joint_stiffness, rest_curvature, rigidity};
+use super::curvature::{joint_stiffness, rest_curvature, rigidity, root_direction};
 use super::params::HairParams;
 
 /// Energy of a strand set by kind, J.
@@ -90,16 +90,24 @@ pub fn strand_energy(
         e.stretch += 0.5 * params.stretch_stiffness as f64 * ((len - l0[j]) as f64).powi(2);
         if params.bend_stiffness > 0.0 {
             let t = d / len;
-            let (a, b) = (tp.cast::<f64>(), t.cast::<f64>());
+            let u = up.cast::<f64>();
+            // The root joint: the turn from the rest direction itself, against zero.
+            let (a, rest) = if j == 0 {
+                let d = root_direction(&bend_rest[0]);
+                let d = tp * d.x + up * d.y + tp.cross(&up) * d.z;
+                (d.cast::<f64>(), Vector3::zeros())
+            } else {
+                let a = tp.cast::<f64>();
+                let (k_u, k_w) = rest_curvature(&bend_rest[j]);
+                (a, u * k_u as f64 + a.cross(&u) * k_w as f64)
+            };
+            let b = t.cast::<f64>();
             let c = 1.0 + a.dot(&b);
             let kappa = if c > 1e-6 {
                 a.cross(&b) * (2.0 / c)
             } else {
                 Vector3::zeros()
             };
-            let (k_u, k_w) = rest_curvature(&bend_rest[j]);
-            let u = up.cast::<f64>();
-            let rest = u * k_u as f64 + a.cross(&u) * k_w as f64;
             let k = joint_stiffness(ei, l0, j);
             e.bend += 0.5 * k * (kappa - rest).norm_squared();
             up = transport(&up, &tp, &t);

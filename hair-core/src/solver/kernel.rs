@@ -23,7 +23,7 @@ use crate::contacts::penalty::{respond, ContactLanes};
 use crate::frames::RestDirection;
 use crate::mesh::RootFrame;
 
-use super::curvature::{joint_stiffness, rest_curvature, rigidity};
+use super::curvature::{joint_stiffness, rest_curvature, rigidity, root_direction};
 use super::damping::damp_segments;
 use super::inextensible::{project, Inextensibility, ProjectionScratch};
 use super::lanes::{div_or_zero, splat, Lane, F8, LANES, Q4, V3};
@@ -132,6 +132,8 @@ pub(crate) struct Scratch<L: Lane> {
     /// Joint stiffness per joint (unpadded, joint j before segment j), N·m
     /// (`super::curvature::joint_stiffness`).
     joint_k: Vec<L>,
+    /// Unit rest direction of the first segment in the root frame (t, u, w components).
+    root_rest: V3<L>,
     /// Rest moment `k_j κ⁰_j` per joint (unpadded) as (unused, u, w) components in the previous
     /// segment's frame, N·m.
     rest_moment: Vec<V3<L>>,
@@ -253,6 +255,7 @@ impl<L: Lane> Scratch<L> {
                 }));
             }
         }
+        self.root_rest = lanes3(&|s| root_direction(&s.bend_rest[0]));
         for j in 0..n - 1 {
             self.rest_length[j] = lanes1(&|s| s.rest_length[j]);
             if c.damp_fraction > 0.0 {
@@ -486,19 +489,30 @@ pub(crate) fn step_group<L: Lane>(
             let mut tp = root_t;
             let mut up = rot_now.cols[0];
             let (one, two) = (splat::<L>(1.0), splat::<L>(2.0));
+            // The root joint measures the turn from the rest direction in the root frame itself
+            // (a hanging strand's first segment may turn 180° from the normal at rest, which no
+            // curvature can hold); the root frame is kinematic, so it takes no reaction.
+            let r = g.root_rest;
+            let root_dir = tp * r.x + up * r.y + tp.cross(&up) * r.z;
             for i in 1..n {
                 let inv_len_prev = if i == 1 { zero } else { g.inv_len[i - 1] };
                 let t = g.tangent[i];
                 let chi = div_or_zero(one, one + tp.dot(&t), 1e-6);
                 let beta = tp.cross(&t) * chi;
-                let rest = g.rest_moment[i - 1];
-                let m = beta * (two * g.joint_k[i - 1]) - up * rest.y - tp.cross(&up) * rest.z;
-                let mu = two * chi * m.dot(&beta);
-                let two_chi = two * chi;
-                let sum = (tp + t) * mu;
-                g.bend[i] = (sum - m.cross(&tp) * two_chi) * g.inv_len[i];
+                let (a, chi_e, beta_e, m) = if i == 1 {
+                    let chi_e = div_or_zero(one, one + root_dir.dot(&t), 1e-6);
+                    let beta_e = root_dir.cross(&t) * chi_e;
+                    (root_dir, chi_e, beta_e, beta_e * (two * g.joint_k[0]))
+                } else {
+                    let rest = g.rest_moment[i - 1];
+                    let m = beta * (two * g.joint_k[i - 1]) - up * rest.y - tp.cross(&up) * rest.z;
+                    (tp, chi, beta, m)
+                };
+                let two_chi = two * chi_e;
+                let sum = (a + t) * (two_chi * m.dot(&beta_e));
+                g.bend[i] = (sum - m.cross(&a) * two_chi) * g.inv_len[i];
                 g.react[i] = (t.cross(&m) * two_chi - sum) * inv_len_prev;
-                g.twist[i] = two * tp.dot(&m.cross(&beta));
+                g.twist[i] = two * tp.dot(&m.cross(&beta_e));
                 g.beta[i] = beta;
                 up = transport(&up, &tp, &t);
                 tp = t;

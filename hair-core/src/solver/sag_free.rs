@@ -97,7 +97,9 @@ use crate::frames::{transport, RestDirection};
 use crate::mesh::RootFrame;
 use crate::strands::StrandSet;
 
-use super::curvature::{direction_of_curvature, joint_stiffness, rest_curvature, rigidity};
+use super::curvature::{
+    direction_of_curvature, joint_stiffness, rest_curvature, rigidity, root_direction,
+};
 use super::params::HairParams;
 
 /// When a strand counts as not balanceable.
@@ -146,8 +148,14 @@ struct Geometry {
     frame: Vec<Matrix3<f64>>,
     /// `χ_j = 1/(1 + a·b)` per joint (0 for a segment folded straight back).
     chi: Vec<f64>,
-    /// `β_j = χ_j a × b` per joint (half the curvature binormal), with a zero appended.
+    /// `β_j = χ_j a × b` per joint (half the transport's curvature binormal), with a zero
+    /// appended.
     beta: Vec<Vector3<f64>>,
+    /// The root joint's reference: the first segment's rest direction in the world (see
+    /// [`super::curvature`]), with its `χ` and `β` against the first tangent.
+    root_dir: Vector3<f64>,
+    root_chi: f64,
+    root_beta: Vector3<f64>,
 }
 
 fn geometry(x: &[Vector3<f32>], root: &RootFrame) -> Geometry {
@@ -180,20 +188,43 @@ fn geometry(x: &[Vector3<f32>], root: &RootFrame) -> Geometry {
         beta.push(a.cross(&b) * x);
     }
     beta.push(Vector3::zeros());
-    Geometry {
+    let mut g = Geometry {
+        root_dir: t[0],
+        root_chi: chi[0],
+        root_beta: beta[0],
         t,
         len,
         frame,
         chi,
         beta,
-    }
+    };
+    g.set_root_dir(g.t[0]);
+    g
 }
 
 impl Geometry {
+    /// Sets the root joint's reference direction (unit, world).
+    fn set_root_dir(&mut self, d: Vector3<f64>) {
+        let c = 1.0 + d.dot(&self.t[1]);
+        self.root_chi = if c > 1e-6 { 1.0 / c } else { 0.0 };
+        self.root_beta = d.cross(&self.t[1]) * self.root_chi;
+        self.root_dir = d;
+    }
+
+    /// The bending energy's `a`, `χ` and `β` of joint `j`: the previous tangent's, or for the
+    /// root joint the rest direction's.
+    fn energy_terms(&self, j: usize) -> (Vector3<f64>, f64, Vector3<f64>) {
+        if j == 0 {
+            (self.root_dir, self.root_chi, self.root_beta)
+        } else {
+            (self.t[j], self.chi[j], self.beta[j])
+        }
+    }
+
     /// `A_j`: the force of joint `j`'s moment `m` on point `j` (`−A_j` on point `j + 1`), N.
     fn push_far(&self, j: usize, m: &Vector3<f64>) -> Vector3<f64> {
-        let (a, b, chi) = (self.t[j], self.t[j + 1], self.chi[j]);
-        let mu = 2.0 * chi * m.dot(&self.beta[j]);
+        let ((a, chi, beta), b) = (self.energy_terms(j), self.t[j + 1]);
+        let mu = 2.0 * chi * m.dot(&beta);
         (m.cross(&a) * (2.0 * chi) - (a + b) * mu) / self.len[j]
     }
 
@@ -218,9 +249,9 @@ impl Geometry {
         (self.beta[k] * s_k + self.beta[k + 1] * s_next) / self.len[k]
     }
 
-    /// Curvature binormal `κ_j`.
+    /// Curvature binormal `κ_j` (for the root joint: of the turn from the rest direction).
     fn kappa(&self, j: usize) -> Vector3<f64> {
-        self.beta[j] * 2.0
+        self.energy_terms(j).2 * 2.0
     }
 }
 
@@ -272,11 +303,15 @@ fn load(strands: &StrandSet, s: usize, params: &HairParams, root: &RootFrame) ->
         .collect()
 }
 
-/// Joint moments `m_j = k_j (κ_j − K_j)` of the stored rest data, N·m.
+/// Joint moments `m_j = k_j (κ_j − K_j)` of the stored rest data, N·m (the root joint's against
+/// zero; set its reference direction first).
 fn moments(g: &Geometry, rest: &[RestDirection], l0: &[f32], kb: f32) -> Vec<Vector3<f64>> {
     let ei = rigidity(kb, l0);
     (0..rest.len())
         .map(|j| {
+            if j == 0 {
+                return g.kappa(0) * joint_stiffness(ei, l0, 0);
+            }
             let (k_u, k_w) = rest_curvature(&rest[j]);
             let rest = g.frame[j] * Vector3::new(0.0, k_u as f64, k_w as f64);
             (g.kappa(j) - rest) * joint_stiffness(ei, l0, j)
@@ -298,7 +333,9 @@ pub fn residual_forces(
     let seg = strands.segments(s);
     let l0 = &strands.rest_lengths()[seg.clone()];
     let rest = &strands.bend_rest()[seg];
-    let g = geometry(x, root);
+    let mut g = geometry(x, root);
+    let d = root_direction(&rest[0]).cast::<f64>();
+    g.set_root_dir(g.frame[0] * d);
     let mut force = load(strands, s, params, root);
     if params.bend_stiffness > 0.0 {
         let bend = bending_forces(&g, &moments(&g, rest, l0, params.bend_stiffness));
@@ -325,6 +362,8 @@ pub fn residual_forces(
 struct Balance {
     moment: Vec<Vector3<f64>>,
     rest_length: Vec<f32>,
+    /// The root joint's rest direction, world (unit).
+    root_dir: Vector3<f64>,
 }
 
 /// Joint moments and rest lengths that balance `load` at every free point exactly, solved from
@@ -337,6 +376,7 @@ fn balance(
     free: &[bool],
     l0: &[f32],
     ks: f64,
+    kb: f32,
 ) -> Option<Balance> {
     let n = load.len();
     let joints = n - 1;
@@ -345,6 +385,7 @@ fn balance(
     let mut tension = vec![0.0f64; joints];
     // suffix[k] = S_k = Σ_{j>k} s_j, filled as the joints beyond k are solved.
     let mut suffix = vec![0.0f64; n];
+    let mut root_dir = g.t[1];
     for i in (1..n).rev() {
         let j = i - 1; // the joint and segment solved at point i
         if free[i] {
@@ -358,6 +399,22 @@ fn balance(
                 rhs += g.push_near(i + 1, &moment[i + 1]);
             }
             rhs += g.transport_twist(j, suffix[j], suffix[i]);
+            if j == 0 {
+                // The root joint: its force is nonlinear in its rest direction, solved below.
+                let t = rhs.dot(&g.t[1]);
+                rest_length[0] = if t != 0.0 {
+                    if ks <= 0.0 {
+                        return None;
+                    }
+                    (g.len[0] - t / ks) as f32
+                } else {
+                    g.len[0] as f32
+                };
+                let sideways = (rhs - g.t[1] * t) * g.len[0];
+                let k = joint_stiffness(rigidity(kb, &rest_length), &rest_length, 0);
+                root_dir = root_rest_direction(g.t[1], sideways, k)?;
+                continue;
+            }
             // A_j(μ_u u + μ_w w) + T t_j = rhs.
             let (u, w): (Vector3<f64>, Vector3<f64>) =
                 (g.frame[j].column(1).into(), g.frame[j].column(2).into());
@@ -386,7 +443,34 @@ fn balance(
     Some(Balance {
         moment,
         rest_length,
+        root_dir,
     })
+}
+
+/// The root joint's rest direction `d` (unit, world) whose energy `2 k tan²(φ/2)`, `φ = ∠(d, b)`,
+/// has the gradient `g` (⟂ `b`, N·m) with respect to the first tangent `b`: `g` points away from
+/// `d` with magnitude `dE/dφ = 2 k τ (1 + τ²)`, `τ = tan(φ/2)`. Newton on the increasing, convex
+/// cubic `τ³ + τ − |g|/2k`, from the right of its root (monotone convergence). `None` without
+/// bending stiffness under a load.
+fn root_rest_direction(b: Vector3<f64>, g: Vector3<f64>, k: f64) -> Option<Vector3<f64>> {
+    let size = g.norm();
+    if size == 0.0 {
+        return Some(b);
+    }
+    if k <= 0.0 {
+        return None;
+    }
+    let q = size / (2.0 * k);
+    let mut tau = q.min(q.cbrt());
+    for _ in 0..60 {
+        let step = (tau * tau * tau + tau - q) / (3.0 * tau * tau + 1.0);
+        tau -= step;
+        if step.abs() <= 1e-16 * tau {
+            break;
+        }
+    }
+    let phi = 2.0 * tau.atan();
+    Some(b * phi.cos() - g * (phi.sin() / size))
 }
 
 /// Replaces the rest curvatures and rest lengths of every strand so that its current positions
@@ -420,7 +504,7 @@ pub fn make_sag_free(
             .iter()
             .map(|&w| w > 0.0)
             .collect();
-        let g = geometry(x, root);
+        let mut g = geometry(x, root);
         let load = load(strands, s, params, root);
         for (w, &m) in free.iter().zip(&strands.masses()[p.clone()]) {
             if *w {
@@ -429,7 +513,7 @@ pub fn make_sag_free(
         }
         let seg = strands.segments(s);
         let l0 = &strands.rest_lengths()[seg.clone()];
-        let Some(balance) = balance(&g, &load, &free, l0, ks) else {
+        let Some(balance) = balance(&g, &load, &free, l0, ks, kb) else {
             report.unbalanced.push(s);
             continue;
         };
@@ -443,12 +527,22 @@ pub fn make_sag_free(
         let old = &strands.bend_rest()[seg.clone()];
         let mut new = Vec::with_capacity(old.len());
         let (mut turn, mut stretch) = (0.0f64, 0.0f64);
+        g.set_root_dir(balance.root_dir);
         for j in 0..old.len() {
             let k = joint_stiffness(ei, &balance.rest_length, j);
             let rest = g.kappa(j) - balance.moment[j] / k;
             let (u, w): (Vector3<f64>, Vector3<f64>) =
                 (g.frame[j].column(1).into(), g.frame[j].column(2).into());
-            let r = direction_of_curvature(rest.dot(&u), rest.dot(&w));
+            let r = if j == 0 {
+                let d = g.frame[0].transpose() * balance.root_dir;
+                RestDirection {
+                    t: d.x as f32,
+                    u: d.y as f32,
+                    w: d.z as f32,
+                }
+            } else {
+                direction_of_curvature(rest.dot(&u), rest.dot(&w))
+            };
             let r_new = Vector3::new(r.t, r.u, r.w).cast::<f64>();
             let r_old = Vector3::new(old[j].t, old[j].u, old[j].w).cast::<f64>();
             turn = turn.max(r_new.angle(&r_old));
