@@ -248,7 +248,11 @@ fn run_parity(count: u32, frames: (u32, u32), bend_stiffness: f32) -> ParityRun 
 /// in any frame. 2 N/m is the stiffness at which a strand of this scene, whipped by the head,
 /// bends over more than one segment (see `whipped_parity_strand_does_not_fold_at_one_vertex`);
 /// at the scene's 0.5 N/m a turn of more than 90° within one 9.4 cm segment is what such hair
-/// does, and the scene needs more segments or stiffer bending to show it smoothly.
+/// does, and the scene needs more segments or stiffer bending to show it smoothly. This reduced
+/// run also passes with the old chord spring (largest turn 63.3°, measured on main): the failure
+/// it guards against shows in the full scene (`parity_scene_full_run`: 72 hairpin points, up to
+/// 154.5°, with the chord spring at 2 N/m; none with the curvature bending) and in
+/// `whipped_parity_strand_does_not_fold_at_one_vertex`.
 #[test]
 fn parity_scene_folds_no_strand_into_a_hairpin() {
     let run = run_parity(500, (1, 13), 2.0);

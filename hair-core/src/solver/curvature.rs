@@ -73,8 +73,9 @@
 //!
 //! # Stability
 //!
-//! At small turns a joint's transverse stiffness on its points is `k_j / (l_{j−1} l_j)` (`k_b` on a
-//! uniform strand), which [`super::stability`] takes into its bound. It grows with the turn
+//! At small turns about a straight rest a joint's transverse stiffness on its points is
+//! `k_j / (l_{j−1} l_j)` (`k_b` on a uniform strand), more about a curved rest
+//! ([`transverse_stiffness`]), which [`super::stability`] takes into its bound. It grows with the turn
 //! (`d²E/dθ² = 8 k` at 90°), so a strand forced into sharp turns (by a collider, say) needs more
 //! substeps than the small-angle bound predicts; the runaway check stops a run that diverges.
 
@@ -141,17 +142,31 @@ pub fn joint_stiffness(ei: f64, rest_lengths: &[f32], j: usize) -> f64 {
 }
 
 /// Largest small-angle transverse stiffness of any joint of a strand, N/m:
-/// `k_j / min(l_{j−1}, l_j)²` (`k_b` on a uniformly segmented strand), for the stability bound.
-pub fn transverse_stiffness(bend_stiffness: f32, rest_lengths: &[f32]) -> f64 {
+/// `k_j (1 + |κ⁰_j|²/4)² / min(l_{j−1}, l_j)²` (`k_b` on a uniformly segmented straight strand),
+/// for the stability bound. About a rest turn `θ₀` the curvature changes by
+/// `δ|κ| = δθ / cos²(θ₀/2) = δθ (1 + |κ⁰|²/4)`, so the joint is stiffer by the square of that
+/// (1.69× at 1 rad per joint); the root joint measures the turn from its rest direction itself
+/// (factor 1).
+pub fn transverse_stiffness(
+    bend_stiffness: f32,
+    rest_lengths: &[f32],
+    rest: &[RestDirection],
+) -> f64 {
     let ei = rigidity(bend_stiffness, rest_lengths);
     (0..rest_lengths.len())
         .map(|j| {
-            let shortest = if j == 0 {
-                rest_lengths[0]
+            let (shortest, curved) = if j == 0 {
+                (rest_lengths[0], 1.0)
             } else {
-                rest_lengths[j - 1].min(rest_lengths[j])
-            } as f64;
-            joint_stiffness(ei, rest_lengths, j) / (shortest * shortest)
+                let (k_u, k_w) = rest_curvature(&rest[j]);
+                let quarter = 0.25 * (k_u as f64 * k_u as f64 + k_w as f64 * k_w as f64);
+                (
+                    rest_lengths[j - 1].min(rest_lengths[j]),
+                    (1.0 + quarter).powi(2),
+                )
+            };
+            let shortest = shortest as f64;
+            joint_stiffness(ei, rest_lengths, j) * curved / (shortest * shortest)
         })
         .fold(0.0, f64::max)
 }
@@ -195,6 +210,11 @@ mod tests {
             let k = joint_stiffness(ei, &l, j);
             assert!((k / (5.0 * l2) - 1.0).abs() < 1e-12, "{k}");
         }
-        assert!((transverse_stiffness(5.0, &l) / 5.0 - 1.0).abs() < 1e-12);
+        let straight = [RestDirection {
+            t: 1.0,
+            u: 0.0,
+            w: 0.0,
+        }; 8];
+        assert!((transverse_stiffness(5.0, &l, &straight) / 5.0 - 1.0).abs() < 1e-12);
     }
 }

@@ -44,11 +44,15 @@
 //!
 //! `A_{i−1}(μ_u, μ_w) + T_{i−1} t_{i−1} = P_i + A_i − Γ_i + Γ_{i+1} + τ_{i−1} − τ_i + T_i t_i`
 //!
-//! (the sideways part is carried by the joint's moment, the along-segment part by the tension),
+//! (the sideways part is carried by the joint's moment, the along-segment part by the tension);
+//! at the root joint, whose energy is `2 k_0 tan²(φ/2)` in the angle `φ` between the first
+//! segment and its rest direction `d_0` (see [`super::curvature`]), the sideways force fixes the
+//! plane and the size `dE/dφ = 2 k_0 τ (1 + τ²)`, `τ = tan(φ/2)`, a cubic solved by Newton
+//! (`root_rest_direction`),
 //! so a sweep from the tip (point `n − 1`) to the root gives every moment and tension exactly —
 //! "each segment carries what lies beyond it", with the couples and twists of this discrete
-//! model. The system is linear, so no Newton iteration is needed: the rest curvature enters the
-//! energy only through `m_j`. It is singular only for a segment folded straight back onto the
+//! model. Away from the root the system is linear, so no Newton iteration is needed there: the
+//! rest curvature enters the energy only through `m_j`. It is singular only for a segment folded straight back onto the
 //! previous one (`A` vanishes there), which is reported unbalanced. A kinematic point carries its
 //! own load: the joint before it keeps its groomed rest (`m = 0`) and the segment before it its
 //! rest length.

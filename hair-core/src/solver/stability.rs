@@ -5,7 +5,8 @@
 //! Curvature bending (`super::curvature`) couples three points across the strand: at small turns
 //! the turn at point j is `(δ_{j+1} − δ_j)/l − (δ_j − δ_{j−1})/l` for sideways displacements δ,
 //! with weights 1, 2, 1, so a row of its stiffness matrix sums to `16 k_t` in absolute value, with
-//! `k_t = k_j/l²` the joint's transverse stiffness (`k_b` on a uniformly segmented strand), against
+//! `k_t = k_j/l²` the joint's transverse stiffness (`k_b` on a uniformly segmented straight strand,
+//! `(1 + |κ⁰|²/4)²` times more about a rest curvature κ⁰), against
 //! `4 k_stretch` for stretch springs; the zig-zag mode across the strand reaches that. The bound
 //! takes `k = k_stretch + 4 k_t` with the largest `k_t` of any joint
 //! ([`super::curvature::transverse_stiffness`]; Gershgorin: it covers both directions). The
@@ -61,6 +62,7 @@ impl StabilityBound {
                     transverse_stiffness(
                         params.bend_stiffness,
                         &strands.rest_lengths()[strands.segments(s)],
+                        &strands.bend_rest()[strands.segments(s)],
                     )
                 })
                 .fold(0.0f64, f64::max)
