@@ -4,12 +4,13 @@
 //! Each segment `j` has a frame `(t_j, u_j, w_j)`: `t_j` its unit direction, `u_j` a normal carried
 //! down the strand by parallel transport (the minimal rotation taking `t_{j-1}` to `t_j`), and
 //! `w_j = t_j × u_j`. The frame before the first segment is the root frame (t = surface normal,
-//! u = tangent, w = bitangent), so the whole chain of frames turns with the head. A bending spring
-//! pulls point `j + 1` towards `x_j + l_j (a t_{j-1} + b u_{j-1} + c w_{j-1})`, where `(a, b, c)` is
-//! the [`RestDirection`] of segment `j`: its rest direction in its predecessor's rest frame. For the
-//! first segment that is "held to the rest direction in the root frame". Since that target turns
-//! with the frames before it, the solver applies the full gradient of the spring energy
-//! `½ k |x_j + l_j d_j − x_{j+1}|²`, reactions on the earlier points included (see the kernel).
+//! u = tangent, w = bitangent), so the whole chain of frames turns with the head. The
+//! [`RestDirection`] of segment `j`, `(a, b, c)`, is its rest direction in its predecessor's frame,
+//! `a t_{j-1} + b u_{j-1} + c w_{j-1}` (for the first segment: in the root frame); the solver
+//! bends the strand towards the rest curvature that turn describes
+//! ([`crate::solver::curvature`]). Since the frame turns with the segments before it, the solver
+//! applies the full gradient of the bending energy, forces on the earlier points included (see the
+//! kernel).
 //!
 //! Transport of a normal `u ⟂ t_prev` to `t_next` uses the closed form
 //! `u − (u·t_next)/(1 + t_prev·t_next) (t_prev + t_next)`, which is exactly the minimal rotation

@@ -295,10 +295,16 @@ impl StrandSet {
     }
 
     /// Mutable rest directions, for rest-state solvers such as sag-free initialisation
-    /// ([`crate::solver::sag_free`]). A rest direction need not be a unit vector: its length
-    /// scales the bending spring's target distance `l_j |r_j|`.
+    /// ([`crate::solver::sag_free`]). Only a rest direction's direction matters (it describes the
+    /// rest curvature, [`crate::solver::curvature`]); its length is ignored.
     pub fn bend_rest_mut(&mut self) -> &mut [RestDirection] {
         &mut self.bend_rest
+    }
+
+    /// Mutable segment rest lengths (m, > 0), for rest-state solvers such as sag-free
+    /// initialisation, which pre-stretches segments to carry the weight below them.
+    pub fn rest_lengths_mut(&mut self) -> &mut [f32] {
+        &mut self.rest_length
     }
 
     /// Checks every anchor against the scalp (mesh present, sample on a valid triangle).

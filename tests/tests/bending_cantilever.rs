@@ -1,14 +1,17 @@
-//! Bending springs: a horizontal cantilever sags as a beam and springs back, and a curved rest
+//! Curvature bending: a horizontal cantilever sags as a beam and springs back, and a curved rest
 //! shape is an exact equilibrium.
 //!
-//! Reference for the sag: a bending spring on segment j pulls its far end towards the rest
-//! direction in segment j − 1's frame and pushes back on segment j − 1, so joint j carries a
-//! bending moment `k_b l² θ_j` for a relative turn θ_j (small angles). Statics of everything
-//! outboard of joint j then gives `θ_j = M_j / (k_b l²)`, where `M_j = g Σ_{i>j} m_i (x_i − x_j)`
-//! is the moment of the weight beyond the joint about it: a discrete Euler–Bernoulli beam with
+//! Reference for the sag: joint j (the point between segments j − 1 and j) has the energy
+//! `½ k |κ_j − κ⁰_j|²` with `|κ| = 2 tan(θ/2)` for a relative turn θ_j and `k = EI/l = k_b l²`
+//! on this uniform strand (`hair_core::solver::curvature`), so it carries the moment
+//! `2 k tan(θ/2)/cos²(θ/2) = k θ_j (1 + θ_j²/4 + …)`. Statics of everything outboard of joint j
+//! then gives `θ_j = M_j / (k_b l²)` to first order, where `M_j = g Σ_{i>j} m_i (x_i − x_j)` is the
+//! moment of the weight beyond the joint about it: a discrete Euler–Bernoulli beam with
 //! `EI = k_b l³`. The tip deflection is `Σ_j l sin φ_j` with `φ_j = Σ_{k≤j} θ_k`; the continuous
 //! cantilever formula `ρ g L⁴ / 8 EI` is printed for comparison. Deflections are ~2 % of the
-//! length, so the first-order statics are good to a few 10⁻³; the test allows 2 %.
+//! length (the largest joint turns by ~3·10⁻³ rad, so the θ²/4 term is 2·10⁻⁶ of the moment), so
+//! the first-order statics are good to a few 10⁻³ (lever arms taken horizontal); the test allows
+//! 2 %.
 //!
 //! With gravity switched off the strand must return to its rest shape, and a helix released at its
 //! rest shape with gravity off must stay there (every spring is at rest: zero force).

@@ -7,6 +7,7 @@ use crate::frames::transport;
 use crate::mesh::RootFrame;
 use crate::strands::StrandSet;
 
+use super::curvature::{joint_stiffness, rest_curvature, rigidity, root_direction};
 use super::params::HairParams;
 
 /// Energy of a strand set by kind, J.
@@ -16,7 +17,7 @@ pub struct Energy {
     pub kinetic: f64,
     /// ½ k (len − rest)² of stretch springs.
     pub stretch: f64,
-    /// ½ k |target − x|² of bending springs.
+    /// ½ k_j |κ_j − κ⁰_j|² of the curvature bending (`super::curvature`).
     pub bend: f64,
     /// ½ k w |goal − x|² of goal springs.
     pub goal: f64,
@@ -79,6 +80,8 @@ pub fn strand_energy(
                 * (target - x[i]).cast::<f64>().norm_squared();
         }
     }
+    // Curvature bending (`super::curvature`), in the kernel's f32 transported frames.
+    let ei = rigidity(params.bend_stiffness, l0);
     let mut tp: Vector3<f32> = rot.column(2).into();
     let mut up: Vector3<f32> = rot.column(0).into();
     for j in 0..x.len() - 1 {
@@ -86,10 +89,27 @@ pub fn strand_energy(
         let len = d.norm();
         e.stretch += 0.5 * params.stretch_stiffness as f64 * ((len - l0[j]) as f64).powi(2);
         if params.bend_stiffness > 0.0 {
-            let dir = bend_rest[j].in_frame(&tp, &up, &tp.cross(&up));
-            let off = x[j] + dir * l0[j] - x[j + 1];
-            e.bend += 0.5 * params.bend_stiffness as f64 * off.cast::<f64>().norm_squared();
             let t = d / len;
+            let u = up.cast::<f64>();
+            // The root joint: the turn from the rest direction itself, against zero.
+            let (a, rest) = if j == 0 {
+                let d = root_direction(&bend_rest[0]);
+                let d = tp * d.x + up * d.y + tp.cross(&up) * d.z;
+                (d.cast::<f64>(), Vector3::zeros())
+            } else {
+                let a = tp.cast::<f64>();
+                let (k_u, k_w) = rest_curvature(&bend_rest[j]);
+                (a, u * k_u as f64 + a.cross(&u) * k_w as f64)
+            };
+            let b = t.cast::<f64>();
+            let c = 1.0 + a.dot(&b);
+            let kappa = if c > 1e-6 {
+                a.cross(&b) * (2.0 / c)
+            } else {
+                Vector3::zeros()
+            };
+            let k = joint_stiffness(ei, l0, j);
+            e.bend += 0.5 * k * (kappa - rest).norm_squared();
             up = transport(&up, &tp, &t);
             tp = t;
         }

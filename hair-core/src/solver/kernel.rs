@@ -4,7 +4,7 @@
 //! per step with the rest, and only points with a contact in some lane are visited).
 //!
 //! Strand `l` of the group lives in SIMD lane `l` ([`super::lanes`]), so every pass — the
-//! per-segment tangents, the sequential frame transport and twist sums of the bending springs,
+//! per-segment tangents, the sequential frame transport and twist sums of the curvature bending,
 //! the per-point updates and the damping sub-loop — advances eight strands per instruction, and
 //! the group's whole substep loop stays in L1. The group is gathered from the strand set once per
 //! step and scattered back after it. Lanes a group does not fill repeat its last strand and are
@@ -23,6 +23,7 @@ use crate::contacts::penalty::{respond, ContactLanes};
 use crate::frames::RestDirection;
 use crate::mesh::RootFrame;
 
+use super::curvature::{joint_stiffness, rest_curvature, rigidity, root_direction};
 use super::damping::damp_segments;
 use super::inextensible::{project, Inextensibility, ProjectionScratch};
 use super::lanes::{div_or_zero, splat, Lane, F8, LANES, Q4, V3};
@@ -128,8 +129,14 @@ pub(crate) struct Scratch<L: Lane> {
     goal_k: Vec<L>,
     /// Rest lengths per segment (unpadded), m.
     rest_length: Vec<L>,
-    /// Rest directions per segment (unpadded) as (t, u, w) components.
-    bend_rest: Vec<V3<L>>,
+    /// Joint stiffness per joint (unpadded, joint j before segment j), N·m
+    /// (`super::curvature::joint_stiffness`).
+    joint_k: Vec<L>,
+    /// Unit rest direction of the first segment in the root frame (t, u, w components).
+    root_rest: V3<L>,
+    /// Rest moment `k_j κ⁰_j` per joint (unpadded) as (unused, u, w) components in the previous
+    /// segment's frame, N·m.
+    rest_moment: Vec<V3<L>>,
     /// Points pinned in at least one lane.
     pinned: Vec<usize>,
     // Padded segment arrays (index j + 1 = segment j).
@@ -137,7 +144,6 @@ pub(crate) struct Scratch<L: Lane> {
     inv_len: Vec<L>,
     tension: Vec<L>,
     bend: Vec<V3<L>>,
-    dir: Vec<V3<L>>,
     react: Vec<V3<L>>,
     beta: Vec<V3<L>>,
     twist: Vec<L>,
@@ -195,7 +201,6 @@ impl<L: Lane> Scratch<L> {
         for buf in [
             &mut self.tangent,
             &mut self.bend,
-            &mut self.dir,
             &mut self.react,
             &mut self.beta,
         ] {
@@ -214,7 +219,8 @@ impl<L: Lane> Scratch<L> {
         refit(&mut self.free, n);
         refit(&mut self.goal_k, n);
         refit(&mut self.rest_length, n - 1);
-        refit(&mut self.bend_rest, n - 1);
+        refit(&mut self.joint_k, n - 1);
+        refit(&mut self.rest_moment, n - 1);
         let lanes3 = |f: &dyn Fn(&StrandView) -> Vector3<f32>| {
             V3::from_lanes(&std::array::from_fn(|l| gather(views, l, f)))
         };
@@ -234,12 +240,24 @@ impl<L: Lane> Scratch<L> {
                 }
             });
         }
+        if c.bend > 0.0 {
+            let rigidity: [f64; LANES] =
+                std::array::from_fn(|l| gather(views, l, |s| rigidity(c.bend, s.rest_length)));
+            for j in 0..n - 1 {
+                let k: [f32; LANES] = std::array::from_fn(|l| {
+                    let s = &views[l.min(views.len() - 1)];
+                    joint_stiffness(rigidity[l], s.rest_length, j) as f32
+                });
+                self.joint_k[j] = L::new(k);
+                self.rest_moment[j] = V3::from_lanes(&std::array::from_fn(|l| {
+                    let (k_u, k_w) = rest_curvature(&gather(views, l, |s| s.bend_rest[j]));
+                    Vector3::new(0.0, k[l] * k_u, k[l] * k_w)
+                }));
+            }
+        }
+        self.root_rest = lanes3(&|s| root_direction(&s.bend_rest[0]));
         for j in 0..n - 1 {
             self.rest_length[j] = lanes1(&|s| s.rest_length[j]);
-            self.bend_rest[j] = lanes3(&|s| {
-                let d = s.bend_rest[j];
-                Vector3::new(d.t, d.u, d.w)
-            });
             if c.damp_fraction > 0.0 {
                 let w = lanes1(&|s| s.inv_mass[j] + s.inv_mass[j + 1]);
                 self.damp_coef[j + 1] = div_or_zero(splat(c.damp_fraction), w, 0.0);
@@ -408,11 +426,7 @@ pub(crate) fn step_group<L: Lane>(
     g.fit(views, starts, ends, c);
     let n = views[0].x.len();
     let (dt, inv_dt) = (splat(c.dt), splat(1.0 / c.dt));
-    let (k_stretch, k_bend, drag) = (
-        splat::<L>(c.stretch),
-        splat::<L>(c.bend),
-        splat::<L>(c.drag),
-    );
+    let (k_stretch, drag) = (splat::<L>(c.stretch), splat::<L>(c.drag));
     let gravity = V3::splat(&c.gravity);
     let needs_targets = c.goal > 0.0;
     let explicit = c.integrator == Integrator::ExplicitEuler;
@@ -447,53 +461,61 @@ pub(crate) fn step_group<L: Lane>(
             g.tension[j + 1] = k_stretch * (len - g.rest_length[j]);
         }
 
-        // Bending springs: the previous segment's frame is carried down the strand from the root
-        // frame by parallel transport, pulling point j + 1 towards its rest direction d_j in that
-        // frame with f_j = k (x_j + l_j d_j − x_{j+1}).
+        // Bending: the curvature energy of `super::curvature`. The previous segment's frame is
+        // carried down the strand from the root frame by parallel transport; joint i − 1 (between
+        // tangents a = t_{i−2}, or the root normal, and b = t_{i−1}) has the curvature binormal
+        // κ = 2β, β = a × b χ, χ = 1/(1 + a·b), and the moment m = k (κ − K) against its rest
+        // curvature K in that frame. Its gradient in the tangent planes of b and a,
+        // g_b = 2χ m × a − μ (a + b) and g_a = 2χ b × m − μ (a + b) with μ = χ m·κ, acts as
+        // −g_b/len on point i (+ on i − 1) and −g_a/len_prev on point i − 1 (+ on i − 2; the root
+        // frame is kinematic and takes none).
         //
-        // The forces are the exact gradient of the spring energy
-        // E_j = ½ k |x_j + l_j d_j − x_{j+1}|² (what `energy` reports), so bending neither creates
-        // nor destroys energy. Besides f_j on x_{j+1} and −f_j on x_j: d_j turns with frame j − 1,
-        // whose rotation under a change of the tangents is `t_{j−1} × δt_{j−1}` plus a twist about
-        // t_{j−1} that parallel transport accumulates from the root,
-        // `ψ_k = −Σ_{i≤k} β_i·(δt_{i−1} + δt_i)` with `β_i = t_{i−1} × t_i / (1 + t_{i−1}·t_i)`
-        // (the holonomy of the reference twist in Bergou et al. 2008). With `c_j = l_j d_j × f_j`
-        // and `s_j = t_{j−1}·c_j` (the spring's twisting torque), the energy gradient with respect
-        // to tangent t_m is `G_m = c_{m+1} × t_m − β_m S_m − β_{m+1} S_{m+1}`, `S_m = Σ_{j>m} s_j`,
-        // applied as −G_m/len_m on x_{m+1} and +G_m/len_m on x_m. Its first term is the opposite
-        // couple on the previous segment; without these terms the springs exert a net torque and
-        // an undamped strand gains energy (flutter). The root frame (t_{−1}) is kinematic and
-        // takes no reaction. A segment folded straight back has no transport: β = 0 there.
+        // K turns with the transported frame, which turns with every earlier tangent: under a
+        // change of the tangents frame i − 1 rotates by `a × δa` (no work: the torque m × K =
+        // m × κ lies along a) plus a twist about a that parallel transport accumulates from the
+        // root, `ψ_k = −Σ_{i≤k} β_i·(δt_{i−1} + δt_i)` (the holonomy of the reference twist in
+        // Bergou et al. 2008). With the twisting torque `s_i = a·(m × κ)` and `S_m = Σ_{j>m} s_j`,
+        // the tangent t_m gets the gradient `−β_m S_m − β_{m+1} S_{m+1}`, applied as −G/len_m on
+        // x_{m+1} and +G/len_m on x_m. These are the exact energy gradient (what `energy`
+        // reports), so bending neither creates nor destroys energy; without the twist terms an
+        // undamped strand gains energy (flutter). A segment folded straight back has χ = 0: no
+        // curvature, no transport, no force.
         //
         // The bending array ends up holding, per segment, the force its far point receives (its
-        // near point gets the opposite).
+        // near point gets the opposite); `react` the force of joint i − 1 on the far point of the
+        // segment before it.
         if c.bend > 0.0 {
             let root_t = rot_now.cols[2];
             let mut tp = root_t;
             let mut up = rot_now.cols[0];
-            for j in 0..n - 1 {
-                let r = g.bend_rest[j];
-                g.dir[j + 1] = tp * r.x + up * r.y + tp.cross(&up) * r.z;
-                let t = g.tangent[j + 1];
+            let (one, two) = (splat::<L>(1.0), splat::<L>(2.0));
+            // The root joint measures the turn from the rest direction in the root frame itself
+            // (a hanging strand's first segment may turn 180° from the normal at rest, which no
+            // curvature can hold); the root frame is kinematic, so it takes no reaction.
+            let r = g.root_rest;
+            let root_dir = tp * r.x + up * r.y + tp.cross(&up) * r.z;
+            for i in 1..n {
+                let inv_len_prev = if i == 1 { zero } else { g.inv_len[i - 1] };
+                let t = g.tangent[i];
+                let chi = div_or_zero(one, one + tp.dot(&t), 1e-6);
+                let beta = tp.cross(&t) * chi;
+                let (a, chi_e, beta_e, m) = if i == 1 {
+                    let chi_e = div_or_zero(one, one + root_dir.dot(&t), 1e-6);
+                    let beta_e = root_dir.cross(&t) * chi_e;
+                    (root_dir, chi_e, beta_e, beta_e * (two * g.joint_k[0]))
+                } else {
+                    let rest = g.rest_moment[i - 1];
+                    let m = beta * (two * g.joint_k[i - 1]) - up * rest.y - tp.cross(&up) * rest.z;
+                    (tp, chi, beta, m)
+                };
+                let two_chi = two * chi_e;
+                let sum = (a + t) * (two_chi * m.dot(&beta_e));
+                g.bend[i] = (sum - m.cross(&a) * two_chi) * g.inv_len[i];
+                g.react[i] = (t.cross(&m) * two_chi - sum) * inv_len_prev;
+                g.twist[i] = two * tp.dot(&m.cross(&beta_e));
+                g.beta[i] = beta;
                 up = transport(&up, &tp, &t);
                 tp = t;
-            }
-            for i in 1..n {
-                let (t_prev, inv_len_prev) = if i == 1 {
-                    (root_t, zero)
-                } else {
-                    (g.tangent[i - 1], g.inv_len[i - 1])
-                };
-                let l = g.rest_length[i - 1];
-                let d = g.dir[i];
-                let f = (g.x[i - 1] + d * l - g.x[i]) * k_bend;
-                g.bend[i] = f;
-                let couple = d.cross(&f) * l;
-                g.twist[i] = t_prev.dot(&couple);
-                g.react[i] = couple.cross(&t_prev) * inv_len_prev;
-                let t = g.tangent[i];
-                g.beta[i] = t_prev.cross(&t)
-                    * div_or_zero(splat(1.0), splat::<L>(1.0) + t_prev.dot(&t), 1e-6);
             }
             // Suffix sums in place: twist[i] becomes S for segment i − 1 (sum over i' > i).
             let mut acc = zero;

@@ -14,8 +14,9 @@
 //! semi-implicit Euler, `v += dt·a(x, v); x += dt·v`, with:
 //!
 //! - stretch springs between neighbours (N/m),
-//! - bending springs towards the rest direction in the previous segment's frame (see
-//!   [`crate::frames`]); the root frame precedes segment 0, holding it to the scalp,
+//! - bending: the discrete curvature at each point against its rest curvature in the previous
+//!   segment's parallel-transported frame ([`curvature`], [`crate::frames`]); the root frame
+//!   precedes segment 0, holding it to the scalp,
 //! - goal springs towards the animated rest position, weighted per point,
 //! - gravity and linear air drag,
 //! - the step's external acceleration (force fields, hair–hair repulsion), if any.
@@ -39,6 +40,7 @@
 //! [`HairError::Unstable`] naming the frame, the strand and the bound, before a bad frame can be
 //! written anywhere.
 
+pub mod curvature;
 mod damping;
 pub mod energy;
 mod f32_lanes;

@@ -15,7 +15,9 @@ pub struct HairParams {
     pub gravity: [f32; 3],
     /// Stretch spring stiffness between neighbouring points, N/m.
     pub stretch_stiffness: f32,
-    /// Bending spring stiffness towards the rest direction in the previous segment's frame, N/m.
+    /// Bending stiffness `k_b`, N/m: a strand's bending rigidity is `EI = k_b l̄³` (N·m²) with `l̄`
+    /// its mean rest segment length, so a uniformly segmented strand resists a small turn `θ` at
+    /// a point with the moment `k_b l² θ` (see [`super::curvature`]).
     pub bend_stiffness: f32,
     /// Goal spring stiffness towards the animated rest position, N/m (scaled by goal weight).
     pub goal_stiffness: f32,

@@ -2,14 +2,19 @@
 //!
 //! For a chain of springs of stiffness `k` between point masses `m`, the highest normal mode has
 //! angular frequency `ω ≈ 2·sqrt(k/m)`; semi-implicit Euler is stable only for `dt < 2/ω`.
-//! A bending spring also acts along its segment (like a stretch spring), but across the strand it
-//! couples three points (`x_{j+1} − x_j − l t_{j−1}` involves `x_{j−1}`, `x_j`, `x_{j+1}` with
-//! weights 1, 2, 1): a row of its stiffness matrix sums to `16 k_bend` in absolute value against
-//! `4 k_stretch` for stretch springs, and the zig-zag mode across the strand reaches that. The
-//! bound takes `k = k_stretch + 4 k_bend` (Gershgorin: it covers both directions). On a curved rest
-//! shape the bending forces also carry the twist of the transported frames, which this estimate
-//! leaves out: for a very curly, bend-dominated strand (1 rad per segment, `k_bend = 10 k_stretch`)
-//! semi-implicit Euler was measured to fail at 0.96 × the bound, inside `auto`'s margin. A goal
+//! Curvature bending (`super::curvature`) couples three points across the strand: at small turns
+//! the turn at point j is `(δ_{j+1} − δ_j)/l − (δ_j − δ_{j−1})/l` for sideways displacements δ,
+//! with weights 1, 2, 1, so a row of its stiffness matrix sums to `16 k_t` in absolute value, with
+//! `k_t = k_j/l²` the joint's transverse stiffness (`k_b` on a uniformly segmented straight strand,
+//! `(1 + |κ⁰|²/4)²` times more about a rest curvature κ⁰), against
+//! `4 k_stretch` for stretch springs; the zig-zag mode across the strand reaches that. The bound
+//! takes `k = k_stretch + 4 k_t` with the largest `k_t` of any joint
+//! ([`super::curvature::transverse_stiffness`]; Gershgorin: it covers both directions). The
+//! curvature energy stiffens as a joint bends (8× at a 90° turn), and on a curved rest shape the
+//! bending forces also carry the twist of the transported frames, both of which this
+//! small-angle estimate leaves out: for a very curly, bend-dominated strand (1 rad per segment,
+//! `k_bend = 10 k_stretch`) the chord-spring bending this bound was first written for was
+//! measured to fail at 0.96 × the bound, inside `auto`'s margin. A goal
 //! spring ties a point to a fixed target and adds `k_goal/m` to `ω²`. The lightest free point
 //! (usually a tip, which carries half a segment) sets the bound. `auto` picks the smallest
 //! substep count whose `dt` is below [`AUTO_SAFETY`] times the bound.
@@ -19,6 +24,7 @@
 
 use crate::strands::StrandSet;
 
+use super::curvature::transverse_stiffness;
 use super::params::HairParams;
 
 /// Fraction of the bound `2/ω` that `substeps = "auto"` aims for.
@@ -31,7 +37,8 @@ pub struct StabilityBound {
     pub omega: f64,
     /// Largest stable substep 2/ω, s (infinite when no spring acts).
     pub dt_max: f64,
-    /// Effective stiffness between neighbours, stretch + 4 × bend (see the module docs), N/m.
+    /// Effective stiffness between neighbours, stretch + 4 × the largest transverse bending
+    /// stiffness (`k_bend` on uniformly segmented strands; see the module docs), N/m.
     pub stiffness: f64,
     /// Lightest free point, kg.
     pub min_mass: f64,
@@ -49,7 +56,20 @@ impl StabilityBound {
             .goal_weights()
             .iter()
             .fold(0.0f64, |a, &w| a.max(w as f64));
-        let k = params.stretch_stiffness as f64 + 4.0 * params.bend_stiffness as f64;
+        let bend = if params.bend_stiffness > 0.0 {
+            (0..strands.len())
+                .map(|s| {
+                    transverse_stiffness(
+                        params.bend_stiffness,
+                        &strands.rest_lengths()[strands.segments(s)],
+                        &strands.bend_rest()[strands.segments(s)],
+                    )
+                })
+                .fold(0.0f64, f64::max)
+        } else {
+            0.0
+        };
+        let k = params.stretch_stiffness as f64 + 4.0 * bend;
         let omega2 = if min_mass.is_finite() {
             (4.0 * k + params.goal_stiffness as f64 * max_goal) / min_mass
         } else {
