@@ -194,3 +194,38 @@ fn a_time_outside_the_stage_range_is_refused_naming_the_range() {
     .to_string();
     assert!(err.contains("time 40") && err.contains("1 to 11"), "{err}");
 }
+
+#[test]
+fn a_blender_groom_with_an_object_transform_lands_where_blender_puts_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("blender.usdc");
+    let exp_file = dir.path().join("blender.txt");
+    python("blender_groom_fixture.py", &[&file, &exp_file]);
+    let want: Vec<f64> = std::fs::read_to_string(&exp_file)
+        .unwrap()
+        .split_whitespace()
+        .map(|v| v.parse().unwrap())
+        .collect();
+    // Blender writes its hair object as /root/<object>/<data>; read that prim by path.
+    let read = read_usd(
+        &file,
+        &UsdReadOptions {
+            prim: Some("/root/hair".into()),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(read.prims, ["/root/hair/groom"]);
+    // Pinned Catmull-Rom curves read as their points.
+    let counts: Vec<usize> = read.groom.curves().iter().map(Vec::len).collect();
+    assert_eq!(counts, [4, 3]);
+    for (i, p) in read.groom.curves().iter().flatten().enumerate() {
+        for k in 0..3 {
+            assert!(
+                (f64::from(p[k]) - want[3 * i + k]).abs() < 1e-6,
+                "point {i}: {p:?} vs {:?}",
+                &want[3 * i..3 * i + 3]
+            );
+        }
+    }
+}

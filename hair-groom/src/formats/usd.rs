@@ -34,7 +34,7 @@
 //! of defence: `tests::corrupted_usdc_is_an_error_not_a_panic` pins it).
 //!
 //! # Writing
-//! [`write_usd`] writes one linear `BasisCurves` prim `/hair` with the stage's `upAxis` and
+//! [`write_usda`] writes one linear `BasisCurves` prim `/hair` with the stage's `upAxis` and
 //! `metersPerUnit` from the options, as `.usda` or `.usdc` by the extension; write → read is
 //! bit-exact (f32 values are stored as they are, or printed as the shortest decimal that reads
 //! back to them).
@@ -108,8 +108,8 @@ pub fn read_usd(path: &Path, opts: &UsdReadOptions) -> Result<UsdCurves, GroomEr
         )
     })?;
     // `openusd` indexes tables with values from the file and may panic on a corrupt one; a
-    // panic must not take the host down (see the module docs). Silence the default hook's
-    // message for the duration: the error below says it.
+    // panic must not take the host down (see the module docs). The panic hook still prints
+    // its message; the error below names the file.
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         read_stage(path, name, opts)
     }));
@@ -174,6 +174,8 @@ pub fn write_usda(path: &Path, groom: &Groom, opts: &ImportOptions) -> Result<()
         root_uv: None,
         colors: None,
         extent: true,
+        uniform_floats: Vec::new(),
+        uniform_ints: Vec::new(),
     });
     layer.set_default_prim("hair");
     layer.write(path).map_err(|e| match e {

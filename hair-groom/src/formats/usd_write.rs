@@ -44,6 +44,8 @@ pub enum Samples {
     Default(Vec<f32>),
     /// `(time code, flat components)` in increasing time.
     Times(Vec<(f64, Vec<f32>)>),
+    /// A default value (what a reader gets without a time) and time samples.
+    DefaultAndTimes(Vec<f32>, Vec<(f64, Vec<f32>)>),
 }
 
 impl Samples {
@@ -52,6 +54,9 @@ impl Samples {
         match self {
             Samples::Default(v) => vec![v.as_slice()],
             Samples::Times(t) => t.iter().map(|(_, v)| v.as_slice()).collect(),
+            Samples::DefaultAndTimes(v, t) => std::iter::once(v.as_slice())
+                .chain(t.iter().map(|(_, v)| v.as_slice()))
+                .collect(),
         }
     }
 }
@@ -75,6 +80,10 @@ pub struct UsdCurvesPrim<'a> {
     pub colors: Option<Vec<f32>>,
     /// Write `extent` (bounds of the points, per time sample when they are sampled).
     pub extent: bool,
+    /// More per-curve `float` primvars (`uniform`): `(name without "primvars:", values)`.
+    pub uniform_floats: Vec<(&'a str, Vec<f32>)>,
+    /// More per-curve `int` primvars (`uniform`): `(name without "primvars:", values)`.
+    pub uniform_ints: Vec<(&'a str, Vec<i32>)>,
 }
 
 /// A polygon `Mesh` prim at the root of the layer.
@@ -211,6 +220,26 @@ impl UsdLayer {
                 "primvars:displayColor",
                 "color3f[]",
                 Value::Vec3fVec(vec3(rgb)),
+                false,
+                Some("uniform"),
+            );
+        }
+        for (name, v) in &c.uniform_floats {
+            let name = format!("primvars:{name}");
+            attr(
+                &name,
+                "float[]",
+                Value::FloatVec(v.clone()),
+                false,
+                Some("uniform"),
+            );
+        }
+        for (name, v) in &c.uniform_ints {
+            let name = format!("primvars:{name}");
+            attr(
+                &name,
+                "int[]",
+                Value::IntVec(v.clone()),
                 false,
                 Some("uniform"),
             );
@@ -359,8 +388,15 @@ impl UsdLayer {
         if let Some(i) = interpolation {
             spec.add("interpolation", Value::token(i));
         }
+        // `sampled` pairs a default with time samples as a two-element `ValueVec`.
         match value {
             Value::TimeSamples(t) => spec.add(FieldKey::TimeSamples, Value::TimeSamples(t)),
+            Value::ValueVec(mut pair) if pair.len() == 2 => {
+                let times = pair.pop().unwrap_or(Value::None);
+                let default = pair.pop().unwrap_or(Value::None);
+                spec.add(FieldKey::Default, default);
+                spec.add(FieldKey::TimeSamples, times);
+            }
             v => spec.add(FieldKey::Default, v),
         }
     }
@@ -398,28 +434,27 @@ fn vec2(flat: &[f32]) -> Vec<gf::Vec2f> {
         .collect()
 }
 
-/// A `float3[]` attribute value (default or time samples).
-fn vec3_samples(s: &Samples) -> Value {
+/// An attribute's value: each array of `s` through `one`, as a default, time samples, or both
+/// (a `Value::TimeSamples` wrapping the default first, split again by the layer).
+fn sampled(s: &Samples, one: impl Fn(&[f32]) -> Value) -> Value {
+    let times = |t: &[(f64, Vec<f32>)]| {
+        Value::TimeSamples(t.iter().map(|(time, v)| (*time, one(v))).collect())
+    };
     match s {
-        Samples::Default(v) => Value::Vec3fVec(vec3(v)),
-        Samples::Times(t) => Value::TimeSamples(
-            t.iter()
-                .map(|(time, v)| (*time, Value::Vec3fVec(vec3(v))))
-                .collect(),
-        ),
+        Samples::Default(v) => one(v),
+        Samples::Times(t) => times(t),
+        Samples::DefaultAndTimes(v, t) => Value::ValueVec(vec![one(v), times(t)]),
     }
 }
 
-/// A `float[]` attribute value (default or time samples).
+/// A `float3[]` attribute value.
+fn vec3_samples(s: &Samples) -> Value {
+    sampled(s, |v| Value::Vec3fVec(vec3(v)))
+}
+
+/// A `float[]` attribute value.
 fn float_samples(s: &Samples) -> Value {
-    match s {
-        Samples::Default(v) => Value::FloatVec(v.clone()),
-        Samples::Times(t) => Value::TimeSamples(
-            t.iter()
-                .map(|(time, v)| (*time, Value::FloatVec(v.clone())))
-                .collect(),
-        ),
-    }
+    sampled(s, |v| Value::FloatVec(v.to_vec()))
 }
 
 /// `extent` of points (grown by half the largest width when given), per time sample.
@@ -457,10 +492,5 @@ fn extent_samples(points: &Samples, widths: Option<&Samples>) -> Value {
             },
         ])
     };
-    match points {
-        Samples::Default(v) => bounds(v),
-        Samples::Times(t) => {
-            Value::TimeSamples(t.iter().map(|(time, v)| (*time, bounds(v))).collect())
-        }
-    }
+    sampled(points, bounds)
 }
