@@ -492,5 +492,15 @@ fn extent_samples(points: &Samples, widths: Option<&Samples>) -> Value {
             },
         ])
     };
-    sampled(points, bounds)
+    match points {
+        // The default extent bounds every sample (a reader without a time sees them all).
+        Samples::DefaultAndTimes(_, t) => {
+            let all: Vec<f32> = points.arrays().concat();
+            Value::ValueVec(vec![
+                bounds(&all),
+                sampled(&Samples::Times(t.clone()), bounds),
+            ])
+        }
+        _ => sampled(points, bounds),
+    }
 }
