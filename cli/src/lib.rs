@@ -3,6 +3,7 @@
 //! Scenes, runs, sessions and exports are the [`hairsys`] library's.
 
 pub mod bench;
+pub mod cache_export;
 pub mod cards;
 pub mod output;
 pub mod progress;

@@ -314,6 +314,18 @@ enum CacheCommand {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Write a whole run (or `--frames A-B` of it) as ONE animated USD file: the strands as a
+    /// BasisCurves with points and velocities per frame, widths, and the scalp mesh.
+    Export {
+        /// Cache file (MCAP).
+        file: PathBuf,
+        /// Output file: .usdc (binary) or .usda (text).
+        #[arg(short, long)]
+        out: PathBuf,
+        /// Frames FIRST-LAST (or one frame N) to write; default every cached frame.
+        #[arg(long, value_parser = parse_range)]
+        frames: Option<(u32, u32)>,
+    },
     /// Recover every complete frame of a broken cache (e.g. the CACHE.partial of a killed run)
     /// into a complete cache, and say what was lost.
     Recover {
@@ -460,6 +472,9 @@ fn main() -> ExitCode {
         Command::Cache {
             command: CacheCommand::Recover { broken, fixed },
         } => report(recover(&broken, &fixed)),
+        Command::Cache {
+            command: CacheCommand::Export { file, out, frames },
+        } => report(hairsys_cli::cache_export::run(&file, &out, frames).map_err(Failure::input)),
         Command::RenderChildren {
             command: RenderCommand::Export(args),
         } => report(export_children(*args, budget)),
@@ -686,7 +701,7 @@ fn report(result: Result<(), Failure>) -> i32 {
 /// The format `out`'s extension names, or `None` for another extension.
 fn format_of(out: &Path) -> Option<FormatArg> {
     match out.extension()?.to_str()?.to_ascii_lowercase().as_str() {
-        "usda" => Some(FormatArg::Usd),
+        "usda" | "usdc" => Some(FormatArg::Usd),
         "hair" => Some(FormatArg::Hair),
         _ => None,
     }
@@ -722,14 +737,12 @@ fn export_format(format: Option<FormatArg>, out: &Path) -> Result<Format, Failur
         }
         (None, None) => {
             let hint = match ext.as_deref() {
-                Some("usdc" | "usd" | "usdz") => {
-                    " (binary USD is not supported yet: write .usda text, which every USD reader opens)"
-                }
-                Some("abc") => " (Alembic is not supported: write .usda)",
+                Some("usd" | "usdz") => " (write .usdc for binary USD, or .usda text)",
+                Some("abc") => " (Alembic is not supported: write .usdc or .usda)",
                 _ => "",
             };
             return Err(Failure::input(format!(
-                "-o {}: unknown output extension{hint}; use .usda (USD BasisCurves) or .hair",
+                "-o {}: unknown output extension{hint}; use .usdc/.usda (USD BasisCurves) or .hair",
                 out.display()
             )));
         }

@@ -222,9 +222,16 @@ fn export_extension_picks_the_format_and_a_mismatch_is_refused() {
     let o = run(&["-o", "a.abc"]);
     assert_eq!(code(&o), 2);
     assert!(!dir.join("a.abc").exists());
-    let o = run(&["-o", "a.usdc"]);
+    let o = run(&["-o", "a.usdz"]);
     assert_eq!(code(&o), 2);
-    assert!(stderr(&o).contains(".usda"), "{}", stderr(&o));
+    assert!(stderr(&o).contains(".usdc"), "{}", stderr(&o));
+    // Binary USD is written (issue 16): a crate file.
+    let o = run(&["-o", "a.usdc", "--quiet"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_eq!(
+        &std::fs::read(dir.join("a.usdc")).unwrap()[..8],
+        b"PXR-USDC"
+    );
     let o = run(&["--format", "hair", "-o", "a.usda"]);
     assert_eq!(code(&o), 2);
     assert!(!dir.join("a.usda").exists());

@@ -6,7 +6,7 @@
 //! handed to `hair-core` directly ([`generate()`]), and the guide workflow:
 //!
 //! 1. a [`Groom`] (world-space curves, m, Z up) read from a file ([`read_groom`]: Cem Yuksel
-//!    `.hair`, TressFX `.tfx`, OBJ polylines, USD `BasisCurves` `.usda`, with [`ImportOptions`]
+//!    `.hair`, TressFX `.tfx`, OBJ polylines, USD `BasisCurves` (`.usd`, `.usda`, `.usdc`, `.usdz`), with [`ImportOptions`]
 //!    for unit scale and up axis) and summarised by [`groom_info`];
 //! 2. [`Guide`]s — a root [`hair_core::MeshSample`] and a rest shape in the root frame — from
 //!    [`snap_to_scalp`] (roots moved to the nearest scalp point, distances reported, far roots
@@ -66,7 +66,7 @@ pub use formats::hair::{read_hair, write_hair};
 pub use formats::obj::{load_obj, load_obj_vertex_colors, ObjOptions, UpAxis};
 pub use formats::obj_curves::{read_obj_curves, write_obj_curves};
 pub use formats::tfx::{read_tfx, write_tfx};
-pub use formats::usd::{read_usda, write_usda};
+pub use formats::usd::{read_usd, read_usda, write_usda, UsdCurves, UsdReadOptions};
 pub use formats::{read_groom, write_groom, GroomFormat, ImportOptions};
 pub use generate::{generate, GenerateOptions};
 pub use groom::{groom_info, Groom, GroomInfo};

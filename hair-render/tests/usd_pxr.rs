@@ -153,19 +153,22 @@ fn usda_with_time_samples_opens_in_pixar_usd() {
         },
     ];
     let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("children.usda");
-    let opts = UsdOptions {
-        time_code: 12.0,
-        ..Default::default()
-    };
-    export_usda(&path, &frame, &Motion::TimeSamples(&samples), &opts).unwrap();
-    assert!(!dir.path().join("children.usda.partial").exists());
-    let exp = expected(
-        &frame,
-        &[(11.75, &before), (12.0, &frame), (12.25, &after)],
-        None,
-    );
-    run_checker(&path, &exp);
+    // Text, and binary through the openusd layer writer (issue 16).
+    for ext in ["usda", "usdc"] {
+        let path = dir.path().join(format!("children.{ext}"));
+        let opts = UsdOptions {
+            time_code: 12.0,
+            ..Default::default()
+        };
+        export_usda(&path, &frame, &Motion::TimeSamples(&samples), &opts).unwrap();
+        assert!(!dir.path().join(format!("children.{ext}.partial")).exists());
+        let exp = expected(
+            &frame,
+            &[(11.75, &before), (12.0, &frame), (12.25, &after)],
+            None,
+        );
+        run_checker(&path, &exp);
+    }
 }
 
 #[test]
@@ -183,18 +186,20 @@ fn usda_with_velocities_and_without_uvs_opens_in_pixar_usd() {
         v[0]
     );
     let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("children.usda");
-    export_usda(
-        &path,
-        &frame,
-        &Motion::Velocities(&v),
-        &UsdOptions {
-            time_code: 12.0,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    run_checker(&path, &expected(&frame, &[], Some(&v)));
+    for ext in ["usda", "usdc"] {
+        let path = dir.path().join(format!("children.{ext}"));
+        export_usda(
+            &path,
+            &frame,
+            &Motion::Velocities(&v),
+            &UsdOptions {
+                time_code: 12.0,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        run_checker(&path, &expected(&frame, &[], Some(&v)));
+    }
 }
 
 #[test]

@@ -41,6 +41,7 @@ pub mod budget;
 pub mod cards;
 pub mod children;
 pub mod error;
+pub mod export_shot;
 pub mod groom_input;
 pub mod preview;
 pub mod quality;

@@ -3,7 +3,8 @@
 //!
 //! Groom formats read into a [`crate::Groom`]: [`hair`] (Cem Yuksel's `.hair`, read and write),
 //! [`tfx`] (AMD TressFX `.tfx`, read and write), [`obj_curves`] (OBJ polylines, read and write)
-//! and [`usd`] (USD `BasisCurves` in `.usda` text, read and write). They all take
+//! and [`usd`] (USD `BasisCurves` from a composed `.usd`/`.usda`/`.usdc`/`.usdz` stage, read;
+//! `.usda`/`.usdc`, written through [`usd_write`]). They all take
 //! [`ImportOptions`]: meters per file unit and the file's up axis; writers apply the inverse, so
 //! a groom written with the options it was read with gives back the file's numbers.
 //! [`read_groom`] and [`write_groom`] pick the format from the file's extension.
@@ -13,6 +14,7 @@ pub mod obj;
 pub mod obj_curves;
 pub mod tfx;
 pub mod usd;
+pub mod usd_write;
 
 use std::path::Path;
 
@@ -36,8 +38,8 @@ pub enum GroomFormat {
     Tfx,
     /// OBJ polylines `.obj`.
     ObjCurves,
-    /// USD text `.usda`.
-    Usda,
+    /// USD: `.usd`, `.usda`, `.usdc`, `.usdz` (read; `.usda` and `.usdc` written).
+    Usd,
 }
 
 impl GroomFormat {
@@ -52,19 +54,21 @@ impl GroomFormat {
             Some("hair") => Ok(Self::Hair),
             Some("tfx") => Ok(Self::Tfx),
             Some("obj") => Ok(Self::ObjCurves),
-            Some("usda") => Ok(Self::Usda),
+            Some("usd" | "usda" | "usdc" | "usdz") => Ok(Self::Usd),
             _ => Err(bad(
                 path,
                 FileLocation::File,
                 "has an extension that names no groom format: use .hair, .tfx, .obj (polylines) \
-                 or .usda (BasisCurves)",
+                 or .usd/.usda/.usdc/.usdz (BasisCurves)",
             )),
         }
     }
 }
 
 /// Reads the groom file at `path` in the format its extension names ([`GroomFormat::of`]), in
-/// meters, Z up (`opts`: the file's unit scale and up axis).
+/// meters, Z up (`opts`: the file's unit scale and up axis; for USD they replace the stage's
+/// `metersPerUnit` and `upAxis`: use [`usd::read_usd`] to take the stage's, pick prims or a
+/// time).
 pub fn read_groom(path: &Path, opts: &ImportOptions) -> Result<Groom, GroomError> {
     // What the path is comes before what its name says: "is a directory" is the clearer error.
     input_file::check_regular_file(path)?;
@@ -72,7 +76,7 @@ pub fn read_groom(path: &Path, opts: &ImportOptions) -> Result<Groom, GroomError
         GroomFormat::Hair => hair::read_hair(path, opts),
         GroomFormat::Tfx => tfx::read_tfx(path, opts),
         GroomFormat::ObjCurves => obj_curves::read_obj_curves(path, opts),
-        GroomFormat::Usda => usd::read_usda(path, opts),
+        GroomFormat::Usd => usd::read_usda(path, opts),
     }
 }
 
@@ -83,7 +87,7 @@ pub fn write_groom(path: &Path, groom: &Groom, opts: &ImportOptions) -> Result<(
         GroomFormat::Hair => hair::write_hair(path, groom, opts),
         GroomFormat::Tfx => tfx::write_tfx(path, groom, opts),
         GroomFormat::ObjCurves => obj_curves::write_obj_curves(path, groom, opts),
-        GroomFormat::Usda => usd::write_usda(path, groom, opts),
+        GroomFormat::Usd => usd::write_usda(path, groom, opts),
     }
 }
 
@@ -243,7 +247,7 @@ mod tests {
             scale: 0.01,
             up_axis: UpAxis::Y,
         };
-        for name in ["g.hair", "g.TFX", "g.obj", "g.usda"] {
+        for name in ["g.hair", "g.TFX", "g.obj", "g.usda", "g.usdc"] {
             let path = dir.path().join(name);
             write_groom(&path, &groom, &opts).unwrap();
             let back = read_groom(&path, &opts).unwrap();

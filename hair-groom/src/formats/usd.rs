@@ -1,525 +1,686 @@
-//! USD `BasisCurves` in the `.usda` text format, read and written.
+//! USD `BasisCurves` read from a composed stage (`.usd`, `.usda`, `.usdc`, `.usdz`) through the
+//! `openusd` crate, and grooms written as `.usda`/`.usdc` through [`super::usd_write`].
 //!
-//! The reader checks the `#usda` header, then takes every `def BasisCurves` prim of the file (at
-//! any depth) and reads its default values of `curveVertexCounts` (`int[]`) and `points`
-//! (`point3f[]`); the curves of all prims are concatenated in file order. Everything else is
-//! skipped: other prims and attributes, time samples, the prims' transforms (`xformOp`s are not
-//! applied), the stage's `upAxis` and `metersPerUnit` (the caller's [`ImportOptions`] decide) and
-//! the curve `type`/`basis` (cubic curves are read as their control points). Binary `.usdc` and
-//! `.usdz` are not read.
+//! # Reading
+//! [`read_usd`] opens the file as a stage (sublayers, references, payloads and variants
+//! composed by `openusd`), then takes the `BasisCurves` prims to read: the prim named by
+//! [`UsdReadOptions::prim`] (itself if it is a `BasisCurves`, else every `BasisCurves` below
+//! it), or every `BasisCurves` of the stage. Inactive, abstract and unloaded prims are skipped
+//! (`openusd`'s default predicate). For each prim, at the time asked for:
+//! - `points` are taken to the world by the prim's local-to-world transform: the product of
+//!   the `xformOpOrder` stacks of the prim and its ancestors, up to the first
+//!   `!resetXformStack!` (USD's `ComputeLocalToWorldTransform`, row vectors: `p · M`);
+//! - then to meters by the stage's `metersPerUnit` and to Z up by its `upAxis` (Y up maps
+//!   (x, y, z) to (x, −z, y), as Blender's importer does), unless [`UsdReadOptions::units`]
+//!   overrides both. Unauthored, they take USD's fallbacks: 0.01 m per unit, Y up;
+//! - `widths` (or `primvars:widths`) become per-point radii (half the width, times the
+//!   transform's uniform scale and the unit scale), from `constant`, `uniform` (per curve) or
+//!   `vertex`/`varying` (per point, when the count matches) interpolation;
+//! - `primvars:surface_uv_coordinate` (Blender) or `primvars:st` become one root UV per curve
+//!   (per-curve values, or the root point's value of per-point ones).
 //!
-//! Errors name the file and the 1-based line. The writer writes one linear `BasisCurves` prim
-//! `/hair` with the stage's `upAxis` and `metersPerUnit` from `opts`, every coordinate as the
-//! shortest decimal that reads back to the same f32, so write → read is bit-exact.
+//! Curve bases: linear curves and cubic curves with the `catmullRom` or `bspline` basis are read
+//! as their points (Blender exports its hair as "pinned" Catmull-Rom, whose points lie on the
+//! curve); cubic `bezier` curves keep their on-curve points (every third). Periodic curves are
+//! refused: a hair has a root and a tip.
+//!
+//! Time: [`UsdReadOptions::time`] is a USD time code; without one, attributes give their
+//! earliest time sample (or their default). A time outside the stage's authored
+//! `startTimeCode`–`endTimeCode` is refused.
+//!
+//! Errors name the file and, past opening, the prim (and the time). `openusd` may panic on a
+//! malformed binary file (it indexes its tables with values read from the file); the reader
+//! turns such a panic into an error naming the file (`std::panic::catch_unwind`, the last line
+//! of defence: `tests::corrupted_usdc_is_an_error_not_a_panic` pins it).
+//!
+//! # Writing
+//! [`write_usda`] writes one linear `BasisCurves` prim `/hair` with the stage's `upAxis` and
+//! `metersPerUnit` from the options, as `.usda` or `.usdc` by the extension; write → read is
+//! bit-exact (f32 values are stored as they are, or printed as the shortest decimal that reads
+//! back to them).
 
-use std::fmt::Write as _;
 use std::path::Path;
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix4, Vector3};
+use openusd::schemas::geom::{Imageable, Xformable};
+use openusd::usd::{Prim, PrimPredicate, SchemaBase, SchemaKind, Stage, TimeCode};
+use openusd::{gf, sdf};
 
-use super::{bad, check_options, read_bytes, to_file, to_world, write_bytes, ImportOptions};
+use super::usd_write::{UsdCurvesPrim, UsdLayer, UsdStageInfo};
+use super::{bad, check_options, to_file, to_world, ImportOptions};
 use crate::error::{FileLocation, GroomError};
 use crate::formats::obj::UpAxis;
 use crate::groom::Groom;
 
-/// Reads the `.usda` file at `path`: the curves of every `BasisCurves` prim, in meters, Z up
-/// (`opts`: the file's unit scale and up axis).
-pub fn read_usda(path: &Path, opts: &ImportOptions) -> Result<Groom, GroomError> {
-    check_options(opts)?;
-    let bytes = read_bytes(path)?;
-    let text = String::from_utf8(bytes).map_err(|e| {
+/// What to read from a stage, and how to place it.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct UsdReadOptions {
+    /// The prim to read (`"/Sintel/hair"`): a `BasisCurves`, or a prim whose descendant
+    /// `BasisCurves` are read. `None`: every `BasisCurves` of the stage.
+    pub prim: Option<String>,
+    /// USD time code (frame) at which points, widths and transforms are read. `None`: each
+    /// attribute's earliest time sample, or its default value.
+    pub time: Option<f64>,
+    /// Meters per unit and up axis that replace the stage's `metersPerUnit` and `upAxis`.
+    /// `None`: the stage's.
+    pub units: Option<ImportOptions>,
+}
+
+/// Curves read from a stage, in meters, Z up, with what the file said about them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UsdCurves {
+    /// The curves in world space, meters, Z up, root first.
+    pub groom: Groom,
+    /// Radius of every point (curve by curve, as [`Groom::curves`] flattened), m; `None` when
+    /// no prim authored `widths`.
+    pub radii: Option<Vec<f32>>,
+    /// One root UV per curve from `primvars:surface_uv_coordinate` or `primvars:st`; `None`
+    /// when no prim authored either.
+    pub root_uv: Option<Vec<[f32; 2]>>,
+    /// Paths of the prims read, in stage order.
+    pub prims: Vec<String>,
+    /// Meters per stage unit that were applied.
+    pub meters_per_unit: f64,
+    /// The up axis that was converted from.
+    pub up_axis: UpAxis,
+}
+
+/// Reads the `BasisCurves` of the USD stage at `path` chosen by `opts` (see the module docs).
+pub fn read_usd(path: &Path, opts: &UsdReadOptions) -> Result<UsdCurves, GroomError> {
+    if let Some(units) = &opts.units {
+        check_options(units)?;
+    }
+    let limit = crate::input_file::MAX_GROOM_FILE_BYTES;
+    let bytes = crate::input_file::check_regular_file(path)?;
+    if bytes > limit {
+        return Err(crate::input_file::InputFileError::TooLarge {
+            path: path.to_path_buf(),
+            bytes,
+            limit,
+        }
+        .into());
+    }
+    let name = path.to_str().ok_or_else(|| {
         bad(
             path,
-            FileLocation::Byte(e.utf8_error().valid_up_to() as u64),
-            "is not UTF-8 text: only text .usda is read (convert .usdc/.usdz with `usdcat -o file.usda`)",
+            FileLocation::File,
+            "has a path that is not UTF-8, which the USD reader cannot open; rename the file",
         )
     })?;
-    parse(&text, path, opts)
+    // `openusd` indexes tables with values from the file and may panic on a corrupt one; a
+    // panic must not take the host down (see the module docs). The panic hook still prints
+    // its message; the error below names the file.
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        read_stage(path, name, opts)
+    }));
+    match result {
+        Ok(r) => r,
+        Err(payload) => {
+            let why = payload
+                .downcast_ref::<String>()
+                .map(String::as_str)
+                .or_else(|| payload.downcast_ref::<&str>().copied())
+                .unwrap_or("unknown fault");
+            Err(bad(
+                path,
+                FileLocation::File,
+                format!(
+                    "is not a readable USD file (the USD reader failed: {why}); check that it \
+                     opens in usdview or `usdcat`, and re-export it"
+                ),
+            ))
+        }
+    }
 }
 
-/// Writes `groom` to `path` as one linear `BasisCurves` prim, in file units and up axis per
-/// `opts` (also written as the stage's `metersPerUnit` and `upAxis`).
+/// Reads the groom file at `path` as USD with `opts` as the file's units and up axis (they
+/// replace the stage's): every `BasisCurves` of the stage, at its earliest time.
+pub fn read_usda(path: &Path, opts: &ImportOptions) -> Result<Groom, GroomError> {
+    read_usd(
+        path,
+        &UsdReadOptions {
+            units: Some(*opts),
+            ..UsdReadOptions::default()
+        },
+    )
+    .map(|c| c.groom)
+}
+
+/// Writes `groom` to `path` as one linear `BasisCurves` prim `/hair`, in file units and up
+/// axis per `opts` (also written as the stage's `metersPerUnit` and `upAxis`); `.usdc` by that
+/// extension, else `.usda` text.
 pub fn write_usda(path: &Path, groom: &Groom, opts: &ImportOptions) -> Result<(), GroomError> {
     check_options(opts)?;
-    write_bytes(path, encode(groom, opts).as_bytes())
-}
-
-/// One token of `.usda` text.
-#[derive(Debug, Clone, PartialEq)]
-enum Tok<'a> {
-    /// A name, keyword or number, as written.
-    Word(&'a str),
-    /// A quoted string, path `<…>` or asset `@…@`, without its delimiters.
-    Str(&'a str),
-    /// One punctuation character: `[ ] ( ) { } , = .` and the like.
-    Punct(char),
-}
-
-/// Splits `text` into tokens with their 1-based lines, dropping `#` comments.
-fn tokenize<'a>(text: &'a str, path: &Path) -> Result<Vec<(Tok<'a>, usize)>, GroomError> {
-    let bytes = text.as_bytes();
-    let mut toks = Vec::new();
-    let (mut i, mut line) = (0usize, 1usize);
-    while i < bytes.len() {
-        let c = bytes[i];
-        let start_line = line;
-        match c {
-            b'\n' => {
-                line += 1;
-                i += 1;
-            }
-            c if c.is_ascii_whitespace() => i += 1,
-            b'#' => {
-                while i < bytes.len() && bytes[i] != b'\n' {
-                    i += 1;
-                }
-            }
-            b'"' | b'\'' | b'<' | b'@' => {
-                let close = match c {
-                    b'<' => ">",
-                    b'@' => "@",
-                    b'"' if text[i..].starts_with("\"\"\"") => "\"\"\"",
-                    b'\'' if text[i..].starts_with("'''") => "'''",
-                    b'"' => "\"",
-                    _ => "'",
-                };
-                let open_len = if close.len() == 3 { 3 } else { 1 };
-                let body = i + open_len;
-                let mut j = body;
-                loop {
-                    if j >= bytes.len() {
-                        return Err(bad(
-                            path,
-                            FileLocation::Line(start_line),
-                            "a string or path is not closed before the end of the file",
-                        ));
-                    }
-                    if bytes[j] == b'\\' && close.len() == 1 && c != b'<' && c != b'@' {
-                        j += 2;
-                        continue;
-                    }
-                    if bytes[j..].starts_with(close.as_bytes()) {
-                        break;
-                    }
-                    if bytes[j] == b'\n' {
-                        line += 1;
-                    }
-                    j += 1;
-                }
-                toks.push((Tok::Str(&text[body..j]), start_line));
-                i = j + close.len();
-            }
-            c if c.is_ascii_alphanumeric()
-                || matches!(c, b'_' | b'-' | b'+')
-                || (c == b'.' && bytes.get(i + 1).is_some_and(u8::is_ascii_digit)) =>
-            {
-                let start = i;
-                let numeric = !(c.is_ascii_alphabetic() || c == b'_');
-                while i < bytes.len() {
-                    let d = bytes[i];
-                    let more = d.is_ascii_alphanumeric()
-                        || matches!(d, b'_' | b':')
-                        || (numeric && matches!(d, b'.' | b'-' | b'+'));
-                    if !more {
-                        break;
-                    }
-                    i += 1;
-                }
-                toks.push((Tok::Word(&text[start..i]), line));
-            }
-            _ => {
-                let ch = text[i..].chars().next().unwrap_or('?');
-                toks.push((Tok::Punct(ch), line));
-                i += ch.len_utf8();
-            }
+    let mut counts = Vec::with_capacity(groom.len());
+    let mut points = Vec::with_capacity(groom.point_count() * 3);
+    for curve in groom.curves() {
+        counts.push(curve.len() as i32);
+        for p in curve {
+            points.extend_from_slice(&to_file(p, opts));
         }
     }
-    Ok(toks)
+    let mut layer = UsdLayer::new(&UsdStageInfo {
+        up_axis: opts.up_axis,
+        meters_per_unit: f64::from(opts.scale),
+        time_codes_per_second: None,
+        time_range: None,
+    });
+    layer.add_curves(&UsdCurvesPrim {
+        name: "hair",
+        vertex_counts: counts,
+        points: super::usd_write::Samples::Default(points),
+        widths: None,
+        velocities: None,
+        root_uv: None,
+        colors: None,
+        extent: true,
+        uniform_floats: Vec::new(),
+        uniform_ints: Vec::new(),
+    });
+    layer.set_default_prim("hair");
+    layer.write(path).map_err(|e| match e {
+        super::usd_write::UsdWriteError::Io(source) => GroomError::Write {
+            path: path.to_path_buf(),
+            source,
+        },
+        other => bad(path, FileLocation::File, other.to_string()),
+    })
 }
 
-/// Parses `.usda` text; `path` names it in errors.
-fn parse(text: &str, path: &Path, opts: &ImportOptions) -> Result<Groom, GroomError> {
-    if !text.starts_with("#usda") {
-        return Err(bad(
-            path,
-            FileLocation::Line(1),
-            "does not start with `#usda 1.0`: this is not a USD text file (binary .usdc/.usdz: \
-             convert with `usdcat -o file.usda`)",
-        ));
+/// A view of any prim as `Xformable`, to compose its `xformOpOrder` whatever its type.
+struct AnyXformable(Prim);
+
+impl SchemaBase for AnyXformable {
+    const KIND: SchemaKind = SchemaKind::ConcreteTyped;
+    fn prim(&self) -> &Prim {
+        &self.0
     }
-    let toks = tokenize(text, path)?;
-    let closing = closing_brackets(&toks);
-    let skip_balanced = |at: usize, open: char, close: char| match closing[at] {
-        NEVER_CLOSED => Err(bad(
+}
+impl Imageable for AnyXformable {}
+impl Xformable for AnyXformable {}
+
+/// The read itself, inside the panic guard of [`read_usd`].
+fn read_stage(path: &Path, name: &str, opts: &UsdReadOptions) -> Result<UsdCurves, GroomError> {
+    let stage = Stage::open(name).map_err(|e| {
+        bad(
             path,
-            FileLocation::Line(toks[at].1),
-            format!("`{open}` is never closed by `{close}`"),
-        )),
-        end => Ok(end),
+            FileLocation::File,
+            format!("cannot be opened as a USD stage: {e:#}; check that it is .usd, .usda, .usdc or a .usdz holding one"),
+        )
+    })?;
+    let time = match opts.time {
+        Some(t) => {
+            check_time(&stage, path, t)?;
+            TimeCode::new(t)
+        }
+        None => TimeCode::EARLIEST,
+    };
+    let (meters_per_unit, up_axis) = match &opts.units {
+        Some(u) => (f64::from(u.scale), u.up_axis),
+        None => stage_units(&stage, path)?,
+    };
+    let prims = select_prims(&stage, path, opts.prim.as_deref())?;
+    let at = |prim: &str| match opts.time {
+        Some(t) => format!("prim {prim} at time {t}"),
+        None => format!("prim {prim}"),
     };
     let mut curves = Vec::new();
-    let mut found = false;
-    let mut i = 0;
-    while i + 2 < toks.len() {
-        let is_curves = toks[i].0 == Tok::Word("def")
-            && toks[i + 1].0 == Tok::Word("BasisCurves")
-            && matches!(toks[i + 2].0, Tok::Str(_));
-        if !is_curves {
-            i += 1;
-            continue;
-        }
-        found = true;
-        let def_line = toks[i].1;
-        let mut j = i + 3;
-        if toks.get(j).map(|t| &t.0) == Some(&Tok::Punct('(')) {
-            j = skip_balanced(j, '(', ')')?;
-        }
-        if toks.get(j).map(|t| &t.0) != Some(&Tok::Punct('{')) {
-            return Err(bad(
+    let mut radii: Vec<(usize, Option<Vec<f32>>)> = Vec::new();
+    let mut uvs: Vec<(usize, Option<Vec<[f32; 2]>>)> = Vec::new();
+    for prim_path in &prims {
+        let prim = stage.prim(prim_path.as_str());
+        let fail = |msg: String| {
+            bad(
                 path,
-                FileLocation::Line(def_line),
-                "`def BasisCurves` is not followed by its `{ … }` body",
-            ));
+                FileLocation::File,
+                format!("{}: {msg}", at(prim_path)),
+            )
+        };
+        let world = world_transform(&stage, prim_path, time)
+            .map_err(|e| fail(format!("its transform: {e}")))?;
+        let place = ImportOptions {
+            scale: meters_per_unit as f32,
+            up_axis,
+        };
+        let read = read_curves(&prim, time).map_err(fail)?;
+        // Widths scale with the transform: its cube-root volume scale is the uniform part.
+        let width_scale = world.fixed_view::<3, 3>(0, 0).determinant().abs().cbrt() * place.scale;
+        let identity = world == Matrix4::identity();
+        for c in &read.curves {
+            let points: Vec<Vector3<f32>> = c
+                .iter()
+                .map(|p| {
+                    // The axis turn and unit scale are exact (−0.0 stays −0.0), and an
+                    // identity placement is skipped, so file values survive bit for bit.
+                    let local = if identity {
+                        *p
+                    } else {
+                        let h = world * nalgebra::Vector4::new(p[0], p[1], p[2], 1.0);
+                        [h.x, h.y, h.z]
+                    };
+                    to_world(local, &place)
+                })
+                .collect();
+            curves.push(points);
         }
-        let end = skip_balanced(j, '{', '}')?;
-        let body = j + 1..end - 1;
-        curves.extend(read_prim(&toks, &closing, body, def_line, path, opts)?);
-        // Nested prims are found by continuing inside the body.
-        i = j + 1;
+        let point_count = read.curves.iter().map(Vec::len).sum();
+        radii.push((
+            point_count,
+            read.radii
+                .map(|r| r.iter().map(|w| 0.5 * w * width_scale).collect()),
+        ));
+        uvs.push((read.curves.len(), read.root_uv));
     }
-    if !found {
+    let groom = Groom::new(curves).map_err(|e| bad(path, FileLocation::File, e.to_string()))?;
+    let radii = merge(radii, 0.0);
+    let root_uv = merge(uvs, [0.0, 0.0]);
+    Ok(UsdCurves {
+        groom,
+        radii,
+        root_uv,
+        prims,
+        meters_per_unit,
+        up_axis,
+    })
+}
+
+/// Concatenates per-prim values when at least one prim has them: `(count, values)` per prim,
+/// where a prim without values takes `count` copies of `fill`.
+fn merge<T: Copy>(parts: Vec<(usize, Option<Vec<T>>)>, fill: T) -> Option<Vec<T>> {
+    if parts.iter().all(|(_, v)| v.is_none()) {
+        return None;
+    }
+    let mut out = Vec::new();
+    for (count, values) in parts {
+        match values {
+            Some(v) => out.extend(v),
+            None => out.extend(std::iter::repeat_n(fill, count)),
+        }
+    }
+    Some(out)
+}
+
+/// Refuses a time outside the stage's authored time range.
+fn check_time(stage: &Stage, path: &Path, t: f64) -> Result<(), GroomError> {
+    if !t.is_finite() {
         return Err(bad(
             path,
             FileLocation::File,
-            "has no `def BasisCurves` prim: export the hair as USD curves",
+            format!("time {t} is not a finite time code"),
         ));
     }
-    Groom::new(curves)
-}
-
-/// [`closing_brackets`] entry of a bracket that is never closed (and of every other token).
-const NEVER_CLOSED: usize = usize::MAX;
-
-/// For each token: if it opens a `{` or `(`, the index just past its matching closer, else
-/// [`NEVER_CLOSED`]. One pass, so nested prims cost no more than flat ones (scanning for each
-/// prim's end was quadratic in the nesting depth).
-fn closing_brackets(toks: &[(Tok, usize)]) -> Vec<usize> {
-    let mut closing = vec![NEVER_CLOSED; toks.len()];
-    let (mut braces, mut parens) = (Vec::new(), Vec::new());
-    for (k, (t, _)) in toks.iter().enumerate() {
-        match t {
-            Tok::Punct('{') => braces.push(k),
-            Tok::Punct('(') => parens.push(k),
-            Tok::Punct('}') => {
-                if let Some(open) = braces.pop() {
-                    closing[open] = k + 1;
-                }
-            }
-            Tok::Punct(')') => {
-                if let Some(open) = parens.pop() {
-                    closing[open] = k + 1;
-                }
-            }
-            _ => {}
-        }
-    }
-    closing
-}
-
-/// The curves of the prim whose body (the tokens between its braces) is `toks[body]`; nested
-/// prims' braces are jumped over with `closing` ([`closing_brackets`]), so their attributes are
-/// skipped without being scanned.
-fn read_prim(
-    toks: &[(Tok, usize)],
-    closing: &[usize],
-    body: std::ops::Range<usize>,
-    def_line: usize,
-    path: &Path,
-    opts: &ImportOptions,
-) -> Result<Vec<Vec<Vector3<f32>>>, GroomError> {
-    let mut counts: Option<(Vec<usize>, usize)> = None;
-    let mut points: Option<(Vec<Vector3<f32>>, usize)> = None;
-    let end = body.end;
-    let mut k = body.start;
-    while k < end {
-        let at = k;
-        k += 1;
-        match toks[at].0 {
-            // A nested block (a child prim): jump past it (it is balanced inside the body).
-            Tok::Punct('{') if closing[at] != NEVER_CLOSED => k = closing[at].min(end),
-            Tok::Word(name @ ("curveVertexCounts" | "points"))
-                if toks.get(at + 1).map(|t| &t.0) == Some(&Tok::Punct('=')) =>
-            {
-                let line = toks[at].1;
-                let numbers = array_numbers(&toks[at + 2..end], line, path)?;
-                if name == "points" {
-                    if numbers.len() % 3 != 0 {
-                        return Err(bad(
-                            path,
-                            FileLocation::Line(line),
-                            "`points` must be a list of (x, y, z) triples",
-                        ));
-                    }
-                    let pts = numbers
-                        .chunks_exact(3)
-                        .map(|c| {
-                            let p = [c[0].0, c[1].0, c[2].0];
-                            if p.iter().all(|x| x.is_finite()) {
-                                Ok(to_world(p, opts))
-                            } else {
-                                Err(bad(
-                                    path,
-                                    FileLocation::Line(c[0].1),
-                                    format!("a point has a non-finite coordinate {p:?}"),
-                                ))
-                            }
-                        })
-                        .collect::<Result<Vec<_>, _>>()?;
-                    points = Some((pts, line));
-                } else {
-                    let ints = numbers
-                        .iter()
-                        .map(|&(x, l)| {
-                            if x.fract() == 0.0 && (0.0..1e9).contains(&x) {
-                                Ok(x as usize)
-                            } else {
-                                Err(bad(
-                                    path,
-                                    FileLocation::Line(l),
-                                    format!("curveVertexCounts holds {x}, not a count"),
-                                ))
-                            }
-                        })
-                        .collect::<Result<Vec<_>, _>>()?;
-                    counts = Some((ints, line));
-                }
-            }
-            _ => {}
-        }
-    }
-    let missing = |what: &str| {
-        bad(
-            path,
-            FileLocation::Line(def_line),
-            format!(
-                "this BasisCurves prim has no default `{what}` value (time samples are not read)"
-            ),
-        )
-    };
-    let (counts, counts_line) = counts.ok_or_else(|| missing("curveVertexCounts"))?;
-    let (points, _) = points.ok_or_else(|| missing("points"))?;
-    let total: usize = counts.iter().sum();
-    if total != points.len() {
-        return Err(bad(
-            path,
-            FileLocation::Line(counts_line),
-            format!(
-                "curveVertexCounts add up to {total} points but `points` holds {}: they must agree",
-                points.len()
-            ),
-        ));
-    }
-    let mut curves = Vec::with_capacity(counts.len());
-    let mut start = 0;
-    for (c, &n) in counts.iter().enumerate() {
-        if n < 2 {
+    if stage.has_authored_time_code_range() {
+        let (lo, hi) = (stage.start_time_code(), stage.end_time_code());
+        if t < lo || t > hi {
             return Err(bad(
                 path,
-                FileLocation::Line(counts_line),
-                format!("curve {c} has {n} vertex(es); a curve needs at least 2"),
+                FileLocation::File,
+                format!(
+                    "time {t} is outside the stage's time range {lo} to {hi} \
+                     (startTimeCode–endTimeCode); ask for a time in that range"
+                ),
             ));
         }
-        curves.push(points[start..start + n].to_vec());
-        start += n;
     }
-    Ok(curves)
+    Ok(())
 }
 
-/// The numbers of the array value starting at `toks[0]` (`[1, 2]` or `[(1, 2, 3), …]`), each with
-/// its line; parentheses are flattened.
-fn array_numbers(
-    toks: &[(Tok, usize)],
-    line: usize,
-    path: &Path,
-) -> Result<Vec<(f32, usize)>, GroomError> {
-    if toks.first().map(|t| &t.0) != Some(&Tok::Punct('[')) {
+/// The stage's `metersPerUnit` and `upAxis`, with USD's fallbacks (0.01, Y).
+fn stage_units(stage: &Stage, path: &Path) -> Result<(f64, UpAxis), GroomError> {
+    let meta = |key: &str| {
+        stage.stage_metadata(key).map_err(|e| {
+            bad(
+                path,
+                FileLocation::File,
+                format!("stage metadata `{key}`: {e:#}"),
+            )
+        })
+    };
+    let mpu = match meta("metersPerUnit")? {
+        None => 0.01,
+        Some(sdf::Value::Double(v)) => v,
+        Some(sdf::Value::Float(v)) => f64::from(v),
+        Some(sdf::Value::Int(v)) => f64::from(v),
+        Some(other) => {
+            return Err(bad(
+                path,
+                FileLocation::File,
+                format!("stage metadata metersPerUnit is {other:?}, not a number; write e.g. `metersPerUnit = 0.01`"),
+            ))
+        }
+    };
+    if !(mpu.is_finite() && mpu > 0.0) {
         return Err(bad(
             path,
-            FileLocation::Line(line),
-            "expected an array value `[ … ]`",
+            FileLocation::File,
+            format!("stage metadata metersPerUnit = {mpu}: must be a finite number > 0"),
         ));
     }
-    let mut out = Vec::new();
-    for (t, l) in &toks[1..] {
-        match t {
-            Tok::Punct(']') => return Ok(out),
-            Tok::Punct('(' | ')' | ',') => {}
-            Tok::Word(w) => {
-                let x: f32 = w.parse().map_err(|_| {
-                    bad(
-                        path,
-                        FileLocation::Line(*l),
-                        format!("`{w}` is not a number"),
-                    )
-                })?;
-                out.push((x, *l));
-            }
-            other => {
-                return Err(bad(
-                    path,
-                    FileLocation::Line(*l),
-                    format!("unexpected {other:?} in an array"),
-                ))
-            }
+    let up = match meta("upAxis")? {
+        None => UpAxis::Y,
+        Some(sdf::Value::Token(t)) if t.as_str() == "Y" => UpAxis::Y,
+        Some(sdf::Value::Token(t)) if t.as_str() == "Z" => UpAxis::Z,
+        Some(other) => {
+            return Err(bad(
+                path,
+                FileLocation::File,
+                format!("stage metadata upAxis is {other:?}; USD allows \"Y\" or \"Z\""),
+            ))
         }
-    }
-    Err(bad(
-        path,
-        FileLocation::Line(line),
-        "the array is never closed by `]`",
-    ))
+    };
+    Ok((mpu, up))
 }
 
-/// The `.usda` text of `groom`.
-fn encode(groom: &Groom, opts: &ImportOptions) -> String {
-    let up = match opts.up_axis {
-        UpAxis::Y => "Y",
-        UpAxis::Z => "Z",
-    };
-    let mut out = format!(
-        "#usda 1.0\n(\n    defaultPrim = \"hair\"\n    metersPerUnit = {:?}\n    upAxis = \"{up}\"\n)\n\n\
-         def BasisCurves \"hair\"\n{{\n    uniform token type = \"linear\"\n    int[] curveVertexCounts = [",
-        opts.scale
-    );
-    let counts: Vec<String> = groom.curves().iter().map(|c| c.len().to_string()).collect();
-    out.push_str(&counts.join(", "));
-    out.push_str("]\n    point3f[] points = [");
-    for (k, p) in groom.curves().iter().flatten().enumerate() {
-        let [x, y, z] = to_file(p, opts);
-        let sep = if k == 0 { "" } else { ", " };
-        let _ = write!(out, "{sep}({x:?}, {y:?}, {z:?})");
+/// Local-to-world of the prim at `prim_path` at `time` as a column-vector matrix: the
+/// ancestors' `xformOpOrder` stacks, up to the first `!resetXformStack!`.
+fn world_transform(stage: &Stage, prim_path: &str, time: TimeCode) -> Result<Matrix4<f32>, String> {
+    let mut m = gf::Matrix4d::IDENTITY;
+    let mut p = sdf::path(prim_path).map_err(|e| format!("{e:#}"))?;
+    loop {
+        if p == sdf::Path::abs_root() {
+            break;
+        }
+        let x = AnyXformable(stage.prim(p.clone()));
+        // Row vectors: world = local · parent · grandparent …
+        let at = |e: anyhow::Error| format!("{} xformOps: {e:#}", p.as_str());
+        m = m * x.local_to_parent_transform(time).map_err(at)?;
+        if x.resets_xform_stack().map_err(at)? {
+            break;
+        }
+        match p.parent() {
+            Some(parent) => p = parent,
+            None => break,
+        }
     }
-    out.push_str("]\n}\n");
-    out
+    // gf is row-major with row vectors; nalgebra's from_row_slice of the transpose.
+    let t = m.0;
+    let mut out = Matrix4::<f32>::zeros();
+    for r in 0..4 {
+        for c in 0..4 {
+            out[(c, r)] = t[r * 4 + c] as f32;
+        }
+    }
+    Ok(out)
+}
+
+/// Paths of the `BasisCurves` prims to read: `wanted` itself, its descendants, or the whole
+/// stage. Refuses a missing prim (listing the curve and mesh prims) or a selection without
+/// curves.
+fn select_prims(
+    stage: &Stage,
+    path: &Path,
+    wanted: Option<&str>,
+) -> Result<Vec<String>, GroomError> {
+    let mut all = Vec::new();
+    stage
+        .traverse(PrimPredicate::DEFAULT, |p| all.push(p.as_str().to_string()))
+        .map_err(|e| {
+            bad(
+                path,
+                FileLocation::File,
+                format!("cannot list its prims: {e:#}"),
+            )
+        })?;
+    let type_of = |p: &str| {
+        stage
+            .prim(p)
+            .type_name()
+            .ok()
+            .flatten()
+            .map(|t| t.as_str().to_string())
+            .unwrap_or_default()
+    };
+    let curves: Vec<String> = all
+        .iter()
+        .filter(|p| type_of(p) == "BasisCurves")
+        .cloned()
+        .collect();
+    let listing = || {
+        let shown: Vec<String> = all
+            .iter()
+            .filter_map(|p| {
+                let t = type_of(p);
+                matches!(
+                    t.as_str(),
+                    "BasisCurves" | "Mesh" | "NurbsCurves" | "HermiteCurves"
+                )
+                .then(|| format!("{p} ({t})"))
+            })
+            .take(40)
+            .collect();
+        if shown.is_empty() {
+            "it has no curve or mesh prim".to_string()
+        } else {
+            format!("its curve and mesh prims: {}", shown.join(", "))
+        }
+    };
+    let chosen: Vec<String> = match wanted {
+        None => curves,
+        Some(w) => {
+            let w = w.trim_end_matches('/');
+            if !all.iter().any(|p| p == w) {
+                return Err(bad(
+                    path,
+                    FileLocation::File,
+                    format!("has no prim {w} (or it is inactive); {}", listing()),
+                ));
+            }
+            let below = format!("{w}/");
+            curves
+                .into_iter()
+                .filter(|p| p == w || p.starts_with(&below))
+                .collect()
+        }
+    };
+    if chosen.is_empty() {
+        let scope = wanted.map_or("the stage".to_string(), |w| format!("prim {w}"));
+        return Err(bad(
+            path,
+            FileLocation::File,
+            format!(
+                "{scope} holds no BasisCurves prim to read as hair; {}",
+                listing()
+            ),
+        ));
+    }
+    Ok(chosen)
+}
+
+/// One prim's curves in its local space, file units.
+struct PrimCurves {
+    curves: Vec<Vec<[f32; 3]>>,
+    /// Per point of `curves`, file units (widths, not radii).
+    radii: Option<Vec<f32>>,
+    root_uv: Option<Vec<[f32; 2]>>,
+}
+
+/// A token-valued attribute or metadata as a string (`None` when unauthored).
+fn token(v: Option<sdf::Value>) -> Option<String> {
+    match v {
+        Some(sdf::Value::Token(t)) => Some(t.as_str().to_string()),
+        Some(sdf::Value::String(s)) => Some(s),
+        _ => None,
+    }
+}
+
+/// The value of `name` on `prim` at `time` (`None` when unauthored).
+fn value_at(prim: &Prim, name: &str, time: TimeCode) -> Result<Option<sdf::Value>, String> {
+    prim.attribute(name)
+        .get_at::<sdf::Value>(time)
+        .map_err(|e| format!("attribute {name}: {e:#}"))
+}
+
+/// Reads one `BasisCurves` prim: counts, points (on-curve points per basis), widths, root UV.
+fn read_curves(prim: &Prim, time: TimeCode) -> Result<PrimCurves, String> {
+    let counts: Vec<i64> = match value_at(prim, "curveVertexCounts", time)? {
+        Some(sdf::Value::IntVec(v)) => v.into_iter().map(i64::from).collect(),
+        Some(other) => return Err(format!("curveVertexCounts is {}, not int[]", kind(&other))),
+        None => {
+            return Err(
+                "has no curveVertexCounts; export the curves with their vertex counts".into(),
+            )
+        }
+    };
+    let points: Vec<[f32; 3]> = match value_at(prim, "points", time)? {
+        Some(sdf::Value::Vec3fVec(v)) => v.iter().map(|p| [p.x, p.y, p.z]).collect(),
+        Some(sdf::Value::Vec3dVec(v)) => v
+            .iter()
+            .map(|p| [p.x as f32, p.y as f32, p.z as f32])
+            .collect(),
+        Some(other) => return Err(format!("points is {}, not point3f[]", kind(&other))),
+        None => return Err("has no points (at this time)".into()),
+    };
+    let total: i64 = counts.iter().sum();
+    if counts.iter().any(|&c| c < 2) || total != points.len() as i64 {
+        return Err(format!(
+            "curveVertexCounts ({} curves, {total} vertices, smallest {}) disagree with its {} points; every curve needs ≥ 2 points and the counts must sum to the points",
+            counts.len(),
+            counts.iter().min().copied().unwrap_or(0),
+            points.len()
+        ));
+    }
+    if let Some((i, _)) = points
+        .iter()
+        .enumerate()
+        .find(|(_, p)| p.iter().any(|c| !c.is_finite()))
+    {
+        return Err(format!("point {i} has a non-finite coordinate"));
+    }
+    let ty = token(value_at(prim, "type", time)?).unwrap_or_else(|| "cubic".into());
+    let basis = token(value_at(prim, "basis", time)?).unwrap_or_else(|| "bezier".into());
+    let wrap = token(value_at(prim, "wrap", time)?).unwrap_or_else(|| "nonperiodic".into());
+    if wrap == "periodic" {
+        return Err("has periodic (closed) curves; hair needs open curves (wrap = \"nonperiodic\" or \"pinned\")".into());
+    }
+    // Which vertices of a curve of n are points of the hair.
+    let bezier = ty == "cubic" && basis == "bezier";
+    let keep = |n: usize| -> Vec<usize> {
+        if bezier && n >= 4 && (n - 1) % 3 == 0 {
+            (0..n).step_by(3).collect()
+        } else {
+            (0..n).collect()
+        }
+    };
+    let widths = widths(prim, time, &counts)?;
+    let uv = root_uv(prim, time, &counts)?;
+    let mut curves = Vec::with_capacity(counts.len());
+    let mut radii = widths.as_ref().map(|_| Vec::new());
+    let mut start = 0usize;
+    for &c in &counts {
+        let n = c as usize;
+        let idx = keep(n);
+        curves.push(idx.iter().map(|&i| points[start + i]).collect());
+        if let (Some(out), Some(w)) = (radii.as_mut(), widths.as_ref()) {
+            out.extend(idx.iter().map(|&i| w[start + i]));
+        }
+        start += n;
+    }
+    Ok(PrimCurves {
+        curves,
+        radii,
+        root_uv: uv,
+    })
+}
+
+/// A value's USD type name for messages.
+fn kind(v: &sdf::Value) -> String {
+    format!("{v:?}")
+        .split('(')
+        .next()
+        .unwrap_or("a value")
+        .to_string()
+}
+
+/// The `interpolation` metadata of the attribute `name`.
+fn interpolation(prim: &Prim, name: &str) -> Option<String> {
+    token(
+        prim.attribute(name)
+            .get_metadata::<sdf::Value>("interpolation")
+            .ok()
+            .flatten(),
+    )
+}
+
+/// Per-vertex widths of the prim (file units), expanded from constant/uniform/vertex values.
+fn widths(prim: &Prim, time: TimeCode, counts: &[i64]) -> Result<Option<Vec<f32>>, String> {
+    let mut found = None;
+    for name in ["primvars:widths", "widths"] {
+        if let Some(v) = value_at(prim, name, time)? {
+            found = Some((name, v));
+            break;
+        }
+    }
+    let Some((name, v)) = found else {
+        return Ok(None);
+    };
+    let values: Vec<f32> = match v {
+        sdf::Value::FloatVec(v) => v,
+        sdf::Value::DoubleVec(v) => v.into_iter().map(|x| x as f32).collect(),
+        sdf::Value::Float(x) => vec![x],
+        other => return Err(format!("{name} is {}, not float[]", kind(&other))),
+    };
+    if values.iter().any(|w| !(w.is_finite() && *w >= 0.0)) {
+        return Err(format!("{name} has a negative or non-finite width"));
+    }
+    let expanded = expand(&values, counts, interpolation(prim, name).as_deref())
+        .ok_or_else(|| format!("{name} has {} values, which fits neither 1 (constant), {} (uniform, per curve) nor {} (vertex); fix its count or interpolation", values.len(), counts.len(), counts.iter().sum::<i64>()))?;
+    Ok(Some(expanded))
+}
+
+/// `values` expanded to one per vertex, by count (and the `interpolation` metadata when the
+/// counts are ambiguous): constant, per curve, per vertex.
+fn expand<T: Copy>(values: &[T], counts: &[i64], interp: Option<&str>) -> Option<Vec<T>> {
+    let total: i64 = counts.iter().sum();
+    let n = values.len() as i64;
+    let per_curve =
+        n == counts.len() as i64 && interp != Some("vertex") && interp != Some("varying");
+    if n == total && !per_curve {
+        Some(values.to_vec())
+    } else if per_curve {
+        Some(
+            counts
+                .iter()
+                .zip(values)
+                .flat_map(|(&c, &v)| std::iter::repeat_n(v, c as usize))
+                .collect(),
+        )
+    } else if n == 1 {
+        Some(vec![values[0]; total as usize])
+    } else {
+        None
+    }
+}
+
+/// One root UV per curve from `primvars:surface_uv_coordinate` or `primvars:st`.
+fn root_uv(prim: &Prim, time: TimeCode, counts: &[i64]) -> Result<Option<Vec<[f32; 2]>>, String> {
+    for name in ["primvars:surface_uv_coordinate", "primvars:st"] {
+        let Some(v) = value_at(prim, name, time)? else {
+            continue;
+        };
+        let values: Vec<[f32; 2]> = match v {
+            sdf::Value::Vec2fVec(v) => v.iter().map(|p| [p.x, p.y]).collect(),
+            sdf::Value::Vec2dVec(v) => v.iter().map(|p| [p.x as f32, p.y as f32]).collect(),
+            other => return Err(format!("{name} is {}, not float2[]", kind(&other))),
+        };
+        let per_vertex =
+            expand(&values, counts, interpolation(prim, name).as_deref()).ok_or_else(|| {
+                format!(
+                    "{name} has {} values, which fits neither {} (per curve) nor {} (per vertex)",
+                    values.len(),
+                    counts.len(),
+                    counts.iter().sum::<i64>()
+                )
+            })?;
+        let mut roots = Vec::with_capacity(counts.len());
+        let mut start = 0usize;
+        for &c in counts {
+            roots.push(per_vertex[start]);
+            start += c as usize;
+        }
+        return Ok(Some(roots));
+    }
+    Ok(None)
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::formats::test_support::{assert_round_trip, tricky_groom};
-
-    fn parse_err(text: &str) -> String {
-        parse(text, Path::new("h.usda"), &ImportOptions::default())
-            .unwrap_err()
-            .to_string()
-    }
-
-    #[test]
-    fn write_then_read_is_bit_exact() {
-        assert_round_trip(&tricky_groom(), |g, opts| {
-            let text = encode(g, opts);
-            parse(&text, Path::new("m.usda"), opts).unwrap_or_else(|e| panic!("{e}\n{text}"))
-        });
-    }
-
-    #[test]
-    fn reads_nested_prims_and_skips_the_rest() {
-        let text = r#"#usda 1.0
-(
-    doc = """a "groom" # not a comment, née Zoë"""
-    customLayerData = { string note = "crème \"brûlée\" ☃" }
-    upAxis = "Y"
-)
-def Xform "root" ( kind = "component" )
-{
-    double3 xformOp:translate = (1, 2, 3)
-    def BasisCurves "a" (
-        prepend apiSchemas = ["MaterialBindingAPI"]
-    )
-    {
-        rel material:binding = </root/mat>
-        uniform token type = "cubic"
-        int[] curveVertexCounts = [2]   # one curve
-        point3f[] points = [(0, 0, 0), (1e-3, -2.5e+1, .5)]
-        point3f[] points.timeSamples = { 1: [(9, 9, 9), (9, 9, 9)] }
-        float[] widths = [0.1, 0.1]
-        def BasisCurves "b"
-        {
-            int[] curveVertexCounts = [3]
-            point3f[] points = [(1, 1, 1), (2, 2, 2), (3, 3, 3)]
-        }
-    }
-}
-"#;
-        let g = parse(text, Path::new("n.usda"), &ImportOptions::default()).unwrap();
-        assert_eq!(g.len(), 2);
-        assert_eq!(g.curves()[0][1], Vector3::new(1e-3, -25.0, 0.5));
-        assert_eq!(g.curves()[1][2], Vector3::new(3.0, 3.0, 3.0));
-    }
-
-    #[test]
-    fn bad_files_are_named_with_lines() {
-        assert!(parse_err("PXR-USDC binary").contains("not a USD text file"));
-        assert!(parse_err("#usda 1.0\ndef Mesh \"m\" {}\n").contains("no `def BasisCurves`"));
-        let head = "#usda 1.0\ndef BasisCurves \"c\"\n{\n";
-        let msg = parse_err(&format!("{head}    int[] curveVertexCounts = [3]\n    point3f[] points = [(0,0,0), (1,1,1)]\n}}\n"));
-        assert!(
-            msg.contains("line 4") && msg.contains("must agree"),
-            "{msg}"
-        );
-        let msg = parse_err(&format!("{head}    int[] curveVertexCounts = [1, 1]\n    point3f[] points = [(0,0,0), (1,1,1)]\n}}\n"));
-        assert!(msg.contains("curve 0 has 1 vertex"), "{msg}");
-        let msg = parse_err(&format!("{head}    int[] curveVertexCounts = [2]\n    point3f[] points = [(0,0,0),\n (nan,1,1)]\n}}\n"));
-        assert!(
-            msg.contains("line 6") && msg.contains("non-finite"),
-            "{msg}"
-        );
-        let msg = parse_err(&format!("{head}    int[] curveVertexCounts = [2]\n}}\n"));
-        assert!(msg.contains("line 2") && msg.contains("`points`"), "{msg}");
-        let msg = parse_err(&format!(
-            "{head}    int[] curveVertexCounts = [2]\n    point3f[] points = [(0,0,0), (1,1,1)\n"
-        ));
-        assert!(msg.contains("never closed"), "{msg}");
-        assert!(parse_err("#usda 1.0\ndef BasisCurves \"unterminated\n").contains("not closed"));
-        let msg = parse_err(&format!("{head}    int[] curveVertexCounts = [2.5]\n    point3f[] points = [(0,0,0), (1,1,1)]\n}}\n"));
-        assert!(msg.contains("not a count"), "{msg}");
-    }
-
-    #[test]
-    fn deep_nesting_costs_linear_time() {
-        // 20 000 prims, each inside the previous: scanning every prim's body to its end took
-        // time quadratic in the depth (about 10^10 token visits here).
-        let depth = 20_000;
-        let mut text = String::from("#usda 1.0\n");
-        for _ in 0..depth {
-            text.push_str(
-                "def BasisCurves \"c\" {\n int[] curveVertexCounts = [2]\n \
-                 point3f[] points = [(0, 0, 0), (0, 0, 1)]\n",
-            );
-        }
-        text.push_str(&"}\n".repeat(depth));
-        let start = std::time::Instant::now();
-        let groom = parse(&text, Path::new("deep.usda"), &ImportOptions::default()).unwrap();
-        assert_eq!(groom.len(), depth);
-        assert!(start.elapsed().as_secs_f64() < 5.0, "{:?}", start.elapsed());
-    }
-
-    #[test]
-    fn every_truncation_is_an_error_not_a_panic() {
-        let g = Groom::new(vec![vec![Vector3::zeros(), Vector3::x()]]).unwrap();
-        let text = encode(&g, &ImportOptions::default());
-        // Every prefix short of the closing `}` (the last character is a newline).
-        for n in 0..text.len() - 1 {
-            assert!(
-                parse(&text[..n], Path::new("t.usda"), &ImportOptions::default()).is_err(),
-                "prefix {n}"
-            );
-        }
-        for i in 0..text.len() {
-            for c in ["[", "]", "(", "{", "}", "\"", "#", "-", "x"] {
-                let bad = format!("{}{c}{}", &text[..i], &text[i + 1..]);
-                let _ = parse(&bad, Path::new("t.usda"), &ImportOptions::default());
-            }
-        }
-    }
-}
+mod tests;

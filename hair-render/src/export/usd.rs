@@ -160,14 +160,30 @@ pub fn write_usda<W: Write>(
     Ok(())
 }
 
-/// Writes `children` to the `.usda` file at `path` atomically (see [`crate::export`]).
+/// Writes `children` to the file at `path` atomically (see [`crate::export`]): `.usdc` or
+/// `.usd` binary through [`super::usd_crate::export_usdc`], any other name as `.usda` text.
 pub fn export_usda(
     path: &Path,
     children: &ChildBuffers,
     motion: &Motion,
     opts: &UsdOptions,
 ) -> Result<()> {
+    if hair_groom::formats::usd_write::UsdEncoding::of(path)
+        == Some(hair_groom::formats::usd_write::UsdEncoding::Binary)
+    {
+        return super::usd_crate::export_usdc(path, children, motion, opts);
+    }
     write_atomically(path, |out| write_usda(out, children, motion, opts))
+}
+
+/// Validates an export (prim name, rate, time code, motion samples' topology) as
+/// [`write_usda`] does; shared with [`super::usd_crate`].
+pub(crate) fn check_export(
+    children: &ChildBuffers,
+    motion: &Motion,
+    opts: &UsdOptions,
+) -> Result<()> {
+    check(children, motion, opts).map(drop)
 }
 
 /// Validates the export and returns the extent over every sample.

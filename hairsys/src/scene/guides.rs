@@ -18,15 +18,21 @@ use crate::scene::RegionSection;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GuidesSection {
-    /// Groom file (.hair, .tfx, .obj polylines, .usda), relative to the scene file.
+    /// Groom file (.hair, .tfx, .obj polylines, .usd/.usda/.usdc/.usdz), relative to the scene
+    /// file.
     #[serde(default)]
     pub file: Option<PathBuf>,
-    /// Meters per file unit.
-    #[serde(default = "one")]
-    pub scale: f32,
-    /// The file's up axis: `"z"` (default) or `"y"`.
-    #[serde(default)]
-    pub up_axis: UpAxis,
+    /// USD files: the prim whose `BasisCurves` are read (`"/Sintel/hair"`: the prim itself or
+    /// the curves below it); absent, every `BasisCurves` of the stage.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub prim: Option<String>,
+    /// Meters per file unit (absent: 1, or for USD the stage's `metersPerUnit`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale: Option<f32>,
+    /// The file's up axis, `"z"` or `"y"` (absent: Z, or for USD the stage's `upAxis`). For USD,
+    /// giving `scale` or `up_axis` replaces both of the stage's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub up_axis: Option<UpAxis>,
     /// Largest distance a root may be moved onto the scalp, m; farther roots are refused.
     #[serde(default = "default_snap")]
     pub max_snap_distance: f32,
@@ -112,9 +118,6 @@ pub struct SimHairsSection {
     pub goal_tip: f32,
 }
 
-fn one() -> f32 {
-    1.0
-}
 fn default_snap() -> f32 {
     0.025
 }
@@ -157,15 +160,32 @@ pub fn build(
 ) -> Result<GuidedHair, String> {
     let (guides_list, source) = match &guides.file {
         Some(file) => {
-            let up_axis = guides.up_axis;
             let path = base_dir.join(file);
-            let groom = hair_groom::read_groom(
-                &path,
-                &ImportOptions {
-                    scale: guides.scale,
-                    up_axis,
-                },
-            )
+            let given = guides.scale.is_some() || guides.up_axis.is_some();
+            let units = ImportOptions {
+                scale: guides.scale.unwrap_or(1.0),
+                up_axis: guides.up_axis.unwrap_or_default().into(),
+            };
+            let groom = match hair_groom::GroomFormat::of(&path) {
+                Ok(hair_groom::GroomFormat::Usd) => hair_groom::read_usd(
+                    &path,
+                    &hair_groom::UsdReadOptions {
+                        prim: guides.prim.clone(),
+                        time: None,
+                        units: given.then_some(units),
+                    },
+                )
+                .map(|c| c.groom),
+                _ if guides.prim.is_some() => {
+                    return Err(format!(
+                        "[guides] prim = {:?} selects a prim of a USD stage, but {} is not a \
+                         USD file; remove `prim`",
+                        guides.prim.as_deref().unwrap_or_default(),
+                        file.display()
+                    ))
+                }
+                _ => hair_groom::read_groom(&path, &units),
+            }
             .map_err(|e| format!("[guides] file: {e}"))?;
             let snapped = hair_groom::snap_to_scalp(
                 &groom,
