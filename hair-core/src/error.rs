@@ -39,10 +39,8 @@ pub enum HairError {
     },
     /// The solver left its stability region: the run stops instead of writing garbage.
     #[error(
-        "simulation blew up at frame {frame}, strand {strand}: {cause}. The substep is \
-         {dt:.3e} s but the stability bound of the stiffest spring on the lightest point is \
-         dt < 2/ω = {bound:.3e} s; use substeps = \"auto\" (it would pick {auto_substeps}) or \
-         lower the stiffness"
+        "simulation blew up at frame {frame}, strand {strand}: {cause}. {}",
+        unstable_advice(*.dt, *.bound, *.auto_substeps)
     )]
     Unstable {
         /// Frame number being computed when it was detected (numbered like [`crate::FrameReport::frame`]).
@@ -86,5 +84,24 @@ pub fn check_positive(name: &str, value: f32) -> Result<()> {
             value: value.to_string(),
             fix: "must be a finite number > 0".to_string(),
         })
+    }
+}
+
+/// What to do about a run that blew up with substep `dt` (s), small-angle stability bound
+/// `bound` (s) and the substep count `"auto"` would pick.
+fn unstable_advice(dt: f64, bound: f64, auto_substeps: u32) -> String {
+    if dt > bound {
+        format!(
+            "The substep is {dt:.3e} s but the stability bound of the stiffest spring on the \
+             lightest point is dt < 2/ω = {bound:.3e} s; use substeps = \"auto\" (it would pick \
+             {auto_substeps}) or lower the stiffness"
+        )
+    } else {
+        format!(
+            "The substep {dt:.3e} s is within the stability bound for gently bent hair \
+             (2/ω = {bound:.3e} s), but bending stiffens as a joint turns sharply (hair crushed \
+             or folded by a fast collider): give more substeps than \"auto\" picks ({auto_substeps}; \
+             try 4×), more [solver] steps, or a lower bend_stiffness"
+        )
     }
 }

@@ -14,8 +14,7 @@
 //!   head turns at full speed from the first frame (strips), since lag and sag look alike there.
 //!
 //! Sintel's bust is coarser than the groom made for her: a few strands tucked behind her ears
-//! stay caught in the ear geometry, so her penetration bounds are the measured ones with a margin
-//! and say so.
+//! stay caught in the ear geometry, so her bounds are the measured ones with a margin and say so.
 
 use std::path::Path;
 
@@ -50,19 +49,25 @@ fn run(name: &str) -> RunQuality {
 }
 
 struct Bounds {
+    /// Whether the scene has colliders to measure against.
+    colliders: bool,
     inside_fraction: f64,
     deepest: f32,
     max_strain: f32,
     /// RMS drift from the groom after the first step, m; `None` where the head already turns
     /// fast in the first frame (linear keys), so lag and sag cannot be told apart.
     start_rms: Option<f32>,
+    /// Point-frames turning by more than 90° allowed (0 but for Sintel's known flaw).
+    hairpins: u64,
 }
 
 const CLEAN: Bounds = Bounds {
+    colliders: true,
     inside_fraction: 1e-4,
     deepest: 5e-4,
     max_strain: 0.01,
     start_rms: Some(5e-3),
+    hairpins: 0,
 };
 
 fn check(name: &str, q: &RunQuality, b: Bounds) {
@@ -85,7 +90,7 @@ fn check(name: &str, q: &RunQuality, b: Bounds) {
         "{name}: {:?}",
         r.strain
     );
-    assert_eq!(r.hairpins.count, 0, "{name}: {:?}", r.hairpins);
+    assert!(r.hairpins.count <= b.hairpins, "{name}: {:?}", r.hairpins);
     if let Some(bound) = b.start_rms {
         let start = q.first_step.drift.as_ref().unwrap();
         assert!(start.rms < bound, "{name}: first step {start:?}");
@@ -116,6 +121,43 @@ fn strips_head() {
         Bounds {
             max_strain: 0.05,
             start_rms: None,
+            ..CLEAN
+        },
+    );
+}
+
+#[test]
+fn parity() {
+    // No collider (a comparison scene against Blender); its strain limit is 1.5 %; the head
+    // moves 1 m in the first frames (linear), so lag and sag look alike there.
+    check(
+        "parity",
+        &run("parity.toml"),
+        Bounds {
+            colliders: false,
+            max_strain: 0.015,
+            start_rms: None,
+            ..CLEAN
+        },
+    );
+}
+
+/// Sintel, with her known flaw (see the scene's header): strands caught behind her coarse ears
+/// stay inside the bust (measured 2026-11-24: 0.067 % of point-frames, 1.5 mm deep) and fold
+/// there (141 point-frames turning > 90°, up to 114°); the bounds are those figures with a
+/// margin, so a regression shows. Slow (the sharp rest curvatures of her groom need ~4× the
+/// substeps of the default scene): `cargo test --release -p hairsys-tests --test
+/// shipped_scenes_look -- --ignored`.
+#[test]
+#[ignore = "slow: the Sintel scene; run with --ignored"]
+fn sintel() {
+    check(
+        "sintel",
+        &run("sintel.toml"),
+        Bounds {
+            inside_fraction: 2e-3,
+            deepest: 2e-3,
+            hairpins: 300,
             ..CLEAN
         },
     );
