@@ -48,6 +48,13 @@ pub struct FrameToMeasure<'a> {
     pub scalp: &'a Scalp,
 }
 
+/// The last frame a [`QualityTracker`] saw: its number, positions (m) and velocities (m/s).
+struct Seen {
+    frame: u32,
+    positions: Vec<Vector3<f32>>,
+    velocities: Vec<Vector3<f32>>,
+}
+
 /// Measures a run frame by frame: hand it the first frame, then every stepped frame in order.
 /// It keeps a copy of the previous frame (velocity–position mismatch) and the penetration
 /// memory that lets points far from colliders skip the exact projection.
@@ -55,7 +62,7 @@ pub struct QualityTracker {
     options: QualityOptions,
     memory: PenetrationMemory,
     fps: f64,
-    previous: Option<(u32, Vec<Vector3<f32>>, Vec<Vector3<f32>>)>,
+    previous: Option<Seen>,
     result: RunQuality,
     stepped: u32,
 }
@@ -75,7 +82,7 @@ impl QualityTracker {
 
     /// Measures `f` (the first frame is only remembered: it is the groom before any step).
     pub fn add(&mut self, strands: &StrandSet, f: &FrameToMeasure) -> Result<(), String> {
-        if let Some((p, positions, velocities)) = &self.previous {
+        if let Some(seen) = &self.previous {
             let reference = rest_positions(strands, f.scalp);
             let input = QualityInput {
                 frame: Frame {
@@ -87,9 +94,9 @@ impl QualityTracker {
                     inverse_masses: Some(strands.inverse_masses()),
                 },
                 previous: Some(Previous {
-                    positions,
-                    velocities,
-                    dt: (f.frame.saturating_sub(*p).max(1) as f64 / self.fps) as f32,
+                    positions: &seen.positions,
+                    velocities: &seen.velocities,
+                    dt: (f.frame.saturating_sub(seen.frame).max(1) as f64 / self.fps) as f32,
                 }),
                 colliders: (!f.colliders.is_empty()).then_some(f.colliders),
                 reference: Some(&reference),
@@ -104,12 +111,18 @@ impl QualityTracker {
             self.stepped += 1;
         }
         match &mut self.previous {
-            Some((p, positions, velocities)) => {
-                *p = f.frame;
-                positions.copy_from_slice(f.positions);
-                velocities.copy_from_slice(f.velocities);
+            Some(seen) => {
+                seen.frame = f.frame;
+                seen.positions.copy_from_slice(f.positions);
+                seen.velocities.copy_from_slice(f.velocities);
             }
-            None => self.previous = Some((f.frame, f.positions.to_vec(), f.velocities.to_vec())),
+            None => {
+                self.previous = Some(Seen {
+                    frame: f.frame,
+                    positions: f.positions.to_vec(),
+                    velocities: f.velocities.to_vec(),
+                })
+            }
         }
         Ok(())
     }

@@ -361,9 +361,9 @@ fn scene_key_sag_free_balances_the_hair_or_says_why_not() {
     );
     let mut resting = 0;
     let mut residual = 0.0f64;
-    for s in 0..sim.strands.len() {
+    for (s, root) in roots.iter().enumerate() {
         let p = sim.strands.points(s);
-        for (f, n) in residual_forces(&sim.strands, s, &sim.params, &roots[s])
+        for (f, n) in residual_forces(&sim.strands, s, &sim.params, root)
             .iter()
             .zip(&supports[p])
         {

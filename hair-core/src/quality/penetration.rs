@@ -251,17 +251,10 @@ pub(crate) fn measure(
     tolerance: f32,
     memory: Option<&mut PenetrationMemory>,
 ) -> Penetration {
-    let count = |(i, x, d): (
-        usize,
-        &Vector3<f32>,
-        &mut dyn FnMut(usize, &Vector3<f32>) -> Option<f32>,
-    ),
-                 out: &mut (u64, u64, f32)| {
-        if !free(i) {
-            return;
-        }
+    // (checked, inside, deepest) of a run of points.
+    let tally = |out: &mut (u64, u64, f32), depth: Option<f32>| {
         out.0 += 1;
-        if let Some(d) = d(i, x).filter(|&d| d > tolerance) {
+        if let Some(d) = depth.filter(|&d| d > tolerance) {
             out.1 += 1;
             out.2 = out.2.max(d);
         }
@@ -277,18 +270,13 @@ pub(crate) fn measure(
                 .enumerate()
                 .map(|(k, (chunk, bounds))| {
                     let mut out = (0u64, 0u64, 0.0f32);
-                    let mut remembered = |i: usize, x: &Vector3<f32>| {
-                        let j = i - k * CHUNK;
-                        depth_remembered(
-                            colliders,
-                            x,
-                            radii[i],
-                            tolerance,
-                            &mut bounds[j * e..(j + 1) * e],
-                        )
-                    };
                     for (j, x) in chunk.iter().enumerate() {
-                        count((k * CHUNK + j, x, &mut remembered), &mut out);
+                        let i = k * CHUNK + j;
+                        if free(i) {
+                            let slots = &mut bounds[j * e..(j + 1) * e];
+                            let d = depth_remembered(colliders, x, radii[i], tolerance, slots);
+                            tally(&mut out, d);
+                        }
                     }
                     out
                 })
@@ -299,9 +287,11 @@ pub(crate) fn measure(
             .enumerate()
             .map(|(k, chunk)| {
                 let mut out = (0u64, 0u64, 0.0f32);
-                let mut exact = |i: usize, x: &Vector3<f32>| depth(colliders, x, radii[i]);
                 for (j, x) in chunk.iter().enumerate() {
-                    count((k * CHUNK + j, x, &mut exact), &mut out);
+                    let i = k * CHUNK + j;
+                    if free(i) {
+                        tally(&mut out, depth(colliders, x, radii[i]));
+                    }
                 }
                 out
             })

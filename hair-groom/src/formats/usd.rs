@@ -555,7 +555,7 @@ fn read_curves(prim: &Prim, time: TimeCode) -> Result<PrimCurves, String> {
     // Which vertices of a curve of n are points of the hair.
     let bezier = ty == "cubic" && basis == "bezier";
     let keep = |n: usize| -> Vec<usize> {
-        if bezier && n >= 4 && (n - 1) % 3 == 0 {
+        if bezier && n >= 4 && (n - 1).is_multiple_of(3) {
             (0..n).step_by(3).collect()
         } else {
             (0..n).collect()

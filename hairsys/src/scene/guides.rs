@@ -164,7 +164,7 @@ pub fn build(
             let given = guides.scale.is_some() || guides.up_axis.is_some();
             let units = ImportOptions {
                 scale: guides.scale.unwrap_or(1.0),
-                up_axis: guides.up_axis.unwrap_or_default().into(),
+                up_axis: guides.up_axis.unwrap_or_default(),
             };
             let groom = match hair_groom::GroomFormat::of(&path) {
                 Ok(hair_groom::GroomFormat::Usd) => hair_groom::read_usd(
