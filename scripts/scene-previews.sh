@@ -19,14 +19,15 @@ scenes=(
   "collision_demo 1,25,42        back"
   "sintel         1,20,36,48     three-quarter"
   "strips_head    1,24,48        three-quarter"
-  "parity         1,24,48        three-quarter"
+  "parity         1,12,24        three-quarter"
 )
 for entry in "${scenes[@]}"; do
   read -r name frames views <<<"$entry"
   if [[ $# -gt 0 && " $* " != *" $name "* ]]; then continue; fi
   echo "== $name"
   "$hairsys" simulate "scenes/$name.toml" --cache "$work/$name.mcap" --quiet --force
+  columns=$(tr ',' '\n' <<<"$frames" | wc -l)
   "$hairsys" preview --cache "$work/$name.mcap" --scene "scenes/$name.toml" \
-    --frames "$frames" --views "$views" --width 360 --height 360 --report \
+    --frames "$frames" --views "$views" --width 300 --height 300 --columns "$columns" --report \
     -o "$out/$name.png"
 done
