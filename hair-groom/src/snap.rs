@@ -87,6 +87,17 @@ impl Snapped {
     }
 }
 
+/// The scalp as a parry triangle mesh, for nearest-point queries.
+pub(crate) fn searchable(mesh: &TriMesh) -> Result<parry3d::shape::TriMesh, GroomError> {
+    let vertices = mesh
+        .positions()
+        .iter()
+        .map(|p| Vector::new(p.x, p.y, p.z))
+        .collect();
+    parry3d::shape::TriMesh::new(vertices, mesh.triangles().to_vec())
+        .map_err(|e| HairError::Mesh(format!("the scalp cannot be searched: {e}")).into())
+}
+
 /// Attaches every curve of `groom` to the nearest point of `mesh`: the root becomes a
 /// [`MeshSample`] there, the curve is moved rigidly by the root's offset, and its points are
 /// expressed in the root frame (`rest = frame.to_local(moved point)`).
@@ -105,13 +116,7 @@ pub fn snap_to_scalp(
             "must be a finite distance ≥ 0 m (how far a guide root may lie from the scalp)",
         ));
     }
-    let vertices = mesh
-        .positions()
-        .iter()
-        .map(|p| Vector::new(p.x, p.y, p.z))
-        .collect();
-    let query = parry3d::shape::TriMesh::new(vertices, mesh.triangles().to_vec())
-        .map_err(|e| HairError::Mesh(format!("the scalp cannot be searched: {e}")))?;
+    let query = searchable(mesh)?;
     let mut guides = Vec::with_capacity(groom.len());
     let mut distances = Vec::with_capacity(groom.len());
     let mut far = Vec::new();

@@ -39,7 +39,7 @@ use parry3d::query::PointQueryWithLocation;
 
 use crate::error::{parameter, GroomError};
 use crate::rng::{self, Purpose};
-use hair_core::{HairError, MeshSample};
+use hair_core::MeshSample;
 
 /// A part: hair on each side of a plane is combed away from it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -146,14 +146,10 @@ struct Surface<'a> {
 
 impl<'a> Surface<'a> {
     fn new(mesh: &'a TriMesh) -> Result<Self, GroomError> {
-        let vertices = mesh
-            .positions()
-            .iter()
-            .map(|p| Vector::new(p.x, p.y, p.z))
-            .collect();
-        let query = parry3d::shape::TriMesh::new(vertices, mesh.triangles().to_vec())
-            .map_err(|e| HairError::Mesh(format!("the scalp cannot be searched: {e}")))?;
-        Ok(Self { mesh, query })
+        Ok(Self {
+            mesh,
+            query: crate::snap::searchable(mesh)?,
+        })
     }
 
     /// The nearest scalp point to `p` and the smooth normal there.

@@ -350,15 +350,7 @@ fn scene_key_sag_free_balances_the_hair_or_says_why_not() {
         .unwrap();
     let scalp = sim.scalp_at(sim.first_frame as f32);
     let roots = sim.strands.root_frames(&scalp);
-    let colliders = sim.colliders_at(sim.first_frame as f32).unwrap();
-    let reach = 2.0 * sim.strands.radii().iter().fold(0.0f32, |a, &r| a.max(r));
-    let supports = hair_core::quality::resting_normals(
-        &colliders,
-        &sim.strands.positions,
-        sim.strands.radii(),
-        sim.strands.inverse_masses(),
-        reach,
-    );
+    let supports = sim.resting_supports().unwrap();
     let mut resting = 0;
     let mut residual = 0.0f64;
     for (s, root) in roots.iter().enumerate() {

@@ -15,7 +15,7 @@ use rayon::prelude::*;
 #[cfg(feature = "serde")]
 use serde::Serialize;
 
-use crate::contacts::collider_set::Surface;
+use crate::contacts::collider_set::{Entry, Surface};
 use crate::contacts::math::{from_glam, to_glam};
 use crate::contacts::Colliders;
 
@@ -124,13 +124,7 @@ fn depth_remembered(
             *slot = (to_sphere, local);
             continue;
         }
-        let proj = e.shape.project_local_point(to_glam(&local), false);
-        let dist = (local - from_glam(proj.point)).norm();
-        let signed = if e.surface == Surface::Solid && proj.is_inside {
-            -dist
-        } else {
-            dist
-        };
+        let signed = signed_distance(e, &local);
         *slot = (signed, local);
         if signed < keep {
             let d = keep - signed;
@@ -138,6 +132,18 @@ fn depth_remembered(
         }
     }
     deepest
+}
+
+/// Signed distance (m) of body-space point `local` from the surface of collider `e`: negative
+/// inside a solid; a shell, which has no inside, gives the unsigned distance.
+fn signed_distance(e: &Entry, local: &Vector3<f32>) -> f32 {
+    let proj = e.shape.project_local_point(to_glam(local), false);
+    let dist = (local - from_glam(proj.point)).norm();
+    if e.surface == Surface::Solid && proj.is_inside {
+        -dist
+    } else {
+        dist
+    }
 }
 
 /// Depth (m) of a sphere of `radius` centred at `x` (world, m) inside the deepest of
@@ -151,13 +157,7 @@ pub(crate) fn depth(colliders: &Colliders, x: &Vector3<f32>, radius: f32) -> Opt
         if (local - centre).norm() > enclosing + keep {
             continue;
         }
-        let proj = e.shape.project_local_point(to_glam(&local), false);
-        let dist = (local - from_glam(proj.point)).norm();
-        let signed = if e.surface == Surface::Solid && proj.is_inside {
-            -dist
-        } else {
-            dist
-        };
+        let signed = signed_distance(e, &local);
         if signed < keep {
             let d = keep - signed;
             deepest = Some(deepest.map_or(d, |b| b.max(d)));

@@ -818,19 +818,9 @@ impl SceneFile {
                 ));
             }
             let roots = sim.strands.root_frames(&scalp);
-            // Hair lying on the scalp or a collider is carried by it: points within two strand
-            // radii of touching (a layered groom's lower layers) rest on it.
-            let colliders = sim
-                .colliders_at(first as f32)
+            let supports = sim
+                .resting_supports()
                 .map_err(|e| err(sim.collider_message(&e)))?;
-            let reach = 2.0 * sim.strands.radii().iter().fold(0.0f32, |a, &r| a.max(r));
-            let supports = hair_core::quality::resting_normals(
-                &colliders,
-                &sim.strands.positions,
-                sim.strands.radii(),
-                sim.strands.inverse_masses(),
-                reach,
-            );
             let report = hair_core::make_sag_free_supported(
                 &mut sim.strands,
                 &sim.params,
@@ -1149,6 +1139,22 @@ impl Simulation {
             };
         }
         Ok(set)
+    }
+
+    /// Per point, the outward normal of the collider surface the hair rests on at the first
+    /// frame, or zero (see [`hair_core::quality::resting_normals`]): what sag-free lets the
+    /// colliders carry. A point rests on a collider when it is within two strand radii (the
+    /// largest in the set) of touching it — a layered groom's lower layers.
+    pub fn resting_supports(&self) -> Result<Vec<Vector3<f32>>, HairError> {
+        let colliders = self.colliders_at(self.first_frame as f32)?;
+        let reach = 2.0 * self.strands.radii().iter().fold(0.0f32, |a, &r| a.max(r));
+        Ok(hair_core::quality::resting_normals(
+            &colliders,
+            &self.strands.positions,
+            self.strands.radii(),
+            self.strands.inverse_masses(),
+            reach,
+        ))
     }
 
     /// Sets every scene collider's pose at (possibly fractional) `frame` (the scalp collider
