@@ -736,14 +736,17 @@ fn scene_init_shows_every_optional_section_commented_and_each_uncommented_checks
         })
         .collect();
     let names: Vec<&str> = headers.iter().map(|(_, n)| n.as_str()).collect();
+    // The default scene collides with its head and has hair–hair friction: those sections are
+    // live, not commented.
+    for live in ["\n[scalp.collider]", "\n[hair_hair]"] {
+        assert!(text.contains(live), "{live} is not live in scene init");
+    }
     for section in [
         "guides",
         "sim_hairs",
         "strands",
-        "scalp.collider",
         "colliders",
         "contacts",
-        "hair_hair",
         "fields",
         "children",
         "rod",
@@ -760,16 +763,23 @@ fn scene_init_shows_every_optional_section_commented_and_each_uncommented_checks
             continue;
         }
         let mut scene = uncomment_block(&lines, *start);
-        match name.as_str() {
-            "rod" => scene = scene.replace("# model = \"mass-spring\"", "model = \"rod\""),
-            "strips" => {
-                scene = scene.replace("# model = \"mass-spring\"", "model = \"strips\"");
-                // Strips replace the strands of [hair]: drop that section.
-                let from = scene.find("\n[hair]\n").unwrap();
-                let to = from + 1 + scene[from + 1..].find("\n\n").unwrap();
-                scene.replace_range(from..to, "");
-            }
-            _ => {}
+        // Drops the section starting with `header` up to the next blank line.
+        let drop = |scene: &mut String, header: &str| {
+            let from = scene.find(header).unwrap();
+            let to = from + 1 + scene[from + 1..].find("\n\n").unwrap();
+            scene.replace_range(from..to, "");
+        };
+        if name == "rod" || name == "strips" {
+            // As the comments say: hair–hair and sag-free are the mass-spring model's.
+            drop(&mut scene, "\n[hair_hair]");
+            scene = scene.replace("\nsag_free = true", "\n# sag_free = true");
+            let model = if name == "rod" { "rod" } else { "strips" };
+            scene = scene.replace("# model = \"mass-spring\"", &format!("model = \"{model}\""));
+        }
+        if name == "strips" {
+            // Strips replace the strands of [hair]: drop it and its style.
+            drop(&mut scene, "\n[hair]\n");
+            drop(&mut scene, "\n[hair.style]");
         }
         std::fs::write(dir.join("s.toml"), &scene).unwrap();
         let o = hairsys(&["scene", "check", "s.toml"], &dir);

@@ -345,6 +345,9 @@ fn turning_head(
     // (0.75 mm here) that no substep count lowers.
     scene.solver.max_strain = None;
     scene.hair_hair = None;
+    // Every method starts from the same groom with its plain rest shape: sag-free rest data is
+    // the mass-spring model's own (the rod and the strips have other energies).
+    scene.solver.sag_free = false;
     let sim = file.build()?;
     let head = match sim.rest_mesh() {
         Some(mesh) => Some(Solid::new(mesh).map_err(|message| SceneError {
