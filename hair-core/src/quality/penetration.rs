@@ -110,60 +110,69 @@ fn depth_remembered(
     tolerance: f32,
     memory: &mut [(f32, Vector3<f32>)],
 ) -> Option<f32> {
-    let mut deepest: Option<f32> = None;
-    for (e, slot) in colliders.entries.iter().zip(memory) {
-        let keep = radius + e.thickness;
-        let local = e.end.inverse_transform_point(&Point3::from(*x)).coords;
-        // Its depth is at most the tolerance: it does not count.
-        if slot.0 - (local - slot.1).norm() >= keep - tolerance {
-            continue;
-        }
-        let (centre, enclosing) = e.bounding_sphere;
-        let to_sphere = (local - centre).norm() - enclosing;
-        if to_sphere > keep {
-            *slot = (to_sphere, local);
-            continue;
-        }
-        let signed = signed_distance(e, &local);
-        *slot = (signed, local);
-        if signed < keep {
-            let d = keep - signed;
-            deepest = Some(deepest.map_or(d, |b| b.max(d)));
-        }
-    }
-    deepest
+    colliders
+        .entries
+        .iter()
+        .zip(memory)
+        .filter_map(|(e, slot)| {
+            let keep = radius + e.thickness;
+            let local = e.end.inverse_transform_point(&Point3::from(*x)).coords;
+            // Its depth is at most the tolerance: it does not count.
+            if slot.0 - (local - slot.1).norm() >= keep - tolerance {
+                return None;
+            }
+            let bound = distance_bound(e, &local, keep);
+            *slot = (bound, local);
+            (bound < keep).then_some(keep - bound)
+        })
+        .reduce(f32::max)
 }
 
-/// Signed distance (m) of body-space point `local` from the surface of collider `e`: negative
-/// inside a solid; a shell, which has no inside, gives the unsigned distance.
-fn signed_distance(e: &Entry, local: &Vector3<f32>) -> f32 {
+/// A lower bound of the signed distance (m) of body-space point `local` from the surface of
+/// collider `e`, exact wherever it is below `keep`: the distance to the collider's enclosing
+/// sphere when that exceeds `keep`, else parry's exact projection (negative inside a solid; a
+/// shell, which has no inside, gives the unsigned distance).
+fn distance_bound(e: &Entry, local: &Vector3<f32>, keep: f32) -> f32 {
+    let (centre, enclosing) = e.bounding_sphere;
+    let to_sphere = (local - centre).norm() - enclosing;
+    if to_sphere > keep {
+        return to_sphere;
+    }
+    surface_offset(e, local).0
+}
+
+/// Parry's exact projection of body-space point `local` on collider `e`: the signed distance (m,
+/// negative inside a solid; a shell, which has no inside, gives the unsigned distance) and the
+/// outward unit normal there (body space; zero on the surface itself).
+fn surface_offset(e: &Entry, local: &Vector3<f32>) -> (f32, Vector3<f32>) {
     let proj = e.shape.project_local_point(to_glam(local), false);
-    let dist = (local - from_glam(proj.point)).norm();
-    if e.surface == Surface::Solid && proj.is_inside {
-        -dist
+    let offset = local - from_glam(proj.point);
+    let dist = offset.norm();
+    let outward = if dist < 1e-9 {
+        Vector3::zeros()
     } else {
-        dist
+        offset / dist
+    };
+    if e.surface == Surface::Solid && proj.is_inside {
+        (-dist, -outward)
+    } else {
+        (dist, outward)
     }
 }
 
 /// Depth (m) of a sphere of `radius` centred at `x` (world, m) inside the deepest of
 /// `colliders`, or `None` when it reaches none of them.
 pub(crate) fn depth(colliders: &Colliders, x: &Vector3<f32>, radius: f32) -> Option<f32> {
-    let mut deepest: Option<f32> = None;
-    for e in &colliders.entries {
-        let keep = radius + e.thickness;
-        let local = e.end.inverse_transform_point(&Point3::from(*x)).coords;
-        let (centre, enclosing) = e.bounding_sphere;
-        if (local - centre).norm() > enclosing + keep {
-            continue;
-        }
-        let signed = signed_distance(e, &local);
-        if signed < keep {
-            let d = keep - signed;
-            deepest = Some(deepest.map_or(d, |b| b.max(d)));
-        }
-    }
-    deepest
+    colliders
+        .entries
+        .iter()
+        .filter_map(|e| {
+            let keep = radius + e.thickness;
+            let local = e.end.inverse_transform_point(&Point3::from(*x)).coords;
+            let bound = distance_bound(e, &local, keep);
+            (bound < keep).then_some(keep - bound)
+        })
+        .reduce(f32::max)
 }
 
 /// Per point of `positions` (m, collision radii `radii` in m): the outward unit normal (world) of
@@ -195,19 +204,10 @@ pub fn resting_normals(
                 if (local - centre).norm() > enclosing + keep + reach {
                     continue;
                 }
-                let proj = e.shape.project_local_point(to_glam(&local), false);
-                let offset = local - from_glam(proj.point);
-                let dist = offset.norm();
-                let inside = e.surface == Surface::Solid && proj.is_inside;
-                let signed = if inside { -dist } else { dist };
-                if signed > keep + reach || dist < 1e-9 {
+                let (signed, normal) = surface_offset(e, &local);
+                if signed > keep + reach || normal == Vector3::zeros() {
                     continue;
                 }
-                let normal = if inside {
-                    -offset / dist
-                } else {
-                    offset / dist
-                };
                 let depth = keep - signed;
                 if best.is_none_or(|(d, _)| depth > d) {
                     best = Some((depth, e.end.rotation * normal));
