@@ -65,7 +65,7 @@ enum Command {
         /// Strands the Foxglove channel shows per frame (implies --foxglove).
         #[arg(long, value_name = "N", default_value_t = 500)]
         foxglove_strands: usize,
-        /// Print nothing but errors.
+        /// Print nothing but errors (and skip the quality report, which only the summary shows).
         #[arg(long, conflicts_with = "json")]
         quiet: bool,
         /// Print one JSON object per frame and a JSON summary on stdout.
@@ -1099,7 +1099,8 @@ fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
         writer: run.writer,
         resume: run.resume,
         kernel: run.kernel,
-        quality: true,
+        // The report is part of the summary: a quiet run prints none, so it skips the cost.
+        quality: !quiet,
     };
     let result = simulate(&opts, |r| {
         let written = u64::from(r.frame.saturating_sub(first)) + 1;
