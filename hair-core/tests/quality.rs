@@ -2,6 +2,7 @@
 
 use hair_core::quality::{
     measure, measure_remembered, Frame, PenetrationMemory, Previous, QualityInput, QualityOptions,
+    Reference,
 };
 use hair_core::{Collider, Colliders, HairError};
 use nalgebra::{Isometry3, Vector3};
@@ -229,7 +230,7 @@ fn drift_from_reference_and_merging_over_frames() {
     let mut reference = rest.clone();
     reference.extend(&rest);
     let mut input = s.input();
-    input.reference = Some(&reference);
+    input.reference = Some(Reference::Positions(&reference));
     let a = measure(&input, &QualityOptions::default()).unwrap();
     let d = a.drift.as_ref().unwrap();
     // 8 free points, one 3 mm off: RMS 3/√8 mm; 2 tips: RMS 3/√2 mm.
@@ -239,7 +240,7 @@ fn drift_from_reference_and_merging_over_frames() {
     // A second frame with the hairpin-free, drift-free state: merged RMS over 16 points.
     let s2 = Strands::new(&[rest.clone(), rest.clone()]);
     let mut input = s2.input();
-    input.reference = Some(&reference);
+    input.reference = Some(Reference::Positions(&reference));
     let b = measure(&input, &QualityOptions::default()).unwrap();
     let mut run = a.clone();
     run.merge(&b);
@@ -274,7 +275,7 @@ fn arrays_that_do_not_fit_the_layout_are_refused_by_name() {
         "quality.frame.velocities"
     );
     let mut input = s.input();
-    input.reference = Some(&short);
+    input.reference = Some(Reference::Positions(&short));
     assert_eq!(
         name(measure(&input, &QualityOptions::default())),
         "quality.reference"
@@ -351,4 +352,81 @@ fn remembering_bounds_between_frames_changes_no_figure() {
         inside_seen += exact.penetration.unwrap().inside;
     }
     assert!(inside_seen > 0, "the sweep must pass through the colliders");
+}
+
+/// The groom posed point by point from root frames ([`Reference::Posed`]) is the same reference
+/// as the posed positions stored ([`rest_positions`]): the same drift to f32 rounding, on
+/// strands whose roots are turned and moved.
+#[test]
+fn posed_reference_measures_the_drift_of_the_stored_rest_positions() {
+    use hair_core::quality::rest_positions;
+    use hair_core::{Anchor, RootFrame, Scalp, StrandInput, StrandSet};
+    use nalgebra::{Translation3, UnitQuaternion};
+
+    let mut strands = StrandSet::new();
+    for s in 0..3 {
+        let rotation = UnitQuaternion::from_euler_angles(0.3 * s as f32, -0.7, 1.1);
+        let root = RootFrame {
+            origin: Vector3::new(0.01 * s as f32, 0.02, -0.03),
+            rotation,
+        };
+        let rest = (0..6)
+            .map(|i| Vector3::new(0.001 * i as f32, 0.0, 0.02 * i as f32))
+            .collect();
+        strands
+            .push(StrandInput::uniform(
+                Anchor::Body(root),
+                rest,
+                1e-3,
+                1e-4,
+                0.0,
+                0.0,
+            ))
+            .unwrap();
+    }
+    let mut scalp = Scalp::fixed();
+    scalp.body = Isometry3::from_parts(
+        Translation3::new(0.1, -0.2, 0.3),
+        UnitQuaternion::from_euler_angles(0.4, 0.2, -0.9),
+    );
+    let stored = rest_positions(&strands, &scalp);
+    let roots = strands.root_frames(&scalp);
+    // Every free point 1 mm off its posed rest position, tips 4 mm off.
+    let positions: Vec<Vector3<f32>> = stored
+        .iter()
+        .enumerate()
+        .map(|(i, p)| p + Vector3::new(0.0, if i % 6 == 5 { 4e-3 } else { 1e-3 }, 0.0))
+        .collect();
+    let velocities = vec![Vector3::zeros(); positions.len()];
+    let frame = Frame {
+        offsets: strands.offsets(),
+        positions: &positions,
+        velocities: &velocities,
+        rest_lengths: strands.rest_lengths(),
+        radii: strands.radii(),
+        inverse_masses: Some(strands.inverse_masses()),
+    };
+    let measure_with = |reference| {
+        let input = QualityInput {
+            frame,
+            previous: None,
+            colliders: None,
+            reference: Some(reference),
+        };
+        measure(&input, &QualityOptions::default())
+            .unwrap()
+            .drift
+            .unwrap()
+    };
+    let a = measure_with(Reference::Positions(&stored));
+    let b = measure_with(Reference::Posed {
+        roots: &roots,
+        rest_local: strands.rest_local(),
+    });
+    let expected_rms = ((4.0 * 1e-6 + 16e-6) / 5.0f32).sqrt();
+    for d in [&a, &b] {
+        assert!((d.tip_max - 4e-3).abs() < 1e-6, "{d:?}");
+        assert!((d.rms - expected_rms).abs() < 1e-6, "{d:?}");
+    }
+    assert!((a.max - b.max).abs() < 1e-6 && (a.rms - b.rms).abs() < 1e-6);
 }

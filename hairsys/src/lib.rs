@@ -52,4 +52,4 @@ pub mod session;
 pub mod session_children;
 
 pub use error::{Error, Result};
-pub use session::{Session, Snapshot};
+pub use session::{FrameView, Session, Snapshot};

@@ -15,8 +15,8 @@
 
 use std::path::Path;
 
-use hair_core::quality::{measure_remembered, rest_positions, Frame, PenetrationMemory, Previous};
-use hair_core::{Colliders, QualityInput, QualityOptions, QualityReport, Scalp, StrandSet};
+use hair_core::quality::{measure_remembered, Frame, PenetrationMemory, Previous, Reference};
+use hair_core::{Colliders, QualityInput, QualityOptions, QualityReport, RootFrame, StrandSet};
 use nalgebra::Vector3;
 use serde::Serialize;
 
@@ -34,7 +34,7 @@ pub struct RunQuality {
 }
 
 /// One frame handed to a [`QualityTracker`]: the strands' layout from `strands`, the frame's
-/// positions and velocities (m, m/s), the colliders at the frame's pose and the scalp then.
+/// positions and velocities (m, m/s), the colliders at the frame's pose and the root frames then.
 pub struct FrameToMeasure<'a> {
     /// Frame number.
     pub frame: u32,
@@ -44,8 +44,9 @@ pub struct FrameToMeasure<'a> {
     pub velocities: &'a [Vector3<f32>],
     /// Colliders at the frame's pose (none measured when empty).
     pub colliders: &'a Colliders,
-    /// The scalp at the frame, which places the groom for the drift.
-    pub scalp: &'a Scalp,
+    /// The root frames of the strands at the frame (one per strand, e.g.
+    /// `StrandSet::root_frames` of the scalp then), which place the groom for the drift.
+    pub roots: &'a [RootFrame],
 }
 
 /// The last frame a [`QualityTracker`] saw: its number, positions (m) and velocities (m/s).
@@ -83,7 +84,6 @@ impl QualityTracker {
     /// Measures `f` (the first frame is only remembered: it is the groom before any step).
     pub fn add(&mut self, strands: &StrandSet, f: &FrameToMeasure) -> Result<(), String> {
         if let Some(seen) = &self.previous {
-            let reference = rest_positions(strands, f.scalp);
             let input = QualityInput {
                 frame: Frame {
                     offsets: strands.offsets(),
@@ -99,7 +99,10 @@ impl QualityTracker {
                     dt: (f.frame.saturating_sub(seen.frame).max(1) as f64 / self.fps) as f32,
                 }),
                 colliders: (!f.colliders.is_empty()).then_some(f.colliders),
-                reference: Some(&reference),
+                reference: Some(Reference::Posed {
+                    roots: f.roots,
+                    rest_local: strands.rest_local(),
+                }),
             };
             let report = measure_remembered(&input, &self.options, &mut self.memory)
                 .map_err(|e| format!("frame {}: {e}", f.frame))?;
@@ -169,6 +172,7 @@ pub fn cache_quality(cache: &Path, scene: Option<&Path>) -> Result<RunQuality, S
         sim.pose_colliders(&mut colliders, f)
             .and_then(|()| colliders.place_scalp(&scalp))
             .map_err(|e| sim.collider_message(&e))?;
+        let roots = sim.strands.root_frames(&scalp);
         tracker.add(
             &sim.strands,
             &FrameToMeasure {
@@ -176,7 +180,7 @@ pub fn cache_quality(cache: &Path, scene: Option<&Path>) -> Result<RunQuality, S
                 positions: &frame.positions,
                 velocities: &frame.velocities,
                 colliders: &colliders,
-                scalp: &scalp,
+                roots: &roots,
             },
         )?;
     }

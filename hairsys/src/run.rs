@@ -15,7 +15,7 @@ use crate::error::Error;
 use crate::quality::{FrameToMeasure, QualityTracker, RunQuality};
 use crate::resume::{resume, Resumed};
 use crate::scene::SceneFile;
-use crate::session::Session;
+use crate::session::{FrameView, Session};
 
 /// Options of one run.
 pub struct SimulateOptions {
@@ -114,7 +114,9 @@ pub struct RunSummary {
     /// resumed run are not in it).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub quality: Option<RunQuality>,
-    /// Mean time per frame measuring quality, ms (0 without it).
+    /// Mean time per frame the quality report added to the run, ms (0 without it): it is
+    /// measured while each frame is written to the cache, so only what outlasts the write
+    /// counts.
     pub quality_ms_per_frame: f64,
 }
 
@@ -202,41 +204,54 @@ pub fn simulate(
         .quality
         .then(|| QualityTracker::new(f64::from(session.fps())));
     let mut quality_time = Duration::ZERO;
-    let measure = |tracker: &mut QualityTracker, session: &Session| {
+    // The part of it inside the steps' wall-clock time (the first frame is measured before).
+    let mut quality_in_steps = Duration::ZERO;
+    let measure = |tracker: &mut QualityTracker, view: &FrameView| {
         tracker
             .add(
-                session.strands(),
+                view.strands,
                 &FrameToMeasure {
-                    frame: session.frame(),
-                    positions: &session.strands().positions,
-                    velocities: &session.strands().velocities,
-                    colliders: session.colliders(),
-                    scalp: session.scalp(),
+                    frame: view.frame,
+                    positions: &view.strands.positions,
+                    velocities: &view.strands.velocities,
+                    colliders: view.colliders,
+                    roots: view.roots,
                 },
             )
             .map_err(|e| Error::Output(format!("the quality report: {e}")))
     };
     if let Some(tracker) = &mut quality {
         let t0 = Instant::now();
-        measure(tracker, &session)?;
+        let view = FrameView {
+            frame: session.frame(),
+            strands: session.strands(),
+            colliders: session.colliders(),
+            roots: session.root_frames(),
+        };
+        measure(tracker, &view)?;
         quality_time += t0.elapsed();
     }
     while session.frame() < last_frame {
         let t0 = Instant::now();
-        let report = session.step()?;
+        let report = match &mut quality {
+            // Measured while the frame is written to the cache.
+            Some(tracker) => {
+                let (report, measured, added) = session.step_with(|s| measure(tracker, s))?;
+                measured?;
+                quality_time += added;
+                quality_in_steps += added;
+                report
+            }
+            None => session.step()?,
+        };
         totals.add(&report, t0.elapsed());
-        if let Some(tracker) = &mut quality {
-            let t0 = Instant::now();
-            measure(tracker, &session)?;
-            quality_time += t0.elapsed();
-        }
         on_frame(&report);
     }
     let cache_time = session.cache_write_time();
     let cache = session.finish_recording()?;
     let stepped = last_frame - resumed.as_ref().map_or(first_frame, Resumed::last_frame);
     let per_frame = |d: Duration| d.as_secs_f64() * 1e3 / stepped.max(1) as f64;
-    let solve = totals.wall.saturating_sub(cache_time);
+    let solve = totals.wall.saturating_sub(cache_time + quality_in_steps);
     let solver = session.solver();
     Ok(RunSummary {
         scene: opts.scene.scene.scene.name.clone(),

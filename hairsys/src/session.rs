@@ -425,6 +425,72 @@ impl Session {
     /// Advances one frame with what the host set (and the scene's keyframes for the rest);
     /// writes the frame to the cache being recorded, if any.
     pub fn step(&mut self) -> Result<FrameReport> {
+        let report = self.advance()?;
+        self.write_frame()?;
+        Ok(report)
+    }
+
+    /// [`Session::step`], then `beside` on the new frame, run at the same time as the frame is
+    /// written to the cache being recorded (encoding and writing keep one thread busy): a host
+    /// that inspects every frame — the quality report of `hairsys simulate` — pays only for
+    /// what outlasts the write. `beside` runs on the session's thread pool. Returns the frame's
+    /// report, what `beside` returned and how much longer than the write it took (zero when it
+    /// finished first): what it added to the frame's time.
+    pub fn step_with<R: Send>(
+        &mut self,
+        beside: impl FnOnce(&FrameView) -> R + Send,
+    ) -> Result<(FrameReport, R, std::time::Duration)> {
+        let report = self.advance()?;
+        let mut recorder = self.recorder.take();
+        let view = FrameView {
+            frame: self.frame(),
+            strands: &self.strands,
+            colliders: &self.colliders,
+            roots: self.solver.roots(),
+        };
+        let start = std::time::Instant::now();
+        let both = || {
+            rayon::join(
+                || {
+                    let t = std::time::Instant::now();
+                    let written = recorder.as_mut().map(|w| {
+                        w.write_frame(
+                            view.frame,
+                            &view.strands.positions,
+                            &view.strands.velocities,
+                        )
+                    });
+                    (written, t.elapsed())
+                },
+                || beside(&view),
+            )
+        };
+        let ((written, took), result) = match &self.pool {
+            Some(pool) => pool.install(both),
+            None => both(),
+        };
+        let added = start.elapsed().saturating_sub(took);
+        self.recorder = recorder;
+        if let Some(written) = written {
+            self.cache_time += took;
+            written?;
+        }
+        Ok((report, result, added))
+    }
+
+    /// Writes the current frame to the cache being recorded, if any.
+    fn write_frame(&mut self) -> Result<()> {
+        let frame = self.frame();
+        if let Some(w) = &mut self.recorder {
+            let t = std::time::Instant::now();
+            w.write_frame(frame, &self.strands.positions, &self.strands.velocities)?;
+            self.cache_time += t.elapsed();
+        }
+        Ok(())
+    }
+
+    /// Solves one frame (see [`Session::step`]) without writing it.
+    fn advance(&mut self) -> Result<FrameReport> {
         if let Some((frame, cause)) = &self.failed {
             return Err(Error::Failed {
                 frame: *frame,
@@ -462,11 +528,6 @@ impl Session {
             }
         };
         self.scalp = scalp;
-        if let Some(w) = &mut self.recorder {
-            let t = std::time::Instant::now();
-            w.write_frame(frame, &self.strands.positions, &self.strands.velocities)?;
-            self.cache_time += t.elapsed();
-        }
         Ok(report)
     }
 
@@ -629,6 +690,18 @@ impl Session {
     pub fn root_frames(&self) -> &[RootFrame] {
         self.solver.roots()
     }
+}
+
+/// One stepped frame of a [`Session`], borrowed for [`Session::step_with`].
+pub struct FrameView<'a> {
+    /// The frame number.
+    pub frame: u32,
+    /// The strands at the frame (positions m, velocities m/s).
+    pub strands: &'a StrandSet,
+    /// The colliders at the frame's pose.
+    pub colliders: &'a Colliders,
+    /// The strands' root frames at the frame.
+    pub roots: &'a [RootFrame],
 }
 
 impl SceneAnimation {

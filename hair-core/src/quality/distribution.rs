@@ -67,6 +67,18 @@ impl Distribution {
         }
     }
 
+    /// Adds `n` values of 0.
+    pub fn add_zeros(&mut self, n: u64) {
+        if n == 0 {
+            return;
+        }
+        if self.bins.is_empty() {
+            self.bins = vec![0; BINS];
+        }
+        self.bins[0] += n;
+        self.count += n;
+    }
+
     /// Adds every value of `other`.
     pub fn merge(&mut self, other: &Distribution) {
         if other.count == 0 {

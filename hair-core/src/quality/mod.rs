@@ -33,16 +33,18 @@
 //! `cargo run --release -p hair-core --example quality_cost` (see BENCHMARKS.md).
 
 mod distribution;
-mod motion;
 mod penetration;
 mod shape;
+mod strand_pass;
 
 use nalgebra::Vector3;
+use rayon::prelude::*;
 #[cfg(feature = "serde")]
 use serde::Serialize;
 
 use crate::contacts::Colliders;
 use crate::error::{HairError, Result};
+use crate::mesh::RootFrame;
 use crate::strands::{Scalp, StrandSet};
 
 pub use distribution::Distribution;
@@ -185,8 +187,25 @@ pub struct QualityInput<'a> {
     pub previous: Option<Previous<'a>>,
     /// Colliders at this frame's pose ([`Colliders::pose`]), for penetration.
     pub colliders: Option<&'a Colliders>,
-    /// Reference positions (m, same layout), e.g. [`rest_positions`], for drift.
-    pub reference: Option<&'a [Vector3<f32>]>,
+    /// The reference shape, for drift.
+    pub reference: Option<Reference<'a>>,
+}
+
+/// A reference shape to measure drift from.
+#[derive(Debug, Clone, Copy)]
+pub enum Reference<'a> {
+    /// Positions, m (the frame's layout), e.g. [`rest_positions`].
+    Positions(&'a [Vector3<f32>]),
+    /// The rest shape posed on root frames, computed point by point (nothing stored): point `i`
+    /// of strand `s` at `roots[s].to_world(&rest_local[i])` — the groom on the scalp when
+    /// `roots` are the frame's root frames ([`StrandSet::root_frames`]) and `rest_local` the
+    /// strands' [`StrandSet::rest_local`].
+    Posed {
+        /// One root frame per strand.
+        roots: &'a [RootFrame],
+        /// Rest positions in their root's frame, m (the frame's layout).
+        rest_local: &'a [Vector3<f32>],
+    },
 }
 
 /// Settings of the report.
@@ -300,45 +319,43 @@ fn measure_inner(
         check_len("previous.positions", p.positions.len(), n)?;
         check_len("previous.velocities", p.velocities.len(), n)?;
     }
-    if let Some(r) = input.reference {
-        check_len("reference", r.len(), n)?;
+    match input.reference {
+        Some(Reference::Positions(r)) => check_len("reference", r.len(), n)?,
+        Some(Reference::Posed { roots, rest_local }) => {
+            check_len("reference.rest_local", rest_local.len(), n)?;
+            if roots.len() != frame.strands() {
+                return Err(HairError::Parameter {
+                    name: "quality.reference.roots".into(),
+                    value: format!("{} entries", roots.len()),
+                    fix: format!("give one root frame per strand ({})", frame.strands()),
+                });
+            }
+        }
+        None => {}
     }
-    // The measures are independent passes over the frame: run them side by side.
-    let ((strain, hairpins), ((velocity_mismatch, drift), penetration)) = rayon::join(
-        || rayon::join(|| shape::strain(frame), || shape::hairpins(frame)),
+    // Penetration (parallel over points) runs beside the per-strand measures (parallel over
+    // chunks of strands).
+    let (strands, penetration) = rayon::join(
+        || strand_pass::measure(frame, input.previous.as_ref(), input.reference.as_ref()),
         || {
-            rayon::join(
-                || {
-                    rayon::join(
-                        || {
-                            input.previous.as_ref().map(|p| {
-                                motion::mismatch(
-                                    p.positions,
-                                    p.velocities,
-                                    frame.positions,
-                                    frame.velocities,
-                                    p.dt,
-                                )
-                            })
-                        },
-                        || input.reference.map(|r| shape::drift(frame, r)),
-                    )
-                },
-                || {
-                    input.colliders.map(|c| {
-                        penetration::measure(
-                            c,
-                            frame.positions,
-                            frame.radii,
-                            &|i| frame.is_free(i),
-                            tolerance,
-                            memory,
-                        )
-                    })
-                },
-            )
+            input.colliders.map(|c| {
+                penetration::measure(
+                    c,
+                    frame.positions,
+                    frame.radii,
+                    &|i| frame.is_free(i),
+                    tolerance,
+                    memory,
+                )
+            })
         },
     );
+    let strand_pass::StrandMeasures {
+        strain,
+        hairpins,
+        drift,
+        velocity_mismatch,
+    } = strands;
     Ok(QualityReport {
         frames: 1,
         points: n as u64,
@@ -364,12 +381,13 @@ fn check_len(name: &str, len: usize, points: usize) -> Result<()> {
 
 /// The rest shape of `strands` posed on `scalp` (m, world): the reference for drift.
 pub fn rest_positions(strands: &StrandSet, scalp: &Scalp) -> Vec<Vector3<f32>> {
-    let roots = strands.root_frames(scalp);
-    let mut out = Vec::with_capacity(strands.point_count());
-    for (s, root) in roots.iter().enumerate() {
-        for i in strands.points(s) {
-            out.push(root.to_world(&strands.rest_local()[i]));
-        }
-    }
-    out
+    let rest = strands.rest_local();
+    (0..strands.len())
+        .into_par_iter()
+        .with_min_len(256)
+        .flat_map_iter(|s| {
+            let root = scalp.root_frame(&strands.anchors()[s]);
+            strands.points(s).map(move |i| root.to_world(&rest[i]))
+        })
+        .collect()
 }

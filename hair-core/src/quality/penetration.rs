@@ -11,6 +11,7 @@
 //! from colliders costs a subtraction per point and collider.
 
 use nalgebra::{Point3, Vector3};
+use parry3d::query::{PointQuery, PointQueryWithLocation};
 use rayon::prelude::*;
 #[cfg(feature = "serde")]
 use serde::Serialize;
@@ -61,17 +62,44 @@ impl Penetration {
 /// surface (m) and the body-space position it holds at. The signed distance is 1-Lipschitz in
 /// the body-space position, so `bound − |moved|` still bounds it a frame later; a point whose
 /// bound exceeds its radius plus the collider's thickness cannot be inside and is not projected.
-/// The result is exactly the memoryless measurement's (points within the contact tolerance count
-/// for nothing either way); hair away from colliders, or resting on them and moving with them (a
-/// head), then costs a subtraction and a norm per point. Bounds of a collider whose mesh
-/// was moved to other vertices are dropped.
+/// Points that must be projected start from the mesh triangle they projected on last time: on a
+/// convex part of a solid mesh that triangle (or one a short walk away) certifies the answer
+/// without parry's BVH search (the contact detection's shortcut), elsewhere its distance bounds the
+/// search. The distances are the memoryless measurement's (the same projection on the same
+/// triangle, up to which of two equally near triangles is named), and points within the contact
+/// tolerance count for nothing either way; hair away from colliders, or resting on them and
+/// moving with them (a head), then costs a subtraction and a norm per point, and hair sliding
+/// over a head a plane test or two. Bounds of a collider whose mesh was moved to other vertices
+/// are dropped.
 #[derive(Debug, Clone, Default)]
 pub struct PenetrationMemory {
     /// Per collider, the shape version the bounds were measured on.
     versions: Vec<u64>,
-    /// Point-major, one per point and collider: (lower bound of the signed distance, m;
-    /// body-space position it was measured at, m).
-    bounds: Vec<(f32, Vector3<f32>)>,
+    /// Point-major, one per point and collider.
+    bounds: Vec<Remembered>,
+}
+
+/// No triangle remembered.
+const NO_TRIANGLE: u32 = u32::MAX;
+
+/// What [`PenetrationMemory`] keeps of one point and collider.
+#[derive(Debug, Clone, Copy)]
+struct Remembered {
+    /// Lower bound of the signed distance of the point's centre from the surface, m.
+    bound: f32,
+    /// Body-space position it was measured at, m.
+    at: Vector3<f32>,
+    /// The mesh triangle the point projected on ([`NO_TRIANGLE`]: none, or not a mesh).
+    triangle: u32,
+}
+
+impl Remembered {
+    /// Nothing known: the next measurement projects.
+    const UNKNOWN: Self = Self {
+        bound: f32::NEG_INFINITY,
+        at: Vector3::new(0.0, 0.0, 0.0),
+        triangle: NO_TRIANGLE,
+    };
 }
 
 impl PenetrationMemory {
@@ -84,7 +112,7 @@ impl PenetrationMemory {
     /// colliders changed, a collider's when its mesh was moved to other vertices.
     fn prepare(&mut self, colliders: &Colliders, points: usize) {
         let e = colliders.entries.len();
-        let unknown = (f32::NEG_INFINITY, Vector3::zeros());
+        let unknown = Remembered::UNKNOWN;
         if self.versions.len() != e || self.bounds.len() != points * e {
             self.versions = colliders.entries.iter().map(|c| c.version).collect();
             self.bounds = vec![unknown; points * e];
@@ -102,13 +130,14 @@ impl PenetrationMemory {
 }
 
 /// [`depth`] with `memory` (one entry per collider of this point): colliders the point cannot
-/// reach by its bound are skipped, the others measured and their bounds renewed.
+/// reach by its bound are skipped, the others measured (warm-started from the triangle the point
+/// projected on last time) and their bounds renewed.
 fn depth_remembered(
     colliders: &Colliders,
     x: &Vector3<f32>,
     radius: f32,
     tolerance: f32,
-    memory: &mut [(f32, Vector3<f32>)],
+    memory: &mut [Remembered],
 ) -> Option<f32> {
     colliders
         .entries
@@ -118,11 +147,16 @@ fn depth_remembered(
             let keep = radius + e.thickness;
             let local = e.end.inverse_transform_point(&Point3::from(*x)).coords;
             // Its depth is at most the tolerance: it does not count.
-            if slot.0 - (local - slot.1).norm() >= keep - tolerance {
+            if slot.bound - (local - slot.at).norm() >= keep - tolerance {
                 return None;
             }
-            let bound = distance_bound(e, &local, keep);
-            *slot = (bound, local);
+            let hint = (slot.triangle != NO_TRIANGLE).then_some(slot.triangle);
+            let (bound, triangle) = distance_bound(e, &local, keep, hint);
+            *slot = Remembered {
+                bound,
+                at: local,
+                triangle: triangle.unwrap_or(NO_TRIANGLE),
+            };
             (bound < keep).then_some(keep - bound)
         })
         .reduce(f32::max)
@@ -130,15 +164,53 @@ fn depth_remembered(
 
 /// A lower bound of the signed distance (m) of body-space point `local` from the surface of
 /// collider `e`, exact wherever it is below `keep`: the distance to the collider's enclosing
-/// sphere when that exceeds `keep`, else parry's exact projection (negative inside a solid; a
-/// shell, which has no inside, gives the unsigned distance).
-fn distance_bound(e: &Entry, local: &Vector3<f32>, keep: f32) -> f32 {
+/// sphere when that exceeds `keep`, else the exact projection (negative inside a solid; a
+/// shell, which has no inside, gives the unsigned distance) — with the mesh triangle it lies on,
+/// which warm-starts the next search (`hint`).
+fn distance_bound(
+    e: &Entry,
+    local: &Vector3<f32>,
+    keep: f32,
+    hint: Option<u32>,
+) -> (f32, Option<u32>) {
     let (centre, enclosing) = e.bounding_sphere;
     let to_sphere = (local - centre).norm() - enclosing;
     if to_sphere > keep {
-        return to_sphere;
+        return (to_sphere, None);
     }
-    surface_offset(e, local).0
+    let Some(mesh) = e.shape.as_trimesh() else {
+        return (surface_offset(e, local).0, None);
+    };
+    let pg = to_glam(local);
+    let hint = hint.filter(|&t| (t as usize) < mesh.num_triangles());
+    // Near a convex part of a solid mesh, the last triangle (or one a short walk away)
+    // certifies that the nearest surface point lies on it, outside: the distance to that
+    // triangle is the mesh's.
+    if let (Some(fast), Some(t)) = (&e.fast, hint) {
+        if let Some(hit) = fast.project(mesh, t, local) {
+            let on = mesh.triangle(hit.triangle).project_local_point(pg, false);
+            return ((local - from_glam(on.point)).norm(), Some(hit.triangle));
+        }
+    }
+    // Otherwise parry's search, bounded by the hint triangle's distance (a little more keeps that
+    // triangle findable: the search accepts only strictly nearer candidates).
+    let limit = hint.map_or(f32::MAX, |t| {
+        mesh.triangle(t).distance_to_local_point(pg, true) * (1.0 + 1e-4) + 1e-6
+    });
+    let found = mesh
+        .project_local_point_and_get_location_with_max_dist(pg, false, limit)
+        .or_else(|| mesh.project_local_point_and_get_location_with_max_dist(pg, false, f32::MAX));
+    let Some((proj, (triangle, _))) = found else {
+        // Only a non-finite point finds nothing; the memoryless projection says what it is.
+        return (surface_offset(e, local).0, None);
+    };
+    let dist = (local - from_glam(proj.point)).norm();
+    let signed = if e.surface == Surface::Solid && proj.is_inside {
+        -dist
+    } else {
+        dist
+    };
+    (signed, Some(triangle))
 }
 
 /// Parry's exact projection of body-space point `local` on collider `e`: the signed distance (m,
@@ -169,7 +241,13 @@ pub(crate) fn depth(colliders: &Colliders, x: &Vector3<f32>, radius: f32) -> Opt
         .filter_map(|e| {
             let keep = radius + e.thickness;
             let local = e.end.inverse_transform_point(&Point3::from(*x)).coords;
-            let bound = distance_bound(e, &local, keep);
+            let (centre, enclosing) = e.bounding_sphere;
+            let to_sphere = (local - centre).norm() - enclosing;
+            let bound = if to_sphere > keep {
+                to_sphere
+            } else {
+                surface_offset(e, &local).0
+            };
             (bound < keep).then_some(keep - bound)
         })
         .reduce(f32::max)
