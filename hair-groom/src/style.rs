@@ -35,7 +35,7 @@
 use hair_core::{Anchor, StrandInput, TriMesh};
 use nalgebra::{Unit, UnitQuaternion, Vector3};
 use parry3d::math::Vector;
-use parry3d::query::PointQueryWithLocation;
+use parry3d::query::{PointQueryWithLocation, Ray, RayCast};
 
 use crate::error::{parameter, GroomError};
 use crate::rng::{self, Purpose};
@@ -150,6 +150,13 @@ impl<'a> Surface<'a> {
             mesh,
             query: crate::snap::searchable(mesh)?,
         })
+    }
+
+    /// Does the segment from `a` to `b` (m) meet the scalp's surface?
+    fn crosses(&self, a: &Vector3<f32>, b: &Vector3<f32>) -> bool {
+        let d = b - a;
+        let ray = Ray::new(Vector::new(a.x, a.y, a.z), Vector::new(d.x, d.y, d.z));
+        self.query.cast_local_ray(&ray, 1.0, false).is_some()
     }
 
     /// The nearest scalp point to `p` and the smooth normal there.
@@ -317,6 +324,36 @@ pub fn lift_out_of_scalp(
         strand.rest = world.iter().map(|p| frame.to_local(p)).collect();
     }
     Ok(lifted)
+}
+
+/// The strands of `strands` (indices, increasing) whose rest shape passes through `mesh` (the
+/// scalp at the rest pose the anchors refer to): a segment after the first one — the first
+/// leaves the scalp at the root — that a ray along it meets the surface within its length.
+/// Lifting ([`lift_out_of_scalp`]) moves points out of the scalp but cannot undo such a crossing:
+/// interpolated hair between two guides that pass either side of a thin flap (an ear) goes
+/// through it, and a simulation, whose contacts act on points, keeps the flap caught between two
+/// points.
+pub fn strands_through_scalp(
+    strands: &[StrandInput],
+    mesh: &TriMesh,
+) -> Result<Vec<usize>, GroomError> {
+    let surface = Surface::new(mesh)?;
+    Ok(strands
+        .iter()
+        .enumerate()
+        .filter(|(_, strand)| {
+            let Anchor::Surface(sample) = strand.anchor else {
+                return false;
+            };
+            let frame = mesh.evaluate(&sample);
+            let world: Vec<Vector3<f32>> = strand.rest.iter().map(|p| frame.to_world(p)).collect();
+            world
+                .windows(2)
+                .skip(1)
+                .any(|w| surface.crosses(&w[0], &w[1]))
+        })
+        .map(|(i, _)| i)
+        .collect())
 }
 
 /// One strand laid from its world points (root first) at layer height `height` (m).
@@ -558,6 +595,33 @@ mod tests {
         // Already clear: nothing moves.
         let again = lift_out_of_scalp(&mut strands, &mesh, clearance * 0.5).unwrap();
         assert_eq!(again, 0);
+    }
+
+    #[test]
+    fn strands_passing_through_the_scalp_are_found_and_strands_outside_are_not() {
+        let radius = 0.1;
+        let mesh = uv_sphere(radius, 48, 24).unwrap();
+        let mut strands = hair(&mesh);
+        // Even strands: straight out along the normal. Odd strands: out 2 cm, then back
+        // through the sphere and out its far side (0.3 m along −normal from 2 cm up).
+        for (k, s) in strands.iter_mut().enumerate() {
+            let n = s.rest.len();
+            s.rest = (0..n)
+                .map(|i| {
+                    let t = i as f32 / (n - 1) as f32;
+                    if k % 2 == 0 {
+                        Vector3::new(0.0, 0.0, 0.3 * t)
+                    } else if i < 2 {
+                        Vector3::new(0.0, 0.0, 0.02 * i as f32)
+                    } else {
+                        Vector3::new(0.0, 0.0, 0.02 - 0.3 * t)
+                    }
+                })
+                .collect();
+        }
+        let through = strands_through_scalp(&strands, &mesh).unwrap();
+        let odd: Vec<usize> = (0..strands.len()).filter(|k| k % 2 == 1).collect();
+        assert_eq!(through, odd);
     }
 
     #[test]

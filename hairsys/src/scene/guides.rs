@@ -92,7 +92,10 @@ pub struct SimHairsSection {
     /// Lift interpolated hair out of the scalp to at least this height, m (absent: as
     /// interpolated). Hair blended between guides on a curved head, or guides made on a finer
     /// mesh than this scalp, can dip into it; a scalp collider would then start with hair
-    /// inside. The hair radius plus the collider's thickness starts it touching.
+    /// inside. The hair radius plus the collider's thickness starts it touching. Sim hairs whose
+    /// lifted shape still passes through the scalp (blended between guides either side of a
+    /// thin flap such as an ear) are left out: contacts act on points, so a flap between two
+    /// points of a strand stays caught. `scene check` says how many.
     #[serde(default)]
     pub clearance: Option<f32>,
     /// Guides blended per hair.
@@ -281,12 +284,29 @@ pub fn build(
             )
         })
         .collect::<Vec<_>>();
+    let mut left_out = String::new();
     if let Some(clearance) = sim.clearance {
         hair_groom::lift_out_of_scalp(&mut inputs, mesh, clearance)
             .map_err(|e| format!("[sim_hairs] {e}"))?;
+        let through = hair_groom::strands_through_scalp(&inputs, mesh)
+            .map_err(|e| format!("[sim_hairs] {e}"))?;
+        if !through.is_empty() {
+            left_out = format!(
+                " ({} left out: their blended shape passes through the scalp, e.g. between \
+                 guides either side of an ear)",
+                through.len()
+            );
+            let mut through = through.into_iter().peekable();
+            let mut index = 0;
+            inputs.retain(|_| {
+                let drop = through.next_if_eq(&index).is_some();
+                index += 1;
+                !drop
+            });
+        }
     }
     let report = format!(
-        "{source}; {} enabled; {} sim hairs of {points} points from the {} nearest",
+        "{source}; {} enabled; {} sim hairs of {points} points from the {} nearest{left_out}",
         enabled.iter().filter(|&&e| e).count(),
         inputs.len(),
         sim.k
