@@ -27,10 +27,12 @@
 //!   read 0.25 m/s on the Sintel scene), which is what spoils Hermite sampling between frames.
 //!
 //! # Cost
-//! Linear in points: a few operations per point and segment, plus, with colliders, one
-//! subtraction per point and collider and an exact parry projection for points within a
-//! collider's enclosing sphere (in parallel). Measured against the run it reports on in
-//! `cargo run --release -p hair-core --example quality_cost` (see BENCHMARKS.md).
+//! Linear in points and bound by reading memory: the per-strand measures take one pass over
+//! each strand (`strand_pass`, chunks of strands in parallel); penetration screens each point
+//! by its collider's enclosing sphere and, with a [`PenetrationMemory`], by its distance bound
+//! from the last frame, and projects the rest exactly (warm-started from the triangle it
+//! projected on before), in parallel. Measured against the run it reports on with `hairsys
+//! simulate --json` (`quality_ms_per_frame`) in BENCHMARKS.md.
 
 mod distribution;
 mod penetration;
