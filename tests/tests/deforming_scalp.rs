@@ -443,3 +443,29 @@ fn frames_option_outside_the_frames_read_is_refused() {
         "{e}"
     );
 }
+
+/// The shipped character (`scenes/character.toml`, the Blender-made `data/character/`), cut to
+/// 300 sim hairs and frames 1–13 (still, then the head turning 50° while the shoulders shrug):
+/// roots on their samples of the mesh read back from the `.usdc` at each frame, no hair point
+/// inside it.
+#[test]
+fn shipped_character_keeps_roots_on_samples_and_hair_outside() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let text = std::fs::read_to_string(root.join("scenes/character.toml"))
+        .unwrap()
+        .replace("count = 1500", "count = 300")
+        .replace("frames = [1, 24]", "frames = [1, 13]");
+    let scene = SceneFile::parse(&text, "character.toml", root.join("scenes")).unwrap();
+    let usd = hair_groom::UsdMeshSource::open(
+        &root.join("data/character/character.usdc"),
+        &hair_groom::UsdMeshOptions {
+            prim: "/root/rig/body/body".into(),
+            units: None,
+        },
+    )
+    .unwrap();
+    assert!(usd.is_animated());
+    let gap =
+        assert_roots_on_samples_and_hair_outside(&scene, |f| usd.mesh_at(f64::from(f)).unwrap());
+    assert!(gap > 0.0, "smallest gap {gap}");
+}
