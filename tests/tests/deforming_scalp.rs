@@ -224,12 +224,15 @@ fn fast_shrug_by_deformation_keeps_roots_on_samples_and_hair_outside() {
     assert!(gap > 0.0, "smallest gap {gap}");
 }
 
+/// Positions and velocities of one frame, as bits.
+type FrameBits = (Vec<[u32; 3]>, Vec<[u32; 3]>);
+
 fn bits(v: &[[f32; 3]]) -> Vec<[u32; 3]> {
     v.iter().map(|p| p.map(f32::to_bits)).collect()
 }
 
 /// Every frame's positions and velocities of `scene` stepped from its first frame.
-fn run(scene: &SceneFile) -> Vec<(Vec<[u32; 3]>, Vec<[u32; 3]>)> {
+fn run(scene: &SceneFile) -> Vec<FrameBits> {
     let mut session = Session::from_scene(scene).unwrap();
     let mut out = Vec::new();
     while session.frame() < scene.scene.scene.frames[1] {
