@@ -88,7 +88,11 @@ pub fn report(scene: &str, sim: &Simulation, budget: Budget) -> Result<SceneRepo
         colliders.push(ColliderReport {
             name: "scalp".into(),
             shape: "the scalp mesh".into(),
-            motion: "the scalp's [scalp.motion]".into(),
+            motion: if sim.scalp_deforms() {
+                "the scalp's deformation ([scalp.mesh]) and [scalp.motion]".into()
+            } else {
+                "the scalp's [scalp.motion]".into()
+            },
             thickness: c.thickness,
             friction: c.friction,
         });
@@ -142,9 +146,17 @@ fn collider(i: usize, c: &SceneCollider) -> ColliderReport {
             half_height,
             radius,
         } => format!("capsule, half height {half_height} m, radius {radius} m"),
-        ColliderShape::Mesh(mesh) => {
-            format!("mesh, {} triangles", mesh.triangles().len())
-        }
+        ColliderShape::Mesh(mesh) => match &c.animation {
+            Some(a) => {
+                let (first, last) = a.frames();
+                format!(
+                    "mesh, {} triangles, deforming: {} (frames {first}–{last})",
+                    mesh.triangles().len(),
+                    a.source
+                )
+            }
+            None => format!("mesh, {} triangles", mesh.triangles().len()),
+        },
     };
     let motion = match c.motion.keys.as_slice() {
         [] => "still".to_string(),

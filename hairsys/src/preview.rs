@@ -227,7 +227,12 @@ fn frame_data(
     }
     for c in &sim.colliders {
         let pose = c.motion.at(f);
-        meshes.push((collider_mesh(&c.collider.shape, &pose)?, COLLIDER_RGB));
+        // A deforming collider is drawn at the frame's vertices.
+        let shape = match c.mesh_at(f) {
+            Some(mesh) => hair_core::ColliderShape::Mesh(mesh),
+            None => c.collider.shape.clone(),
+        };
+        meshes.push((collider_mesh(&shape, &pose)?, COLLIDER_RGB));
     }
     let label = if sim.strands.positions.as_ptr() == positions.as_ptr() {
         "rest".to_string()

@@ -169,8 +169,7 @@ pub fn cache_quality(cache: &Path, scene: Option<&Path>) -> Result<RunQuality, S
         let frame = reader.read_frame(n).map_err(|e| e.to_string())?;
         let f = n as f32;
         let scalp = sim.scalp_at(f);
-        sim.pose_colliders(&mut colliders, f)
-            .and_then(|()| colliders.place_scalp(&scalp))
+        sim.place_colliders(&mut colliders, f)
             .map_err(|e| sim.collider_message(&e))?;
         let roots = sim.strands.root_frames(&scalp);
         tracker.add(

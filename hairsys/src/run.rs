@@ -132,6 +132,8 @@ pub fn simulate(
                 "--frames {first}-{last}: the last frame must come after the first"
             )));
         }
+        sim.check_deforming_frames(first, last)
+            .map_err(|e| Error::Usage(format!("--frames {first}-{last}: {e}")))?;
         sim.set_frames(first, last);
     }
     sim.settings.kernel = opts.kernel;

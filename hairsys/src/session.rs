@@ -68,6 +68,8 @@ struct Pending {
     scalp: Option<Scalp>,
     /// Colliders the host posed for the next frame, by id.
     posed: Vec<bool>,
+    /// Mesh colliders the host deformed for the next frame, by id.
+    deformed: Vec<bool>,
 }
 
 /// A copy of a session's state at one frame, for scrubbing ([`Session::snapshot`]).
@@ -378,7 +380,13 @@ impl Session {
         }
         self.colliders
             .set_vertices(id, cast_slice(vertices))
-            .map_err(|e| Error::argument(argument, e.to_string()))
+            .map_err(|e| Error::argument(argument, e.to_string()))?;
+        let i = id.0 as usize;
+        if self.pending.deformed.len() <= i {
+            self.pending.deformed.resize(i + 1, false);
+        }
+        self.pending.deformed[i] = true;
+        Ok(())
     }
 
     fn check_collider(&self, id: ColliderId) -> Result<()> {
@@ -506,9 +514,20 @@ impl Session {
         };
         if let Some(a) = &self.animation {
             for (i, c) in a.sim.colliders.iter().enumerate() {
+                let id = ColliderId(i as u32);
                 if !pending.posed.get(i).copied().unwrap_or(false) {
                     self.colliders
-                        .set_pose(ColliderId(i as u32), c.motion.at(frame as f32))
+                        .set_pose(id, c.motion.at(frame as f32))
+                        .map_err(|e| Error::Scene(a.scene_error(&e)))?;
+                }
+                // A deforming collider of the scene (USD, OBJ sequence) takes the frame's
+                // vertices unless the host deformed it.
+                if let (Some(anim), false) = (
+                    &c.animation,
+                    pending.deformed.get(i).copied().unwrap_or(false),
+                ) {
+                    self.colliders
+                        .set_vertices(id, &anim.vertices_at(frame as f32))
                         .map_err(|e| Error::Scene(a.scene_error(&e)))?;
                 }
             }

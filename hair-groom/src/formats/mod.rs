@@ -8,12 +8,17 @@
 //! [`ImportOptions`]: meters per file unit and the file's up axis; writers apply the inverse, so
 //! a groom written with the options it was read with gives back the file's numbers.
 //! [`read_groom`] and [`write_groom`] pick the format from the file's extension.
+//!
+//! Meshes: [`obj`] (OBJ scalps and colliders, and numbered OBJ sequences of a deforming mesh
+//! in [`obj_sequence`]) and [`usd_mesh`] (a USD `Mesh` prim read at any time code).
 
 pub mod hair;
 pub mod obj;
 pub mod obj_curves;
+pub mod obj_sequence;
 pub mod tfx;
 pub mod usd;
+pub mod usd_mesh;
 pub mod usd_write;
 
 use std::path::Path;

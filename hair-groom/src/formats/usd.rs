@@ -90,6 +90,14 @@ pub fn read_usd(path: &Path, opts: &UsdReadOptions) -> Result<UsdCurves, GroomEr
     if let Some(units) = &opts.units {
         check_options(units)?;
     }
+    let name = openable_name(path)?;
+    guarded(path, || read_stage(path, name, opts))
+}
+
+/// The name `openusd` opens `path` by, after the checks every USD read makes: a regular file
+/// of at most [`MAX_GROOM_FILE_BYTES`](crate::input_file::MAX_GROOM_FILE_BYTES), with a UTF-8
+/// path.
+pub(super) fn openable_name(path: &Path) -> Result<&str, GroomError> {
     let limit = crate::input_file::MAX_GROOM_FILE_BYTES;
     let bytes = crate::input_file::check_regular_file(path)?;
     if bytes > limit {
@@ -100,19 +108,24 @@ pub fn read_usd(path: &Path, opts: &UsdReadOptions) -> Result<UsdCurves, GroomEr
         }
         .into());
     }
-    let name = path.to_str().ok_or_else(|| {
+    path.to_str().ok_or_else(|| {
         bad(
             path,
             FileLocation::File,
             "has a path that is not UTF-8, which the USD reader cannot open; rename the file",
         )
-    })?;
-    // `openusd` indexes tables with values from the file and may panic on a corrupt one; a
-    // panic must not take the host down (see the module docs). The panic hook still prints
-    // its message; the error below names the file.
-    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        read_stage(path, name, opts)
-    }));
+    })
+}
+
+/// Runs a read of the USD file at `path` and turns a panic of `openusd` into an error naming
+/// the file: `openusd` indexes tables with values from the file and may panic on a corrupt
+/// one, and a panic must not take the host down (see the module docs). The panic hook still
+/// prints its message.
+pub(super) fn guarded<T>(
+    path: &Path,
+    read: impl FnOnce() -> Result<T, GroomError>,
+) -> Result<T, GroomError> {
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(read));
     match result {
         Ok(r) => r,
         Err(payload) => {
@@ -188,7 +201,7 @@ pub fn write_usda(path: &Path, groom: &Groom, opts: &ImportOptions) -> Result<()
 }
 
 /// A view of any prim as `Xformable`, to compose its `xformOpOrder` whatever its type.
-struct AnyXformable(Prim);
+pub(super) struct AnyXformable(pub(super) Prim);
 
 impl SchemaBase for AnyXformable {
     const KIND: SchemaKind = SchemaKind::ConcreteTyped;
@@ -301,7 +314,7 @@ fn merge<T: Copy>(parts: Vec<(usize, Option<Vec<T>>)>, fill: T) -> Option<Vec<T>
 }
 
 /// Refuses a time outside the stage's authored time range.
-fn check_time(stage: &Stage, path: &Path, t: f64) -> Result<(), GroomError> {
+pub(super) fn check_time(stage: &Stage, path: &Path, t: f64) -> Result<(), GroomError> {
     if !t.is_finite() {
         return Err(bad(
             path,
@@ -326,7 +339,7 @@ fn check_time(stage: &Stage, path: &Path, t: f64) -> Result<(), GroomError> {
 }
 
 /// The stage's `metersPerUnit` and `upAxis`, with USD's fallbacks (0.01, Y).
-fn stage_units(stage: &Stage, path: &Path) -> Result<(f64, UpAxis), GroomError> {
+pub(super) fn stage_units(stage: &Stage, path: &Path) -> Result<(f64, UpAxis), GroomError> {
     let meta = |key: &str| {
         stage.stage_metadata(key).map_err(|e| {
             bad(
@@ -373,7 +386,11 @@ fn stage_units(stage: &Stage, path: &Path) -> Result<(f64, UpAxis), GroomError> 
 
 /// Local-to-world of the prim at `prim_path` at `time` as a column-vector matrix: the
 /// ancestors' `xformOpOrder` stacks, up to the first `!resetXformStack!`.
-fn world_transform(stage: &Stage, prim_path: &str, time: TimeCode) -> Result<Matrix4<f32>, String> {
+pub(super) fn world_transform(
+    stage: &Stage,
+    prim_path: &str,
+    time: TimeCode,
+) -> Result<Matrix4<f32>, String> {
     let mut m = gf::Matrix4d::IDENTITY;
     let mut p = sdf::path(prim_path).map_err(|e| format!("{e:#}"))?;
     loop {
@@ -495,7 +512,7 @@ struct PrimCurves {
 }
 
 /// A token-valued attribute or metadata as a string (`None` when unauthored).
-fn token(v: Option<sdf::Value>) -> Option<String> {
+pub(super) fn token(v: Option<sdf::Value>) -> Option<String> {
     match v {
         Some(sdf::Value::Token(t)) => Some(t.as_str().to_string()),
         Some(sdf::Value::String(s)) => Some(s),
@@ -504,7 +521,11 @@ fn token(v: Option<sdf::Value>) -> Option<String> {
 }
 
 /// The value of `name` on `prim` at `time` (`None` when unauthored).
-fn value_at(prim: &Prim, name: &str, time: TimeCode) -> Result<Option<sdf::Value>, String> {
+pub(super) fn value_at(
+    prim: &Prim,
+    name: &str,
+    time: TimeCode,
+) -> Result<Option<sdf::Value>, String> {
     prim.attribute(name)
         .get_at::<sdf::Value>(time)
         .map_err(|e| format!("attribute {name}: {e:#}"))
@@ -583,7 +604,7 @@ fn read_curves(prim: &Prim, time: TimeCode) -> Result<PrimCurves, String> {
 }
 
 /// A value's USD type name for messages.
-fn kind(v: &sdf::Value) -> String {
+pub(super) fn kind(v: &sdf::Value) -> String {
     format!("{v:?}")
         .split('(')
         .next()
@@ -592,7 +613,7 @@ fn kind(v: &sdf::Value) -> String {
 }
 
 /// The `interpolation` metadata of the attribute `name`.
-fn interpolation(prim: &Prim, name: &str) -> Option<String> {
+pub(super) fn interpolation(prim: &Prim, name: &str) -> Option<String> {
     token(
         prim.attribute(name)
             .get_metadata::<sdf::Value>("interpolation")

@@ -24,6 +24,7 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 pub mod children;
+pub mod deforming;
 pub mod fields;
 pub mod guides;
 pub mod motion;
@@ -33,6 +34,7 @@ pub mod version;
 
 pub use version::SCENE_VERSION;
 
+use deforming::{DeformingSource, MeshAnimation, ObjSequenceSection, UsdMeshSection};
 use fields::FieldSection;
 use guides::{GuidesSection, SimHairsSection};
 use motion::RigidMotion;
@@ -273,6 +275,22 @@ pub enum ColliderShapeSection {
         #[serde(default)]
         up_axis: UpAxis,
     },
+    /// A deforming (or moving) USD `Mesh` prim, read at every frame (see [`deforming`]); its
+    /// vertices are the collider's body space, placed by `[colliders.motion]`.
+    Usd(UsdMeshSection),
+    /// A numbered OBJ sequence `body.####.obj`, one file per frame (see [`deforming`]).
+    ObjSequence(ObjSequenceSection),
+}
+
+impl ColliderShapeSection {
+    /// The deforming source of this shape, if it is one.
+    pub fn deforming(&self) -> Option<DeformingSource<'_>> {
+        match self {
+            Self::Usd(s) => Some(DeformingSource::Usd(s)),
+            Self::ObjSequence(s) => Some(DeformingSource::ObjSequence(s)),
+            _ => None,
+        }
+    }
 }
 
 /// `[scalp.mesh]`, chosen by `kind`.
@@ -304,6 +322,22 @@ pub enum ScalpMesh {
         #[serde(default)]
         up_axis: UpAxis,
     },
+    /// A deforming USD `Mesh` prim, read at every frame (see [`deforming`]): roots follow
+    /// their mesh samples on it.
+    Usd(UsdMeshSection),
+    /// A deforming mesh as a numbered OBJ sequence `body.####.obj` (see [`deforming`]).
+    ObjSequence(ObjSequenceSection),
+}
+
+impl ScalpMesh {
+    /// The deforming source of this scalp, if it is one.
+    pub fn deforming(&self) -> Option<DeformingSource<'_>> {
+        match self {
+            Self::Usd(s) => Some(DeformingSource::Usd(s)),
+            Self::ObjSequence(s) => Some(DeformingSource::ObjSequence(s)),
+            _ => None,
+        }
+    }
 }
 
 fn one() -> f32 {
@@ -485,6 +519,32 @@ impl SceneFile {
                 full.display()
             )))?;
             h.update(bytes);
+        }
+        let frames = (self.scene.scene.frames[0], self.scene.scene.frames[1]);
+        let sources = std::iter::once((
+            "[scalp.mesh]".to_string(),
+            self.scene.scalp.mesh.deforming(),
+        ))
+        .chain(
+            self.scene
+                .colliders
+                .iter()
+                .enumerate()
+                .map(|(i, c)| (format!("[[colliders]] #{i} shape"), c.shape.deforming())),
+        );
+        for (field, source) in sources {
+            let Some(source) = source else { continue };
+            let files = deforming::hashed_files(source, &self.base_dir, frames)
+                .map_err(|e| self.error(format!("{field}: {e}")))?;
+            for full in files {
+                let bytes = std::fs::read(&full).map_err(|e| {
+                    self.error(format!(
+                        "{field}: cannot read {} ({e}); fix the path (relative to the scene file)",
+                        full.display()
+                    ))
+                })?;
+                h.update(bytes);
+            }
         }
         for (i, c) in self.scene.colliders.iter().enumerate() {
             if let ColliderShapeSection::Obj { path, .. } = &c.shape {
@@ -668,7 +728,7 @@ impl SceneFile {
             .map_err(|e| err(format!("[scalp.motion] {e}")))?;
 
         self.check_point_budget()?;
-        let rest_mesh = self.scalp_mesh()?;
+        let (rest_mesh, scalp_animation) = self.scalp_mesh()?;
         let mut strands = StrandSet::new();
         if let Some(hair) = &s.hair {
             let Some(mesh) = &rest_mesh else {
@@ -788,6 +848,7 @@ impl SceneFile {
             first_frame: first,
             last_frame: last,
             rest_mesh,
+            scalp_animation,
             motion: s.scalp.motion.clone(),
             colliders,
             scalp_collider: s.scalp.collider,
@@ -854,6 +915,7 @@ impl SceneFile {
         let mut out = Vec::new();
         for (i, c) in self.scene.colliders.iter().enumerate() {
             let err = |m: String| self.error(format!("[[colliders]] #{i}{}: {m}", named(&c.name)));
+            let mut animation = None;
             let shape = match &c.shape {
                 ColliderShapeSection::Sphere { radius } => {
                     ColliderShape::Sphere { radius: *radius }
@@ -873,6 +935,14 @@ impl SceneFile {
                     self.load_obj(path, *scale, *up_axis)
                         .map_err(|e| err(format!("shape: {e}")))?,
                 ),
+                ColliderShapeSection::Usd(_) | ColliderShapeSection::ObjSequence(_) => {
+                    let source = c.shape.deforming().expect("a deforming shape");
+                    let (rest, anim) = self
+                        .load_deforming(source)
+                        .map_err(|e| err(format!("shape: {e}")))?;
+                    animation = Some(anim);
+                    ColliderShape::Mesh(rest)
+                }
             };
             let collider = Collider {
                 shape,
@@ -890,14 +960,20 @@ impl SceneFile {
                 name: c.name.clone(),
                 collider,
                 motion: c.motion.clone(),
+                animation,
             });
         }
         Ok(out)
     }
 
-    fn scalp_mesh(&self) -> Result<Option<TriMesh>, SceneError> {
+    /// The scalp's rest mesh and, for a deforming scalp, its vertices at every frame.
+    fn scalp_mesh(&self) -> Result<(Option<TriMesh>, Option<MeshAnimation>), SceneError> {
         let err = |m: String| self.error(format!("[scalp.mesh] {m}"));
-        Ok(match &self.scene.scalp.mesh {
+        if let Some(source) = self.scene.scalp.mesh.deforming() {
+            let (rest, animation) = self.load_deforming(source).map_err(err)?;
+            return Ok((Some(rest), Some(animation)));
+        }
+        let rest = match &self.scene.scalp.mesh {
             ScalpMesh::None => None,
             ScalpMesh::BuiltinHead => Some(hair_groom::builtin_head()),
             ScalpMesh::UvSphere {
@@ -916,7 +992,18 @@ impl SceneFile {
                 self.load_obj(path, *scale, *up_axis)
                     .map_err(|e| err(e.to_string()))?,
             ),
-        })
+            ScalpMesh::Usd(_) | ScalpMesh::ObjSequence(_) => None,
+        };
+        Ok((rest, None))
+    }
+
+    /// Reads a deforming mesh over the scene's frames (see [`deforming`]).
+    fn load_deforming(
+        &self,
+        source: DeformingSource<'_>,
+    ) -> Result<(TriMesh, MeshAnimation), String> {
+        let [first, last] = self.scene.scene.frames;
+        deforming::load(source, &self.base_dir, (first, last), &self.budget)
     }
 
     /// Loads an OBJ mesh named in the scene (path relative to the scene file).
@@ -1003,6 +1090,25 @@ pub struct SceneCollider {
     pub collider: Collider,
     /// Keyframed rigid motion.
     pub motion: RigidMotion,
+    /// For a deforming mesh (`kind = "usd"` or `"obj-sequence"`): its body-space vertices at
+    /// every frame.
+    pub animation: Option<MeshAnimation>,
+}
+
+impl SceneCollider {
+    /// The collider's mesh (body space) at (possibly fractional) `frame`: deformed for a
+    /// deforming collider; `None` for analytic shapes.
+    pub fn mesh_at(&self, frame: f32) -> Option<TriMesh> {
+        let ColliderShape::Mesh(rest) = &self.collider.shape else {
+            return None;
+        };
+        let mut mesh = rest.clone();
+        if let Some(a) = &self.animation {
+            // The vertices were checked (count, finite) when read.
+            mesh.set_positions(&a.vertices_at(frame)).ok()?;
+        }
+        Some(mesh)
+    }
 }
 
 /// Everything a run needs, built from a scene.
@@ -1019,6 +1125,8 @@ pub struct Simulation {
     /// Last frame.
     pub last_frame: u32,
     rest_mesh: Option<TriMesh>,
+    /// For a deforming scalp: its vertices (body space) at every frame.
+    scalp_animation: Option<MeshAnimation>,
     motion: RigidMotion,
     /// The `[[colliders]]`, in file order (their [`ColliderId`]s are 0, 1, …).
     pub colliders: Vec<SceneCollider>,
@@ -1124,18 +1232,28 @@ impl Simulation {
         let mut set = Colliders::new();
         set.settings = self.contact_settings;
         for c in &self.colliders {
-            set.insert(c.collider.clone(), c.motion.at(frame))?;
+            let id = set.insert(c.collider.clone(), c.motion.at(frame))?;
+            if let Some(a) = &c.animation {
+                set.place_vertices(id, &a.vertices_at(frame))?;
+            }
         }
         if let Some(sc) = &self.scalp_collider {
             // From the rest mesh, so a resumed run builds the same shape bits.
             match &self.rest_mesh {
-                Some(rest) => set.insert_scalp_rest(
-                    rest.clone(),
-                    self.motion.at(frame),
-                    sc.thickness,
-                    sc.friction,
-                )?,
-                None => set.insert_scalp(&self.scalp_at(frame), sc.thickness, sc.friction)?,
+                Some(rest) => {
+                    set.insert_scalp_rest(
+                        rest.clone(),
+                        self.motion.at(frame),
+                        sc.thickness,
+                        sc.friction,
+                    )?;
+                    if self.scalp_animation.is_some() {
+                        set.place_scalp(&self.scalp_at(frame))?;
+                    }
+                }
+                None => {
+                    set.insert_scalp(&self.scalp_at(frame), sc.thickness, sc.friction)?;
+                }
             };
         }
         Ok(set)
@@ -1157,13 +1275,69 @@ impl Simulation {
         ))
     }
 
-    /// Sets every scene collider's pose at (possibly fractional) `frame` (the scalp collider
-    /// follows the scalp by itself).
+    /// Sets every scene collider's pose, and a deforming collider's vertices, at the end of
+    /// the frame to be stepped, (possibly fractional) `frame` (the scalp collider follows the
+    /// scalp by itself).
     pub fn pose_colliders(&self, set: &mut Colliders, frame: f32) -> Result<(), HairError> {
-        for (i, c) in self.colliders.iter().enumerate() {
-            set.set_pose(ColliderId(i as u32), c.motion.at(frame))?;
+        for i in 0..self.colliders.len() {
+            self.pose_collider(set, i, frame)?;
         }
         Ok(())
+    }
+
+    /// Sets scene collider `i`'s pose, and its vertices if it deforms, at the end of the frame
+    /// to be stepped, `frame`.
+    pub fn pose_collider(
+        &self,
+        set: &mut Colliders,
+        i: usize,
+        frame: f32,
+    ) -> Result<(), HairError> {
+        let Some(c) = self.colliders.get(i) else {
+            return Ok(());
+        };
+        let id = ColliderId(i as u32);
+        set.set_pose(id, c.motion.at(frame))?;
+        if let Some(a) = &c.animation {
+            set.set_vertices(id, &a.vertices_at(frame))?;
+        }
+        Ok(())
+    }
+
+    /// Puts every scene collider (pose and, if it deforms, vertices) and the scalp collider at
+    /// `frame` now, with no motion into it: for measuring frames out of order.
+    pub fn place_colliders(&self, set: &mut Colliders, frame: f32) -> Result<(), HairError> {
+        for (i, c) in self.colliders.iter().enumerate() {
+            let id = ColliderId(i as u32);
+            set.set_pose(id, c.motion.at(frame))?;
+            if let Some(a) = &c.animation {
+                set.place_vertices(id, &a.vertices_at(frame))?;
+            }
+        }
+        set.place_scalp(&self.scalp_at(frame))
+    }
+
+    /// Refuses a run over frames `first..=last` that leaves the frames a deforming scalp or
+    /// collider was read for (see [`deforming`]).
+    pub fn check_deforming_frames(&self, first: u32, last: u32) -> Result<(), String> {
+        let scalp = self
+            .scalp_animation
+            .iter()
+            .map(|a| ("[scalp.mesh]".to_string(), a));
+        let colliders = self.colliders.iter().enumerate().filter_map(|(i, c)| {
+            let a = c.animation.as_ref()?;
+            Some((format!("[[colliders]] #{i}{}", named(&c.name)), a))
+        });
+        for (field, a) in scalp.chain(colliders) {
+            a.check_covers(first, last)
+                .map_err(|e| format!("{field}: {e}"))?;
+        }
+        Ok(())
+    }
+
+    /// True when the scalp mesh deforms (a USD or OBJ-sequence scalp).
+    pub fn scalp_deforms(&self) -> bool {
+        self.scalp_animation.is_some()
     }
 
     /// A collider error in the scene's terms: `[[colliders]] #i (name)` or `[scalp.collider]`.
@@ -1177,13 +1351,25 @@ impl Simulation {
         }
     }
 
-    /// The scalp at (possibly fractional) `frame`: the rest mesh moved by the rigid motion.
+    /// The scalp at (possibly fractional) `frame`: the rest mesh, deformed to the frame's
+    /// vertices for a deforming scalp, moved by the rigid motion.
     pub fn scalp_at(&self, frame: f32) -> Scalp {
         let body = self.motion.at(frame);
-        Scalp {
-            mesh: self.rest_mesh.as_ref().map(|m| m.transformed(&body)),
-            body,
-        }
+        let mesh = self
+            .rest_mesh
+            .as_ref()
+            .map(|rest| match &self.scalp_animation {
+                Some(a) => {
+                    let mut m = rest.clone();
+                    // The vertices were checked (count, finite) when read; keep the rest otherwise.
+                    if m.set_positions(&a.vertices_at(frame)).is_err() {
+                        m = rest.clone();
+                    }
+                    m.transformed(&body)
+                }
+                None => rest.transformed(&body),
+            });
+        Scalp { mesh, body }
     }
 
     /// Restricts the run to frames `first..=last` (the hair starts at rest at `first`).

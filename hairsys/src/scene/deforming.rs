@@ -1,0 +1,242 @@
+//! Deforming meshes from files: a scalp or a mesh collider whose vertices come, frame by frame,
+//! from a USD `Mesh` prim (time-sampled `points` and/or transforms; `kind = "usd"`) or a
+//! numbered OBJ sequence (`kind = "obj-sequence"`, `path = "body.####.obj"`).
+//!
+//! ```toml
+//! [scalp.mesh]
+//! kind = "usd"
+//! path = "character.usdc"   # .usd, .usda, .usdc or .usdz, relative to the scene file
+//! prim = "/Character/body"  # a Mesh prim
+//!
+//! [[colliders]]
+//! name = "body"
+//! shape = { kind = "obj-sequence", path = "body.####.obj", scale = 0.01, up_axis = "y" }
+//! ```
+//!
+//! # Frames and times
+//! Scene frame `f` reads USD time code `f` (Blender writes one time code per frame) or the
+//! sequence's file numbered `f`. The mesh at the scene's first frame (`[scene] frames[0]`) is
+//! the **rest mesh**: hair is grown or snapped on it, and the collider is built from it. Every
+//! frame of `[scene] frames` is read when the scene is built, so a missing frame, a topology
+//! change or a time outside the stage's range is refused before any step, naming the file, the
+//! prim and the frame; a run over other frames (`--frames`) must stay inside that range.
+//! Between frames (sub-frame samples, previews at fractional frames) vertices are interpolated
+//! linearly, the motion the contact model assumes within a frame (`hair_core::contacts`).
+//!
+//! # How the frames reach the solver
+//! - Scalp: [`super::Simulation::scalp_at`] puts the frame's vertices on the rest mesh (then the
+//!   scalp's rigid `[scalp.motion]`, if keyed, on top): roots are evaluated on their mesh samples
+//!   of that mesh, and the scalp collider follows it (`Colliders::insert_scalp`'s deformation).
+//! - Colliders: each frame's vertices are the collider's body-space vertices at the frame's end
+//!   (`Colliders::set_vertices`), placed by its `[colliders.motion]`; the contact model takes
+//!   the surface velocity from consecutive frames.
+//! - Resuming: a set built at a later frame inserts the rest mesh and puts it at that frame's
+//!   vertices (`Colliders::place_vertices`, `Colliders::place_scalp`), which gives the shape of
+//!   the uninterrupted run to the bit (see `hair_core::contacts::deforming`).
+//!
+//! The scene hash (which guards `--resume`) covers the bytes of the USD file and of every
+//! sequence file of the scene's frames. Layers a USD file references (sublayers, references)
+//! are not hashed: edit the top file, or do not resume across such edits.
+
+use std::path::{Path, PathBuf};
+
+use hair_core::TriMesh;
+use hair_groom::{ObjOptions, ObjSequence, UpAxis, UsdMeshOptions, UsdMeshSource};
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+use crate::budget::Budget;
+
+/// `kind = "usd"`: a USD `Mesh` prim, read at every frame's time code.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UsdMeshSection {
+    /// The stage (`.usd`, `.usda`, `.usdc`, `.usdz`), relative to the scene file.
+    pub path: PathBuf,
+    /// Path of the `Mesh` prim on the stage, e.g. `"/Character/body"`.
+    pub prim: String,
+    /// Meters per stage unit, replacing the stage's `metersPerUnit` (give `up_axis` too);
+    /// absent = the stage's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale: Option<f32>,
+    /// Up axis, `"y"` or `"z"`, replacing the stage's `upAxis` (give `scale` too); absent =
+    /// the stage's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub up_axis: Option<UpAxis>,
+}
+
+/// `kind = "obj-sequence"`: one OBJ file per frame, `path = "body.####.obj"`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjSequenceSection {
+    /// The pattern, relative to the scene file: one run of `#` stands for the zero-padded
+    /// frame number.
+    pub path: PathBuf,
+    /// Multiplier from file units to meters.
+    #[serde(default = "one")]
+    pub scale: f32,
+    /// The files' up axis: `"z"` (default) or `"y"` (converted to Z up).
+    #[serde(default)]
+    pub up_axis: UpAxis,
+}
+
+fn one() -> f32 {
+    1.0
+}
+
+/// A deforming mesh source of a scene: what the file says, before it is read.
+#[derive(Debug, Clone, Copy)]
+pub enum DeformingSource<'a> {
+    /// A USD `Mesh` prim.
+    Usd(&'a UsdMeshSection),
+    /// A numbered OBJ sequence.
+    ObjSequence(&'a ObjSequenceSection),
+}
+
+/// The vertices of a deforming mesh at every frame of a scene, in the order of its rest mesh
+/// (m, Z up; world space for USD, the files' space for OBJ).
+#[derive(Debug, Clone)]
+pub struct MeshAnimation {
+    /// The source in words (`character.usdc prim /Character/body`), for messages.
+    pub source: String,
+    /// Frame of the first entry of `frames` (the rest frame).
+    first: u32,
+    /// Vertices per frame, `first`, `first + 1`, ….
+    frames: Vec<Vec<Vector3<f32>>>,
+}
+
+impl MeshAnimation {
+    /// First and last frame held.
+    pub fn frames(&self) -> (u32, u32) {
+        (self.first, self.first + self.frames.len() as u32 - 1)
+    }
+
+    /// The vertices at (possibly fractional) `frame`: the frame's own at a whole frame, a
+    /// linear blend between the two nearest frames between them; held before the first and
+    /// after the last.
+    pub fn vertices_at(&self, frame: f32) -> Vec<Vector3<f32>> {
+        let (first, last) = self.frames();
+        let f = frame.clamp(first as f32, last as f32) - first as f32;
+        let i = (f.floor() as usize).min(self.frames.len() - 1);
+        let s = f - i as f32;
+        let a = &self.frames[i];
+        if s == 0.0 || i + 1 == self.frames.len() {
+            return a.clone();
+        }
+        let b = &self.frames[i + 1];
+        let blend: Vec<Vector3<f32>> = a.iter().zip(b).map(|(p, q)| p.lerp(q, s)).collect();
+        // Finite inputs can overflow in the blend only near f32::MAX; hold the frame then.
+        if blend.iter().all(|v| v.iter().all(|c| c.is_finite())) {
+            blend
+        } else {
+            a.clone()
+        }
+    }
+
+    /// Refuses a run over `first..=last` that leaves the frames read, naming the source.
+    pub fn check_covers(&self, first: u32, last: u32) -> Result<(), String> {
+        let (lo, hi) = self.frames();
+        if first < lo || last > hi {
+            return Err(format!(
+                "{} is read for the scene's frames {lo}–{hi} ([scene] frames), not {first}–{last}; \
+                 widen [scene] frames (the mesh must have every frame of the run)",
+                self.source
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Reads a deforming source for frames `first..=last`: the rest mesh (at `first`) and the
+/// vertices of every frame. Errors name the file, the prim and the frame; the memory held
+/// (frames × vertices) is checked against `budget` after the rest frame is read.
+pub fn load(
+    source: DeformingSource<'_>,
+    base_dir: &Path,
+    (first, last): (u32, u32),
+    budget: &Budget,
+) -> Result<(TriMesh, MeshAnimation), String> {
+    let frames = u64::from(last - first) + 1;
+    let check = |vertices: usize, what: &str| {
+        budget
+            .check_points(
+                &format!("{what}: {frames} frames × {vertices} vertices"),
+                frames as f64 * vertices as f64,
+            )
+            .map_err(|e| e.to_string())
+    };
+    match source {
+        DeformingSource::Usd(s) => {
+            let units = match (s.scale, s.up_axis) {
+                (None, None) => None,
+                (scale, up_axis) => Some(ObjOptions {
+                    scale: scale.unwrap_or(1.0),
+                    up_axis: up_axis.unwrap_or_default(),
+                }),
+            };
+            let path = base_dir.join(&s.path);
+            let usd = UsdMeshSource::open(
+                &path,
+                &UsdMeshOptions {
+                    prim: s.prim.clone(),
+                    units,
+                },
+            )
+            .map_err(|e| e.to_string())?;
+            let what = format!("{} prim {}", s.path.display(), usd.prim());
+            let rest = usd.mesh_at(f64::from(first)).map_err(|e| e.to_string())?;
+            check(rest.positions().len(), &what)?;
+            let mut out = vec![rest.positions().to_vec()];
+            for f in first + 1..=last {
+                out.push(usd.positions_at(f64::from(f)).map_err(|e| e.to_string())?);
+            }
+            Ok((rest, animation(what, first, out)))
+        }
+        DeformingSource::ObjSequence(s) => {
+            let seq = ObjSequence::new(
+                &base_dir.join(&s.path),
+                ObjOptions {
+                    scale: s.scale,
+                    up_axis: s.up_axis,
+                },
+            )
+            .map_err(|e| e.to_string())?;
+            let what = format!("the sequence {}", s.path.display());
+            let rest = seq.mesh_at(first).map_err(|e| e.to_string())?;
+            check(rest.positions().len(), &what)?;
+            let mut out = vec![rest.positions().to_vec()];
+            for f in first + 1..=last {
+                out.push(
+                    seq.positions_at(f, &rest, first)
+                        .map_err(|e| e.to_string())?,
+                );
+            }
+            Ok((rest, animation(what, first, out)))
+        }
+    }
+}
+
+fn animation(source: String, first: u32, frames: Vec<Vec<Vector3<f32>>>) -> MeshAnimation {
+    MeshAnimation {
+        source,
+        first,
+        frames,
+    }
+}
+
+/// The files whose bytes the scene hash covers for `source` over frames `first..=last`: the
+/// USD file, or every sequence file of those frames.
+pub fn hashed_files(
+    source: DeformingSource<'_>,
+    base_dir: &Path,
+    (first, last): (u32, u32),
+) -> Result<Vec<PathBuf>, String> {
+    Ok(match source {
+        DeformingSource::Usd(s) => vec![base_dir.join(&s.path)],
+        DeformingSource::ObjSequence(s) => {
+            let seq = ObjSequence::new(&base_dir.join(&s.path), ObjOptions::default())
+                .map_err(|e| e.to_string())?;
+            (first..=last).map(|f| seq.frame_path(f)).collect()
+        }
+    })
+}
