@@ -44,6 +44,7 @@ pub mod curvature;
 mod damping;
 pub mod energy;
 mod f32_lanes;
+mod implicit;
 pub mod inextensible;
 mod kernel;
 pub(crate) mod lanes;
@@ -186,6 +187,9 @@ impl Solver {
         let bound = StabilityBound::of(strands, &params);
         let substeps = match settings.substeps {
             Substeps::Fixed(n) => n,
+            Substeps::Auto if settings.integrator == Integrator::ImplicitEuler => {
+                implicit::auto_substeps(settings.step_dt())
+            }
             Substeps::Auto => bound.auto_substeps(settings.step_dt()),
         };
         Ok(Self {
@@ -528,9 +532,14 @@ impl Solver {
                 None => None,
             };
             let t2 = Instant::now();
+            let implicit = self.settings.integrator == Integrator::ImplicitEuler;
             let outcome = if kernel::wide_registers(self.settings.kernel) {
                 self.step_strands(
-                    kernel::step_group_avx2,
+                    if implicit {
+                        implicit::step_group_implicit_avx2
+                    } else {
+                        kernel::step_group_avx2
+                    },
                     strands,
                     &starts,
                     &ends,
@@ -539,7 +548,11 @@ impl Solver {
                 )
             } else {
                 self.step_strands(
-                    kernel::step_group::<lanes::Baseline>,
+                    if implicit {
+                        implicit::step_group_implicit::<lanes::Baseline>
+                    } else {
+                        kernel::step_group::<lanes::Baseline>
+                    },
                     strands,
                     &starts,
                     &ends,
