@@ -64,8 +64,8 @@
 //! Backward Euler multiplies the amplitude of an undamped mode of angular frequency `ω` by
 //! `1/sqrt(1 + (ωh)²)` per substep: the stiff modes are damped out (what makes it stable), and
 //! the swing of the hair too, by `≈ exp(−π ω h)` per period (`2π/(ωh)` substeps of
-//! `1 − (ωh)²/2`): 9 % per period for a 1 s swing at 192 substeps per second. The pendulum test
-//! in `tests/tests/implicit_euler.rs` measures it against this formula.
+//! `1 − (ωh)²/2`): 10 % per period for a 1 s swing at 192 substeps per second, 5 % at 384.
+//! The pendulum test in `tests/tests/implicit_euler.rs` measures it against this formula.
 
 use super::kernel::{
     elastic_forces, finish_substep, kinematic_velocity, Scratch, StepConstants, StrandView,
@@ -78,8 +78,8 @@ use crate::mesh::RootFrame;
 /// here; accuracy does: on the default scene (head turn, collider, hair–hair, strain limit) 16
 /// substeps per frame at 24 fps (h = 1/384 s) gave 0.92 mm RMS against the converged
 /// inextensible reference, 8 gave 1.64 mm (issue 22's target is 1.5 mm; the figures are in the
-/// branch notes), and backward Euler's artificial damping of a 1 s swing stays near 1.6 % per
-/// period (`exp(−π ω h)`).
+/// branch notes), and backward Euler's artificial damping of a 1 s swing is 5 % per period
+/// (`exp(−π ω h)`).
 pub(crate) const AUTO_DT: f64 = 1.0 / 384.0;
 
 /// Substeps per step of length `step_dt` (s) that `substeps = "auto"` chooses with this

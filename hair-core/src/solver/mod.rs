@@ -1,4 +1,7 @@
-//! The strand solver: mass-spring chains advanced by substepped semi-implicit Euler.
+//! The strand solver: mass-spring chains advanced by substepped semi-implicit Euler, or, with
+//! [`Integrator::ImplicitEuler`], by linearised backward Euler with a banded solve per strand
+//! (module `implicit`: the same forces, contacts and projections; the damping sub-loop is folded
+//! into the solve).
 //!
 //! # The step loop (seed 001, "Solver")
 //!
