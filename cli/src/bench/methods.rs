@@ -159,6 +159,7 @@ impl Method for MassSpring {
         let mut name = match self.integrator {
             Integrator::ExplicitEuler => "explicit Euler".to_string(),
             Integrator::SemiImplicitEuler => "semi-implicit Euler".to_string(),
+            Integrator::ImplicitEuler => "implicit Euler".to_string(),
         };
         if !self.damping {
             name += ", no damping loop";

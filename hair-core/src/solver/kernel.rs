@@ -25,8 +25,9 @@ use crate::mesh::RootFrame;
 
 use super::curvature::{joint_stiffness, rest_curvature, rigidity, root_direction};
 use super::damping::damp_segments;
+use super::implicit::ImplicitScratch;
 use super::inextensible::{project, Inextensibility, ProjectionScratch};
-use super::lanes::{div_or_zero, splat, Lane, F8, LANES, Q4, V3};
+use super::lanes::{div_or_zero, splat, Lane, F8, LANES, M3, Q4, V3};
 use super::params::{HairParams, Integrator};
 use super::strain_limit::limit_strain;
 
@@ -40,6 +41,9 @@ pub(crate) struct StepConstants {
     pub drag: f32,
     /// Fraction of relative segment velocity removed per damping iteration (0 = off).
     pub damp_fraction: f32,
+    /// Decay rate of each segment's stretching speed, 1/s (0 = off; the implicit substep folds
+    /// it into its solve instead of running the damping sub-loop).
+    pub damp_rate: f32,
     pub damp_iterations: u32,
     pub dt: f32,
     pub substeps: u32,
@@ -75,6 +79,11 @@ impl StepConstants {
             goal: p.goal_stiffness,
             drag: p.air_drag,
             damp_fraction,
+            damp_rate: if damp_iterations > 0 {
+                p.stretch_damping
+            } else {
+                0.0
+            },
             damp_iterations,
             dt,
             substeps,
@@ -116,57 +125,59 @@ pub(crate) struct ContactSlice<'a> {
 /// Per-thread work buffers of one group, refitted to each group.
 #[derive(Default)]
 pub(crate) struct Scratch<L: Lane> {
-    x: Vec<V3<L>>,
-    v: Vec<V3<L>>,
-    v_old: Vec<V3<L>>,
-    force: Vec<V3<L>>,
-    rest_local: Vec<V3<L>>,
-    target: Vec<V3<L>>,
+    pub(super) x: Vec<V3<L>>,
+    pub(super) v: Vec<V3<L>>,
+    pub(super) v_old: Vec<V3<L>>,
+    pub(super) force: Vec<V3<L>>,
+    pub(super) rest_local: Vec<V3<L>>,
+    pub(super) target: Vec<V3<L>>,
     /// Inverse masses, 1/kg (0 pinned).
-    inv_mass: Vec<L>,
+    pub(super) inv_mass: Vec<L>,
     /// 1 for free points, 0 for pinned ones.
-    free: Vec<L>,
-    goal_k: Vec<L>,
+    pub(super) free: Vec<L>,
+    pub(super) goal_k: Vec<L>,
     /// Rest lengths per segment (unpadded), m.
-    rest_length: Vec<L>,
+    pub(super) rest_length: Vec<L>,
     /// Joint stiffness per joint (unpadded, joint j before segment j), N·m
     /// (`super::curvature::joint_stiffness`).
-    joint_k: Vec<L>,
+    pub(super) joint_k: Vec<L>,
     /// Unit rest direction of the first segment in the root frame (t, u, w components).
-    root_rest: V3<L>,
+    pub(super) root_rest: V3<L>,
     /// Rest moment `k_j κ⁰_j` per joint (unpadded) as (unused, u, w) components in the previous
     /// segment's frame, N·m.
-    rest_moment: Vec<V3<L>>,
+    pub(super) rest_moment: Vec<V3<L>>,
     /// Points pinned in at least one lane.
-    pinned: Vec<usize>,
+    pub(super) pinned: Vec<usize>,
     // Padded segment arrays (index j + 1 = segment j).
-    tangent: Vec<V3<L>>,
-    inv_len: Vec<L>,
-    tension: Vec<L>,
-    bend: Vec<V3<L>>,
-    react: Vec<V3<L>>,
-    beta: Vec<V3<L>>,
-    twist: Vec<L>,
-    damp_coef: Vec<L>,
-    impulse: Vec<L>,
+    pub(super) tangent: Vec<V3<L>>,
+    pub(super) inv_len: Vec<L>,
+    pub(super) tension: Vec<L>,
+    pub(super) bend: Vec<V3<L>>,
+    pub(super) react: Vec<V3<L>>,
+    pub(super) beta: Vec<V3<L>>,
+    pub(super) twist: Vec<L>,
+    pub(super) damp_coef: Vec<L>,
+    pub(super) impulse: Vec<L>,
     /// Contacts per point (only filled when `has_contacts`).
-    contact: Vec<ContactLanes<L>>,
+    pub(super) contact: Vec<ContactLanes<L>>,
     /// Extra velocity of the position update per point (along the contact normal), m/s.
-    push: Vec<V3<L>>,
+    pub(super) push: Vec<V3<L>>,
     /// Does any strand of the group have a contact this step?
-    has_contacts: bool,
+    pub(super) has_contacts: bool,
     /// External acceleration per point (only filled when `has_accel`), m/s².
-    accel: Vec<V3<L>>,
+    pub(super) accel: Vec<V3<L>>,
     /// Do the strands of the group have an external acceleration this step?
-    has_accel: bool,
+    pub(super) has_accel: bool,
     /// Points with a contact in at least one lane (when `has_contacts`).
-    contact_points: Vec<usize>,
-    q_start: Q4<L>,
-    q_end: Q4<L>,
-    o_start: V3<L>,
-    o_end: V3<L>,
+    pub(super) contact_points: Vec<usize>,
+    pub(super) q_start: Q4<L>,
+    pub(super) q_end: Q4<L>,
+    pub(super) o_start: V3<L>,
+    pub(super) o_end: V3<L>,
     /// Buffers of the inextensibility projection and the strain limit.
-    projection: ProjectionScratch<L>,
+    pub(super) projection: ProjectionScratch<L>,
+    /// Buffers of the implicit (backward Euler) substep (`super::implicit`).
+    pub(super) implicit: ImplicitScratch<L>,
 }
 
 fn refit<T: Copy + Default>(buf: &mut Vec<T>, len: usize) {
@@ -180,7 +191,7 @@ fn gather<T: Copy>(views: &[StrandView], l: usize, f: impl Fn(&StrandView) -> T)
 }
 
 impl<L: Lane> Scratch<L> {
-    fn fit(
+    pub(super) fn fit(
         &mut self,
         views: &[StrandView],
         starts: &[RootFrame],
@@ -308,7 +319,7 @@ impl<L: Lane> Scratch<L> {
         self.o_end = origin(ends);
     }
 
-    fn scatter(&self, views: &mut [StrandView]) {
+    pub(super) fn scatter(&self, views: &mut [StrandView]) {
         for (i, (x, v)) in self.x.iter().zip(&self.v).enumerate() {
             let (x, v) = (x.to_lanes(), v.to_lanes());
             for (l, s) in views.iter_mut().enumerate() {
@@ -426,124 +437,14 @@ pub(crate) fn step_group<L: Lane>(
     g.fit(views, starts, ends, c);
     let n = views[0].x.len();
     let (dt, inv_dt) = (splat(c.dt), splat(1.0 / c.dt));
-    let (k_stretch, drag) = (splat::<L>(c.stretch), splat::<L>(c.drag));
+    let drag = splat::<L>(c.drag);
     let gravity = V3::splat(&c.gravity);
-    let needs_targets = c.goal > 0.0;
     let explicit = c.integrator == Integrator::ExplicitEuler;
     let zero = splat(0.0);
-    // Forces of substep k are evaluated at its start, where the positions are: goal targets and
-    // the root frame of the bending springs use the scalp at t_k (`now`). Kinematic points move to
-    // where the scalp puts them at the substep's end, t_{k+1}. (Goal targets taken at t_{k+1}
-    // would lead the strand by its velocity × dt.)
-    let mut origin_now = g.o_start;
-    let mut rot_now = g.q_start.matrix();
+    let mut clock = SubstepClock::new(g);
     for k in 0..c.substeps {
-        let s = (k + 1) as f32 / c.substeps as f32;
-        let rot = Q4::nlerp(&g.q_start, &g.q_end, s).matrix();
-        let origin = g.o_start * splat(1.0 - s) + g.o_end * splat(s);
-        if needs_targets {
-            for i in 0..n {
-                g.target[i] = origin_now + rot_now.mul(&g.rest_local[i]);
-            }
-        }
-
-        // Segment tangents and stretch tensions.
-        for j in 0..n - 1 {
-            let d = g.x[j + 1] - g.x[j];
-            let len = d.dot(&d).sqrt();
-            // A collider can press two neighbours onto the same spot (a strand hanging straight
-            // down onto a rising plate): such a segment has no direction, and takes no stretch or
-            // bending direction this substep instead of dividing by zero. Any real segment is
-            // far longer than 1 nm, so this leaves every other result bit-identical.
-            let inv = div_or_zero(splat(1.0), len, 1e-9);
-            g.tangent[j + 1] = d * inv;
-            g.inv_len[j + 1] = inv;
-            g.tension[j + 1] = k_stretch * (len - g.rest_length[j]);
-        }
-
-        // Bending: the curvature energy of `super::curvature`. The previous segment's frame is
-        // carried down the strand from the root frame by parallel transport; joint i − 1 (between
-        // tangents a = t_{i−2}, or the root normal, and b = t_{i−1}) has the curvature binormal
-        // κ = 2β, β = a × b χ, χ = 1/(1 + a·b), and the moment m = k (κ − K) against its rest
-        // curvature K in that frame. Its gradient in the tangent planes of b and a,
-        // g_b = 2χ m × a − μ (a + b) and g_a = 2χ b × m − μ (a + b) with μ = χ m·κ, acts as
-        // −g_b/len on point i (+ on i − 1) and −g_a/len_prev on point i − 1 (+ on i − 2; the root
-        // frame is kinematic and takes none).
-        //
-        // K turns with the transported frame, which turns with every earlier tangent: under a
-        // change of the tangents frame i − 1 rotates by `a × δa` (no work: the torque m × K =
-        // m × κ lies along a) plus a twist about a that parallel transport accumulates from the
-        // root, `ψ_k = −Σ_{i≤k} β_i·(δt_{i−1} + δt_i)` (the holonomy of the reference twist in
-        // Bergou et al. 2008). With the twisting torque `s_i = a·(m × κ)` and `S_m = Σ_{j>m} s_j`,
-        // the tangent t_m gets the gradient `−β_m S_m − β_{m+1} S_{m+1}`, applied as −G/len_m on
-        // x_{m+1} and +G/len_m on x_m. These are the exact energy gradient (what `energy`
-        // reports), so bending neither creates nor destroys energy; without the twist terms an
-        // undamped strand gains energy (flutter). A segment folded straight back has χ = 0: no
-        // curvature, no transport, no force.
-        //
-        // The bending array ends up holding, per segment, the force its far point receives (its
-        // near point gets the opposite); `react` the force of joint i − 1 on the far point of the
-        // segment before it.
-        if c.bend > 0.0 {
-            let root_t = rot_now.cols[2];
-            let mut tp = root_t;
-            let mut up = rot_now.cols[0];
-            let (one, two) = (splat::<L>(1.0), splat::<L>(2.0));
-            // The root joint measures the turn from the rest direction in the root frame itself
-            // (a hanging strand's first segment may turn 180° from the normal at rest, which no
-            // curvature can hold); the root frame is kinematic, so it takes no reaction.
-            let r = g.root_rest;
-            let root_dir = tp * r.x + up * r.y + tp.cross(&up) * r.z;
-            for i in 1..n {
-                let inv_len_prev = if i == 1 { zero } else { g.inv_len[i - 1] };
-                let t = g.tangent[i];
-                let chi = div_or_zero(one, one + tp.dot(&t), 1e-6);
-                let beta = tp.cross(&t) * chi;
-                let (a, chi_e, beta_e, m) = if i == 1 {
-                    let chi_e = div_or_zero(one, one + root_dir.dot(&t), 1e-6);
-                    let beta_e = root_dir.cross(&t) * chi_e;
-                    (root_dir, chi_e, beta_e, beta_e * (two * g.joint_k[0]))
-                } else {
-                    let rest = g.rest_moment[i - 1];
-                    let m = beta * (two * g.joint_k[i - 1]) - up * rest.y - tp.cross(&up) * rest.z;
-                    (tp, chi, beta, m)
-                };
-                let two_chi = two * chi_e;
-                let sum = (a + t) * (two_chi * m.dot(&beta_e));
-                g.bend[i] = (sum - m.cross(&a) * two_chi) * g.inv_len[i];
-                g.react[i] = (t.cross(&m) * two_chi - sum) * inv_len_prev;
-                g.twist[i] = two * tp.dot(&m.cross(&beta_e));
-                g.beta[i] = beta;
-                up = transport(&up, &tp, &t);
-                tp = t;
-            }
-            // Suffix sums in place: twist[i] becomes S for segment i − 1 (sum over i' > i).
-            let mut acc = zero;
-            for i in (1..n).rev() {
-                let here = g.twist[i];
-                g.twist[i] = acc;
-                acc += here;
-            }
-            // Index n holds zeros in react, beta and twist.
-            for i in 1..n {
-                let twist =
-                    (g.beta[i] * g.twist[i] + g.beta[i + 1] * g.twist[i + 1]) * g.inv_len[i];
-                g.bend[i] = g.bend[i] + twist - g.react[i + 1];
-            }
-        }
-
-        // Forces per point: stretch from the segments after and before, bending, goal.
-        for i in 0..n {
-            g.force[i] = g.tangent[i + 1] * g.tension[i + 1] - g.tangent[i] * g.tension[i]
-                + g.bend[i]
-                - g.bend[i + 1];
-        }
-        if needs_targets {
-            for i in 0..n {
-                g.force[i] += (g.target[i] - g.x[i]) * g.goal_k[i];
-            }
-        }
-
+        let (origin, rot) = clock.end_of(g, k, c.substeps);
+        elastic_forces(g, c, &clock);
         if explicit {
             g.v_old.copy_from_slice(&g.v);
         }
@@ -557,10 +458,8 @@ pub(crate) fn step_group<L: Lane>(
                 g.v[i] += g.accel[i] * (dt * g.free[i]);
             }
         }
-        // Pinned points get the velocity of their prescribed motion over this substep.
         for &i in &g.pinned {
-            let goal = origin + rot.mul(&g.rest_local[i]);
-            let kinematic = (goal - g.x[i]) * inv_dt;
+            let kinematic = kinematic_velocity(g, i, &origin, &rot, inv_dt);
             g.v[i] = V3::select(g.free[i].simd_gt(zero), &g.v[i], &kinematic);
         }
 
@@ -575,63 +474,246 @@ pub(crate) fn step_group<L: Lane>(
             );
         }
 
-        // Contact response (see `contacts::penalty`): after the velocity update and the damping
-        // sub-loop, before the position update. Explicit Euler moves points with the old
-        // velocity, so the response applies to that one too.
-        if g.has_contacts {
-            let t_end = splat((k + 1) as f32 * c.dt);
-            let max_push = splat(c.max_push_speed);
-            for &i in &g.contact_points {
-                let moving = if explicit {
-                    &mut g.v_old[i]
-                } else {
-                    &mut g.v[i]
-                };
-                g.push[i] = respond(moving, &g.x[i], &g.contact[i], t_end, inv_dt, max_push);
-            }
-            if explicit {
-                for &i in &g.contact_points {
-                    respond(&mut g.v[i], &g.x[i], &g.contact[i], t_end, inv_dt, max_push);
-                }
-            }
-        }
-
-        for i in 0..n {
-            let moved_by = if explicit { g.v_old[i] } else { g.v[i] };
-            g.x[i] += moved_by * (dt * g.free[i]);
-        }
-        for &i in &g.contact_points {
-            g.x[i] += g.push[i] * (dt * g.free[i]);
-        }
-        for &i in &g.pinned {
-            let goal = origin + rot.mul(&g.rest_local[i]);
-            g.x[i] = V3::select(g.free[i].simd_gt(zero), &g.x[i], &goal);
-        }
-        if let Some(p) = &c.inextensible {
-            project(
-                &mut g.x,
-                &mut g.v,
-                &g.inv_mass,
-                &g.rest_length,
-                p,
-                &mut g.projection,
-            );
-        }
-        if let Some(ratio) = c.max_length_ratio {
-            limit_strain(
-                &mut g.x,
-                &mut g.v,
-                &g.inv_mass,
-                &g.rest_length,
-                splat(ratio),
-                inv_dt,
-                &mut g.projection,
-            );
-        }
-        origin_now = origin;
-        rot_now = rot;
+        finish_substep(g, c, k, &origin, &rot, explicit);
+        clock.advance(origin, rot);
     }
     g.scatter(views);
+}
+
+/// Where the root frame is at a substep's start (`origin_now`, `rot_now`), carried through the
+/// substep loop. Forces of substep k are evaluated at its start, where the positions are: goal
+/// targets and the root frame of the bending springs use the scalp at t_k. Kinematic points move
+/// to where the scalp puts them at the substep's end, t_{k+1}. (Goal targets taken at t_{k+1}
+/// would lead the strand by its velocity × dt.)
+pub(super) struct SubstepClock<L: Lane> {
+    pub origin_now: V3<L>,
+    pub rot_now: M3<L>,
+}
+
+impl<L: Lane> SubstepClock<L> {
+    /// The clock at the step's start.
+    #[inline(always)]
+    pub fn new(g: &Scratch<L>) -> Self {
+        Self {
+            origin_now: g.o_start,
+            rot_now: g.q_start.matrix(),
+        }
+    }
+
+    /// The root frame at the end of substep `k` of `substeps` (origin, rotation).
+    #[inline(always)]
+    pub fn end_of(&self, g: &Scratch<L>, k: u32, substeps: u32) -> (V3<L>, M3<L>) {
+        let s = (k + 1) as f32 / substeps as f32;
+        let rot = Q4::nlerp(&g.q_start, &g.q_end, s).matrix();
+        let origin = g.o_start * splat(1.0 - s) + g.o_end * splat(s);
+        (origin, rot)
+    }
+
+    /// Moves the clock to the next substep's start.
+    #[inline(always)]
+    pub fn advance(&mut self, origin: V3<L>, rot: M3<L>) {
+        self.origin_now = origin;
+        self.rot_now = rot;
+    }
+}
+
+/// The elastic forces of a substep at the current positions into `g.force`: stretch springs,
+/// curvature bending and goal springs (goal targets into `g.target`); segment tangents, inverse
+/// lengths and tensions stay in `g.tangent`, `g.inv_len` and `g.tension` for later passes.
+#[inline(always)]
+pub(super) fn elastic_forces<L: Lane>(
+    g: &mut Scratch<L>,
+    c: &StepConstants,
+    clock: &SubstepClock<L>,
+) {
+    let n = g.x.len();
+    let k_stretch = splat::<L>(c.stretch);
+    let needs_targets = c.goal > 0.0;
+    let zero = splat::<L>(0.0);
+    let (origin_now, rot_now) = (clock.origin_now, clock.rot_now);
+    if needs_targets {
+        for i in 0..n {
+            g.target[i] = origin_now + rot_now.mul(&g.rest_local[i]);
+        }
+    }
+    // Segment tangents and stretch tensions.
+    for j in 0..n - 1 {
+        let d = g.x[j + 1] - g.x[j];
+        let len = d.dot(&d).sqrt();
+        // A collider can press two neighbours onto the same spot (a strand hanging straight
+        // down onto a rising plate): such a segment has no direction, and takes no stretch or
+        // bending direction this substep instead of dividing by zero. Any real segment is
+        // far longer than 1 nm, so this leaves every other result bit-identical.
+        let inv = div_or_zero(splat(1.0), len, 1e-9);
+        g.tangent[j + 1] = d * inv;
+        g.inv_len[j + 1] = inv;
+        g.tension[j + 1] = k_stretch * (len - g.rest_length[j]);
+    }
+
+    // Bending: the curvature energy of `super::curvature`. The previous segment's frame is
+    // carried down the strand from the root frame by parallel transport; joint i − 1 (between
+    // tangents a = t_{i−2}, or the root normal, and b = t_{i−1}) has the curvature binormal
+    // κ = 2β, β = a × b χ, χ = 1/(1 + a·b), and the moment m = k (κ − K) against its rest
+    // curvature K in that frame. Its gradient in the tangent planes of b and a,
+    // g_b = 2χ m × a − μ (a + b) and g_a = 2χ b × m − μ (a + b) with μ = χ m·κ, acts as
+    // −g_b/len on point i (+ on i − 1) and −g_a/len_prev on point i − 1 (+ on i − 2; the root
+    // frame is kinematic and takes none).
+    //
+    // K turns with the transported frame, which turns with every earlier tangent: under a
+    // change of the tangents frame i − 1 rotates by `a × δa` (no work: the torque m × K =
+    // m × κ lies along a) plus a twist about a that parallel transport accumulates from the
+    // root, `ψ_k = −Σ_{i≤k} β_i·(δt_{i−1} + δt_i)` (the holonomy of the reference twist in
+    // Bergou et al. 2008). With the twisting torque `s_i = a·(m × κ)` and `S_m = Σ_{j>m} s_j`,
+    // the tangent t_m gets the gradient `−β_m S_m − β_{m+1} S_{m+1}`, applied as −G/len_m on
+    // x_{m+1} and +G/len_m on x_m. These are the exact energy gradient (what `energy`
+    // reports), so bending neither creates nor destroys energy; without the twist terms an
+    // undamped strand gains energy (flutter). A segment folded straight back has χ = 0: no
+    // curvature, no transport, no force.
+    //
+    // The bending array ends up holding, per segment, the force its far point receives (its
+    // near point gets the opposite); `react` the force of joint i − 1 on the far point of the
+    // segment before it.
+    if c.bend > 0.0 {
+        let root_t = rot_now.cols[2];
+        let mut tp = root_t;
+        let mut up = rot_now.cols[0];
+        let (one, two) = (splat::<L>(1.0), splat::<L>(2.0));
+        // The root joint measures the turn from the rest direction in the root frame itself
+        // (a hanging strand's first segment may turn 180° from the normal at rest, which no
+        // curvature can hold); the root frame is kinematic, so it takes no reaction.
+        let r = g.root_rest;
+        let root_dir = tp * r.x + up * r.y + tp.cross(&up) * r.z;
+        for i in 1..n {
+            let inv_len_prev = if i == 1 { zero } else { g.inv_len[i - 1] };
+            let t = g.tangent[i];
+            let chi = div_or_zero(one, one + tp.dot(&t), 1e-6);
+            let beta = tp.cross(&t) * chi;
+            let (a, chi_e, beta_e, m) = if i == 1 {
+                let chi_e = div_or_zero(one, one + root_dir.dot(&t), 1e-6);
+                let beta_e = root_dir.cross(&t) * chi_e;
+                (root_dir, chi_e, beta_e, beta_e * (two * g.joint_k[0]))
+            } else {
+                let rest = g.rest_moment[i - 1];
+                let m = beta * (two * g.joint_k[i - 1]) - up * rest.y - tp.cross(&up) * rest.z;
+                (tp, chi, beta, m)
+            };
+            let two_chi = two * chi_e;
+            let sum = (a + t) * (two_chi * m.dot(&beta_e));
+            g.bend[i] = (sum - m.cross(&a) * two_chi) * g.inv_len[i];
+            g.react[i] = (t.cross(&m) * two_chi - sum) * inv_len_prev;
+            g.twist[i] = two * tp.dot(&m.cross(&beta_e));
+            g.beta[i] = beta;
+            up = transport(&up, &tp, &t);
+            tp = t;
+        }
+        // Suffix sums in place: twist[i] becomes S for segment i − 1 (sum over i' > i).
+        let mut acc = zero;
+        for i in (1..n).rev() {
+            let here = g.twist[i];
+            g.twist[i] = acc;
+            acc += here;
+        }
+        // Index n holds zeros in react, beta and twist.
+        for i in 1..n {
+            let twist = (g.beta[i] * g.twist[i] + g.beta[i + 1] * g.twist[i + 1]) * g.inv_len[i];
+            g.bend[i] = g.bend[i] + twist - g.react[i + 1];
+        }
+    }
+
+    // Forces per point: stretch from the segments after and before, bending, goal.
+    for i in 0..n {
+        g.force[i] = g.tangent[i + 1] * g.tension[i + 1] - g.tangent[i] * g.tension[i] + g.bend[i]
+            - g.bend[i + 1];
+    }
+    if needs_targets {
+        for i in 0..n {
+            g.force[i] += (g.target[i] - g.x[i]) * g.goal_k[i];
+        }
+    }
+}
+
+/// The velocity of point `i`'s prescribed motion over a substep (in lanes where it is pinned):
+/// from where it is to where the scalp puts it at the substep's end (`origin`, `rot`).
+#[inline(always)]
+pub(super) fn kinematic_velocity<L: Lane>(
+    g: &Scratch<L>,
+    i: usize,
+    origin: &V3<L>,
+    rot: &M3<L>,
+    inv_dt: L,
+) -> V3<L> {
+    let goal = *origin + rot.mul(&g.rest_local[i]);
+    (goal - g.x[i]) * inv_dt
+}
+
+/// The end of a substep after the velocity update: the contact response, the position update,
+/// kinematic points put where the scalp moves them (`origin`, `rot`: the root frame at the
+/// substep's end), then the inextensibility projection and the strain limit if on.
+#[inline(always)]
+pub(super) fn finish_substep<L: Lane>(
+    g: &mut Scratch<L>,
+    c: &StepConstants,
+    k: u32,
+    origin: &V3<L>,
+    rot: &M3<L>,
+    explicit: bool,
+) {
+    let n = g.x.len();
+    let (dt, inv_dt) = (splat::<L>(c.dt), splat::<L>(1.0 / c.dt));
+    let zero = splat::<L>(0.0);
+    // Contact response (see `contacts::penalty`): after the velocity update and the damping
+    // sub-loop, before the position update. Explicit Euler moves points with the old
+    // velocity, so the response applies to that one too.
+    if g.has_contacts {
+        let t_end = splat((k + 1) as f32 * c.dt);
+        let max_push = splat(c.max_push_speed);
+        for &i in &g.contact_points {
+            let moving = if explicit {
+                &mut g.v_old[i]
+            } else {
+                &mut g.v[i]
+            };
+            g.push[i] = respond(moving, &g.x[i], &g.contact[i], t_end, inv_dt, max_push);
+        }
+        if explicit {
+            for &i in &g.contact_points {
+                respond(&mut g.v[i], &g.x[i], &g.contact[i], t_end, inv_dt, max_push);
+            }
+        }
+    }
+
+    for i in 0..n {
+        let moved_by = if explicit { g.v_old[i] } else { g.v[i] };
+        g.x[i] += moved_by * (dt * g.free[i]);
+    }
+    for &i in &g.contact_points {
+        g.x[i] += g.push[i] * (dt * g.free[i]);
+    }
+    for &i in &g.pinned {
+        let goal = *origin + rot.mul(&g.rest_local[i]);
+        g.x[i] = V3::select(g.free[i].simd_gt(zero), &g.x[i], &goal);
+    }
+    if let Some(p) = &c.inextensible {
+        project(
+            &mut g.x,
+            &mut g.v,
+            &g.inv_mass,
+            &g.rest_length,
+            p,
+            &mut g.projection,
+        );
+    }
+    if let Some(ratio) = c.max_length_ratio {
+        limit_strain(
+            &mut g.x,
+            &mut g.v,
+            &g.inv_mass,
+            &g.rest_length,
+            splat(ratio),
+            inv_dt,
+            &mut g.projection,
+        );
+    }
 }
 
 #[cfg(test)]
@@ -777,5 +859,12 @@ mod tests {
         // F8 lanes in the AVX2 copy where the CPU has it, and compiled for the baseline.
         assert_eq!(bits(&run::<F8>(step_group_avx2)), bits(&baseline));
         assert_eq!(bits(&run::<F8>(step_group::<F8>)), bits(&baseline));
+        // The implicit substep's copies likewise (and it moves the strands differently).
+        use super::super::implicit::{step_group_implicit, step_group_implicit_avx2};
+        let implicit = run::<Baseline>(step_group_implicit::<Baseline>);
+        assert!(implicit.iter().all(|p| p.iter().all(|c| c.is_finite())));
+        assert_ne!(bits(&implicit), bits(&baseline));
+        assert_eq!(bits(&run::<F8>(step_group_implicit_avx2)), bits(&implicit));
+        assert_eq!(bits(&run::<F8>(step_group_implicit::<F8>)), bits(&implicit));
     }
 }

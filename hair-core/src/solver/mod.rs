@@ -1,4 +1,7 @@
-//! The strand solver: mass-spring chains advanced by substepped semi-implicit Euler.
+//! The strand solver: mass-spring chains advanced by substepped semi-implicit Euler, or, with
+//! [`Integrator::ImplicitEuler`], by linearised backward Euler with a banded solve per strand
+//! (module `implicit`: the same forces, contacts and projections; the damping sub-loop is folded
+//! into the solve).
 //!
 //! # The step loop (seed 001, "Solver")
 //!
@@ -44,6 +47,7 @@ pub mod curvature;
 mod damping;
 pub mod energy;
 mod f32_lanes;
+mod implicit;
 pub mod inextensible;
 mod kernel;
 pub(crate) mod lanes;
@@ -186,6 +190,9 @@ impl Solver {
         let bound = StabilityBound::of(strands, &params);
         let substeps = match settings.substeps {
             Substeps::Fixed(n) => n,
+            Substeps::Auto if settings.integrator == Integrator::ImplicitEuler => {
+                implicit::auto_substeps(settings.step_dt())
+            }
             Substeps::Auto => bound.auto_substeps(settings.step_dt()),
         };
         Ok(Self {
@@ -528,9 +535,14 @@ impl Solver {
                 None => None,
             };
             let t2 = Instant::now();
+            let implicit = self.settings.integrator == Integrator::ImplicitEuler;
             let outcome = if kernel::wide_registers(self.settings.kernel) {
                 self.step_strands(
-                    kernel::step_group_avx2,
+                    if implicit {
+                        implicit::step_group_implicit_avx2
+                    } else {
+                        kernel::step_group_avx2
+                    },
                     strands,
                     &starts,
                     &ends,
@@ -539,7 +551,11 @@ impl Solver {
                 )
             } else {
                 self.step_strands(
-                    kernel::step_group::<lanes::Baseline>,
+                    if implicit {
+                        implicit::step_group_implicit::<lanes::Baseline>
+                    } else {
+                        kernel::step_group::<lanes::Baseline>
+                    },
                     strands,
                     &starts,
                     &ends,
