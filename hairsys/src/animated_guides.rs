@@ -61,11 +61,6 @@ impl WeightCurve {
             Some(Span::Between(i, s)) => self.keys[i].1 + (self.keys[i + 1].1 - self.keys[i].1) * s,
         }
     }
-
-    /// True when the curve is 0 everywhere.
-    pub fn is_zero(&self) -> bool {
-        self.keys.iter().all(|k| k.1 == 0.0)
-    }
 }
 
 enum Span {
