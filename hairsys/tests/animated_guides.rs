@@ -82,8 +82,11 @@ frame = 7
 sweep = { direction = [1.0, 0.0, 0.0], angle_deg = 70.0 }
 "#;
 
-/// Runs a session to its last frame; the positions and velocities after every step.
-fn run(session: &mut Session, last: u32) -> Vec<(Vec<[f32; 3]>, Vec<[f32; 3]>)> {
+/// Positions and velocities after one step.
+type State = (Vec<[f32; 3]>, Vec<[f32; 3]>);
+
+/// Runs a session to its last frame; the state after every step.
+fn run(session: &mut Session, last: u32) -> Vec<State> {
     let mut out = Vec::new();
     while session.frame() < last {
         session.step().unwrap();
