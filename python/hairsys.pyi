@@ -218,6 +218,32 @@ class Session:
         Raises ArgumentError for an id that does not exist, a sphere or capsule, a wrong vertex
         count or a non-finite vertex.
         """
+    def set_guide_pose(self, points: _Floats) -> None:
+        """Sets the guides' pose for the next frame (animated guides): (P, 3) points, m, every
+        guide's points in the groom's order and point counts (`guide_point_counts`), in the
+        scalp's body space at rest. The sim hairs' rest shapes are re-interpolated from it.
+
+        Raises ArgumentError for a session without guides, a wrong point count or a non-finite
+        point.
+        """
+    def set_sim_weight(self, weight: float) -> None:
+        """Sets the sim weight for the next frame instead of the scene's curve: 0 = simulation,
+        1 = exactly the animated guides, between a blend (times each hair's factor).
+
+        Raises ArgumentError outside [0, 1] or for a session without guides.
+        """
+    def set_strand_sim_weights(self, weights: _Floats) -> None:
+        """Sets each sim hair's factor of the sim weight, (H,) in [0, 1], kept until set again.
+
+        Raises ArgumentError for a wrong count, a value outside [0, 1] or a session without
+        guides.
+        """
+    @property
+    def guide_point_counts(self) -> list[int]:
+        """Point count of each guide, in the groom's order (empty without guides)."""
+    @property
+    def guided_strands(self) -> tuple[int, int] | None:
+        """Strand indices (start, end) of the sim hairs the guides drive (None without guides)."""
     gravity: tuple[float, float, float]
     """Gravity, m/s²."""
     goal_stiffness: float

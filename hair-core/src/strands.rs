@@ -264,6 +264,13 @@ impl StrandSet {
         &self.rest_local
     }
 
+    /// Mutable rest positions in each strand's root frame (m), for animated rest shapes (seed
+    /// 001: animated guides define the rest positions). Goal springs and pinned points follow
+    /// them from the next step; rest lengths are not changed.
+    pub fn rest_local_mut(&mut self) -> &mut [Vector3<f32>] {
+        &mut self.rest_local
+    }
+
     /// Point masses, kg (0 for pinned points).
     pub fn masses(&self) -> &[f32] {
         &self.mass

@@ -40,6 +40,7 @@ use std::sync::Arc;
 
 use bytemuck::cast_slice;
 use hair_cache::{CacheHeader, CacheLayout, CacheSummary, CacheWriter, WriterOptions};
+use hair_core::frames::RestDirection;
 use hair_core::{
     ColliderId, Colliders, ForceField, FrameReport, HairError, HairHairSettings, HairParams,
     RootFrame, Scalp, StrandSet, StrandSolver, TriMesh,
@@ -47,6 +48,7 @@ use hair_core::{
 use nalgebra::{Isometry3, Vector3};
 use sha2::{Digest, Sha256};
 
+use crate::animated_guides::GuideAnimation;
 use crate::error::{Error, Result};
 use crate::scene::{SceneFile, Simulation};
 
@@ -70,6 +72,22 @@ struct Pending {
     posed: Vec<bool>,
     /// Mesh colliders the host deformed for the next frame, by id.
     deformed: Vec<bool>,
+    /// The guides' pose (root-local shapes) for the next frame.
+    guide_pose: Option<Vec<Vec<Vector3<f32>>>>,
+    /// The sim weight for the next frame, instead of the scene's curve.
+    sim_weight: Option<f32>,
+}
+
+/// Animated guides of a session: the animation and its scratch.
+#[derive(Debug, Clone)]
+struct Guides {
+    animation: GuideAnimation,
+    /// Re-interpolated sim hairs of the last pose (workspace).
+    scratch: Vec<Vector3<f32>>,
+    /// Work of the last frame's re-interpolation (blend operations and points written).
+    work: u64,
+    /// Wall-clock time of the last frame's re-interpolation.
+    time: std::time::Duration,
 }
 
 /// A copy of a session's state at one frame, for scrubbing ([`Session::snapshot`]).
@@ -81,6 +99,8 @@ pub struct Snapshot {
     solver: StrandSolver,
     colliders: Colliders,
     scalp: Scalp,
+    /// Animated rest shapes and rest directions, with animated guides.
+    rest: Option<(Vec<Vector3<f32>>, Vec<RestDirection>)>,
 }
 
 impl Snapshot {
@@ -102,6 +122,8 @@ pub struct Session {
     scalp_collider: Option<ColliderId>,
     fps: f32,
     animation: Option<SceneAnimation>,
+    /// Animated guides, for sessions of guided scenes.
+    guides: Option<Guides>,
     pending: Pending,
     pool: Option<Arc<rayon::ThreadPool>>,
     recorder: Option<CacheWriter>,
@@ -151,8 +173,24 @@ impl Session {
         let scalp_collider = sim
             .scalp_collider
             .map(|_| ColliderId(sim.colliders.len() as u32));
+        let mut strands = sim.strands.clone();
+        // Rest shapes at the first frame's pose (a resumed run continues with its frame's pose).
+        let guides = sim.guide_animation.clone().map(|mut animation| {
+            animation.bind(&strands);
+            let mut scratch = Vec::new();
+            let work = match animation.pose_at(first) {
+                Some(pose) => animation.apply_pose(&pose, &mut strands, &mut scratch),
+                None => 0,
+            };
+            Guides {
+                animation,
+                scratch,
+                work,
+                time: std::time::Duration::ZERO,
+            }
+        });
         Ok(Self {
-            strands: sim.strands.clone(),
+            strands,
             solver,
             colliders,
             scalp: sim.scalp_at(first),
@@ -165,6 +203,7 @@ impl Session {
                 text: scene.text.clone(),
                 hash,
             }),
+            guides,
             pending: Pending::default(),
             pool: None,
             recorder: None,
@@ -223,6 +262,7 @@ impl Session {
             scalp_collider,
             fps,
             animation: None,
+            guides: None,
             pending: Pending::default(),
             pool: None,
             recorder: None,
@@ -532,6 +572,7 @@ impl Session {
                 }
             }
         }
+        let blend = self.pose_guides(frame, pending.guide_pose, pending.sim_weight);
         let (solver, strands, colliders) =
             (&mut self.solver, &mut self.strands, &mut self.colliders);
         let mut step = || solver.step_frame(strands, &scalp, Some(colliders));
@@ -547,7 +588,121 @@ impl Session {
             }
         };
         self.scalp = scalp;
+        if let (Some((before, weights)), Some(g)) = (blend, &self.guides) {
+            g.animation.blend_onto(
+                &mut self.strands,
+                self.solver.roots(),
+                &before,
+                &weights,
+                self.fps,
+            );
+        }
         Ok(report)
+    }
+
+    /// Before stepping to `frame`: the animated positions of the frame before, when any hair
+    /// will be blended onto the guides after the step, with each hair's weight; then the sim
+    /// hairs' rest shapes set to the host's `pose` or the scene's keyed pose at `frame`.
+    #[allow(clippy::type_complexity)]
+    fn pose_guides(
+        &mut self,
+        frame: u32,
+        pose: Option<Vec<Vec<Vector3<f32>>>>,
+        weight: Option<f32>,
+    ) -> Option<(Vec<Vector3<f32>>, Vec<f32>)> {
+        let g = self.guides.as_mut()?;
+        let weights = g.animation.weights(frame as f32, weight);
+        let blend = weights.iter().any(|&w| w > 0.0).then(|| {
+            let before = g
+                .animation
+                .animated_positions(&self.strands, self.solver.roots());
+            (before, weights)
+        });
+        let t = std::time::Instant::now();
+        g.work = 0;
+        if let Some(pose) = pose.or_else(|| g.animation.pose_at(frame as f32)) {
+            g.work = g
+                .animation
+                .apply_pose(&pose, &mut self.strands, &mut g.scratch);
+        }
+        g.time = t.elapsed();
+        blend
+    }
+
+    /// The animated guides of a session of a guided scene (`[guides]`): their keys, sim
+    /// weights and hold-outs.
+    pub fn guide_animation(&self) -> Option<&GuideAnimation> {
+        self.guides.as_ref().map(|g| &g.animation)
+    }
+
+    /// Work of the last step's guide re-interpolation: blend operations plus points written
+    /// (0 when no pose was applied). Linear in the sim hairs' points.
+    pub fn guide_pose_work(&self) -> u64 {
+        self.guides.as_ref().map_or(0, |g| g.work)
+    }
+
+    /// Wall-clock time of the last step's guide pose: the keyed pose evaluated and the sim
+    /// hairs re-interpolated (zero without guides).
+    pub fn guide_pose_time(&self) -> std::time::Duration {
+        self.guides.as_ref().map_or(Default::default(), |g| g.time)
+    }
+
+    fn guides_or_err(&self, argument: &str) -> Result<&Guides> {
+        self.guides.as_ref().ok_or_else(|| {
+            Error::argument(
+                argument,
+                "this session has no guides: build it from a scene with [guides] and [sim_hairs] \
+                 (mass-spring model)",
+            )
+        })
+    }
+
+    /// Sets the guides' pose for the frame to be stepped next: `points` (m) are every guide's
+    /// points, in the groom's guide order and point counts
+    /// ([`GuideAnimation::guide_points`]), flat, in the scalp's body space at rest (the scene's
+    /// space). The sim hairs' rest shapes are re-interpolated from it; roots stay where they
+    /// grow (each guide is moved onto its root).
+    pub fn set_guide_pose(&mut self, points: &[[f32; 3]]) -> Result<()> {
+        let pose = self
+            .guides_or_err("points")?
+            .animation
+            .pose_from_points(points)
+            .map_err(|m| Error::argument("points", m))?;
+        self.pending.guide_pose = Some(pose);
+        Ok(())
+    }
+
+    /// Sets the sim weight for the frame to be stepped next, instead of the scene's curve:
+    /// 0 = simulation, 1 = exactly the animated guides, in between a blend (times each hair's
+    /// factor, [`Session::set_strand_sim_weights`]).
+    pub fn set_sim_weight(&mut self, weight: f32) -> Result<()> {
+        self.guides_or_err("sim_weight")?;
+        check_weight("sim_weight", weight)?;
+        self.pending.sim_weight = Some(weight);
+        Ok(())
+    }
+
+    /// Sets each sim hair's factor of the sim weight (one value in [0, 1] per sim hair, in
+    /// order), kept until set again: a hair's weight is the curve's (or
+    /// [`Session::set_sim_weight`]'s) times its factor.
+    pub fn set_strand_sim_weights(&mut self, weights: &[f32]) -> Result<()> {
+        let hairs = self.guides_or_err("weights")?.animation.strands().len();
+        if weights.len() != hairs {
+            return Err(Error::argument(
+                "weights",
+                format!(
+                    "{} values for {hairs} sim hairs: give one per sim hair",
+                    weights.len()
+                ),
+            ));
+        }
+        for (i, &w) in weights.iter().enumerate() {
+            check_weight(&format!("weights[{i}]"), w)?;
+        }
+        if let Some(g) = &mut self.guides {
+            g.animation.set_factors(weights.to_vec());
+        }
+        Ok(())
     }
 
     fn solver_error(&self, source: HairError) -> Error {
@@ -567,6 +722,12 @@ impl Session {
             solver: self.solver.clone(),
             colliders: self.colliders.clone(),
             scalp: self.scalp.clone(),
+            rest: self.guides.as_ref().map(|_| {
+                (
+                    self.strands.rest_local().to_vec(),
+                    self.strands.bend_rest().to_vec(),
+                )
+            }),
         }
     }
 
@@ -600,6 +761,10 @@ impl Session {
         self.solver = snapshot.solver.clone();
         self.colliders = snapshot.colliders.clone();
         self.scalp = snapshot.scalp.clone();
+        if let Some((rest, bend)) = &snapshot.rest {
+            self.strands.rest_local_mut().copy_from_slice(rest);
+            self.strands.bend_rest_mut().copy_from_slice(bend);
+        }
         self.pending = Pending::default();
         self.failed = None;
         Ok(())
@@ -733,6 +898,18 @@ impl SceneAnimation {
 }
 
 /// Refuses a non-finite transform, naming `argument`.
+/// A sim weight must be in [0, 1].
+fn check_weight(argument: &str, w: f32) -> Result<()> {
+    if w.is_finite() && (0.0..=1.0).contains(&w) {
+        Ok(())
+    } else {
+        Err(Error::argument(
+            argument,
+            format!("{w} is not a sim weight: use a value in [0, 1] (0 = simulation, 1 = the animated guides)"),
+        ))
+    }
+}
+
 fn check_isometry(argument: &str, iso: &Isometry3<f32>) -> Result<()> {
     let finite = iso.translation.vector.iter().all(|c| c.is_finite())
         && iso.rotation.coords.iter().all(|c| c.is_finite());

@@ -33,7 +33,7 @@ use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{IntoPyDict, PyDict};
 
-use crate::arrays::{isometry, with_float_rows};
+use crate::arrays::{floats, isometry, with_float_rows};
 use crate::children::Children;
 use crate::errors::{argument, guard, panic_message, to_py, InternalError};
 use crate::groom::groom_options;
@@ -372,6 +372,56 @@ impl PySession {
                     .map_err(to_py)
             })
         })
+    }
+
+    /// Sets the guides' pose for the next frame (animated guides): `points` (P, 3) float, m,
+    /// every guide's points in the groom's order and point counts (`guide_point_counts`), in
+    /// the scalp's body space at rest. The sim hairs' rest shapes are re-interpolated from it.
+    /// Raises ArgumentError for a session without guides, a wrong point count or a non-finite
+    /// point.
+    fn set_guide_pose(&mut self, points: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.check()?;
+        with_float_rows::<3, _>(points, "points", "(P, 3)", |rows| {
+            guard(|| self.session_mut().set_guide_pose(rows).map_err(to_py))
+        })
+    }
+
+    /// Sets the sim weight for the next frame instead of the scene's curve: 0 = simulation,
+    /// 1 = exactly the animated guides, between a blend (times each hair's factor). Raises
+    /// ArgumentError outside [0, 1] or for a session without guides.
+    fn set_sim_weight(&mut self, weight: f32) -> PyResult<()> {
+        self.check()?;
+        guard(|| self.session_mut().set_sim_weight(weight).map_err(to_py))
+    }
+
+    /// Sets each sim hair's factor of the sim weight, (H,) float in [0, 1], kept until set
+    /// again. Raises ArgumentError for a wrong count, a value outside [0, 1] or a session
+    /// without guides.
+    fn set_strand_sim_weights(&mut self, weights: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.check()?;
+        let w = floats(weights, "weights", "(H,)")?;
+        guard(|| self.session_mut().set_strand_sim_weights(&w).map_err(to_py))
+    }
+
+    /// Point count of each guide, in the groom's order (empty without guides).
+    #[getter]
+    fn guide_point_counts(&self) -> PyResult<Vec<usize>> {
+        self.check()?;
+        Ok(self
+            .session()
+            .guide_animation()
+            .map(|a| a.guide_points().to_vec())
+            .unwrap_or_default())
+    }
+
+    /// Strand indices `(start, end)` of the sim hairs the guides drive (None without guides).
+    #[getter]
+    fn guided_strands(&self) -> PyResult<Option<(usize, usize)>> {
+        self.check()?;
+        Ok(self.session().guide_animation().map(|a| {
+            let r = a.strands();
+            (r.start, r.end)
+        }))
     }
 
     /// Gravity, m/s², as (x, y, z).

@@ -732,7 +732,12 @@ fn check_strand(s: &StrandView, mass: &[f32], stretch_k: f32, limit: f64) -> Res
         stretch = stretch.max(len / s.rest_length[j] - 1.0);
         elastic += 0.5 * stretch_k as f64 * ((len - s.rest_length[j]) as f64).powi(2);
     }
-    let specific = (kinetic + elastic) / total_mass.max(f64::MIN_POSITIVE);
+    // A strand pinned at every point (hold-out hair on animated guides) is kinematic: its
+    // energy is the animation's, not the solver's, and it has no mass to divide by.
+    if total_mass == 0.0 {
+        return Ok(stretch);
+    }
+    let specific = (kinetic + elastic) / total_mass;
     if specific > limit {
         return Err(format!(
             "energy ran away ({specific:.3e} J/kg, limit {limit:.3e} J/kg)"

@@ -91,8 +91,11 @@ pub(crate) fn limit_strain<L: Lane>(
             let len = d.dot(&d).sqrt();
             let limit = rest_length[j] * ratio;
             let excess = len - limit;
-            worst = worst.max(excess / limit);
-            let active = L::select(excess.simd_gt(zero), one, zero);
+            // A segment between two kinematic points (animated, held-out hair) cannot be
+            // corrected: it stays out of the solve, whose row would be singular.
+            let movable = L::select((inv_mass[j] + inv_mass[j + 1]).simd_gt(zero), one, zero);
+            worst = worst.max(excess / limit * movable);
+            let active = L::select(excess.simd_gt(zero), one, zero) * movable;
             s.tangent[j] = d * div_or_zero(one, len, 1e-9);
             s.rhs[j] = excess * active;
             s.lambda[j] = active;

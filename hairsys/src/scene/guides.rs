@@ -12,6 +12,11 @@ use hair_groom::{
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
+use crate::animated_guides::GuideAnimation;
+use crate::scene::guide_anim::{
+    self, AnimationKeys, HairSelection, PinSection, PoseSection, SimWeightSection,
+};
+use crate::scene::motion::Interpolation;
 use crate::scene::RegionSection;
 
 /// `[guides]`: import `file`, or generate `count` guides.
@@ -63,9 +68,30 @@ pub struct GuidesSection {
     /// Generated guides: curl turns per meter.
     #[serde(default)]
     pub curl_turns_per_meter: f32,
+    /// Generated guides: laid over the scalp like `[hair.style]` (combed, lifted, curving with
+    /// the head) instead of straight.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub style: Option<crate::scene::style::StyleSection>,
     /// Indices of guides switched off (the sim hairs interpolate from the others).
     #[serde(default)]
     pub disabled: Vec<usize>,
+    /// `[[guides.pose]]`: keyed guide poses (animated guides; see [`guide_anim`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pose: Vec<PoseSection>,
+    /// Interpolation between pose keys, `"ease"` (default) or `"linear"`.
+    #[serde(default)]
+    pub pose_interpolation: Interpolation,
+    /// `[guides.sim_weight]`: the curve handing sim hairs between simulation (0) and the
+    /// animated guides (1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sim_weight: Option<SimWeightSection>,
+    /// `[[guides.pin]]`: sim-hair points held on the animated guides.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pin: Vec<PinSection>,
+    /// `[guides.hold_out]`: sim hairs that follow the animated guides exactly, out of the
+    /// simulation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hold_out: Option<HairSelection>,
 }
 
 /// `[sim_hairs]`: simulation hairs interpolated from the guides.
@@ -121,6 +147,19 @@ pub struct SimHairsSection {
     pub goal_tip: f32,
 }
 
+impl GuidesSection {
+    /// The animation keys (poses, sim weight, pins, hold-out) of this section.
+    pub fn animation_keys(&self) -> AnimationKeys<'_> {
+        AnimationKeys {
+            poses: &self.pose,
+            interpolation: self.pose_interpolation,
+            sim_weight: self.sim_weight.as_ref(),
+            pins: &self.pin,
+            hold_out: self.hold_out.as_ref(),
+        }
+    }
+}
+
 fn default_snap() -> f32 {
     0.025
 }
@@ -152,6 +191,8 @@ pub struct GuidedHair {
     pub inputs: Vec<StrandInput>,
     /// One line on the guides (source, snap distances) and the sim hairs.
     pub report: String,
+    /// The guides' animation (poses, sim weight, pins, hold-outs), when the scene keys any.
+    pub animation: Option<GuideAnimation>,
 }
 
 /// Builds the guides and the sim hairs interpolated from them. Errors name the section and key.
@@ -160,36 +201,15 @@ pub fn build(
     sim: Option<&SimHairsSection>,
     mesh: &TriMesh,
     base_dir: &Path,
+    gravity: &Vector3<f32>,
 ) -> Result<GuidedHair, String> {
+    if guides.file.is_some() && guides.style.is_some() {
+        return Err("[guides.style] lays generated guides over the scalp; an imported groom keeps its shape: remove [guides.style] or `file`".into());
+    }
     let (guides_list, source) = match &guides.file {
         Some(file) => {
-            let path = base_dir.join(file);
-            let given = guides.scale.is_some() || guides.up_axis.is_some();
-            let units = ImportOptions {
-                scale: guides.scale.unwrap_or(1.0),
-                up_axis: guides.up_axis.unwrap_or_default(),
-            };
-            let groom = match hair_groom::GroomFormat::of(&path) {
-                Ok(hair_groom::GroomFormat::Usd) => hair_groom::read_usd(
-                    &path,
-                    &hair_groom::UsdReadOptions {
-                        prim: guides.prim.clone(),
-                        time: None,
-                        units: given.then_some(units),
-                    },
-                )
-                .map(|c| c.groom),
-                _ if guides.prim.is_some() => {
-                    return Err(format!(
-                        "[guides] prim = {:?} selects a prim of a USD stage, but {} is not a \
-                         USD file; remove `prim`",
-                        guides.prim.as_deref().unwrap_or_default(),
-                        file.display()
-                    ))
-                }
-                _ => hair_groom::read_groom(&path, &units),
-            }
-            .map_err(|e| format!("[guides] file: {e}"))?;
+            let groom = read_guides(guides, file, base_dir, None)
+                .map_err(|e| format!("[guides] file: {e}"))?;
             let snapped = hair_groom::snap_to_scalp(
                 &groom,
                 mesh,
@@ -231,8 +251,33 @@ pub fn build(
                     turns_per_meter: guides.curl_turns_per_meter,
                 }),
             };
-            let list =
+            let mut list =
                 hair_groom::generate_guides(mesh, &opts).map_err(|e| format!("[guides] {e}"))?;
+            if let Some(style) = &guides.style {
+                // The styling works on strands: lay the guides as strands, keep their shapes.
+                let mut strands: Vec<StrandInput> = list
+                    .iter()
+                    .map(|g| {
+                        StrandInput::uniform(
+                            Anchor::Surface(g.root),
+                            g.rest.clone(),
+                            1e-3,
+                            1e-3,
+                            0.0,
+                            0.0,
+                        )
+                    })
+                    .collect();
+                hair_groom::lay_over_scalp(
+                    &mut strands,
+                    mesh,
+                    &style.options(gravity, guides.seed),
+                )
+                .map_err(|e| format!("[guides.style] {e}"))?;
+                for (g, s) in list.iter_mut().zip(strands) {
+                    g.rest = s.rest;
+                }
+            }
             let source = format!("{} generated guides", list.len());
             (list, source)
         }
@@ -272,11 +317,11 @@ pub fn build(
     let hairs = hair_groom::interpolate(mesh, &guides_list, &enabled, &roots, &opts)
         .map_err(|e| format!("[sim_hairs] {e}"))?;
     let mut inputs = hairs
-        .into_iter()
+        .iter()
         .map(|h| {
             StrandInput::uniform(
                 Anchor::Surface(h.root),
-                h.rest,
+                h.rest.clone(),
                 sim.mass_per_length,
                 sim.radius,
                 sim.goal_root,
@@ -305,6 +350,24 @@ pub fn build(
             });
         }
     }
+    let keys = guides.animation_keys();
+    // Built for every guided scene (cheap: the weights are kept, nothing runs per frame without
+    // keys), so a host can pose the guides of any guided scene.
+    let animation = {
+        let read = |file: &Path, time: Option<f64>| -> Result<Vec<Vec<Vector3<f32>>>, String> {
+            read_guides(guides, file, base_dir, time).map(|g| g.curves().to_vec())
+        };
+        Some(guide_anim::build(
+            &keys,
+            mesh,
+            &guides_list,
+            &hairs,
+            &mut inputs,
+            points,
+            guides.max_snap_distance,
+            &read,
+        )?)
+    };
     let report = format!(
         "{source}; {} enabled; {} sim hairs of {points} points from the {} nearest{left_out}",
         enabled.iter().filter(|&&e| e).count(),
@@ -315,7 +378,51 @@ pub fn build(
         guides: guides_list,
         inputs,
         report,
+        animation,
     })
+}
+
+/// Reads the groom `file` (relative to `base_dir`) with `[guides]`'s `prim`, `scale` and
+/// `up_axis`; USD files at time code `time` (absent: the earliest sample or the default).
+fn read_guides(
+    guides: &GuidesSection,
+    file: &Path,
+    base_dir: &Path,
+    time: Option<f64>,
+) -> Result<hair_groom::Groom, String> {
+    let path = base_dir.join(file);
+    let given = guides.scale.is_some() || guides.up_axis.is_some();
+    let units = ImportOptions {
+        scale: guides.scale.unwrap_or(1.0),
+        up_axis: guides.up_axis.unwrap_or_default(),
+    };
+    match hair_groom::GroomFormat::of(&path) {
+        Ok(hair_groom::GroomFormat::Usd) => hair_groom::read_usd(
+            &path,
+            &hair_groom::UsdReadOptions {
+                prim: guides.prim.clone(),
+                time,
+                units: given.then_some(units),
+            },
+        )
+        .map(|c| c.groom),
+        _ if guides.prim.is_some() => {
+            return Err(format!(
+                "[guides] prim = {:?} selects a prim of a USD stage, but {} is not a USD file; \
+                 remove `prim`",
+                guides.prim.as_deref().unwrap_or_default(),
+                file.display()
+            ))
+        }
+        _ if time.is_some() => {
+            return Err(format!(
+                "`time` picks a USD time sample, but {} is not a USD file; remove `time`",
+                file.display()
+            ))
+        }
+        _ => hair_groom::read_groom(&path, &units),
+    }
+    .map_err(|e| e.to_string())
 }
 
 /// Most area-weighted draws per wanted root when sim hairs must grow near the guides: a groom

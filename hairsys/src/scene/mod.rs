@@ -26,6 +26,7 @@ use sha2::{Digest, Sha256};
 pub mod children;
 pub mod deforming;
 pub mod fields;
+pub mod guide_anim;
 pub mod guides;
 pub mod motion;
 pub mod strips;
@@ -774,8 +775,28 @@ impl SceneFile {
             let Some(mesh) = &rest_mesh else {
                 return Err(err("[guides] puts guides on the scalp, but [scalp.mesh] kind = \"none\"; choose a scalp mesh".into()));
             };
-            let built =
-                guides::build(guides, s.sim_hairs.as_ref(), mesh, &self.base_dir).map_err(err)?;
+            let mut built = guides::build(
+                guides,
+                s.sim_hairs.as_ref(),
+                mesh,
+                &self.base_dir,
+                &s.physics.gravity(),
+            )
+            .map_err(err)?;
+            if s.solver.model != StrandModel::MassSpring {
+                if guides.animation_keys().any() {
+                    return Err(err(
+                        "[guides] pose, sim_weight, pin and hold_out animate the \
+                         mass-spring model's rest shapes; remove them or set [solver] model = \
+                         \"mass-spring\""
+                            .into(),
+                    ));
+                }
+                built.animation = None;
+            }
+            if let Some(a) = &mut built.animation {
+                a.set_first_strand(strands.len());
+            }
             for input in &built.inputs {
                 strands
                     .push(input.clone())
@@ -854,6 +875,7 @@ impl SceneFile {
             scalp_collider: s.scalp.collider,
             contact_settings: s.contacts.unwrap_or_default(),
             guides_report: guided.as_ref().map(|g| g.report.clone()),
+            guide_animation: guided.as_mut().and_then(|g| g.animation.take()),
             guides: guided.map(|g| g.guides).unwrap_or_default(),
             hair_hair,
             fields,
@@ -1150,6 +1172,8 @@ pub struct Simulation {
     pub inextensibility: Option<hair_core::Inextensibility>,
     /// `[strips]` settings when `[solver] model = "strips"` (strip `k` = strands `2k`, `2k + 1`).
     pub strips: Option<hair_core::strips::StripSettings>,
+    /// Animated guides (`[[guides.pose]]`, `[guides.sim_weight]`, pins, hold-outs), if keyed.
+    pub guide_animation: Option<crate::animated_guides::GuideAnimation>,
 }
 
 impl Simulation {

@@ -1,0 +1,334 @@
+//! Animated guides (seed 001, "Hair Levels": *animated* guide hairs define the rest positions):
+//! simulation hairs re-interpolated from new guide shapes every frame with the weights
+//! [`crate::interpolate()`] chose once.
+//!
+//! **Why the weights stay fixed.** Choosing a hair's guides and weights needs root distances
+//! (along the surface: a Dijkstra run per guide) and a nearest-guide search, O(hairs · guides).
+//! Neither changes when guides move: roots stay where they grow. [`GuideBlend`] keeps, per
+//! simulation hair, its sources (guide, weight) and for each the rotation that carries the
+//! guide's root-local shape into the hair's root frame (the guide frame, the smallest turn of
+//! its normal onto the hair's, the hair frame inverted: the same transport as `interpolate`).
+//! Re-interpolating is then one rotation and one multiply–add per source per point, plus the
+//! length correction, O(points · k) per frame (counted by [`GuideBlend::apply`]).
+//!
+//! **Same rule as the build.** Each guide is resampled to the hair's point count by point index;
+//! a hair rooted exactly at a guide copies it; otherwise the weighted blend is scaled about the
+//! root so its length is the weighted mean of the guides' lengths. So guides at their groom
+//! shape give back the interpolated rest shapes (to f32 rounding; the build rotates in two steps
+//! where this rotates in one).
+
+use hair_core::TriMesh;
+use nalgebra::{UnitQuaternion, Vector3};
+
+use crate::error::{parameter, GroomError};
+use crate::groom::polyline_length;
+use crate::interpolate::{resample, SimHair};
+use crate::snap::Guide;
+
+/// One guide's share in a hair, with its transport into the hair's root frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Source {
+    guide: u32,
+    weight: f64,
+    /// Guide root-local → hair root-local rotation.
+    turn: UnitQuaternion<f32>,
+}
+
+/// One simulation hair's recipe.
+#[derive(Debug, Clone, PartialEq)]
+struct Recipe {
+    /// Sources with weight > 0.
+    sources: Vec<Source>,
+    /// A hair rooted at a guide's own sample: its shape is that guide's, resampled, untouched.
+    exact_copy: bool,
+}
+
+/// Fixed interpolation weights of simulation hairs over their guides, to re-interpolate rest
+/// shapes from animated guides (see the module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GuideBlend {
+    recipes: Vec<Recipe>,
+    /// Point count of each guide (an animated pose must keep it).
+    guide_points: Vec<usize>,
+    /// Points per simulation hair.
+    points: usize,
+}
+
+impl GuideBlend {
+    /// The recipe of every hair of `hairs` (from [`crate::interpolate()`] over `guides` on
+    /// `mesh`, with `points` points per hair).
+    ///
+    /// Errors: a hair whose point count is not `points`, a source naming no guide, a root or
+    /// guide sample not on `mesh`.
+    pub fn new(
+        mesh: &TriMesh,
+        guides: &[Guide],
+        hairs: &[SimHair],
+        points: usize,
+    ) -> Result<Self, GroomError> {
+        let mut frames = Vec::with_capacity(guides.len());
+        for guide in guides {
+            guide.root.validate(mesh)?;
+            frames.push(mesh.evaluate(&guide.root));
+        }
+        let mut recipes = Vec::with_capacity(hairs.len());
+        for (h, hair) in hairs.iter().enumerate() {
+            if hair.rest.len() != points {
+                return Err(parameter(
+                    "points",
+                    hair.rest.len(),
+                    &format!("sim hair {h} must have {points} points like the others"),
+                ));
+            }
+            hair.root.validate(mesh)?;
+            let frame = mesh.evaluate(&hair.root);
+            let normal = frame.rotation * Vector3::z();
+            let inv = frame.rotation.inverse();
+            let mut sources = Vec::with_capacity(hair.sources.len());
+            for s in hair.sources.iter().filter(|s| s.weight > 0.0) {
+                let Some(gf) = frames.get(s.guide) else {
+                    return Err(parameter(
+                        "sources",
+                        s.guide,
+                        &format!("sim hair {h} names a guide beyond the {}", guides.len()),
+                    ));
+                };
+                let g_normal = gf.rotation * Vector3::z();
+                let to_normal = UnitQuaternion::rotation_between(&g_normal, &normal)
+                    .unwrap_or_else(UnitQuaternion::identity);
+                sources.push(Source {
+                    guide: s.guide as u32,
+                    weight: f64::from(s.weight),
+                    turn: inv * to_normal * gf.rotation,
+                });
+            }
+            let exact_copy =
+                sources.len() == 1 && guides[sources[0].guide as usize].root == hair.root;
+            recipes.push(Recipe {
+                sources,
+                exact_copy,
+            });
+        }
+        Ok(Self {
+            recipes,
+            guide_points: guides.iter().map(|g| g.rest.len()).collect(),
+            points,
+        })
+    }
+
+    /// Number of simulation hairs.
+    pub fn hairs(&self) -> usize {
+        self.recipes.len()
+    }
+
+    /// Points per simulation hair.
+    pub fn points(&self) -> usize {
+        self.points
+    }
+
+    /// Point count of each guide, in guide order: an animated pose must give each guide exactly
+    /// this many points.
+    pub fn guide_points(&self) -> &[usize] {
+        &self.guide_points
+    }
+
+    /// Checks that `shapes` gives one root-local shape per guide with the guide's point count.
+    /// `what` names the pose in the message (a file, a scene key).
+    pub fn check_pose(&self, shapes: &[Vec<Vector3<f32>>], what: &str) -> Result<(), String> {
+        if shapes.len() != self.guide_points.len() {
+            return Err(format!(
+                "{what} has {} guides, but the groom has {}: a pose must give every guide, in \
+                 the groom's order",
+                shapes.len(),
+                self.guide_points.len()
+            ));
+        }
+        for (g, (shape, &n)) in shapes.iter().zip(&self.guide_points).enumerate() {
+            if shape.len() != n {
+                return Err(format!(
+                    "{what}: guide {g} has {} points, but the groom's guide {g} has {n}: an \
+                     animated guide keeps its point count (resample the pose to the groom's)",
+                    shape.len()
+                ));
+            }
+            if let Some(i) = shape.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
+                return Err(format!(
+                    "{what}: guide {g} point {i} has a non-finite coordinate"
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Re-interpolates every hair from the guide shapes `shapes` (root-local, one per guide,
+    /// checked by [`GuideBlend::check_pose`]) into `out` (`hairs · points` root-local points,
+    /// hair after hair). Returns the work done: the number of source-point blends (hair points
+    /// times sources, plus the guides' resampled points), which is linear in the points.
+    ///
+    /// # Panics
+    /// If `out` does not hold `hairs · points` points or `shapes` was not checked.
+    pub fn apply(&self, shapes: &[Vec<Vector3<f32>>], out: &mut [Vector3<f32>]) -> u64 {
+        assert_eq!(out.len(), self.recipes.len() * self.points, "output size");
+        let n = self.points;
+        let mut work = 0u64;
+        // Each guide resampled once to the hairs' point count, with its length.
+        let resampled: Vec<(Vec<Vector3<f32>>, f64)> = shapes
+            .iter()
+            .map(|s| {
+                let r = resample(s, n);
+                let len = polyline_length(&r);
+                (r, len)
+            })
+            .collect();
+        work += (shapes.len() * n) as u64;
+        let mut acc = vec![Vector3::<f64>::zeros(); n];
+        for (recipe, hair) in self.recipes.iter().zip(out.chunks_exact_mut(n)) {
+            let first = recipe.sources[0];
+            let (shape, _) = &resampled[first.guide as usize];
+            if recipe.exact_copy {
+                hair.copy_from_slice(shape);
+                work += n as u64;
+                continue;
+            }
+            if recipe.sources.len() == 1 {
+                for (o, p) in hair.iter_mut().zip(shape) {
+                    *o = first.turn * p;
+                }
+                work += n as u64;
+                continue;
+            }
+            acc.iter_mut().for_each(|a| *a = Vector3::zeros());
+            let mut target = 0.0f64;
+            for s in &recipe.sources {
+                let (shape, len) = &resampled[s.guide as usize];
+                for (a, p) in acc.iter_mut().zip(shape) {
+                    *a += (s.turn * p).cast::<f64>() * s.weight;
+                }
+                target += s.weight * len;
+                work += n as u64;
+            }
+            for (o, a) in hair.iter_mut().zip(&acc) {
+                *o = a.cast::<f32>();
+            }
+            let length = polyline_length(hair);
+            let scale = if length > 0.0 {
+                (target / length) as f32
+            } else {
+                1.0
+            };
+            hair.iter_mut().for_each(|p| *p *= scale);
+        }
+        work
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::interpolate::{interpolate, Distance, InterpolateOptions};
+    use crate::sampling::{sample_area_weighted, Region};
+    use crate::shapes::uv_sphere;
+
+    fn setup(hairs: usize) -> (TriMesh, Vec<Guide>, Vec<SimHair>) {
+        let mesh = uv_sphere(0.1, 24, 12).unwrap();
+        let roots = sample_area_weighted(&mesh, 30, 7, &Region::All).unwrap();
+        let guides: Vec<Guide> = roots
+            .into_iter()
+            .enumerate()
+            .map(|(g, root)| Guide {
+                root,
+                rest: (0..8)
+                    .map(|i| {
+                        let s = i as f32 / 7.0;
+                        Vector3::new(
+                            0.01 * (g % 4) as f32 * s * s,
+                            0.0,
+                            (0.05 + 0.001 * g as f32) * s,
+                        )
+                    })
+                    .collect(),
+            })
+            .collect();
+        let mut hair_roots = sample_area_weighted(&mesh, hairs, 11, &Region::All).unwrap();
+        hair_roots[0] = guides[3].root; // one exact copy
+        let opts = InterpolateOptions {
+            k: 4,
+            points: 8,
+            distance: Distance::Euclidean,
+        };
+        let enabled = vec![true; guides.len()];
+        let sim = interpolate(&mesh, &guides, &enabled, &hair_roots, &opts).unwrap();
+        (mesh, guides, sim)
+    }
+
+    #[test]
+    fn groom_pose_gives_back_the_interpolated_rest_shapes() {
+        let (mesh, guides, hairs) = setup(200);
+        let blend = GuideBlend::new(&mesh, &guides, &hairs, 8).unwrap();
+        let shapes: Vec<_> = guides.iter().map(|g| g.rest.clone()).collect();
+        let mut out = vec![Vector3::zeros(); 200 * 8];
+        blend.apply(&shapes, &mut out);
+        for (h, hair) in hairs.iter().enumerate() {
+            for (a, b) in hair.rest.iter().zip(&out[h * 8..(h + 1) * 8]) {
+                assert!((a - b).norm() < 1e-6, "hair {h}: {a:?} vs {b:?}");
+            }
+        }
+        // The exact copy is bit-exact.
+        assert_eq!(&out[..8], &hairs[0].rest[..]);
+    }
+
+    #[test]
+    fn a_rotated_pose_rotates_every_hair_that_follows_only_it() {
+        let (mesh, guides, hairs) = setup(50);
+        let blend = GuideBlend::new(&mesh, &guides, &hairs, 8).unwrap();
+        let turn = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.7);
+        let shapes: Vec<_> = guides
+            .iter()
+            .map(|g| g.rest.iter().map(|p| turn * p).collect())
+            .collect();
+        let mut out = vec![Vector3::zeros(); 50 * 8];
+        blend.apply(&shapes, &mut out);
+        // Hair 0 copies guide 3: it is guide 3's posed shape.
+        assert_eq!(&out[..8], &shapes[3][..]);
+        // Lengths are the weighted guide lengths, unchanged by a rigid turn of every guide.
+        for (h, hair) in hairs.iter().enumerate() {
+            let a = polyline_length(&hair.rest);
+            let b = polyline_length(&out[h * 8..(h + 1) * 8]);
+            assert!((a - b).abs() < 1e-5 * a, "hair {h}: {a} vs {b}");
+        }
+    }
+
+    #[test]
+    fn work_is_linear_in_hairs_and_independent_of_the_guide_count() {
+        let (mesh, guides, hairs) = setup(400);
+        let small = GuideBlend::new(&mesh, &guides, &hairs[..100], 8).unwrap();
+        let large = GuideBlend::new(&mesh, &guides, &hairs, 8).unwrap();
+        let shapes: Vec<_> = guides.iter().map(|g| g.rest.clone()).collect();
+        let mut out = vec![Vector3::zeros(); 400 * 8];
+        let w_small = small.apply(&shapes, &mut out[..800]) - (guides.len() * 8) as u64;
+        let w_large = large.apply(&shapes, &mut out) - (guides.len() * 8) as u64;
+        // At most k = 4 sources per point: bounded by points · k, whatever the guide count.
+        assert!(w_small <= 100 * 8 * 4 && w_large <= 400 * 8 * 4);
+        let ratio = w_large as f64 / w_small as f64;
+        assert!(
+            (3.5..=4.5).contains(&ratio),
+            "work ratio {ratio} for 4× the hairs"
+        );
+    }
+
+    #[test]
+    fn pose_with_a_changed_point_count_is_refused_by_guide() {
+        let (mesh, guides, hairs) = setup(10);
+        let blend = GuideBlend::new(&mesh, &guides, &hairs, 8).unwrap();
+        let mut shapes: Vec<_> = guides.iter().map(|g| g.rest.clone()).collect();
+        shapes[5].pop();
+        let e = blend.check_pose(&shapes, "pose.obj").unwrap_err();
+        assert!(
+            e.contains("pose.obj") && e.contains("guide 5 has 7 points"),
+            "{e}"
+        );
+        shapes.pop();
+        let e = blend.check_pose(&shapes, "pose.obj").unwrap_err();
+        assert!(e.contains("29 guides"), "{e}");
+    }
+}

@@ -1,0 +1,473 @@
+//! Animated guides at run time (seed 001, "Hair Levels": animated guide hairs define the rest
+//! positions; issue 20): each frame the sim hairs' rest shapes follow the guides' pose, and a
+//! sim weight hands the hair between simulation and the animated guides.
+//!
+//! **Rest shapes follow the pose.** A pose (root-local guide shapes, from the scene's keys,
+//! interpolated between them like [`crate::scene::motion`], or set by the host) is
+//! re-interpolated to every sim hair with the weights chosen at build
+//! ([`hair_groom::GuideBlend`], O(points · k)). The change from the groom is added to the
+//! hair's built rest shape (which may have been lifted out of the scalp at build), so goal
+//! springs and pinned points follow the pose; each segment's rest direction (bending, and for
+//! the first segment the direction held in the root frame) is turned by the smallest rotation
+//! that takes the groom's direction to the posed one, which keeps the sag-free correction the
+//! build solved. Rest lengths stay: an animated guide bends hair, it does not stretch it. A pose
+//! equal to the groom leaves every rest value bit for bit as built.
+//!
+//! **Sim weight.** After the frame's simulation, a hair with weight `w` is moved onto its
+//! animated position `x_a = root.to_world(rest)`: `x ← (1 − w) x + w x_a`, and its velocity
+//! likewise onto the animated velocity `(x_a(t) − x_a(t − 1)) · fps`. `w = 0` leaves the
+//! simulation untouched (no arithmetic at all), `w = 1` puts the hair exactly on the animated
+//! guides, values between hand the shot back and forth (Maya nHair's and Houdini Vellum's
+//! "blend to animation"). Hold-out hair is pinned at every point and has weight 1: it follows
+//! the guides exactly and takes no part in the dynamics.
+
+use hair_core::frames::{rest_directions, RestDirection};
+use hair_core::{RootFrame, StrandSet};
+use hair_groom::GuideBlend;
+use nalgebra::Vector3;
+
+use crate::scene::motion::Interpolation;
+
+/// One keyed pose: root-local shapes of every guide at `frame`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PoseKey {
+    /// Frame of the key.
+    pub frame: f32,
+    /// Root-local shape of each guide, m.
+    pub shapes: Vec<Vec<Vector3<f32>>>,
+}
+
+/// A keyed scalar curve over frames (holds outside its keys); no keys = 0.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct WeightCurve {
+    interpolation: Interpolation,
+    keys: Vec<(f32, f32)>,
+}
+
+impl WeightCurve {
+    /// A curve through `keys` (frame, value), in increasing frame order.
+    pub fn new(interpolation: Interpolation, keys: Vec<(f32, f32)>) -> Self {
+        Self {
+            interpolation,
+            keys,
+        }
+    }
+
+    /// The value at `frame`.
+    pub fn at(&self, frame: f32) -> f32 {
+        match key_span(self.keys.iter().map(|k| k.0), frame, self.interpolation) {
+            None => 0.0,
+            Some(Span::At(i)) => self.keys[i].1,
+            Some(Span::Between(i, s)) => self.keys[i].1 + (self.keys[i + 1].1 - self.keys[i].1) * s,
+        }
+    }
+}
+
+enum Span {
+    At(usize),
+    Between(usize, f32),
+}
+
+/// Where `frame` falls among key frames: on a key (or held before/after), or between two with
+/// the (eased) fraction.
+fn key_span(
+    frames: impl Iterator<Item = f32> + Clone,
+    frame: f32,
+    how: Interpolation,
+) -> Option<Span> {
+    let n = frames.clone().count();
+    let first = frames.clone().next()?;
+    let last = frames.clone().last()?;
+    if frame <= first {
+        return Some(Span::At(0));
+    }
+    if frame >= last {
+        return Some(Span::At(n - 1));
+    }
+    let i = frames.clone().take_while(|&f| f <= frame).count() - 1;
+    let a = frames.clone().nth(i)?;
+    let b = frames.clone().nth(i + 1)?;
+    if frame == a {
+        return Some(Span::At(i));
+    }
+    let mut s = (frame - a) / (b - a);
+    if how == Interpolation::Ease {
+        s = s * s * (3.0 - 2.0 * s);
+    }
+    Some(Span::Between(i, s))
+}
+
+/// The rest state of the animated sim hairs as built (before any pose), bound to a strand set.
+#[derive(Debug, Clone, PartialEq)]
+struct Base {
+    /// Sim hairs re-interpolated from the groom pose.
+    interpolated: Vec<Vector3<f32>>,
+    /// The built rest shapes (root-local).
+    rest: Vec<Vector3<f32>>,
+    /// The built rest directions (sag-free corrected when the scene asks for it).
+    bend: Vec<RestDirection>,
+    /// The rest directions of `rest` itself.
+    directions: Vec<RestDirection>,
+}
+
+/// Animated guides of a scene: poses over frames, sim weights, hold-outs. See the module docs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GuideAnimation {
+    blend: GuideBlend,
+    /// Root frames of the guides on the scalp at rest (host poses are given in that space).
+    frames: Vec<RootFrame>,
+    /// Groom shapes of the guides, root-local.
+    groom: Vec<Vec<Vector3<f32>>>,
+    poses: Vec<PoseKey>,
+    interpolation: Interpolation,
+    sim_weight: WeightCurve,
+    /// Per sim hair: the factor the curve is multiplied by (0 or 1 from the scene's selection,
+    /// any value in [0, 1] from a host).
+    factor: Vec<f32>,
+    hold_out: Vec<bool>,
+    /// First strand of the sim hairs in the strand set.
+    first_strand: usize,
+    base: Option<Base>,
+}
+
+impl GuideAnimation {
+    /// Assembles the animation (see [`crate::scene::guide_anim::build`]).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new(
+        blend: GuideBlend,
+        frames: Vec<RootFrame>,
+        groom: Vec<Vec<Vector3<f32>>>,
+        poses: Vec<PoseKey>,
+        interpolation: Interpolation,
+        sim_weight: WeightCurve,
+        factor: Vec<f32>,
+        hold_out: Vec<bool>,
+    ) -> Self {
+        Self {
+            blend,
+            frames,
+            groom,
+            poses,
+            interpolation,
+            sim_weight,
+            factor,
+            hold_out,
+            first_strand: 0,
+            base: None,
+        }
+    }
+
+    /// Sets where the sim hairs start in the strand set.
+    pub(crate) fn set_first_strand(&mut self, first: usize) {
+        self.first_strand = first;
+    }
+
+    /// Number of guides.
+    pub fn guide_count(&self) -> usize {
+        self.groom.len()
+    }
+
+    /// Point count of each guide (a pose gives exactly these).
+    pub fn guide_points(&self) -> &[usize] {
+        self.blend.guide_points()
+    }
+
+    /// Strands `first..first + hairs` of the strand set are the animated sim hairs.
+    pub fn strands(&self) -> std::ops::Range<usize> {
+        self.first_strand..self.first_strand + self.blend.hairs()
+    }
+
+    /// True when a keyed pose drives the rest shapes.
+    pub fn has_poses(&self) -> bool {
+        !self.poses.is_empty()
+    }
+
+    /// The scene's sim weight at `frame`, before the per-hair factor.
+    pub fn sim_weight_at(&self, frame: f32) -> f32 {
+        self.sim_weight.at(frame)
+    }
+
+    /// Per sim hair: the factor of the sim weight curve.
+    pub fn factors(&self) -> &[f32] {
+        &self.factor
+    }
+
+    /// Replaces the per-hair factors (values in [0, 1], one per sim hair; checked by the caller).
+    pub(crate) fn set_factors(&mut self, factors: Vec<f32>) {
+        self.factor = factors;
+    }
+
+    /// Per sim hair: held out of the simulation (follows the guides exactly).
+    pub fn hold_out(&self) -> &[bool] {
+        &self.hold_out
+    }
+
+    /// The keyed pose at `frame` (between keys each segment's vector is blended and given the
+    /// blended length, so guides swing without shrinking), or `None` without keys.
+    pub fn pose_at(&self, frame: f32) -> Option<Vec<Vec<Vector3<f32>>>> {
+        match key_span(
+            self.poses.iter().map(|k| k.frame),
+            frame,
+            self.interpolation,
+        )? {
+            Span::At(i) => Some(self.poses[i].shapes.clone()),
+            Span::Between(i, s) => Some(
+                self.poses[i]
+                    .shapes
+                    .iter()
+                    .zip(&self.poses[i + 1].shapes)
+                    .map(|(a, b)| between(a, b, s))
+                    .collect(),
+            ),
+        }
+    }
+
+    /// Host-given guide points (body space of the scalp at rest, the guides in order, each with
+    /// its point count, flat) as root-local shapes. Errors name what is wrong and the fix.
+    pub fn pose_from_points(&self, points: &[[f32; 3]]) -> Result<Vec<Vec<Vector3<f32>>>, String> {
+        let total: usize = self.guide_points().iter().sum();
+        if points.len() != total {
+            return Err(format!(
+                "{} points, but the {} guides have {total} ({:?}…): give every guide's points in \
+                 order, keeping each guide's point count",
+                points.len(),
+                self.guide_count(),
+                &self.guide_points()[..self.guide_count().min(4)]
+            ));
+        }
+        let mut shapes = Vec::with_capacity(self.guide_count());
+        let mut at = 0;
+        for (g, (&n, frame)) in self.guide_points().iter().zip(&self.frames).enumerate() {
+            let curve = &points[at..at + n];
+            at += n;
+            if let Some(i) = curve.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
+                return Err(format!("guide {g} point {i} is not finite"));
+            }
+            let root = Vector3::from(curve[0]);
+            let inv = frame.rotation.inverse();
+            shapes.push(
+                curve
+                    .iter()
+                    .map(|p| inv * (Vector3::from(*p) - root))
+                    .collect(),
+            );
+        }
+        Ok(shapes)
+    }
+
+    /// Remembers the built rest state of the sim hairs in `strands` (after sag-free), the base
+    /// every pose is applied to.
+    pub(crate) fn bind(&mut self, strands: &StrandSet) {
+        let range = self.strands();
+        let n = self.blend.points();
+        let p0 = strands.points(range.start).start;
+        let s0 = strands.segments(range.start).start;
+        let count = range.len();
+        let rest = strands.rest_local()[p0..p0 + count * n].to_vec();
+        let bend = strands.bend_rest()[s0..s0 + count * (n - 1)].to_vec();
+        let directions = rest.chunks_exact(n).flat_map(rest_directions).collect();
+        let mut interpolated = vec![Vector3::zeros(); count * n];
+        self.blend.apply(&self.groom, &mut interpolated);
+        self.base = Some(Base {
+            interpolated,
+            rest,
+            bend,
+            directions,
+        });
+    }
+
+    /// Sets the sim hairs' rest shapes and rest directions in `strands` to `pose` (root-local
+    /// guide shapes, checked). Returns the work done (blend operations plus points written:
+    /// linear in the points). Call [`GuideAnimation::bind`] first.
+    pub(crate) fn apply_pose(
+        &self,
+        pose: &[Vec<Vector3<f32>>],
+        strands: &mut StrandSet,
+        scratch: &mut Vec<Vector3<f32>>,
+    ) -> u64 {
+        let Some(base) = &self.base else {
+            return 0;
+        };
+        let n = self.blend.points();
+        let range = self.strands();
+        let p0 = strands.points(range.start).start;
+        let s0 = strands.segments(range.start).start;
+        scratch.resize(base.interpolated.len(), Vector3::zeros());
+        let mut work = self.blend.apply(pose, scratch);
+        let rest = &mut strands.rest_local_mut()[p0..p0 + scratch.len()];
+        for ((r, (b, i)), a) in rest
+            .iter_mut()
+            .zip(base.rest.iter().zip(&base.interpolated))
+            .zip(scratch.iter())
+        {
+            *r = if a == i { *b } else { b + (a - i) };
+        }
+        let posed: Vec<Vector3<f32>> = strands.rest_local()[p0..p0 + scratch.len()].to_vec();
+        let bend = &mut strands.bend_rest_mut()[s0..s0 + range.len() * (n - 1)];
+        for (h, shape) in posed.chunks_exact(n).enumerate() {
+            let seg = h * (n - 1)..(h + 1) * (n - 1);
+            let now = rest_directions(shape);
+            for ((out, (built, groom)), d) in bend[seg.clone()]
+                .iter_mut()
+                .zip(base.bend[seg.clone()].iter().zip(&base.directions[seg]))
+                .zip(&now)
+            {
+                *out = turned(built, groom, d);
+            }
+        }
+        work += 2 * posed.len() as u64;
+        work
+    }
+
+    /// Effective sim weight of each sim hair at `frame`: the curve (or the host's `weight`) times
+    /// the hair's factor; 1 for hold-out hair.
+    pub(crate) fn weights(&self, frame: f32, weight: Option<f32>) -> Vec<f32> {
+        let w = weight.unwrap_or_else(|| self.sim_weight.at(frame));
+        self.factor
+            .iter()
+            .zip(&self.hold_out)
+            .map(|(&f, &h)| if h { 1.0 } else { f * w })
+            .collect()
+    }
+
+    /// Animated positions of the sim hairs: `roots` (one per strand) placing the current rest
+    /// shapes of `strands`.
+    pub(crate) fn animated_positions(
+        &self,
+        strands: &StrandSet,
+        roots: &[RootFrame],
+    ) -> Vec<Vector3<f32>> {
+        let mut out = Vec::new();
+        for s in self.strands() {
+            for i in strands.points(s) {
+                out.push(roots[s].to_world(&strands.rest_local()[i]));
+            }
+        }
+        out
+    }
+
+    /// Moves each sim hair by its weight onto the animated guides (see the module docs):
+    /// `before` are the animated positions at the previous frame, `fps` the frame rate.
+    pub(crate) fn blend_onto(
+        &self,
+        strands: &mut StrandSet,
+        roots: &[RootFrame],
+        before: &[Vector3<f32>],
+        weights: &[f32],
+        fps: f32,
+    ) {
+        let now = self.animated_positions(strands, roots);
+        let n = self.blend.points();
+        let p0 = strands.points(self.first_strand).start;
+        for (h, &w) in weights.iter().enumerate() {
+            if w <= 0.0 {
+                continue;
+            }
+            for j in h * n..(h + 1) * n {
+                let (xa, va) = (now[j], (now[j] - before[j]) * fps);
+                let (x, v) = (
+                    &mut strands.positions[p0 + j],
+                    &mut strands.velocities[p0 + j],
+                );
+                if w >= 1.0 {
+                    *x = xa;
+                    *v = va;
+                } else {
+                    *x = *x * (1.0 - w) + xa * w;
+                    *v = *v * (1.0 - w) + va * w;
+                }
+            }
+        }
+    }
+}
+
+/// The guide shape a fraction `s` of the way from `a` to `b` (same point counts): each segment
+/// vector blended and given the blended length, the root kept; equal keys give the key exactly. Blending positions instead would
+/// shorten a guide that swings through an arc (its tip cuts the chord).
+fn between(a: &[Vector3<f32>], b: &[Vector3<f32>], s: f32) -> Vec<Vector3<f32>> {
+    if a == b {
+        return a.to_vec();
+    }
+    let mut out = Vec::with_capacity(a.len());
+    let mut p = a[0].lerp(&b[0], s);
+    out.push(p);
+    for (ea, eb) in a.windows(2).zip(b.windows(2)) {
+        let (da, db) = (ea[1] - ea[0], eb[1] - eb[0]);
+        let d = da.lerp(&db, s);
+        let len = da.norm() + (db.norm() - da.norm()) * s;
+        let n = d.norm();
+        p += if n > 1e-12 { d * (len / n) } else { d };
+        out.push(p);
+    }
+    out
+}
+
+/// `built` turned by the smallest rotation taking `from` to `to` (unit directions); `built`
+/// itself when they are equal, `to` when they are opposite (no unique rotation).
+fn turned(built: &RestDirection, from: &RestDirection, to: &RestDirection) -> RestDirection {
+    if from == to {
+        return *built;
+    }
+    let v = |d: &RestDirection| Vector3::new(d.t, d.u, d.w);
+    let (a, b, x) = (v(from), v(to), v(built));
+    let c = a.dot(&b);
+    if c <= -1.0 + 1e-6 {
+        return *to;
+    }
+    let w = a.cross(&b);
+    let r = x * c + w.cross(&x) + w * (w.dot(&x) / (1.0 + c));
+    RestDirection {
+        t: r.x,
+        u: r.y,
+        w: r.z,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn weight_curve_holds_and_eases() {
+        let c = WeightCurve::new(Interpolation::Linear, vec![(1.0, 0.0), (11.0, 1.0)]);
+        assert_eq!(c.at(0.0), 0.0);
+        assert_eq!(c.at(6.0), 0.5);
+        assert_eq!(c.at(30.0), 1.0);
+        let e = WeightCurve::new(Interpolation::Ease, vec![(1.0, 0.0), (11.0, 1.0)]);
+        assert!(e.at(1.5) < 0.05 * 0.5);
+        assert_eq!(WeightCurve::default().at(3.0), 0.0);
+    }
+
+    #[test]
+    fn poses_between_keys_keep_segment_lengths() {
+        // A straight guide swung by 90°: halfway, blended positions would shorten it to 71 %.
+        let a: Vec<_> = (0..5)
+            .map(|i| Vector3::new(0.0, 0.0, 0.1 * i as f32))
+            .collect();
+        let b: Vec<_> = (0..5)
+            .map(|i| Vector3::new(0.1 * i as f32, 0.0, 0.0))
+            .collect();
+        let mid = between(&a, &b, 0.5);
+        for w in mid.windows(2) {
+            assert!(((w[1] - w[0]).norm() - 0.1).abs() < 1e-6);
+        }
+        // Equal keys give the key itself, bit for bit (a held pose changes no rest value).
+        assert_eq!(between(&a, &a, 0.3), a);
+    }
+
+    #[test]
+    fn turned_is_the_smallest_rotation() {
+        let d = |t: f32, u: f32, w: f32| RestDirection { t, u, w };
+        // Groom along t, pose along u: a built direction along t goes to u, one along w stays.
+        let r = turned(&d(1.0, 0.0, 0.0), &d(1.0, 0.0, 0.0), &d(0.0, 1.0, 0.0));
+        assert!(
+            (r.t).abs() < 1e-6 && (r.u - 1.0).abs() < 1e-6 && r.w.abs() < 1e-6,
+            "{r:?}"
+        );
+        let r = turned(&d(0.0, 0.0, 1.0), &d(1.0, 0.0, 0.0), &d(0.0, 1.0, 0.0));
+        assert!((r.w - 1.0).abs() < 1e-6, "{r:?}");
+        // Equal directions keep the built one bit for bit.
+        let b = d(0.3, 0.4, 0.5);
+        assert_eq!(turned(&b, &d(1.0, 0.0, 0.0), &d(1.0, 0.0, 0.0)), b);
+    }
+}
