@@ -561,11 +561,19 @@ fn main() -> ExitCode {
                     json,
                 },
         } => report(
-            cache_export_options(frames, shutter, motion_samples, children, &child, scene, budget)
-                .and_then(|shot| {
-                    hairsys_cli::cache_export::run(&file, &out, &shot, quiet, json)
-                        .map_err(Failure::input)
-                }),
+            cache_export_options(
+                frames,
+                shutter,
+                motion_samples,
+                children,
+                &child,
+                scene,
+                budget,
+            )
+            .and_then(|shot| {
+                hairsys_cli::cache_export::run(&file, &out, &shot, quiet, json)
+                    .map_err(Failure::input)
+            }),
         ),
         Command::RenderChildren {
             command: RenderCommand::Export(args),

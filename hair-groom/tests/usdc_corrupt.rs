@@ -14,9 +14,7 @@ use std::io::Cursor;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use hair_groom::formats::obj::UpAxis;
-use hair_groom::formats::usd_write::{
-    Samples, UsdCurvesPrim, UsdLayer, UsdMeshPrim, UsdStageInfo,
-};
+use hair_groom::formats::usd_write::{Samples, UsdCurvesPrim, UsdLayer, UsdMeshPrim, UsdStageInfo};
 use openusd::sdf::AbstractData;
 use openusd::usdc::CrateData;
 
@@ -147,7 +145,10 @@ impl Rng {
 #[test]
 fn corrupted_usdc_counts_give_errors_not_panics_or_huge_allocations() {
     let good = layer_bytes();
-    assert!(read_everything(&good).unwrap() > 20, "the intact file reads");
+    assert!(
+        read_everything(&good).unwrap() > 20,
+        "the intact file reads"
+    );
     let limit = LIMIT_FACTOR * good.len() + (1 << 20);
     let mut mutants: Vec<(String, Vec<u8>)> = Vec::new();
     for at in (0..good.len().saturating_sub(8)).step_by(8) {

@@ -423,7 +423,10 @@ mod tests {
             .map(|&t| (t, vec![0.1 * t as f32, 0.0, 1.0]))
             .collect();
         for (_, v) in central_differences(&points, 24.0) {
-            assert!((v[0] - 2.4).abs() < 1e-5 && v[1] == 0.0 && v[2] == 0.0, "{v:?}");
+            assert!(
+                (v[0] - 2.4).abs() < 1e-5 && v[1] == 0.0 && v[2] == 0.0,
+                "{v:?}"
+            );
         }
     }
 }

@@ -220,6 +220,21 @@ def test_two_halves_exported_apart_stitch_into_one_shot(run):
                           for s in (stage, whole))
     for f in (5, 20):
         assert np.array_equal(points(scalp, f), points(whole_scalp, f)), f
+    # With shutter samples the clips switch halfway between the halves' frames (12.5): every
+    # time code of the unsplit export reads the same from the stitched stage.
+    # (New file names: USD keeps the layers opened above in its registry.)
+    for name, frames_arg in (("sa.usdc", "1-12"), ("sb.usdc", "13-24"), ("sw.usdc", "1-24")):
+        hairsys("cache", "export", "c.mcap", "-o", name, "--frames", frames_arg,
+                "--shutter", "-0.25,0.25", cwd=d)
+    (d / "blur.usda").write_text(STITCH.replace("(13, 1)", "(12.5, 1)")
+                                 .replace("@a.usdc@", "@sa.usdc@").replace("@b.usdc@", "@sb.usdc@"))
+    blur = Usd.Stage.Open(str(d / "blur.usda"))
+    whole = Usd.Stage.Open(str(d / "sw.usdc"))
+    stitched, unsplit = (UsdGeom.BasisCurves(s.GetPrimAtPath("/hair")).GetPointsAttr()
+                         for s in (blur, whole))
+    assert len(unsplit.GetTimeSamples()) == 24 * 3 - 2  # 0.75 and 24.25 lie outside the cache
+    for t in unsplit.GetTimeSamples():
+        assert np.array_equal(points(stitched, t), points(unsplit, t)), t
     # Sub-layering the two halves keeps only the stronger half's samples: why clips.
     (d / "sub.usda").write_text("#usda 1.0\n(\n    subLayers = [@a.usdc@, @b.usdc@]\n)\n")
     sub_stage = Usd.Stage.Open(str(d / "sub.usda"))

@@ -1,6 +1,7 @@
 //! One USD layer of hair and meshes, written as `.usdc` (binary crate file) or `.usda` (text)
-//! through the `openusd` crate: the writer every hairsys USD export goes through (grooms here,
-//! render children, cards and whole-run shots in `hair-render`).
+//! through the `openusd` crate: the writer hairsys's USD exports go through (grooms here, render
+//! children in `hair-render`, whole-run shots in `hairsys`; hair cards still write their own
+//! `.usda`).
 //!
 //! A [`UsdLayer`] holds the stage metadata ([`UsdStageInfo`]: `upAxis`, `metersPerUnit`,
 //! `timeCodesPerSecond`, the time range) and root prims: `BasisCurves` ([`UsdCurvesPrim`]:

@@ -264,4 +264,3 @@ fn check(children: &ChildBuffers, motion: &Motion, opts: &UsdOptions) -> Result<
     }
     Ok(())
 }
-

@@ -293,7 +293,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 .map(|(index, value)| Field::new(*index, *value))
                 .collect();
 
-            debug_assert_eq!(fields.len(), field_count);
+            // hairsys fix: a check on the file's data, an error in release builds too.
+            ensure!(fields.len() == field_count, "Corrupt crate data: fields.len() != field_count");
 
             fields
         };
@@ -324,7 +325,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 .map(|i| if i == INVALID_INDEX { None } else { Some(i as usize) })
                 .collect::<Vec<_>>();
 
-            debug_assert_eq!(sets.len(), count);
+            // hairsys fix: a check on the file's data, an error in release builds too.
+            ensure!(sets.len() == count, "Corrupt crate data: sets.len() != count");
 
             sets
         };
@@ -363,13 +365,16 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         // Read compressed data.
 
         let path_indexes = self.read_encoded_ints::<u32>(count)?;
-        debug_assert_eq!(path_indexes.len(), count);
+        // hairsys fix: a check on the file's data, an error in release builds too.
+        ensure!(path_indexes.len() == count, "Corrupt crate data: path_indexes.len() != count");
 
         let element_token_indexes = self.read_encoded_ints::<i32>(count)?;
-        debug_assert_eq!(element_token_indexes.len(), count);
+        // hairsys fix: a check on the file's data, an error in release builds too.
+        ensure!(element_token_indexes.len() == count, "Corrupt crate data: element_token_indexes.len() != count");
 
         let jumps = self.read_encoded_ints::<i32>(count)?;
-        debug_assert_eq!(jumps.len(), count);
+        // hairsys fix: a check on the file's data, an error in release builds too.
+        ensure!(jumps.len() == count, "Corrupt crate data: jumps.len() != count");
 
         // hairsys fix: `path_count` comes from the file; every path is one encoded entry, so
         // it is bounded by the entries actually decoded (sized by the file's bytes) before the
@@ -638,7 +643,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         let buffer = self.read_compressed::<u8>(estimated_size)?;
 
         let ints = coding::decode_ints(buffer.as_slice(), count)?;
-        debug_assert_eq!(ints.len(), count);
+        // hairsys fix: a check on the file's data, an error in release builds too.
+        ensure!(ints.len() == count, "Corrupt crate data: ints.len() != count");
 
         Ok(ints)
     }
@@ -647,7 +653,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
     // Implements various logic and compatibility checks to figure out the array length and whether it's compressed.
     fn unpack_array_len(&mut self, value: ValueRep, kind: ArrayKind) -> Result<(usize, bool)> {
-        debug_assert!(!value.is_inlined());
+        // hairsys fix: a check on the file's data, an error in release builds too.
+        ensure!(!value.is_inlined(), "Corrupt crate data: expected !value.is_inlined()");
 
         // Empty array.
         if value.payload() == 0 {
@@ -681,7 +688,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             ArrayKind::Other => {
                 // Fallback to uncompressed.
                 // See https://github.com/PixarAnimationStudios/OpenUSD/blob/0b18ad3f840c24eb25e16b795a5b0821cf05126e/pxr/usd/usd/crateFile.cpp#L1868
-                debug_assert!(!value.is_compressed());
+                // hairsys fix: a check on the file's data, an error in release builds too.
+                ensure!(!value.is_compressed(), "Corrupt crate data: expected !value.is_compressed()");
                 compressed = false;
             }
         }
@@ -944,7 +952,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     /// the on-disk element — safe for all gf vec types since they are
     /// `#[repr(C)]` and `bytemuck::Pod`.
     fn read_gf_array<U: Default + NoUninit + AnyBitPattern>(&mut self, value: ValueRep) -> Result<Vec<U>> {
-        debug_assert!(value.is_array() && !value.is_compressed());
+        // hairsys fix: a check on the file's data, an error in release builds too.
+        ensure!(value.is_array() && !value.is_compressed(), "Corrupt crate data: expected value.is_array() && !value.is_compressed()");
         let (count, _) = self.unpack_array_len(value, ArrayKind::Other)?;
         if count == 0 {
             return Ok(Vec::default());
@@ -956,8 +965,10 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         &mut self,
         value: ValueRep,
     ) -> Result<Vec<[T; N]>> {
-        debug_assert!(value.is_array());
-        debug_assert!(!value.is_compressed());
+        // hairsys fix: a check on the file's data, an error in release builds too.
+        ensure!(value.is_array(), "Corrupt crate data: expected value.is_array()");
+        // hairsys fix: a check on the file's data, an error in release builds too.
+        ensure!(!value.is_compressed(), "Corrupt crate data: expected !value.is_compressed()");
 
         let (count, _) = self.unpack_array_len(value, ArrayKind::Other)?;
 
@@ -1446,7 +1457,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 ensure!(count == times.len(), "Invalid time samples count");
 
                 let value_reps = self.reader.read_vec::<ValueRep>(count)?;
-                debug_assert_eq!(value_reps.len(), count);
+                // hairsys fix: a check on the file's data, an error in release builds too.
+                ensure!(value_reps.len() == count, "Corrupt crate data: value_reps.len() != count");
 
                 let values = value_reps
                     .into_iter()
