@@ -1,24 +1,57 @@
-//! `hairsys cache export CACHE -o shot.usdc [--frames A-B]`: a whole cached run as one animated
-//! USD file ([`hairsys::export_shot`]), with a one-line summary.
+//! `hairsys cache export CACHE -o shot.usdc [--frames A-B] [--shutter …] [--children …]` (and
+//! `render-children export --frames A-B`): a whole cached run as one animated USD file
+//! ([`hairsys::export_shot`]), with a one-line or JSON summary.
 
 use std::path::Path;
 use std::time::Instant;
 
-/// Exports `cache` to `out` and prints what was written; errors are messages for the user.
-pub fn run(cache: &Path, out: &Path, frames: Option<(u32, u32)>) -> Result<(), String> {
+use hairsys::export_shot::{export_shot, ShotOptions};
+
+/// Exports `cache` to `out` and prints what was written (nothing when `quiet`, JSON when
+/// `json`); errors are messages for the user.
+pub fn run(
+    cache: &Path,
+    out: &Path,
+    opts: &ShotOptions,
+    quiet: bool,
+    json: bool,
+) -> Result<(), String> {
     let start = Instant::now();
-    let s = hairsys::export_shot::export_shot(cache, out, frames)?;
+    let s = export_shot(cache, out, opts)?;
+    let seconds = start.elapsed().as_secs_f64();
+    if json {
+        let mut v = serde_json::to_value(&s).map_err(|e| e.to_string())?;
+        v["out"] = out.display().to_string().into();
+        v["seconds"] = seconds.into();
+        crate::output::line(&v.to_string());
+        return Ok(());
+    }
+    if !s.dropped_samples.is_empty() && !quiet {
+        eprintln!(
+            "note: shutter sample(s) at time code(s) {:?} lie outside the cached frames and were \
+             left out",
+            s.dropped_samples
+        );
+    }
+    if quiet {
+        return Ok(());
+    }
+    let scalp = match s.scalp_animated {
+        Some(true) => "animated scalp",
+        Some(false) => "static scalp",
+        None => "no scalp",
+    };
     crate::output::line(&format!(
-        "wrote {}: frames {}–{} ({} time samples), {} strands, {} points, {}scalp, {} bytes in {:.2} s",
+        "wrote {}: frames {}–{} ({} time samples), {} {} curves, {} points, {scalp}, {} bytes \
+         in {seconds:.2} s",
         out.display(),
         s.frames.0,
         s.frames.1,
-        s.frame_count,
-        s.strands,
+        s.time_samples,
+        s.curves,
+        s.prim,
         s.points,
-        if s.scalp { "" } else { "no " },
         s.bytes,
-        start.elapsed().as_secs_f64()
     ));
     Ok(())
 }

@@ -5,11 +5,12 @@ use std::process::ExitCode;
 
 use clap::{CommandFactory, Parser, Subcommand, ValueEnum};
 use hair_cache::foxglove::FoxgloveOptions;
-use hair_cache::{CacheReader, Compression, Interpolation, Precision, WriterOptions};
+use hair_cache::{CacheReader, Compression, Interpolation, Precision, Shutter, WriterOptions};
 use hair_core::KernelChoice;
 use hair_render::ChildCount;
 use hairsys::budget::Budget;
 use hairsys::children::{export, parse_shutter, ChildOverrides, ExportOptions, Format};
+use hairsys::export_shot::{ShotChildren, ShotOptions};
 use hairsys::run::{simulate, SimulateOptions};
 use hairsys::scene::{SceneFile, DEFAULT_SCENE};
 use hairsys_cli::output;
@@ -144,6 +145,10 @@ struct ExportArgs {
     /// Frame to export (with --cache).
     #[arg(long)]
     frame: Option<u32>,
+    /// Frames FIRST-LAST to export into ONE animated USD file (with --cache): children at every
+    /// frame (and shutter sample), as `cache export --children` writes them.
+    #[arg(long, value_parser = parse_range, conflicts_with = "frame", requires = "cache")]
+    frames: Option<(u32, u32)>,
     /// Shutter interval OPEN,CLOSE in frames around the frame [-0.25,0.25]; giving it without
     /// --motion-samples takes 3 samples.
     #[arg(long, value_parser = parse_shutter, allow_hyphen_values = true)]
@@ -152,6 +157,26 @@ struct ExportArgs {
     /// 1 = no motion blur. Samples past the first or last cached frame are clamped to it.
     #[arg(long)]
     motion_samples: Option<usize>,
+    #[command(flatten)]
+    child: ChildArgs,
+    /// Output format [from the extension of --out: .usdc, .usda, .hair]; must agree with it.
+    #[arg(long, value_enum)]
+    format: Option<FormatArg>,
+    /// Output file: .usdc (binary USD BasisCurves), .usda (text) or .hair.
+    #[arg(short, long)]
+    out: PathBuf,
+    /// Print nothing but errors.
+    #[arg(long, conflicts_with = "json")]
+    quiet: bool,
+    /// Print a JSON summary on stdout.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Child settings overriding the scene's `[children]` section (render-children export, cache
+/// export --children).
+#[derive(clap::Args)]
+struct ChildArgs {
     /// Children per parent strand [scene [children] per_parent, else 10].
     #[arg(long, conflicts_with = "count")]
     children_per_parent: Option<u32>,
@@ -183,18 +208,45 @@ struct ExportArgs {
     /// Seed of the children's random values [scene, else 0].
     #[arg(long)]
     seed: Option<u64>,
-    /// Output format [from the extension of --out: .usda, .hair]; must agree with the extension.
-    #[arg(long, value_enum)]
-    format: Option<FormatArg>,
-    /// Output file: .usda (USD BasisCurves text) or .hair.
-    #[arg(short, long)]
-    out: PathBuf,
-    /// Print nothing but errors.
-    #[arg(long, conflicts_with = "json")]
-    quiet: bool,
-    /// Print a JSON summary on stdout.
-    #[arg(long)]
-    json: bool,
+}
+
+impl ChildArgs {
+    /// The overrides given.
+    fn overrides(&self) -> ChildOverrides {
+        let count = match (self.children_per_parent, self.count) {
+            (_, Some(n)) => Some(ChildCount::Total(n)),
+            (Some(n), None) => Some(ChildCount::PerParent(n)),
+            (None, None) => None,
+        };
+        ChildOverrides {
+            count,
+            interpolated: self.mode.map(|m| matches!(m, ChildModeArg::Interpolated)),
+            neighbours: self.neighbours,
+            spread: self.spread,
+            clump: self.clump,
+            curl_radius: self.curl_radius,
+            curl_frequency: self.curl_frequency,
+            seed: self.seed,
+        }
+    }
+
+    /// The first child option given, as its flag (to refuse it where no children are made).
+    fn first_given(&self) -> Option<&'static str> {
+        [
+            (self.children_per_parent.is_some(), "--children-per-parent"),
+            (self.count.is_some(), "--count"),
+            (self.mode.is_some(), "--mode"),
+            (self.neighbours.is_some(), "--neighbours"),
+            (self.display, "--display"),
+            (self.spread.is_some(), "--spread"),
+            (self.clump.is_some(), "--clump"),
+            (self.curl_radius.is_some(), "--curl-radius"),
+            (self.curl_frequency.is_some(), "--curl-frequency"),
+            (self.seed.is_some(), "--seed"),
+        ]
+        .into_iter()
+        .find_map(|(given, flag)| given.then_some(flag))
+    }
 }
 
 /// Child distribution.
@@ -209,7 +261,7 @@ enum ChildModeArg {
 /// Children output format.
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum FormatArg {
-    /// USD BasisCurves (.usda).
+    /// USD BasisCurves (.usdc binary or .usda text).
     Usd,
     /// Cem Yuksel's .hair.
     Hair,
@@ -325,6 +377,28 @@ enum CacheCommand {
         /// Frames FIRST-LAST (or one frame N) to write; default every cached frame.
         #[arg(long, value_parser = parse_range)]
         frames: Option<(u32, u32)>,
+        /// Sub-frame time samples (motion blur) OPEN,CLOSE in frames around each frame, e.g.
+        /// -0.25,0.25; giving it without --motion-samples takes 3 samples.
+        #[arg(long, value_parser = parse_shutter, allow_hyphen_values = true)]
+        shutter: Option<(f64, f64)>,
+        /// Samples over the shutter (with --shutter) [3].
+        #[arg(long, requires = "shutter")]
+        motion_samples: Option<usize>,
+        /// Write render children generated at every time code from the cached parents (the
+        /// scene's [children] section, overridden by the child options) instead of the strands.
+        #[arg(long)]
+        children: bool,
+        #[command(flatten)]
+        child: ChildArgs,
+        /// Scene overriding the one stored in the cache (roots, scalp, [children]).
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Print nothing but errors.
+        #[arg(long, conflicts_with = "json")]
+        quiet: bool,
+        /// Print a JSON summary on stdout.
+        #[arg(long)]
+        json: bool,
     },
     /// Recover every complete frame of a broken cache (e.g. the CACHE.partial of a killed run)
     /// into a complete cache, and say what was lost.
@@ -473,8 +547,34 @@ fn main() -> ExitCode {
             command: CacheCommand::Recover { broken, fixed },
         } => report(recover(&broken, &fixed)),
         Command::Cache {
-            command: CacheCommand::Export { file, out, frames },
-        } => report(hairsys_cli::cache_export::run(&file, &out, frames).map_err(Failure::input)),
+            command:
+                CacheCommand::Export {
+                    file,
+                    out,
+                    frames,
+                    shutter,
+                    motion_samples,
+                    children,
+                    child,
+                    scene,
+                    quiet,
+                    json,
+                },
+        } => report(
+            cache_export_options(
+                frames,
+                shutter,
+                motion_samples,
+                children,
+                &child,
+                scene,
+                budget,
+            )
+            .and_then(|shot| {
+                hairsys_cli::cache_export::run(&file, &out, &shot, quiet, json)
+                    .map_err(Failure::input)
+            }),
+        ),
         Command::RenderChildren {
             command: RenderCommand::Export(args),
         } => report(export_children(*args, budget)),
@@ -792,6 +892,46 @@ fn check_scene(scene: &Path, json: bool, budget: Budget) -> Result<(), Failure> 
     Ok(())
 }
 
+/// The options of `cache export`: child options only with `--children`.
+fn cache_export_options(
+    frames: Option<(u32, u32)>,
+    shutter: Option<(f64, f64)>,
+    motion_samples: Option<usize>,
+    children: bool,
+    child: &ChildArgs,
+    scene: Option<PathBuf>,
+    budget: Budget,
+) -> Result<ShotOptions, Failure> {
+    if let (false, Some(flag)) = (children, child.first_given()) {
+        return Err(Failure::input(format!(
+            "{flag} sets render children: add --children to export children instead of the strands"
+        )));
+    }
+    Ok(ShotOptions {
+        frames,
+        shutter: shot_shutter(shutter, motion_samples)?,
+        children: children.then(|| ShotChildren {
+            overrides: child.overrides(),
+            display: child.display,
+        }),
+        scene,
+        budget,
+    })
+}
+
+/// The sub-frame samples of `--shutter OPEN,CLOSE` and `--motion-samples N` (3 by default).
+fn shot_shutter(
+    shutter: Option<(f64, f64)>,
+    samples: Option<usize>,
+) -> Result<Option<Shutter>, Failure> {
+    let Some((open, close)) = shutter else {
+        return Ok(None);
+    };
+    Shutter::new(open, close, samples.unwrap_or(3))
+        .map(Some)
+        .map_err(|e| Failure::input(format!("--shutter {open},{close}: {e}")))
+}
+
 /// `render-children export`.
 fn export_children(a: ExportArgs, budget: Budget) -> Result<(), Failure> {
     let format = export_format(a.format, &a.out)?;
@@ -800,28 +940,33 @@ fn export_children(a: ExportArgs, budget: Budget) -> Result<(), Failure> {
         (None, Some(_)) => 3,
         (None, None) => 1,
     };
-    let count = match (a.children_per_parent, a.count) {
-        (_, Some(n)) => Some(ChildCount::Total(n)),
-        (Some(n), None) => Some(ChildCount::PerParent(n)),
-        (None, None) => None,
-    };
+    if let (Some(frames), Some(cache)) = (a.frames, &a.cache) {
+        if format != Format::Usd {
+            return Err(Failure::input(
+                "--frames writes one animated USD file: use -o NAME.usdc or NAME.usda",
+            ));
+        }
+        let shot = ShotOptions {
+            frames: Some(frames),
+            shutter: shot_shutter(a.shutter, a.motion_samples)?,
+            children: Some(ShotChildren {
+                overrides: a.child.overrides(),
+                display: a.child.display,
+            }),
+            scene: a.scene,
+            budget,
+        };
+        return hairsys_cli::cache_export::run(cache, &a.out, &shot, a.quiet, a.json)
+            .map_err(Failure::input);
+    }
     let opts = ExportOptions {
         cache: a.cache,
         scene: a.scene,
         frame: a.frame,
         shutter: a.shutter.unwrap_or((-0.25, 0.25)),
         motion_samples,
-        children: ChildOverrides {
-            count,
-            interpolated: a.mode.map(|m| matches!(m, ChildModeArg::Interpolated)),
-            neighbours: a.neighbours,
-            spread: a.spread,
-            clump: a.clump,
-            curl_radius: a.curl_radius,
-            curl_frequency: a.curl_frequency,
-            seed: a.seed,
-        },
-        display: a.display,
+        children: a.child.overrides(),
+        display: a.child.display,
         format,
         out: a.out,
         budget,

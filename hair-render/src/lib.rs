@@ -8,7 +8,7 @@
 //! - [`generate`] with [`ChildSettings`] (mode, count, spread, seed, subdivision, [`Shape`]: clump,
 //!   curl, roughness, length variation, taper) and a [`Lod`] (render, or display: a fraction of
 //!   the children with fewer points) → [`ChildBuffers`], flat arrays a host renderer consumes;
-//! - [`export`]: USD `BasisCurves` (`.usda`, with time samples or velocities for motion blur)
+//! - [`export`]: USD `BasisCurves` (`.usdc`/`.usda`, with time samples or velocities for motion blur)
 //!   and Cem Yuksel's `.hair`;
 //! - [`preview`]: a CPU renderer of strands and meshes to PNG (shaded meshes, anti-aliased
 //!   Kajiya–Kay hair, preset cameras, contact sheets) for previews without a GPU.

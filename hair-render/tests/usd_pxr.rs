@@ -1,4 +1,4 @@
-//! Every exported `.usda` is opened by Pixar's USD (`usd-core`, module `pxr`) and checked:
+//! Every exported `.usda` and `.usdc` (one layer writer) is opened by Pixar's USD (`usd-core`, module `pxr`) and checked:
 //! curve counts, points, time samples, widths and their interpolation, st, extent, metadata.
 //! Fails (never skips) when python3 or pxr is missing: CI installs `pip install usd-core`.
 
@@ -10,7 +10,7 @@ use std::process::Command;
 
 use common::{bent, flatten};
 use hair_core::{MeshSample, TriMesh};
-use hair_render::export::usd::{export_usda, velocities, Motion, MotionSample, UsdOptions};
+use hair_render::export::usd::{export_usd, velocities, Motion, MotionSample, UsdOptions};
 use hair_render::{
     generate, ChildBuffers, ChildCount, ChildMode, ChildSettings, Clump, Curl, Lod, Parents,
     ScalpRoots, Shape,
@@ -160,7 +160,7 @@ fn usda_with_time_samples_opens_in_pixar_usd() {
             time_code: 12.0,
             ..Default::default()
         };
-        export_usda(&path, &frame, &Motion::TimeSamples(&samples), &opts).unwrap();
+        export_usd(&path, &frame, &Motion::TimeSamples(&samples), &opts).unwrap();
         assert!(!dir.path().join(format!("children.{ext}.partial")).exists());
         let exp = expected(
             &frame,
@@ -188,7 +188,7 @@ fn usda_with_velocities_and_without_uvs_opens_in_pixar_usd() {
     let dir = tempfile::tempdir().unwrap();
     for ext in ["usda", "usdc"] {
         let path = dir.path().join(format!("children.{ext}"));
-        export_usda(
+        export_usd(
             &path,
             &frame,
             &Motion::Velocities(&v),
@@ -219,7 +219,7 @@ fn usda_with_interpolated_children_opens_in_pixar_usd() {
         time_code: 12.0,
         ..Default::default()
     };
-    export_usda(&path, &frame, &Motion::None, &opts).unwrap();
+    export_usd(&path, &frame, &Motion::None, &opts).unwrap();
     run_checker(&path, &expected(&frame, &[], None));
 }
 
@@ -239,7 +239,7 @@ fn a_failed_export_leaves_nothing_behind() {
     }];
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("c.usda");
-    let err = export_usda(
+    let err = export_usd(
         &path,
         &frame,
         &Motion::TimeSamples(&samples),
@@ -248,7 +248,7 @@ fn a_failed_export_leaves_nothing_behind() {
     .unwrap_err();
     assert!(err.to_string().contains("motion samples differ"), "{err}");
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
-    let err = export_usda(
+    let err = export_usd(
         &dir.path().join("missing/c.usda"),
         &frame,
         &Motion::None,

@@ -1,6 +1,7 @@
 //! `hairsys render-children export`: render children generated on request from a cached frame (or
 //! sub-frame samples over a shutter, for motion blur) or from the scene's rest state, written as
-//! USD `BasisCurves` (`.usda`) or Cem Yuksel's `.hair`.
+//! USD `BasisCurves` (`.usdc` or `.usda`) or Cem Yuksel's `.hair`. A range of frames in one
+//! file is [`crate::export_shot`] with children.
 //!
 //! The scene that made a cache travels inside it (metadata `scene_toml`), so the children's roots
 //! (mesh samples, root frames) come from that scene: the same scalp, at the sampled time. The
@@ -26,7 +27,7 @@ use crate::scene::{ScalpMesh, SceneFile, Simulation};
 /// Output format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Format {
-    /// USD `BasisCurves`, `.usda` text.
+    /// USD `BasisCurves`, `.usdc` binary or `.usda` text by the output's extension.
     Usd,
     /// Cem Yuksel's `.hair`.
     Hair,
@@ -206,18 +207,7 @@ fn export_inner(
     };
     let sim = scene.build().map_err(|e| e.to_string())?;
     let colors = scalp_colors(&scene)?;
-    let (base, display) = match &scene.scene.children {
-        Some(section) => section
-            .settings()
-            .map_err(|e| format!("{}: {e}", scene.origin))?,
-        None => (ChildSettings::default(), DisplayLod::default()),
-    };
-    let settings = opts.children.apply(base)?;
-    let lod = if opts.display {
-        Lod::Display(display)
-    } else {
-        Lod::Render
-    };
+    let (settings, lod) = child_settings(&scene, &opts.children, opts.display)?;
     let fps = sim.settings.fps as f64;
     let frame = match (&reader, opts.frame) {
         (Some(_), Some(f)) => f,
@@ -299,7 +289,7 @@ fn export_inner(
                 time_code: frame as f64,
                 ..UsdOptions::default()
             };
-            usd::export_usda(out, &samples[centre].1, &motion, &usd_opts)
+            usd::export_usd(out, &samples[centre].1, &motion, &usd_opts)
                 .map_err(|e| e.to_string())?;
         }
     }
@@ -317,11 +307,45 @@ fn export_inner(
     })
 }
 
+/// The child settings and level of detail of an export: the scene's `[children]` section (the
+/// library defaults without one) with `overrides` applied; `display` picks the section's display
+/// level of detail instead of render.
+pub(crate) fn child_settings(
+    scene: &SceneFile,
+    overrides: &ChildOverrides,
+    display: bool,
+) -> Result<(ChildSettings, Lod), String> {
+    let (base, display_lod) = match &scene.scene.children {
+        Some(section) => section
+            .settings()
+            .map_err(|e| format!("{}: {e}", scene.origin))?,
+        None => (ChildSettings::default(), DisplayLod::default()),
+    };
+    let settings = overrides.apply(base)?;
+    let lod = if display {
+        Lod::Display(display_lod)
+    } else {
+        Lod::Render
+    };
+    Ok((settings, lod))
+}
+
 /// Refuses children × points × samples over `opts.budget` before any child is generated.
 fn check_children_budget(
     opts: &ExportOptions,
     sim: &Simulation,
     settings: &ChildSettings,
+) -> Result<(), String> {
+    check_children_memory(&opts.budget, sim, settings, opts.motion_samples)
+}
+
+/// Refuses `samples` time samples of the children `settings` give on `sim`'s parents when
+/// children × points × samples is over `budget`, before any child is generated.
+pub(crate) fn check_children_memory(
+    budget: &Budget,
+    sim: &Simulation,
+    settings: &ChildSettings,
+    samples: usize,
 ) -> Result<(), String> {
     let parents = sim.strands.len();
     let children = match settings.count {
@@ -329,9 +353,9 @@ fn check_children_budget(
         ChildCount::Total(n) => n as f64,
     };
     let points_per_child = sim.strands.point_count() as f64 / parents.max(1) as f64;
-    let samples = opts.motion_samples as f64;
+    let samples = samples as f64;
     let bytes = children * points_per_child * samples * BYTES_PER_CHILD_POINT as f64;
-    opts.budget
+    budget
         .check_bytes(
             &format!(
                 "{children} children × {points_per_child:.0} points × {samples} motion samples"
@@ -356,7 +380,7 @@ fn shutter_offsets((open, close): (f64, f64), n: usize) -> Result<Vec<f64>, Stri
 
 /// The per-vertex colors (`v x y z r g b`) of the scene's OBJ scalp, in the vertex order of the
 /// scalp mesh the scene builds; `None` for another scalp or an OBJ without colors on every vertex.
-fn scalp_colors(scene: &SceneFile) -> Result<Option<Vec<[f32; 3]>>, String> {
+pub(crate) fn scalp_colors(scene: &SceneFile) -> Result<Option<Vec<[f32; 3]>>, String> {
     let ScalpMesh::Obj { path, .. } = &scene.scene.scalp.mesh else {
         return Ok(None);
     };

@@ -1,63 +1,114 @@
-//! A whole cached run as ONE animated USD file (`hairsys cache export`): the simulated strands as
-//! a linear `BasisCurves` prim `/hair` whose `points`, `velocities` and `extent` carry one time
-//! sample per cached frame (time code = frame number, `timeCodesPerSecond` = the cache's fps,
-//! `startTimeCode`/`endTimeCode` = the frames written), `widths` (twice the cached point radii,
-//! `vertex` interpolation), and the scene's scalp mesh at rest as a sibling `Mesh` prim
-//! `/scalp` (with its UVs and vertex colours when the scene has them). Z up, meters.
+//! A whole cached run as ONE animated USD file (`hairsys cache export`, and `hairsys
+//! render-children export --frames A-B`).
+//!
+//! The curves are one linear `BasisCurves` prim: `/hair`, the simulated strands, or with
+//! [`ShotOptions::children`] `/children`, render children generated at every time code from the
+//! cache's parents (the scene's `[children]` section with the command's overrides, the same
+//! generation as `render-children export`). `points`, `velocities` and `extent` carry one time
+//! sample per time code; `widths` (`vertex`), the per-curve `primvars:id` (strand or child index),
+//! the root UV (`primvars:surface_uv_coordinate` and `primvars:st`) and `primvars:displayColor`
+//! (the scalp's vertex colours at the root) are written once. The scene's scalp mesh is the
+//! sibling `Mesh` prim `/scalp`: with time-sampled `points` when it moves (keyed rigid motion
+//! today; any mesh [`crate::scene::Simulation::scalp_at`] returns), else one static value.
+//!
+//! Time codes are frame numbers (`timeCodesPerSecond` = the cache's fps; `startTimeCode` and
+//! `endTimeCode` = the first and last frame written). With a shutter ([`Shutter`]), each frame
+//! gets its sub-frame samples at fractional time codes, `frame + offset`, positions and
+//! velocities taken from the cache's cubic Hermite interpolation
+//! ([`hair_cache::CacheReader::sample`]); samples outside the cached frames are left out (the
+//! cache holds nothing there to interpolate), and coinciding samples of neighbouring frames are
+//! written once. Strand velocities are the cache's; children velocities are the central
+//! difference of the children at the neighbouring time codes (one-sided at the ends).
+//!
+//! Because time codes are absolute frame numbers and the prim paths never change, the files of
+//! `--frames 1-60` and `--frames 61-120` are two value clips of one shot: a small stage with
+//! `clips` metadata on `/hair` and `/scalp` stitches them (README, "Whole shots in pieces").
 //!
 //! `.usdc` (binary) or `.usda` (text) by the output's extension, written through
 //! [`hair_groom::formats::usd_write`]. Frames are read one at a time from the cache; the layer
-//! holds every exported frame in memory until it is written (points + velocities: 24 bytes per
-//! point per frame).
+//! holds every time sample in memory until it is written (points + velocities: 24 bytes per
+//! point per sample), which [`crate::budget::Budget`] bounds for children.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use hair_cache::CacheReader;
+use hair_cache::{CacheReader, Interpolation, Shutter};
+use hair_core::Anchor;
 use hair_groom::formats::obj::UpAxis;
 use hair_groom::formats::usd_write::{
     Samples, UsdCurvesPrim, UsdEncoding, UsdLayer, UsdMeshPrim, UsdStageInfo,
 };
+use hair_render::export::usd::curves_prim;
+use nalgebra::Vector3;
 
-use crate::scene::SceneFile;
+use crate::budget::Budget;
+use crate::children::{
+    check_children_memory, child_settings, children_of, open_cache, scalp_colors, ChildOverrides,
+};
+use crate::scene::{SceneFile, Simulation};
+
+/// Render children instead of the simulated strands.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ShotChildren {
+    /// Child settings overriding the scene's `[children]` section.
+    pub overrides: ChildOverrides,
+    /// The section's display level of detail instead of render.
+    pub display: bool,
+}
+
+/// What [`export_shot`] writes.
+#[derive(Debug, Clone, Default)]
+pub struct ShotOptions {
+    /// Frames to write, inclusive; `None`: every cached frame.
+    pub frames: Option<(u32, u32)>,
+    /// Sub-frame samples around each frame (frames relative to it); `None`: the frames only.
+    pub shutter: Option<Shutter>,
+    /// Render children instead of the simulated strands.
+    pub children: Option<ShotChildren>,
+    /// Scene overriding the one stored in the cache (roots, scalp, `[children]`).
+    pub scene: Option<PathBuf>,
+    /// Memory limit on the children held until written (children × points × samples).
+    pub budget: Budget,
+}
 
 /// What [`export_shot`] wrote.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct ShotSummary {
     /// First and last frame written.
     pub frames: (u32, u32),
-    /// Number of frames written (time samples per attribute).
+    /// Frames written.
     pub frame_count: usize,
-    /// Strands (curves) in the file.
-    pub strands: usize,
-    /// Points per frame.
+    /// Time samples per animated attribute (frames, plus sub-frame samples with a shutter).
+    pub time_samples: usize,
+    /// Sub-frame samples left out because they lie outside the cached frames, as time codes.
+    pub dropped_samples: Vec<f64>,
+    /// Path of the curves prim (`/hair` or `/children`).
+    pub prim: String,
+    /// Curves in the file.
+    pub curves: usize,
+    /// Points per time sample.
     pub points: usize,
-    /// True when the scalp mesh was written as `/scalp`.
-    pub scalp: bool,
+    /// `None` without a scalp mesh; `Some(true)` when `/scalp` is animated, `Some(false)` static.
+    pub scalp_animated: Option<bool>,
     /// Size of the file written, bytes.
     pub bytes: u64,
 }
 
-/// Writes the frames of `cache` within `frames` (inclusive; `None`: every cached frame) to
-/// `out` as one animated USD file (see the module docs). Errors name the file and the fix.
-pub fn export_shot(
-    cache: &Path,
-    out: &Path,
-    frames: Option<(u32, u32)>,
-) -> Result<ShotSummary, String> {
+/// Writes `cache` (the frames and samples `opts` asks for) to `out` as one animated USD file
+/// (see the module docs). Errors name the file, the option and the fix.
+pub fn export_shot(cache: &Path, out: &Path, opts: &ShotOptions) -> Result<ShotSummary, String> {
     if UsdEncoding::of(out).is_none() {
         return Err(format!(
             "{}: the output's extension names no USD format; use .usdc (binary) or .usda (text)",
             out.display()
         ));
     }
-    let mut reader = CacheReader::open(cache).map_err(|e| e.to_string())?;
-    let header = reader.header().clone();
-    let layout = reader.layout().clone();
+    let (scene, mut reader) = open_cache(cache, opts.scene.as_deref())?;
+    let fps = reader.header().fps;
     let cached = reader.frame_numbers().to_vec();
     let chosen: Vec<u32> = cached
         .iter()
         .copied()
-        .filter(|f| frames.is_none_or(|(a, b)| (a..=b).contains(f)))
+        .filter(|f| opts.frames.is_none_or(|(a, b)| (a..=b).contains(f)))
         .collect();
     let (Some(&first), Some(&last)) = (chosen.first(), chosen.last()) else {
         let have = match (cached.first(), cached.last()) {
@@ -69,28 +120,114 @@ pub fn export_shot(
             cache.display()
         ));
     };
-    let flat = |v: &[nalgebra::Vector3<f32>]| -> Vec<f32> {
-        v.iter().flat_map(|p| [p.x, p.y, p.z]).collect()
+    let (lo, hi) = (f64::from(cached[0]), f64::from(cached[cached.len() - 1]));
+    let (times, dropped) = time_codes(&chosen, opts.shutter.as_ref(), (lo, hi));
+    // The scene is needed for children; for strands only its scalp is, and a scene that no
+    // longer builds (its OBJ moved) loses the scalp, not the export.
+    let sim = match (&opts.children, scene.build()) {
+        (_, Ok(sim)) => Some(sim),
+        (Some(_), Err(e)) => return Err(e.to_string()),
+        (None, Err(_)) => None,
     };
-    let mut points = Vec::with_capacity(chosen.len());
-    let mut velocities = Vec::with_capacity(chosen.len());
-    for &f in &chosen {
-        let frame = reader.read_frame(f).map_err(|e| e.to_string())?;
-        points.push((f64::from(f), flat(&frame.positions)));
-        velocities.push((f64::from(f), flat(&frame.velocities)));
+    let stage = UsdStageInfo {
+        up_axis: UpAxis::Z,
+        meters_per_unit: 1.0,
+        time_codes_per_second: Some(fps),
+        time_range: Some((times[0], times[times.len() - 1])),
+    };
+    let mut layer = UsdLayer::new(&stage);
+    let (prim, curves, points) = match (&opts.children, &sim) {
+        (Some(request), Some(sim)) => {
+            let (curves, points) =
+                add_children(&mut layer, &mut reader, &scene, sim, request, &times, opts)?;
+            ("children", curves, points)
+        }
+        _ => {
+            let (curves, points) =
+                add_strands(&mut layer, &mut reader, &scene, sim.as_ref(), &times)?;
+            ("hair", curves, points)
+        }
+    };
+    layer.set_default_prim(prim);
+    let scalp_animated = match &sim {
+        Some(sim) => add_scalp(&mut layer, sim, &times),
+        None => None,
+    };
+    layer
+        .write(out)
+        .map_err(|e| format!("cannot write {}: {e}", out.display()))?;
+    let bytes = std::fs::metadata(out).map(|m| m.len()).unwrap_or(0);
+    Ok(ShotSummary {
+        frames: (first, last),
+        frame_count: chosen.len(),
+        time_samples: times.len(),
+        dropped_samples: dropped,
+        prim: format!("/{prim}"),
+        curves,
+        points,
+        scalp_animated,
+        bytes,
+    })
+}
+
+/// The time codes of `frames` with `shutter`'s offsets around each (just the frames without
+/// one), in increasing order, each once, inside `cached` (first and last cached frame); and the
+/// samples left out because they lie outside it.
+fn time_codes(
+    frames: &[u32],
+    shutter: Option<&Shutter>,
+    (lo, hi): (f64, f64),
+) -> (Vec<f64>, Vec<f64>) {
+    let offsets = shutter.map_or_else(|| vec![0.0], Shutter::offsets);
+    let mut times = Vec::with_capacity(frames.len() * offsets.len());
+    let mut dropped = Vec::new();
+    for &f in frames {
+        for o in &offsets {
+            let t = f64::from(f) + o;
+            if !(lo..=hi).contains(&t) {
+                dropped.push(t);
+            } else if times.last().is_none_or(|&prev| t > prev) {
+                times.push(t);
+            }
+        }
+    }
+    (times, dropped)
+}
+
+/// Flat x, y, z.
+fn flat(v: &[Vector3<f32>]) -> Vec<f32> {
+    v.iter().flat_map(|p| [p.x, p.y, p.z]).collect()
+}
+
+/// The simulated strands as `/hair`; returns (curves, points).
+fn add_strands(
+    layer: &mut UsdLayer,
+    reader: &mut CacheReader,
+    scene: &SceneFile,
+    sim: Option<&Simulation>,
+    times: &[f64],
+) -> Result<(usize, usize), String> {
+    let fps = reader.header().fps;
+    let layout = reader.layout().clone();
+    let mut points = Vec::with_capacity(times.len());
+    let mut velocities = Vec::with_capacity(times.len());
+    for &t in times {
+        let s = reader
+            .sample(t / fps, Interpolation::Hermite)
+            .map_err(|e| e.to_string())?;
+        points.push((t, flat(&s.positions)));
+        velocities.push((t, flat(&s.velocities)));
     }
     let counts: Vec<i32> = layout
         .offsets
         .windows(2)
         .map(|w| (w[1] - w[0]) as i32)
         .collect();
-    let mut layer = UsdLayer::new(&UsdStageInfo {
-        up_axis: UpAxis::Z,
-        meters_per_unit: 1.0,
-        time_codes_per_second: Some(header.fps),
-        time_range: Some((f64::from(first), f64::from(last))),
-    });
-    let point_count = layout.radii.len();
+    let curves = counts.len();
+    let (root_uv, colors) = match sim {
+        Some(sim) if sim.strands.len() == curves => root_attributes(scene, sim)?,
+        _ => (None, None),
+    };
     layer.add_curves(&UsdCurvesPrim {
         name: "hair",
         vertex_counts: counts,
@@ -99,55 +236,197 @@ pub fn export_shot(
             layout.radii.iter().map(|r| 2.0 * r).collect(),
         )),
         velocities: Some(Samples::Times(velocities)),
-        root_uv: None,
-        colors: None,
+        root_uv,
+        colors,
         extent: true,
         uniform_floats: Vec::new(),
-        uniform_ints: Vec::new(),
+        uniform_ints: vec![("id", (0..curves as i32).collect())],
     });
-    layer.set_default_prim("hair");
-    let scalp = scalp_mesh(cache, &header.scene_toml);
-    if let Some(m) = &scalp {
-        layer.add_mesh(m);
-    }
-    layer
-        .write(out)
-        .map_err(|e| format!("cannot write {}: {e}", out.display()))?;
-    let bytes = std::fs::metadata(out).map(|m| m.len()).unwrap_or(0);
-    Ok(ShotSummary {
-        frames: (first, last),
-        frame_count: chosen.len(),
-        strands: layout.offsets.len().saturating_sub(1),
-        points: point_count,
-        scalp: scalp.is_some(),
-        bytes,
-    })
+    Ok((curves, layout.radii.len()))
 }
 
-/// The rest scalp of the scene stored in the cache, as a `Mesh` prim; `None` when the scene has
-/// no scalp mesh or cannot be rebuilt (e.g. its OBJ moved).
-fn scalp_mesh(cache: &Path, scene_toml: &str) -> Option<UsdMeshPrim<'static>> {
-    let base = cache.parent().map(Path::to_path_buf).unwrap_or_default();
-    let origin = format!("{} (scene stored in the cache)", cache.display());
-    let sim = SceneFile::parse(scene_toml, &origin, base)
-        .ok()?
-        .build()
-        .ok()?;
-    let mesh = sim.rest_mesh()?;
-    let tris = mesh.triangles();
-    Some(UsdMeshPrim {
+/// Root UV (u, v) and colour (r, g, b) per strand, flat, from the rest scalp at the strands'
+/// surface anchors; `None` where the scalp has no UVs or colours, or a strand is not anchored
+/// on it.
+#[allow(clippy::type_complexity)]
+fn root_attributes(
+    scene: &SceneFile,
+    sim: &Simulation,
+) -> Result<(Option<Vec<f32>>, Option<Vec<f32>>), String> {
+    let Some(mesh) = sim.rest_mesh() else {
+        return Ok((None, None));
+    };
+    let anchors = sim.strands.anchors();
+    let samples: Option<Vec<_>> = anchors
+        .iter()
+        .map(|a| match a {
+            Anchor::Surface(s) => mesh.triangles().get(s.triangle as usize).map(|t| (t, s)),
+            Anchor::Body(_) => None,
+        })
+        .collect();
+    let Some(samples) = samples else {
+        return Ok((None, None));
+    };
+    let blend = |values: &dyn Fn(u32) -> Vec<f32>, arity: usize| -> Vec<f32> {
+        let mut out = Vec::with_capacity(samples.len() * arity);
+        for (tri, s) in &samples {
+            let mut v = vec![0.0f32; arity];
+            for (corner, w) in tri.iter().zip(s.weights) {
+                for (acc, x) in v.iter_mut().zip(values(*corner)) {
+                    *acc += w * x;
+                }
+            }
+            out.extend(v);
+        }
+        out
+    };
+    let uv = mesh.uvs().map(|uvs| {
+        blend(
+            &|i| {
+                let t = uvs[i as usize];
+                vec![t.x, t.y]
+            },
+            2,
+        )
+    });
+    let colors = scalp_colors(scene)?
+        .filter(|c| c.len() == mesh.positions().len())
+        .map(|c| blend(&|i| c[i as usize].to_vec(), 3));
+    Ok((uv, colors))
+}
+
+/// Render children at every time code as `/children`; returns (curves, points per sample).
+fn add_children(
+    layer: &mut UsdLayer,
+    reader: &mut CacheReader,
+    scene: &SceneFile,
+    sim: &Simulation,
+    request: &ShotChildren,
+    times: &[f64],
+    opts: &ShotOptions,
+) -> Result<(usize, usize), String> {
+    let fps = reader.header().fps;
+    let (settings, lod) = child_settings(scene, &request.overrides, request.display)?;
+    check_children_memory(&opts.budget, sim, &settings, times.len())?;
+    let colors = scalp_colors(scene)?;
+    let mut first = None;
+    let mut points = Vec::with_capacity(times.len());
+    for &t in times {
+        let s = reader
+            .sample(t / fps, Interpolation::Hermite)
+            .map_err(|e| e.to_string())?;
+        let children = children_of(
+            &sim.strands,
+            &s.positions,
+            &sim.scalp_at(t as f32),
+            colors.as_deref(),
+            &settings,
+            lod,
+        )
+        .map_err(|e| e.to_string())?;
+        match &first {
+            None => first = Some(children.clone()),
+            Some(c) => c
+                .check_same_topology(&children)
+                .map_err(|e| format!("children at time code {t}: {e}"))?,
+        }
+        points.push((t, children.points));
+    }
+    let first = first.ok_or("no time code to export")?;
+    let velocities = central_differences(&points, fps);
+    let prim = curves_prim(
+        "children",
+        &first,
+        Samples::Times(points),
+        Some(Samples::Times(velocities)),
+    );
+    layer.add_curves(&prim);
+    Ok((first.curve_count(), first.point_count()))
+}
+
+/// Velocities (units per second) of the sampled `points` by central differences of the
+/// neighbouring samples (one-sided at the ends; zero for a single sample). Time codes are
+/// frames at `fps` frames per second.
+fn central_differences(points: &[(f64, Vec<f32>)], fps: f64) -> Vec<(f64, Vec<f32>)> {
+    let n = points.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
+            let (t, p) = &points[i];
+            if a == b {
+                return (*t, vec![0.0; p.len()]);
+            }
+            let inv = (fps / (points[b].0 - points[a].0)) as f32;
+            let v = points[a]
+                .1
+                .iter()
+                .zip(&points[b].1)
+                .map(|(x0, x1)| (x1 - x0) * inv)
+                .collect();
+            (*t, v)
+        })
+        .collect()
+}
+
+/// The scene's scalp mesh as `/scalp`, animated when it moves over `times`; returns whether it
+/// is animated, `None` without a scalp mesh.
+fn add_scalp(layer: &mut UsdLayer, sim: &Simulation, times: &[f64]) -> Option<bool> {
+    let rest = sim.rest_mesh()?;
+    let tris = rest.triangles();
+    let frames: Vec<(f64, Vec<f32>)> = times
+        .iter()
+        .filter_map(|&t| Some((t, flat(sim.scalp_at(t as f32).mesh?.positions()))))
+        .collect();
+    let moves = frames.windows(2).any(|w| w[0].1 != w[1].1);
+    let points = if moves {
+        Samples::Times(frames)
+    } else {
+        Samples::Default(
+            frames
+                .into_iter()
+                .next()
+                .map_or_else(|| flat(rest.positions()), |(_, p)| p),
+        )
+    };
+    layer.add_mesh(&UsdMeshPrim {
         name: "scalp",
         face_vertex_counts: vec![3; tris.len()],
         face_vertex_indices: tris.iter().flatten().map(|&i| i as i32).collect(),
-        points: Samples::Default(
-            mesh.positions()
-                .iter()
-                .flat_map(|p| [p.x, p.y, p.z])
-                .collect(),
-        ),
-        uv: mesh
+        points,
+        uv: rest
             .uvs()
             .map(|uv| uv.iter().flat_map(|t| [t.x, t.y]).collect()),
         colors: None,
-    })
+    });
+    Some(moves)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shutter_samples_of_neighbouring_frames_are_written_once_and_kept_inside_the_cache() {
+        let shutter = Shutter::new(-0.5, 0.5, 3).unwrap();
+        let (times, dropped) = time_codes(&[1, 2, 3], Some(&shutter), (1.0, 3.0));
+        assert_eq!(times, vec![1.0, 1.5, 2.0, 2.5, 3.0]);
+        assert_eq!(dropped, vec![0.5, 3.5]);
+        let (times, dropped) = time_codes(&[4, 5], None, (1.0, 9.0));
+        assert_eq!((times, dropped), (vec![4.0, 5.0], vec![]));
+    }
+
+    #[test]
+    fn central_differences_are_exact_for_linear_motion() {
+        // x = 0.1 m per frame at 24 fps: 2.4 m/s everywhere, ends included.
+        let points: Vec<(f64, Vec<f32>)> = [1.0, 1.25, 2.0, 3.0]
+            .iter()
+            .map(|&t| (t, vec![0.1 * t as f32, 0.0, 1.0]))
+            .collect();
+        for (_, v) in central_differences(&points, 24.0) {
+            assert!(
+                (v[0] - 2.4).abs() < 1e-5 && v[1] == 0.0 && v[2] == 0.0,
+                "{v:?}"
+            );
+        }
+    }
 }

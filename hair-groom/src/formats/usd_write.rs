@@ -1,10 +1,12 @@
 //! One USD layer of hair and meshes, written as `.usdc` (binary crate file) or `.usda` (text)
-//! through the `openusd` crate: the writer every hairsys USD export goes through (grooms here,
-//! render children, cards and whole-run shots in `hair-render`).
+//! through the `openusd` crate: the writer hairsys's USD exports go through (grooms here, render
+//! children in `hair-render`, whole-run shots in `hairsys`; hair cards still write their own
+//! `.usda`).
 //!
 //! A [`UsdLayer`] holds the stage metadata ([`UsdStageInfo`]: `upAxis`, `metersPerUnit`,
 //! `timeCodesPerSecond`, the time range) and root prims: `BasisCurves` ([`UsdCurvesPrim`]:
-//! linear curves with `points`, `velocities`, `widths`, root UV `primvars:st`,
+//! linear curves with `points`, `velocities`, `widths`, root UV (`primvars:st` and
+//! `primvars:surface_uv_coordinate`),
 //! `primvars:displayColor`, `extent`) and `Mesh` ([`UsdMeshPrim`]). Any of `points`,
 //! `velocities` and `widths` can be one value ([`Samples::Default`]) or time samples
 //! ([`Samples::Times`]: one array per time code), which is how a whole run becomes one animated
@@ -74,7 +76,8 @@ pub struct UsdCurvesPrim<'a> {
     pub widths: Option<Samples>,
     /// `velocities`: x, y, z per vertex, stage units per second.
     pub velocities: Option<Samples>,
-    /// `primvars:st`: u, v per curve (`uniform` interpolation).
+    /// Root UV per curve, u, v (`uniform` interpolation): written as `primvars:st` (renderers)
+    /// and `primvars:surface_uv_coordinate` (the attribute Blender's curves carry it in).
     pub root_uv: Option<Vec<f32>>,
     /// `primvars:displayColor`: r, g, b per curve (`uniform` interpolation).
     pub colors: Option<Vec<f32>>,
@@ -207,10 +210,19 @@ impl UsdLayer {
             attr("widths", "float[]", float_samples(w), false, Some("vertex"));
         }
         if let Some(uv) = &c.root_uv {
+            // `st` for renderers; `surface_uv_coordinate` is the name Blender's curves use.
+            let uv = vec2(uv);
             attr(
                 "primvars:st",
                 "texCoord2f[]",
-                Value::Vec2fVec(vec2(uv)),
+                Value::Vec2fVec(uv.clone()),
+                false,
+                Some("uniform"),
+            );
+            attr(
+                "primvars:surface_uv_coordinate",
+                "float2[]",
+                Value::Vec2fVec(uv),
                 false,
                 Some("uniform"),
             );

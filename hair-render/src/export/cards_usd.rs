@@ -13,7 +13,6 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::usd::write_stage_header;
 use super::write_atomically;
 use crate::cards::CardMesh;
 use crate::error::{parameter, RenderError, Result};
@@ -172,4 +171,25 @@ pub fn export_cards_usda(
     opts: &CardUsdOptions,
 ) -> Result<()> {
     write_atomically(path, |out| write_cards_usda(out, mesh, samples, opts))
+}
+
+/// Writes the `.usda` layer header of a cards stage: the default prim `prim`, `doc`, the time
+/// code range `[start, end]` at `fps` frames (and time codes) per second, meters, Z up.
+fn write_stage_header<W: Write>(
+    out: &mut W,
+    prim: &str,
+    doc: &str,
+    [start, end]: [f64; 2],
+    fps: f64,
+) -> Result<()> {
+    writeln!(out, "#usda 1.0\n(")?;
+    writeln!(out, "    defaultPrim = \"{prim}\"")?;
+    writeln!(out, "    doc = \"{doc}\"")?;
+    writeln!(out, "    endTimeCode = {end:?}")?;
+    writeln!(out, "    framesPerSecond = {fps:?}")?;
+    writeln!(out, "    metersPerUnit = 1")?;
+    writeln!(out, "    startTimeCode = {start:?}")?;
+    writeln!(out, "    timeCodesPerSecond = {fps:?}")?;
+    writeln!(out, "    upAxis = \"Z\"\n)\n")?;
+    Ok(())
 }

@@ -1,5 +1,5 @@
-//! Exporters of [`crate::ChildBuffers`], one file per format: [`usd`] (`BasisCurves` in `.usda`
-//! text; `.usdc` through [`usd_crate`]) and [`hair`] (Cem Yuksel's `.hair`); and of hair cards ([`crate::CardMesh`]):
+//! Exporters of [`crate::ChildBuffers`], one file per format: [`usd`] (`BasisCurves` as `.usdc` or
+//! `.usda`, through `hair_groom`'s one USD layer writer) and [`hair`] (Cem Yuksel's `.hair`); and of hair cards ([`crate::CardMesh`]):
 //! [`cards_usd`] (`Mesh` in `.usda`) and [`cards_obj`] (OBJ). The only module of the crate that
 //! does I/O.
 //!
@@ -11,7 +11,6 @@ pub mod cards_obj;
 pub mod cards_usd;
 pub mod hair;
 pub mod usd;
-pub mod usd_crate;
 
 use std::fs::File;
 use std::io::{BufWriter, Write};

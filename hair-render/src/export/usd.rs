@@ -1,4 +1,6 @@
-//! USD `BasisCurves` in the `.usda` text format, for any USD-reading renderer.
+//! Render children as a USD `BasisCurves` stage, `.usdc` (binary crate file) or `.usda` (text),
+//! through the one layer writer every hairsys USD export goes through
+//! ([`hair_groom::formats::usd_write`], on the `openusd` crate).
 //!
 //! One prim, `/<prim>` (default `/children`), on a stage with `upAxis = "Z"` and
 //! `metersPerUnit = 1` (children are meters, Z up), `timeCodesPerSecond` and
@@ -7,22 +9,28 @@
 //! points as they are, and what it draws is exactly what the viewport shows.
 //!
 //! Attributes: `curveVertexCounts`, `points` (the frame's positions as the default value),
-//! `extent` (bounds padded by half the widths, over every motion sample), `widths` with
-//! `interpolation = "vertex"` (one diameter per point), `primvars:st` (`texCoord2f`, uniform: the
-//! root UV of each curve) when the scalp has UVs, `primvars:displayColor` (uniform) when it has
-//! vertex colors, and the per-curve `primvars:random` (float) and `primvars:parent` (int).
+//! `extent` (bounds padded by half the largest width; per sample, and a default over every
+//! sample), `widths` with `interpolation = "vertex"` (one diameter per point), the root UV of each
+//! curve as `primvars:st` (`texCoord2f`, for renderers) and `primvars:surface_uv_coordinate`
+//! (`float2`, Blender's name) when the scalp has UVs, `primvars:displayColor` when it has vertex
+//! colors, and the per-curve `primvars:random` (float), `primvars:parent` and `primvars:id`
+//! (int); every primvar is `uniform` (one value per curve).
 //!
 //! Motion blur ([`Motion`]): either `points.timeSamples` at several time codes over the shutter
 //! (children regenerated from parents sampled at each time, same topology), with the stage's
 //! `startTimeCode`/`endTimeCode` spanning them; or `velocities` (m/s per point) on the one frame.
-//! Every float is written as the shortest decimal that reads back to the same `f32` (`zmij`),
-//! into a block buffer: no `format!` per value.
+//! A whole range of frames in one file is `hairsys::export_shot`, which builds its prim with
+//! [`curves_prim`].
 
 use std::io::Write;
 use std::path::Path;
 
-use super::write_atomically;
-use crate::buffers::{extent_of, ChildBuffers, Extent};
+use hair_groom::formats::obj::UpAxis;
+use hair_groom::formats::usd_write::{
+    Samples, UsdCurvesPrim, UsdLayer, UsdStageInfo, UsdWriteError,
+};
+
+use crate::buffers::ChildBuffers;
 use crate::error::{parameter, RenderError, Result};
 
 /// One motion sample: the children at one time code.
@@ -88,106 +96,106 @@ pub fn velocities(before: &ChildBuffers, after: &ChildBuffers, seconds: f32) -> 
         .collect())
 }
 
-/// Writes `children` as a `.usda` stage to `out`, with `motion` blur. Refuses no children, a bad
-/// prim name or rate, and motion samples whose curves differ from `children`.
+/// The layer of `children` with `motion` blur (see the module docs). Refuses no children, a
+/// bad prim name or rate, and motion samples whose curves differ from `children`.
+pub fn children_layer(
+    children: &ChildBuffers,
+    motion: &Motion,
+    opts: &UsdOptions,
+) -> Result<UsdLayer> {
+    check(children, motion, opts)?;
+    let (start, end) = match motion {
+        Motion::TimeSamples(s) => (s[0].time_code, s[s.len() - 1].time_code),
+        _ => (opts.time_code, opts.time_code),
+    };
+    let mut layer = UsdLayer::new(&UsdStageInfo {
+        up_axis: UpAxis::Z,
+        meters_per_unit: 1.0,
+        time_codes_per_second: Some(opts.frames_per_second),
+        time_range: Some((start, end)),
+    });
+    let points = match motion {
+        // The frame's points as the default too: a reader without a time sees the frame.
+        Motion::TimeSamples(s) => Samples::DefaultAndTimes(
+            children.points.clone(),
+            s.iter()
+                .map(|m| (m.time_code, m.children.points.clone()))
+                .collect(),
+        ),
+        _ => Samples::Default(children.points.clone()),
+    };
+    let velocities = match motion {
+        Motion::Velocities(v) => Some(Samples::Default(v.to_vec())),
+        _ => None,
+    };
+    layer.add_curves(&curves_prim(&opts.prim, children, points, velocities));
+    layer.set_default_prim(&opts.prim);
+    Ok(layer)
+}
+
+/// The `BasisCurves` prim of `children` with `points` (and `velocities`) as given: topology,
+/// widths, root UVs, colours, `random`, `parent` and a per-curve `id` (the child's index).
+pub fn curves_prim<'a>(
+    name: &'a str,
+    children: &ChildBuffers,
+    points: Samples,
+    velocities: Option<Samples>,
+) -> UsdCurvesPrim<'a> {
+    UsdCurvesPrim {
+        name,
+        vertex_counts: children.vertex_counts.iter().map(|&c| c as i32).collect(),
+        points,
+        widths: Some(Samples::Default(children.widths.clone())),
+        velocities,
+        root_uv: children.root_uv.clone(),
+        colors: children.color.clone(),
+        extent: true,
+        uniform_floats: vec![("random", children.random.clone())],
+        uniform_ints: vec![
+            (
+                "parent",
+                children.parent.iter().map(|&p| p as i32).collect(),
+            ),
+            ("id", (0..children.curve_count() as i32).collect()),
+        ],
+    }
+}
+
+/// Writes `children` as a `.usda` stage to `out`, with `motion` blur; refuses what
+/// [`children_layer`] refuses.
 pub fn write_usda<W: Write>(
     mut out: W,
     children: &ChildBuffers,
     motion: &Motion,
     opts: &UsdOptions,
 ) -> Result<()> {
-    let extent = check(children, motion, opts)?;
-    let fps = opts.frames_per_second;
-    let (start, end) = match motion {
-        Motion::TimeSamples(s) => (s[0].time_code, s[s.len() - 1].time_code),
-        _ => (opts.time_code, opts.time_code),
-    };
-    write_stage_header(
-        &mut out,
-        &opts.prim,
-        "hairsys render children",
-        [start, end],
-        fps,
-    )?;
-    writeln!(out, "def BasisCurves \"{}\"\n{{", opts.prim)?;
-    writeln!(out, "    uniform token type = \"linear\"")?;
-    writeln!(out, "    uniform token wrap = \"nonperiodic\"")?;
-    write!(out, "    int[] curveVertexCounts = ")?;
-    write_ints(&mut out, &children.vertex_counts)?;
-    write!(out, "\n    point3f[] points = ")?;
-    write_vec3s(&mut out, &children.points)?;
-    match motion {
-        Motion::None => {}
-        Motion::TimeSamples(samples) => {
-            writeln!(out, "\n    point3f[] points.timeSamples = {{")?;
-            for s in samples.iter() {
-                write!(out, "        {:?}: ", s.time_code)?;
-                write_vec3s(&mut out, &s.children.points)?;
-                writeln!(out, ",")?;
-            }
-            write!(out, "    }}")?;
-        }
-        Motion::Velocities(v) => {
-            write!(out, "\n    vector3f[] velocities = ")?;
-            write_vec3s(&mut out, v)?;
-        }
-    }
-    let [a, b, c] = extent.min;
-    let [d, e, f] = extent.max;
-    write!(
-        out,
-        "\n    float3[] extent = [({a:?}, {b:?}, {c:?}), ({d:?}, {e:?}, {f:?})]"
-    )?;
-    write!(out, "\n    float[] widths = ")?;
-    write_floats(&mut out, &children.widths, 1)?;
-    write!(out, " (\n        interpolation = \"vertex\"\n    )")?;
-    if let Some(st) = &children.root_uv {
-        write!(out, "\n    texCoord2f[] primvars:st = ")?;
-        write_floats(&mut out, st, 2)?;
-        write!(out, " (\n        interpolation = \"uniform\"\n    )")?;
-    }
-    if let Some(rgb) = &children.color {
-        write!(out, "\n    color3f[] primvars:displayColor = ")?;
-        write_vec3s(&mut out, rgb)?;
-        write!(out, " (\n        interpolation = \"uniform\"\n    )")?;
-    }
-    write!(out, "\n    float[] primvars:random = ")?;
-    write_floats(&mut out, &children.random, 1)?;
-    write!(out, " (\n        interpolation = \"uniform\"\n    )")?;
-    write!(out, "\n    int[] primvars:parent = ")?;
-    write_ints(&mut out, &children.parent)?;
-    writeln!(out, " (\n        interpolation = \"uniform\"\n    )\n}}")?;
-    Ok(())
+    children_layer(children, motion, opts)?
+        .write_text(&mut out)
+        .map_err(|e| RenderError::Input(e.to_string()))
 }
 
-/// Writes `children` to the file at `path` atomically (see [`crate::export`]): `.usdc` or
-/// `.usd` binary through [`super::usd_crate::export_usdc`], any other name as `.usda` text.
-pub fn export_usda(
+/// Writes `children` to the file at `path` through a `.partial` sibling renamed into place:
+/// `.usdc` or `.usd` binary, any other name `.usda` text ([`UsdLayer::write`]).
+pub fn export_usd(
     path: &Path,
     children: &ChildBuffers,
     motion: &Motion,
     opts: &UsdOptions,
 ) -> Result<()> {
-    if hair_groom::formats::usd_write::UsdEncoding::of(path)
-        == Some(hair_groom::formats::usd_write::UsdEncoding::Binary)
-    {
-        return super::usd_crate::export_usdc(path, children, motion, opts);
-    }
-    write_atomically(path, |out| write_usda(out, children, motion, opts))
+    children_layer(children, motion, opts)?
+        .write(path)
+        .map_err(|e| RenderError::Write {
+            path: path.to_path_buf(),
+            source: match e {
+                UsdWriteError::Io(source) => source,
+                UsdWriteError::Encode(m) => std::io::Error::other(m),
+            },
+        })
 }
 
-/// Validates an export (prim name, rate, time code, motion samples' topology) as
-/// [`write_usda`] does; shared with [`super::usd_crate`].
-pub(crate) fn check_export(
-    children: &ChildBuffers,
-    motion: &Motion,
-    opts: &UsdOptions,
-) -> Result<()> {
-    check(children, motion, opts).map(drop)
-}
-
-/// Validates the export and returns the extent over every sample.
-fn check(children: &ChildBuffers, motion: &Motion, opts: &UsdOptions) -> Result<Extent> {
+/// Validates the export: prim name, rate, time code, some children, motion samples of the
+/// same topology in increasing time, one velocity per point.
+fn check(children: &ChildBuffers, motion: &Motion, opts: &UsdOptions) -> Result<()> {
     let name_ok = opts
         .prim
         .chars()
@@ -218,9 +226,11 @@ fn check(children: &ChildBuffers, motion: &Motion, opts: &UsdOptions) -> Result<
             "use a finite frame number",
         ));
     }
-    let mut extent = children
-        .extent()
-        .ok_or_else(|| RenderError::Input("no children to export: raise the child count".into()))?;
+    if children.extent().is_none() {
+        return Err(RenderError::Input(
+            "no children to export: raise the child count".into(),
+        ));
+    }
     match motion {
         Motion::None => {}
         Motion::TimeSamples(samples) => {
@@ -240,12 +250,6 @@ fn check(children: &ChildBuffers, motion: &Motion, opts: &UsdOptions) -> Result<
                     ));
                 }
                 prev = s.time_code;
-                if let Some(e) = extent_of(&s.children.points, &children.widths) {
-                    for k in 0..3 {
-                        extent.min[k] = extent.min[k].min(e.min[k]);
-                        extent.max[k] = extent.max[k].max(e.max[k]);
-                    }
-                }
             }
         }
         Motion::Velocities(v) => {
@@ -258,129 +262,5 @@ fn check(children: &ChildBuffers, motion: &Motion, opts: &UsdOptions) -> Result<
             }
         }
     }
-    Ok(extent)
-}
-
-/// Bytes of a long list, built in a buffer and written out in blocks of about 256 KiB.
-struct Block<'w, W: Write> {
-    out: &'w mut W,
-    buf: Vec<u8>,
-    num: zmij::Buffer,
-}
-
-impl<'w, W: Write> Block<'w, W> {
-    const SIZE: usize = 256 << 10;
-
-    fn new(out: &'w mut W) -> Self {
-        Self {
-            out,
-            buf: Vec::with_capacity(Self::SIZE + 256),
-            num: zmij::Buffer::new(),
-        }
-    }
-
-    /// Appends the shortest decimal that reads back to the same `f32`.
-    #[inline(always)]
-    fn float(&mut self, v: f32) {
-        self.buf.extend_from_slice(self.num.format(v).as_bytes());
-    }
-
-    /// Appends `v` in decimal.
-    #[inline(always)]
-    fn int(&mut self, mut v: u32) {
-        let mut digits = [0u8; 10];
-        let mut i = digits.len();
-        loop {
-            i -= 1;
-            digits[i] = b'0' + (v % 10) as u8;
-            v /= 10;
-            if v == 0 {
-                break;
-            }
-        }
-        self.buf.extend_from_slice(&digits[i..]);
-    }
-
-    /// Writes the buffer out once it is full.
-    #[inline(always)]
-    fn spill(&mut self) -> std::io::Result<()> {
-        if self.buf.len() >= Self::SIZE {
-            self.out.write_all(&self.buf)?;
-            self.buf.clear();
-        }
-        Ok(())
-    }
-
-    fn finish(self) -> std::io::Result<()> {
-        self.out.write_all(&self.buf)
-    }
-}
-
-/// Writes `[a, b, …]` of integers.
-/// Writes the `.usda` layer header hairsys puts on every stage: the default prim `prim`, `doc`,
-/// the time code range `[start, end]` at `fps` frames (and time codes) per second, meters, Z up.
-pub(crate) fn write_stage_header<W: Write>(
-    out: &mut W,
-    prim: &str,
-    doc: &str,
-    [start, end]: [f64; 2],
-    fps: f64,
-) -> Result<()> {
-    writeln!(out, "#usda 1.0\n(")?;
-    writeln!(out, "    defaultPrim = \"{prim}\"")?;
-    writeln!(out, "    doc = \"{doc}\"")?;
-    writeln!(out, "    endTimeCode = {end:?}")?;
-    writeln!(out, "    framesPerSecond = {fps:?}")?;
-    writeln!(out, "    metersPerUnit = 1")?;
-    writeln!(out, "    startTimeCode = {start:?}")?;
-    writeln!(out, "    timeCodesPerSecond = {fps:?}")?;
-    writeln!(out, "    upAxis = \"Z\"\n)\n")?;
     Ok(())
-}
-
-fn write_ints<W: Write>(out: &mut W, values: &[u32]) -> Result<()> {
-    let mut b = Block::new(out);
-    b.buf.push(b'[');
-    for (k, &v) in values.iter().enumerate() {
-        if k > 0 {
-            b.buf.extend_from_slice(b", ");
-        }
-        b.int(v);
-        b.spill()?;
-    }
-    b.buf.push(b']');
-    b.finish()?;
-    Ok(())
-}
-
-/// Writes floats taken `arity` at a time: `[a, b, …]` for 1, `[(a, b), …]` for 2 or 3.
-fn write_floats<W: Write>(out: &mut W, values: &[f32], arity: usize) -> Result<()> {
-    let mut b = Block::new(out);
-    b.buf.push(b'[');
-    for (k, v) in values.chunks_exact(arity).enumerate() {
-        if k > 0 {
-            b.buf.extend_from_slice(b", ");
-        }
-        if arity == 1 {
-            b.float(v[0]);
-        } else {
-            b.buf.push(b'(');
-            for (i, &x) in v.iter().enumerate() {
-                if i > 0 {
-                    b.buf.extend_from_slice(b", ");
-                }
-                b.float(x);
-            }
-            b.buf.push(b')');
-        }
-        b.spill()?;
-    }
-    b.buf.push(b']');
-    b.finish()?;
-    Ok(())
-}
-
-/// Writes interleaved x y z as `[(x, y, z), …]`.
-fn write_vec3s<W: Write>(out: &mut W, xyz: &[f32]) -> Result<()> {
-    write_floats(out, xyz, 3)
 }

@@ -43,8 +43,8 @@ fn written_stage_units_are_read_back_without_options() {
 
 /// Every truncation of a valid `.usdc`: an error that names the file, never a panic that
 /// escapes (the reader's `catch_unwind` guard) nor an abort on a huge allocation (the vendored
-/// openusd's `read_vec` reads before it allocates). Arbitrary byte corruption is not covered:
-/// openusd 0.6 still sizes some buffers from unchecked counts (`read_compressed`).
+/// openusd's `read_vec` reads before it allocates). Byte corruption (huge counts, flipped
+/// bytes) is `tests/usdc_corrupt.rs`.
 #[test]
 fn truncated_usdc_is_an_error_not_a_panic() {
     let dir = tempfile::tempdir().unwrap();

@@ -877,9 +877,9 @@ fn format_value(s: &mut String, v: &Value) -> Result<()> {
             format_double(s, h.to_f64());
             Ok(())
         })?,
-        Value::Float(f) => format_double(s, f64::from(*f)),
+        Value::Float(f) => format_float(s, *f),
         Value::FloatVec(v) => format_vec(s, v, |s, f| {
-            format_double(s, f64::from(*f));
+            format_float(s, *f);
             Ok(())
         })?,
         Value::Double(d) => format_double(s, *d),
@@ -1064,7 +1064,7 @@ fn format_tuple_f32<const N: usize>(s: &mut String, a: &[f32; N]) -> Result<()> 
         if i > 0 {
             s.push_str(", ");
         }
-        format_double(s, f64::from(*v));
+        format_float(s, *v);
     }
     s.push(')');
     Ok(())
@@ -1119,6 +1119,20 @@ fn get_double(dict: &HashMap<String, Value>, key: &str) -> f64 {
     match dict.get(key) {
         Some(Value::Double(v)) => *v,
         _ => 0.0,
+    }
+}
+
+/// hairsys fix: an `f32` as the shortest decimal that reads back to the same `f32` (as Pixar's
+/// writer prints floats), not the `f64` expansion of its value (`8e-5` was written
+/// `0.00007999999797903001`: twice the text, twice the time).
+fn format_float(s: &mut String, v: f32) {
+    if v.is_finite() && v.fract() == 0.0 && v.abs() < 1e16 && !(v == 0.0 && v.is_sign_negative()) {
+        // Integer-valued: the same `.0` form as `format_double`.
+        format_double(s, f64::from(v));
+    } else if v.is_finite() && v != 0.0 {
+        write!(s, "{v}").unwrap();
+    } else {
+        format_double(s, f64::from(v));
     }
 }
 

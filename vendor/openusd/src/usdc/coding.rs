@@ -41,12 +41,18 @@ where
         codes_reader.read_pod::<i32>()? as i64
     };
 
-    let num_code_bytes = (count * 2).div_ceil(8);
+    let num_code_bytes = count.div_ceil(4);
 
-    let mut ints_reader = {
-        let offset = mem::size_of::<T>() + num_code_bytes;
-        io::Cursor::new(&data[offset..])
-    };
+    // hairsys fix: `count` comes from the file; the code bytes must be in `data` before
+    // anything is sized from it (so the output is at most 4 ints per byte of data).
+    let offset = mem::size_of::<T>() + num_code_bytes;
+    anyhow::ensure!(
+        offset <= data.len(),
+        "Compressed integers: {count} claimed, but {} bytes hold at most {}",
+        data.len(),
+        4 * data.len().saturating_sub(mem::size_of::<T>())
+    );
+    let mut ints_reader = io::Cursor::new(&data[offset..]);
 
     let mut prev = 0_i64;
     let mut output = Vec::with_capacity(count);

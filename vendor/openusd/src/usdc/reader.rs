@@ -28,6 +28,14 @@ use super::layout::*;
 //   0.12.0 — Splines
 const SW_VERSION: Version = version(0, 12, 0);
 
+/// hairsys fix: the most bytes an LZ4 block expands one input byte to (a match-length byte of
+/// 255 adds 255 output bytes), bounding buffers sized from compressed data.
+const LZ4_MAX_EXPANSION: usize = 256;
+
+/// hairsys fix: the largest capacity reserved up front from a count read from the file; the
+/// container grows past it only as elements are actually read.
+const CAPACITY_HINT: usize = 4096;
+
 /// Crate file represents structural data loaded from a USDC file on disk.
 #[derive(Debug)]
 pub struct CrateFile<R> {
@@ -156,6 +164,12 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             SW_VERSION.can_read(file_ver),
             "Usd crate version mismatch, file is {file_ver}, library supports {SW_VERSION}"
         );
+        // hairsys fix: the section readers stop at `todo!` (a panic) below 0.4.0; refuse such
+        // a file (or a corrupt version) here with an error instead.
+        ensure!(
+            file_ver >= version(0, 4, 0),
+            "Usd crate version {file_ver} is older than 0.4.0, which this reader does not decode"
+        );
 
         Ok(header)
     }
@@ -279,7 +293,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 .map(|(index, value)| Field::new(*index, *value))
                 .collect();
 
-            debug_assert_eq!(fields.len(), field_count);
+            // hairsys fix: a check on the file's data, an error in release builds too.
+            ensure!(fields.len() == field_count, "Corrupt crate data: fields.len() != field_count");
 
             fields
         };
@@ -310,7 +325,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 .map(|i| if i == INVALID_INDEX { None } else { Some(i as usize) })
                 .collect::<Vec<_>>();
 
-            debug_assert_eq!(sets.len(), count);
+            // hairsys fix: a check on the file's data, an error in release builds too.
+            ensure!(sets.len() == count, "Corrupt crate data: sets.len() != count");
 
             sets
         };
@@ -334,29 +350,41 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         } else {
             // Read # of paths.
             let path_count = self.reader.read_count()?;
-            self.paths = vec![sdf::Path::default(); path_count];
 
-            self.read_compressed_paths()?;
+            self.read_compressed_paths(path_count)?;
         };
 
         Ok(())
     }
 
     /// Read compressed paths.
-    fn read_compressed_paths(&mut self) -> Result<()> {
+    fn read_compressed_paths(&mut self, path_count: usize) -> Result<()> {
         // Read number of encoded paths.
         let count: usize = self.reader.read_count()?;
 
         // Read compressed data.
 
         let path_indexes = self.read_encoded_ints::<u32>(count)?;
-        debug_assert_eq!(path_indexes.len(), count);
+        // hairsys fix: a check on the file's data, an error in release builds too.
+        ensure!(path_indexes.len() == count, "Corrupt crate data: path_indexes.len() != count");
 
         let element_token_indexes = self.read_encoded_ints::<i32>(count)?;
-        debug_assert_eq!(element_token_indexes.len(), count);
+        // hairsys fix: a check on the file's data, an error in release builds too.
+        ensure!(element_token_indexes.len() == count, "Corrupt crate data: element_token_indexes.len() != count");
 
         let jumps = self.read_encoded_ints::<i32>(count)?;
-        debug_assert_eq!(jumps.len(), count);
+        // hairsys fix: a check on the file's data, an error in release builds too.
+        ensure!(jumps.len() == count, "Corrupt crate data: jumps.len() != count");
+
+        // hairsys fix: `path_count` comes from the file; every path is one encoded entry, so
+        // it is bounded by the entries actually decoded (sized by the file's bytes) before the
+        // table is allocated.
+        ensure!(
+            path_count <= path_indexes.len(),
+            "PATHS section claims {path_count} paths but encodes {}",
+            path_indexes.len()
+        );
+        self.paths = vec![sdf::Path::default(); path_count];
 
         self.build_compressed_paths(&path_indexes, &element_token_indexes, &jumps)?;
 
@@ -394,16 +422,32 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 let index = current_index;
                 current_index += 1;
 
+                // hairsys fix: every index below comes from the file; check it, don't panic.
+                let (Some(&path_index), Some(&token_index), Some(&jump)) =
+                    (path_indexes.get(index), element_token_indexes.get(index), jumps.get(index))
+                else {
+                    bail!("PATHS section: entry {index} is past the {} encoded paths", path_indexes.len());
+                };
+                let path_index = path_index as usize;
+                ensure!(
+                    path_index < self.paths.len(),
+                    "PATHS section: path index {path_index} of entry {index} is past the {} paths",
+                    self.paths.len()
+                );
                 if parent_path.is_empty() {
                     parent_path = sdf::Path::new("/")?;
+                    ensure!(index < self.paths.len(), "PATHS section: no room for the root path");
                     self.paths[index] = parent_path.clone();
                 } else {
-                    let token_index = element_token_indexes[index];
                     let is_prim_property_path = token_index < 0;
                     let token_index = token_index.unsigned_abs() as usize;
-                    let element_token = self.tokens[token_index].as_str();
+                    let element_token = self
+                        .tokens
+                        .get(token_index)
+                        .with_context(|| format!("PATHS section: token index {token_index} is past the tokens"))?
+                        .as_str();
 
-                    self.paths[path_indexes[index] as usize] = if is_prim_property_path {
+                    self.paths[path_index] = if is_prim_property_path {
                         parent_path.append_property(element_token)?
                     } else if element_token.starts_with('{') {
                         // Variant segments are appended directly without a separator
@@ -414,19 +458,19 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                     };
                 }
 
-                let has_child = jumps[index] > 0 || jumps[index] == -1;
-                let has_sibling = jumps[index] >= 0;
+                let has_child = jump > 0 || jump == -1;
+                let has_sibling = jump >= 0;
 
                 if has_child {
                     if has_sibling {
-                        let sibling_index = index + jumps[index] as usize;
+                        let sibling_index = index + jump as usize;
                         // Siblings share this node's parent; defer the subtree.
                         pending.push((sibling_index, parent_path.clone()));
                     }
 
                     // Descend into the child (the next sequential entry) under
                     // this node's path.
-                    parent_path = self.paths[path_indexes[index] as usize].clone();
+                    parent_path = self.paths[path_index].clone();
                 }
 
                 if !has_child && !has_sibling {
@@ -483,9 +527,30 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         self.sections.iter().find(|s| s.name() == name)
     }
 
-    fn resolve_string(&self, string_index: u32) -> String {
-        let token = self.strings[string_index as usize];
-        self.tokens[token].clone()
+    // hairsys fix: the table lookups below take indices from the file; an index past its
+    // table is an error naming it, not a panic.
+    fn resolve_string(&self, string_index: u32) -> Result<String> {
+        let token = *self
+            .strings
+            .get(string_index as usize)
+            .with_context(|| format!("String index {string_index} is past the {} strings", self.strings.len()))?;
+        self.token_at(token)
+    }
+
+    /// The token at `index` (hairsys fix: checked).
+    fn token_at(&self, index: usize) -> Result<String> {
+        self.tokens
+            .get(index)
+            .cloned()
+            .with_context(|| format!("Token index {index} is past the {} tokens", self.tokens.len()))
+    }
+
+    /// The path at `index` (hairsys fix: checked).
+    fn path_at(&self, index: usize) -> Result<sdf::Path> {
+        self.paths
+            .get(index)
+            .cloned()
+            .with_context(|| format!("Path index {index} is past the {} paths", self.paths.len()))
     }
 
     fn set_position(&mut self, position: u64) -> Result<()> {
@@ -516,7 +581,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
     fn read_token(&mut self, value: ValueRep) -> Result<String> {
         let index: u64 = self.unpack_value(value)?;
-        let value = self.tokens[index as usize].clone();
+        let value = self.token_at(index as usize)?;
 
         Ok(value)
     }
@@ -530,9 +595,9 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     fn read_asset_path(&mut self, value: ValueRep) -> Result<String> {
         let index = self.unpack_value::<u32>(value)?;
         if value.is_inlined() {
-            Ok(self.tokens[index as usize].clone())
+            self.token_at(index as usize)
         } else {
-            Ok(self.resolve_string(index))
+            self.resolve_string(index)
         }
     }
 
@@ -547,11 +612,14 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     fn read_compressed<T: Default + NoUninit + AnyBitPattern>(&mut self, estimated_count: usize) -> Result<Vec<T>> {
         // Read data to memory.
         let compressed_size = self.reader.read_count()?;
-        let mut input = vec![0_u8; compressed_size];
-        self.reader.read_exact(&mut input)?;
+        // hairsys fix: both sizes come from the file. `read_vec` reads the compressed bytes
+        // before it allocates, and the output is capped at what LZ4 can expand them to (at most
+        // 255 bytes out per byte in), so a corrupt count cannot size a huge buffer.
+        let input: Vec<u8> = self.reader.read_vec(compressed_size)?;
+        let most = compressed_size.saturating_mul(LZ4_MAX_EXPANSION).saturating_add(64) / mem::size_of::<T>().max(1);
 
         // Decompress to output buffer.
-        let mut output = vec![T::default(); estimated_count];
+        let mut output = vec![T::default(); estimated_count.min(most)];
         let actual_size = decompress_lz4(&input, cast_slice_mut(&mut output))?;
 
         let actual_count = actual_size / mem::size_of::<T>();
@@ -568,12 +636,15 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     where
         i64: AsPrimitive<T>,
     {
-        let estimated_size = coding::encoded_buffer_size::<u32>(count);
+        // hairsys fix: `count` comes from the file; the size must not overflow (and is capped
+        // by `read_compressed`).
+        let estimated_size = coding::encoded_buffer_size::<u32>(count.min(usize::MAX / 8));
 
         let buffer = self.read_compressed::<u8>(estimated_size)?;
 
         let ints = coding::decode_ints(buffer.as_slice(), count)?;
-        debug_assert_eq!(ints.len(), count);
+        // hairsys fix: a check on the file's data, an error in release builds too.
+        ensure!(ints.len() == count, "Corrupt crate data: ints.len() != count");
 
         Ok(ints)
     }
@@ -582,7 +653,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
     // Implements various logic and compatibility checks to figure out the array length and whether it's compressed.
     fn unpack_array_len(&mut self, value: ValueRep, kind: ArrayKind) -> Result<(usize, bool)> {
-        debug_assert!(!value.is_inlined());
+        // hairsys fix: a check on the file's data, an error in release builds too.
+        ensure!(!value.is_inlined(), "Corrupt crate data: expected !value.is_inlined()");
 
         // Empty array.
         if value.payload() == 0 {
@@ -616,7 +688,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             ArrayKind::Other => {
                 // Fallback to uncompressed.
                 // See https://github.com/PixarAnimationStudios/OpenUSD/blob/0b18ad3f840c24eb25e16b795a5b0821cf05126e/pxr/usd/usd/crateFile.cpp#L1868
-                debug_assert!(!value.is_compressed());
+                // hairsys fix: a check on the file's data, an error in release builds too.
+                ensure!(!value.is_compressed(), "Corrupt crate data: expected !value.is_compressed()");
                 compressed = false;
             }
         }
@@ -684,7 +757,10 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
                     let mut output = vec![T::zero(); count];
                     for (i, index) in indexes.into_iter().enumerate() {
-                        output[i] = lut[index as usize];
+                        // hairsys fix: the index comes from the file.
+                        output[i] = *lut
+                            .get(index as usize)
+                            .with_context(|| format!("Lookup index {index} is past the {lut_size} table entries"))?;
                     }
 
                     output
@@ -742,23 +818,23 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
     /// Reads a count-prefixed vector of `u32` indices and maps each through
     /// `lookup` to produce the element value.
-    fn read_indexed_vec<T>(&mut self, lookup: impl Fn(&Self, usize) -> T) -> Result<Vec<T>> {
+    fn read_indexed_vec<T>(&mut self, lookup: impl Fn(&Self, usize) -> Result<T>) -> Result<Vec<T>> {
         let count = self.reader.read_count()?;
         let indices = self.reader.read_vec::<u32>(count)?;
 
-        Ok(indices.into_iter().map(|index| lookup(self, index as usize)).collect())
+        indices.into_iter().map(|index| lookup(self, index as usize)).collect()
     }
 
     fn read_string_vec(&mut self) -> Result<Vec<String>> {
-        self.read_indexed_vec(|file, index| file.tokens[file.strings[index]].clone())
+        self.read_indexed_vec(|file, index| file.resolve_string(index as u32))
     }
 
     fn read_token_vec(&mut self) -> Result<Vec<String>> {
-        self.read_indexed_vec(|file, index| file.tokens[index].clone())
+        self.read_indexed_vec(|file, index| file.token_at(index))
     }
 
     fn read_path_vec(&mut self) -> Result<Vec<sdf::Path>> {
-        self.read_indexed_vec(|file, index| file.paths[index].clone())
+        self.read_indexed_vec(|file, index| file.path_at(index))
     }
 
     /// Reads a count-prefixed vector of POD values.
@@ -769,14 +845,14 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
     fn read_string(&mut self) -> Result<String> {
         let index = self.reader.read_pod::<u32>()?;
-        let string = self.resolve_string(index);
+        let string = self.resolve_string(index)?;
 
         Ok(string)
     }
 
     fn read_path(&mut self) -> Result<sdf::Path> {
         let index = self.reader.read_pod::<u32>()?;
-        let path = self.paths[index as usize].clone();
+        let path = self.path_at(index as usize)?;
 
         Ok(path)
     }
@@ -876,7 +952,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     /// the on-disk element — safe for all gf vec types since they are
     /// `#[repr(C)]` and `bytemuck::Pod`.
     fn read_gf_array<U: Default + NoUninit + AnyBitPattern>(&mut self, value: ValueRep) -> Result<Vec<U>> {
-        debug_assert!(value.is_array() && !value.is_compressed());
+        // hairsys fix: a check on the file's data, an error in release builds too.
+        ensure!(value.is_array() && !value.is_compressed(), "Corrupt crate data: expected value.is_array() && !value.is_compressed()");
         let (count, _) = self.unpack_array_len(value, ArrayKind::Other)?;
         if count == 0 {
             return Ok(Vec::default());
@@ -888,8 +965,10 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         &mut self,
         value: ValueRep,
     ) -> Result<Vec<[T; N]>> {
-        debug_assert!(value.is_array());
-        debug_assert!(!value.is_compressed());
+        // hairsys fix: a check on the file's data, an error in release builds too.
+        ensure!(value.is_array(), "Corrupt crate data: expected value.is_array()");
+        // hairsys fix: a check on the file's data, an error in release builds too.
+        ensure!(!value.is_compressed(), "Corrupt crate data: expected !value.is_compressed()");
 
         let (count, _) = self.unpack_array_len(value, ArrayKind::Other)?;
 
@@ -898,7 +977,12 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             return Ok(Vec::default());
         }
 
-        let flat: Vec<T> = self.reader.read_vec(count * N)?;
+        // hairsys fix: `count` comes from the file; refuse an overflowing size.
+        let flat: Vec<T> = self.reader.read_vec(
+            count
+                .checked_mul(N)
+                .with_context(|| format!("Array of {count} elements is too large"))?,
+        )?;
 
         // Reinterpret the flat vec as a vec of fixed-size arrays. `chunks_exact(N)`
         // always yields slices of exactly N elements, so `try_into` cannot fail.
@@ -996,7 +1080,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 ensure!(!value.is_array());
 
                 let string_index = self.unpack_value::<u32>(value)?;
-                sdf::Value::String(self.resolve_string(string_index))
+                sdf::Value::String(self.resolve_string(string_index)?)
             }
             Type::AssetPath if value.is_array() => {
                 // Asset arrays (`asset[]`, e.g. value-clip `assetPaths`) are
@@ -1012,8 +1096,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 let indices = self.reader.read_vec::<u32>(count)?;
                 let tokens = indices
                     .into_iter()
-                    .map(|i| self.tokens[i as usize].as_str().into())
-                    .collect();
+                    .map(|i| self.token_at(i as usize).map(Into::into))
+                    .collect::<Result<_>>()?;
 
                 sdf::Value::TokenVec(tokens)
             }
@@ -1204,7 +1288,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
                 let list = self.read_list_op(value, |file: &mut Self| {
                     let count = file.reader.read_count()?;
-                    let mut vec = Vec::with_capacity(count);
+                    // hairsys fix: a capacity hint, not a size from the file.
+                    let mut vec = Vec::with_capacity(count.min(CAPACITY_HINT));
 
                     for _ in 0..count {
                         let reference = file.read_reference()?;
@@ -1306,7 +1391,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             Type::PayloadListOp => {
                 let list = self.read_list_op(value, |file: &mut Self| {
                     let count = file.reader.read_count()?;
-                    let mut vec = Vec::with_capacity(count);
+                    // hairsys fix: a capacity hint, not a size from the file.
+                    let mut vec = Vec::with_capacity(count.min(CAPACITY_HINT));
                     for _ in 0..count {
                         let payload = file.read_payload()?;
                         vec.push(payload);
@@ -1326,7 +1412,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 self.set_position(value.payload())?;
 
                 let count = self.reader.read_count()?;
-                let mut map = HashMap::with_capacity(count);
+                // hairsys fix: a capacity hint, not a size from the file.
+                let mut map = HashMap::with_capacity(count.min(CAPACITY_HINT));
 
                 for _ in 0..count {
                     let key = self.read_string()?;
@@ -1370,7 +1457,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 ensure!(count == times.len(), "Invalid time samples count");
 
                 let value_reps = self.reader.read_vec::<ValueRep>(count)?;
-                debug_assert_eq!(value_reps.len(), count);
+                // hairsys fix: a check on the file's data, an error in release builds too.
+                ensure!(value_reps.len() == count, "Corrupt crate data: value_reps.len() != count");
 
                 let values = value_reps
                     .into_iter()
@@ -1430,12 +1518,13 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 ensure!(!value.is_inlined());
                 self.set_position(value.payload())?;
                 let count = self.reader.read_count()?;
-                let mut pairs = Vec::with_capacity(count);
+                // hairsys fix: a capacity hint, not a size from the file.
+                let mut pairs = Vec::with_capacity(count.min(CAPACITY_HINT));
                 for _ in 0..count {
                     let src_idx: u32 = self.reader.read_pod()?;
                     let tgt_idx: u32 = self.reader.read_pod()?;
-                    let src = self.paths[src_idx as usize].clone();
-                    let tgt = self.paths[tgt_idx as usize].clone();
+                    let src = self.path_at(src_idx as usize)?;
+                    let tgt = self.path_at(tgt_idx as usize)?;
                     pairs.push((src, tgt));
                 }
                 sdf::Value::Relocates(pairs)
@@ -1498,7 +1587,8 @@ fn decompress_lz4(mut input: &[u8], output: &mut [u8]) -> Result<usize> {
         // Decompress chunk by chunk.
         // See https://github.com/PixarAnimationStudios/OpenUSD/blob/0b18ad3f840c24eb25e16b795a5b0821cf05126e/pxr/base/tf/fastCompression.cpp#L125
 
-        todo!("Support lz4 chunked decompression")
+        // hairsys fix: an error, not a panic, on data this reader does not decode.
+        bail!("Chunked lz4 data ({chunks} chunks) is not supported")
     }
 }
 
