@@ -393,8 +393,7 @@ fn head_run(threads: usize, start: Option<(u32, &[u32])>) -> Vec<Vec<u32>> {
     }
     let last = sim.last_frame;
     let first = sim.first_frame;
-    let mut session =
-        hairsys::Session::from_simulation(sim, &scene, "implicit".into()).unwrap();
+    let mut session = hairsys::Session::from_simulation(sim, &scene, "implicit".into()).unwrap();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
