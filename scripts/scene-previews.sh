@@ -18,6 +18,7 @@ scenes=(
   "wind_demo      1,24,48        front"
   "collision_demo 1,25,42        back"
   "sintel         1,20,36,48     three-quarter"
+  "character      1,8,15,24      three-quarter"
   "strips_head    1,24,48        three-quarter"
   "parity         1,12,24        three-quarter"
 )
