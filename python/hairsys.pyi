@@ -242,6 +242,11 @@ class Session:
     def guide_point_counts(self) -> list[int]:
         """Point count of each guide, in the groom's order (empty without guides)."""
     @property
+    def guide_groom_points(self) -> npt.NDArray[np.float32]:
+        """(P, 3) the guides' groom points, m, in the scalp's body space at rest, every guide in
+        order (`guide_point_counts` each): edit them and pass them to `set_guide_pose`. Empty
+        without guides."""
+    @property
     def guided_strands(self) -> tuple[int, int] | None:
         """Strand indices (start, end) of the sim hairs the guides drive (None without guides)."""
     gravity: tuple[float, float, float]

@@ -222,6 +222,22 @@ impl GuideAnimation {
         }
     }
 
+    /// The guides' groom in the space [`GuideAnimation::pose_from_points`] takes (body space of
+    /// the scalp at rest, m), every guide's points in order: a host reads it, edits it and
+    /// gives it back as a pose.
+    pub fn groom_points(&self) -> Vec<[f32; 3]> {
+        self.groom
+            .iter()
+            .zip(&self.frames)
+            .flat_map(|(shape, frame)| {
+                let root = frame.to_world(&shape[0]);
+                shape
+                    .iter()
+                    .map(move |p| (root + frame.rotation * (p - shape[0])).into())
+            })
+            .collect()
+    }
+
     /// Host-given guide points (body space of the scalp at rest, the guides in order, each with
     /// its point count, flat) as root-local shapes. Errors name what is wrong and the fix.
     pub fn pose_from_points(&self, points: &[[f32; 3]]) -> Result<Vec<Vec<Vector3<f32>>>, String> {

@@ -345,6 +345,40 @@ fn host_poses_and_weights_drive_the_session() {
     }
 }
 
+/// Regression: in a scene without `[guides.sim_weight]` every hair's factor was 0, so a host's
+/// `set_sim_weight(1.0)` moved no hair (caught by the Python test of the same name).
+#[test]
+fn a_host_weight_reaches_every_hair_of_a_scene_without_a_weight_curve() {
+    let mut s = Session::from_scene(&scene(30, 150, "")).unwrap();
+    let counts = s.guide_animation().unwrap().guide_points().to_vec();
+    // Every guide straight, 0.2 m along body +X: far from the groom, so a hair that did not
+    // follow would show it.
+    let pose: Vec<[f32; 3]> = counts
+        .iter()
+        .flat_map(|&n| (0..n).map(move |j| [0.2 * j as f32 / (n - 1) as f32, 0.0, 0.0]))
+        .collect();
+    s.set_guide_pose(&pose).unwrap();
+    s.set_sim_weight(1.0).unwrap();
+    s.step().unwrap();
+    for (i, xa) in animated(&s) {
+        let d = (Vector3::from(s.positions()[i]) - xa).norm();
+        assert!(
+            d <= 1e-6 * (1.0 + xa.norm()),
+            "point {i} {d} m off the guides"
+        );
+    }
+    // Straight guides blend to straight hair of their length: the chord is the whole hair.
+    for h in s.guide_animation().unwrap().strands() {
+        let p = s.strands().points(h);
+        let chord = Vector3::from(s.positions()[p.end - 1]) - Vector3::from(s.positions()[p.start]);
+        assert!(
+            chord.norm() > 0.199,
+            "hair {h}: chord {} m, not straight",
+            chord.norm()
+        );
+    }
+}
+
 #[test]
 fn bad_keys_are_refused_by_name() {
     let err = |keys: &str| {

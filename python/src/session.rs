@@ -33,7 +33,7 @@ use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{IntoPyDict, PyDict};
 
-use crate::arrays::{floats, isometry, with_float_rows};
+use crate::arrays::{floats, isometry, rows_to_numpy, with_float_rows};
 use crate::children::Children;
 use crate::errors::{argument, guard, panic_message, to_py, InternalError};
 use crate::groom::groom_options;
@@ -412,6 +412,23 @@ impl PySession {
             .guide_animation()
             .map(|a| a.guide_points().to_vec())
             .unwrap_or_default())
+    }
+
+    /// (P, 3) float32: the guides' groom points, m, in the scalp's body space at rest, every
+    /// guide in order (`guide_point_counts` each): edit and pass to `set_guide_pose`. Empty
+    /// without guides.
+    #[getter]
+    fn guide_groom_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        self.check()?;
+        let points = self
+            .session()
+            .guide_animation()
+            .map(|a| a.groom_points())
+            .unwrap_or_default();
+        Ok(rows_to_numpy(
+            py,
+            points.into_iter().map(nalgebra::Vector3::from).collect(),
+        ))
     }
 
     /// Strand indices `(start, end)` of the sim hairs the guides drive (None without guides).

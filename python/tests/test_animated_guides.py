@@ -43,8 +43,9 @@ def test_weight_one_puts_the_hair_on_the_posed_guides(session):
     assert len(counts) == 30 and all(c == 9 for c in counts)
     start, end = session.guided_strands
     assert end - start == 120
-    # Every guide as a straight line from the origin along +X: a pose far from the groom. Roots
-    # are moved onto the guides' roots, so only the shape matters: straight, 0.2 m, along +X.
+    # Every guide a straight line 0.2 m along +X (the roots are taken from the points, so only
+    # the shape matters): a pose far from the combed groom. No `[guides.sim_weight]` in the
+    # scene, so the host's weight alone hands the hair over.
     points = np.zeros((sum(counts), 3), np.float32)
     points[:, 0] = np.tile(np.linspace(0.0, 0.2, 9), 30)
     session.set_guide_pose(points)
@@ -52,11 +53,30 @@ def test_weight_one_puts_the_hair_on_the_posed_guides(session):
     session.step()
     off = session.strand_offsets
     pos = np.array(session.positions)
-    for s in range(start, end):
-        hair = pos[off[s] : off[s + 1]]
-        chord = hair[-1] - hair[0]
-        # Every sim hair blends straight guides along +X: it is straight along +X too.
-        assert chord[0] > 0.19 and abs(chord[1]) < 0.01 and abs(chord[2]) < 0.01, chord
+    chords = np.array([pos[off[s + 1] - 1] - pos[off[s]] for s in range(start, end)])
+    # Straight guides of one length blend to straight hair of that length: the chord is the
+    # whole hair.
+    assert np.all(np.linalg.norm(chords, axis=1) > 0.199), chords
+    # Each guide's shape reaches a sim hair turned by the smallest rotation between the two
+    # roots' normals (the groom's transport), so hairs point along +X up to that turn: on
+    # average, clearly +X (the combed groom points back, along +Y).
+    mean = chords.mean(axis=0)
+    assert mean[0] / np.linalg.norm(mean) > 0.9, mean
+
+
+def test_the_groom_as_a_pose_at_weight_one_is_the_rest_state(session):
+    before = np.array(session.positions)
+    groom = session.guide_groom_points
+    assert groom.shape == (sum(session.guide_point_counts), 3)
+    session.set_guide_pose(groom)
+    session.set_sim_weight(1.0)
+    session.step()
+    # The head does not move, so the hair on its guides' own groom is where it started: at rest.
+    start, end = session.guided_strands
+    off = session.strand_offsets
+    sim = slice(off[start], off[end])
+    after = np.array(session.positions)
+    np.testing.assert_allclose(after[sim], before[sim], atol=2e-6)
 
 
 def test_bad_poses_and_weights_raise(session):

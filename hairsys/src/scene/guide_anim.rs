@@ -199,7 +199,9 @@ pub fn build(
     let select = |s: &HairSelection, what: &str| -> Result<Vec<bool>, String> {
         selection(s, what, mesh, guides.len(), hairs)
     };
-    let mut sim_factor = vec![0.0f32; hair_count];
+    // Each hair's factor of the sim weight: every hair by default (the curve is then 0, but a
+    // host's `set_sim_weight` reaches all hair), only the selected ones under a selection.
+    let mut sim_factor = vec![1.0f32; hair_count];
     let curve = match keys.sim_weight {
         None => WeightCurve::default(),
         Some(w) => {
