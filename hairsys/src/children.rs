@@ -159,7 +159,16 @@ pub fn open_cache(cache: &Path, scene: Option<&Path>) -> Result<(SceneFile, Cach
     let scene = match scene {
         Some(path) => SceneFile::load(path).map_err(|e| e.to_string())?,
         None => {
-            let base = cache.parent().map(Path::to_path_buf).unwrap_or_default();
+            // The stored scene's paths start where its file was when the cache was made (if
+            // that directory is still there), else beside the cache.
+            let header = reader.header();
+            let base = header
+                .extra
+                .get(crate::session::SCENE_DIR_KEY)
+                .map(std::path::PathBuf::from)
+                .filter(|d| d.is_dir())
+                .or_else(|| cache.parent().map(Path::to_path_buf))
+                .unwrap_or_default();
             let origin = format!("{} (scene stored in the cache)", cache.display());
             SceneFile::parse(&reader.header().scene_toml, &origin, base)
                 .map_err(|e| e.to_string())?

@@ -62,7 +62,14 @@ struct SceneAnimation {
     /// The scene text and hash, stored in caches the session writes.
     text: String,
     hash: String,
+    /// The directory the scene's relative paths start from, stored in caches too (as
+    /// [`SCENE_DIR_KEY`]) so a cache read from elsewhere still finds the scene's meshes.
+    base_dir: std::path::PathBuf,
 }
+
+/// Key of [`CacheHeader::extra`] holding the absolute directory of the scene file that made a
+/// cache (absent for a session a host assembled).
+pub const SCENE_DIR_KEY: &str = "scene_dir";
 
 /// What the host set for the next frame.
 #[derive(Debug, Clone, Default)]
@@ -202,6 +209,7 @@ impl Session {
                 origin: scene.origin.clone(),
                 text: scene.text.clone(),
                 hash,
+                base_dir: std::path::absolute(&scene.base_dir).unwrap_or_default(),
             }),
             guides,
             pending: Pending::default(),
@@ -853,7 +861,12 @@ impl Session {
             );
         }
         let (scene_toml, scene_hash) = match &self.animation {
-            Some(a) => (a.text.clone(), a.hash.clone()),
+            Some(a) => {
+                if let Some(dir) = a.base_dir.to_str().filter(|d| !d.is_empty()) {
+                    extra.insert(SCENE_DIR_KEY.to_string(), dir.to_string());
+                }
+                (a.text.clone(), a.hash.clone())
+            }
             None => (String::new(), String::new()),
         };
         CacheHeader {

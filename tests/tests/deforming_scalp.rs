@@ -472,3 +472,49 @@ fn shipped_character_keeps_roots_on_samples_and_hair_outside() {
         assert_roots_on_samples_and_hair_outside(&scene, |f| usd.mesh_at(f64::from(f)).unwrap());
     assert!(gap > 0.0, "smallest gap {gap}");
 }
+
+/// Regression: a deforming mesh placed between frames (`Colliders::place_vertices`,
+/// `place_scalp`) kept the shape it was built with until the next step, so `preview --report`
+/// measured a cached frame against the first frame's mesh and found hair "inside" where the mesh
+/// had moved away (the character's ears). The report measured from the cache must be the one
+/// measured during the run, and the shrug must leave no point inside in either. Also a
+/// regression: a cache read from another directory looked for the scene's meshes beside itself.
+#[test]
+fn the_report_of_a_cached_run_on_a_deforming_scalp_is_the_run_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let head = hair_groom::builtin_head();
+    let frames: Vec<_> = (1..=12).map(|f| shrugged(&head, f)).collect();
+    write_usda(&dir.path().join("shrug.usda"), &frames, head.triangles());
+    let scene = scene(
+        dir.path(),
+        "kind = \"usd\"\npath = \"shrug.usda\"\nprim = \"/Char/body\"",
+        12,
+        200,
+        "",
+    );
+    // The cache lives elsewhere than the scene: reading it back finds the scene's relative
+    // mesh path from the scene directory stored in the cache.
+    let elsewhere = tempfile::tempdir().unwrap();
+    let cache = elsewhere.path().join("run.mcap");
+    let run = hairsys::run::simulate(
+        &hairsys::run::SimulateOptions {
+            scene,
+            cache: cache.clone(),
+            frames: None,
+            threads: None,
+            writer: Default::default(),
+            resume: false,
+            kernel: Default::default(),
+            quality: true,
+        },
+        |_| {},
+    )
+    .unwrap()
+    .quality
+    .expect("asked for");
+    let from_cache = hairsys::quality::cache_quality(&cache, None).unwrap();
+    assert_eq!(from_cache.run, run.run);
+    assert_eq!(from_cache.last, run.last);
+    let p = run.run.penetration.as_ref().expect("the scalp collides");
+    assert_eq!(p.inside, 0, "{p:?}");
+}

@@ -132,6 +132,16 @@ fn default_groom_does_not_sag_when_the_simulation_starts() {
     assert!(drift.max < 15e-3, "{drift:?}");
 }
 
+/// The character: a deforming mesh (Blender's skinned head turn and shrug, read from USD) is
+/// scalp and collider. Also: the report measured from its cache, where the mesh is placed at
+/// each cached frame, is the run's own.
+#[test]
+fn character() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/character.toml");
+    let q = run_checked(SceneFile::load(&path).unwrap(), Some(&path), true);
+    check("character", &q, CLEAN);
+}
+
 #[test]
 fn wind_demo() {
     check("wind_demo", &run("wind_demo.toml"), CLEAN);

@@ -456,7 +456,11 @@ impl Colliders {
     /// for a cut. Same checks as [`Colliders::set_vertices`].
     pub fn place_vertices(&mut self, id: ColliderId, vertices: &[Vector3<f32>]) -> Result<()> {
         let index = id.0 as usize;
-        self.deformation_mut(index)?.place(index, vertices)
+        self.deformation_mut(index)?.place(index, vertices)?;
+        // The shape stands there at once, so queries between frames (a quality report of a
+        // cached frame) see it; the next step then finds it in place.
+        self.place_mesh(index, 1.0, 1.0, 1.0);
+        Ok(())
     }
 
     /// Puts every collider that follows the scalp ([`Colliders::insert_scalp`]) at `scalp` now:
@@ -476,6 +480,12 @@ impl Colliders {
             }
             e.start = scalp.body;
             e.end = scalp.body;
+        }
+        // Deformed shapes stand there at once (see `place_vertices`).
+        for c in 0..self.entries.len() {
+            if self.entries[c].follows_scalp {
+                self.place_mesh(c, 1.0, 1.0, 1.0);
+            }
         }
         Ok(())
     }
@@ -546,18 +556,24 @@ impl Colliders {
     /// how far each surface moved. Meshes already standing there (every rigid one) are left
     /// alone.
     pub(crate) fn place_meshes(&mut self, at: f32, from: f32, to: f32) {
+        for c in 0..self.entries.len() {
+            self.place_mesh(c, at, from, to);
+        }
+    }
+
+    /// [`Colliders::place_meshes`] for collider `c` alone.
+    fn place_mesh(&mut self, c: usize, at: f32, from: f32, to: f32) {
         let count = self.entries.len();
-        for (c, e) in self.entries.iter_mut().enumerate() {
-            let Some(d) = e.deformation.as_mut() else {
-                continue;
-            };
-            let Some(target) = d.prepare_step(at, from, to) else {
-                continue;
-            };
-            let shift = e.reshape(target);
-            for m in self.clearance.memory.iter_mut().skip(c).step_by(count) {
-                m.bound -= shift;
-            }
+        let e = &mut self.entries[c];
+        let Some(d) = e.deformation.as_mut() else {
+            return;
+        };
+        let Some(target) = d.prepare_step(at, from, to) else {
+            return;
+        };
+        let shift = e.reshape(target);
+        for m in self.clearance.memory.iter_mut().skip(c).step_by(count) {
+            m.bound -= shift;
         }
     }
 
