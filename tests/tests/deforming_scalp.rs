@@ -198,19 +198,25 @@ fn head_turning_at_10_rad_s_by_deformation_keeps_roots_on_samples_and_hair_outsi
     assert!(gap > 0.0, "smallest gap {gap}");
 }
 
-#[test]
-fn fast_shrug_by_deformation_keeps_roots_on_samples_and_hair_outside() {
-    let dir = tempfile::tempdir().unwrap();
+/// 200 hairs on the built-in head shrugging (frames 1–12), written to `dir` as USD time
+/// samples of `/Char/body` (`shrug.usda`) and read by the scene.
+fn shrug_scene(dir: &Path) -> SceneFile {
     let head = hair_groom::builtin_head();
     let frames: Vec<_> = (1..=12).map(|f| shrugged(&head, f)).collect();
-    write_usda(&dir.path().join("shrug.usda"), &frames, head.triangles());
-    let scene = scene(
-        dir.path(),
+    write_usda(&dir.join("shrug.usda"), &frames, head.triangles());
+    scene(
+        dir,
         "kind = \"usd\"\npath = \"shrug.usda\"\nprim = \"/Char/body\"",
         12,
         200,
         "",
-    );
+    )
+}
+
+#[test]
+fn fast_shrug_by_deformation_keeps_roots_on_samples_and_hair_outside() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = shrug_scene(dir.path());
     let usd = hair_groom::UsdMeshSource::open(
         &dir.path().join("shrug.usda"),
         &hair_groom::UsdMeshOptions {
@@ -482,16 +488,7 @@ fn shipped_character_keeps_roots_on_samples_and_hair_outside() {
 #[test]
 fn the_report_of_a_cached_run_on_a_deforming_scalp_is_the_run_report() {
     let dir = tempfile::tempdir().unwrap();
-    let head = hair_groom::builtin_head();
-    let frames: Vec<_> = (1..=12).map(|f| shrugged(&head, f)).collect();
-    write_usda(&dir.path().join("shrug.usda"), &frames, head.triangles());
-    let scene = scene(
-        dir.path(),
-        "kind = \"usd\"\npath = \"shrug.usda\"\nprim = \"/Char/body\"",
-        12,
-        200,
-        "",
-    );
+    let scene = shrug_scene(dir.path());
     // The cache lives elsewhere than the scene: reading it back finds the scene's relative
     // mesh path from the scene directory stored in the cache.
     let elsewhere = tempfile::tempdir().unwrap();

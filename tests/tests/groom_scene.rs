@@ -5,7 +5,6 @@
 
 use std::path::PathBuf;
 
-use hair_core::Solver;
 use hairsys::scene::SceneFile;
 
 #[test]
@@ -38,11 +37,13 @@ fn sintel_scene_snaps_guides_and_interpolates_sim_hairs() {
             "sim hair {s} is {l} m long, guides span {lo}–{hi} m"
         );
     }
-    let scalp = sim.scalp_at(1.0);
-    let mut solver = Solver::new(sim.settings, sim.params, &sim.strands, &scalp, 1).unwrap();
-    for frame in 2..=3 {
-        let scalp = sim.scalp_at(frame as f32);
-        let report = solver.step_frame(&mut sim.strands, &scalp).unwrap();
+    // The scene simulates through the front door, as `hairsys simulate` runs it (regression:
+    // the sim hairs left out kept their guide blends, and the session panicked binding 3,000
+    // blends to 2,914 strands).
+    let mut session = hairsys::Session::from_scene(&SceneFile::load(&path).unwrap()).unwrap();
+    assert_eq!(session.strands().len(), sim.strands.len());
+    for _ in 2..=3 {
+        let report = session.step().unwrap();
         assert!(
             report.max_stretch <= 0.01 + 1e-5,
             "stretch {}",

@@ -314,7 +314,7 @@ pub fn build(
         points,
         distance: sim.distance,
     };
-    let hairs = hair_groom::interpolate(mesh, &guides_list, &enabled, &roots, &opts)
+    let mut hairs = hair_groom::interpolate(mesh, &guides_list, &enabled, &roots, &opts)
         .map_err(|e| format!("[sim_hairs] {e}"))?;
     let mut inputs = hairs
         .iter()
@@ -341,13 +341,14 @@ pub fn build(
                  guides either side of an ear)",
                 through.len()
             );
-            let mut through = through.into_iter().peekable();
-            let mut index = 0;
-            inputs.retain(|_| {
-                let drop = through.next_if_eq(&index).is_some();
-                index += 1;
-                !drop
-            });
+            // The hairs and their strand inputs stay in step: animated guides blend the
+            // hairs kept, one per strand.
+            let mut keep = vec![true; inputs.len()];
+            through.iter().for_each(|&i| keep[i] = false);
+            let mut kept = keep.iter();
+            inputs.retain(|_| kept.next() == Some(&true));
+            let mut kept = keep.iter();
+            hairs.retain(|_| kept.next() == Some(&true));
         }
     }
     let keys = guides.animation_keys();
