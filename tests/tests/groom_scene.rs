@@ -10,7 +10,7 @@ use hairsys::scene::SceneFile;
 #[test]
 fn sintel_scene_snaps_guides_and_interpolates_sim_hairs() {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../scenes/sintel.toml");
-    let mut sim = SceneFile::load(&path).unwrap().build().unwrap();
+    let sim = SceneFile::load(&path).unwrap().build().unwrap();
     let report = sim.guides_report.clone().expect("the scene has guides");
     println!("sintel.toml: {report}");
     assert_eq!(sim.guides.len(), 228);
