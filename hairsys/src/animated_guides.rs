@@ -20,9 +20,18 @@
 //! guides, values between hand the shot back and forth (Maya nHair's and Houdini Vellum's
 //! "blend to animation"). Hold-out hair is pinned at every point and has weight 1: it follows
 //! the guides exactly and takes no part in the dynamics.
+//!
+//! **Poses stay out of the scalp.** With a [`PoseLift`] (`[guides] pose_clearance`), every pose
+//! the sim hairs follow is first lifted out of the scalp at rest by
+//! [`hair_groom::lift_out_of_scalp`] (walking each guide from its root, a point closer than the
+//! clearance is raised to it and its segment re-aimed at its own length): a keyed sweep that
+//! turns hair towards the head lays it over the head, and the poses between keys, blended
+//! segment by segment, are lifted as well. Only the guides are lifted (O(guide points) nearest-
+//! point queries per frame); the sim hairs blended between them on a curved head can still dip
+//! by the blend's chord, which the scalp collider meets when the sim weight is below 1.
 
 use hair_core::frames::{rest_directions, RestDirection};
-use hair_core::{RootFrame, StrandSet};
+use hair_core::{Anchor, MeshSample, RootFrame, StrandInput, StrandSet, TriMesh};
 use hair_groom::GuideBlend;
 use nalgebra::Vector3;
 
@@ -97,6 +106,60 @@ fn key_span(
     Some(Span::Between(i, s))
 }
 
+/// Lifts guide poses out of the scalp at rest (see the module docs).
+#[derive(Debug, Clone)]
+pub struct PoseLift {
+    mesh: TriMesh,
+    roots: Vec<MeshSample>,
+    clearance: f32,
+}
+
+impl PoseLift {
+    /// Lifts poses of guides rooted at `roots` on `mesh` (the scalp at rest) to `clearance` m.
+    pub(crate) fn new(mesh: TriMesh, roots: Vec<MeshSample>, clearance: f32) -> Self {
+        Self {
+            mesh,
+            roots,
+            clearance,
+        }
+    }
+
+    /// Height above the scalp poses are lifted to, m.
+    pub fn clearance(&self) -> f32 {
+        self.clearance
+    }
+
+    /// `pose` (root-local guide shapes) with every point lifted to the clearance.
+    pub fn lift(&self, pose: &[Vec<Vector3<f32>>]) -> Vec<Vec<Vector3<f32>>> {
+        let mut inputs: Vec<StrandInput> = pose
+            .iter()
+            .zip(&self.roots)
+            .map(|(shape, root)| StrandInput {
+                anchor: Anchor::Surface(*root),
+                rest: shape.clone(),
+                mass: Vec::new(),
+                radius: Vec::new(),
+                goal_weight: Vec::new(),
+                pinned: Vec::new(),
+            })
+            .collect();
+        // The clearance was checked and the scalp built as a mesh: neither can fail here.
+        if hair_groom::lift_out_of_scalp(&mut inputs, &self.mesh, self.clearance).is_err() {
+            return pose.to_vec();
+        }
+        inputs.into_iter().map(|s| s.rest).collect()
+    }
+}
+
+impl PartialEq for PoseLift {
+    fn eq(&self, other: &Self) -> bool {
+        self.clearance == other.clearance
+            && self.roots == other.roots
+            && self.mesh.positions() == other.mesh.positions()
+            && self.mesh.triangles() == other.mesh.triangles()
+    }
+}
+
 /// The rest state of the animated sim hairs as built (before any pose), bound to a strand set.
 #[derive(Debug, Clone, PartialEq)]
 struct Base {
@@ -125,6 +188,8 @@ pub struct GuideAnimation {
     /// any value in [0, 1] from a host).
     factor: Vec<f32>,
     hold_out: Vec<bool>,
+    /// Lifts every pose out of the scalp (`[guides] pose_clearance`).
+    lift: Option<PoseLift>,
     /// First strand of the sim hairs in the strand set.
     first_strand: usize,
     base: Option<Base>,
@@ -142,8 +207,10 @@ impl GuideAnimation {
         sim_weight: WeightCurve,
         factor: Vec<f32>,
         hold_out: Vec<bool>,
+        lift: Option<PoseLift>,
     ) -> Self {
         Self {
+            lift,
             blend,
             frames,
             groom,
@@ -202,8 +269,14 @@ impl GuideAnimation {
         &self.hold_out
     }
 
+    /// The lift applied to every pose, if the scene asks for one.
+    pub fn pose_lift(&self) -> Option<&PoseLift> {
+        self.lift.as_ref()
+    }
+
     /// The keyed pose at `frame` (between keys each segment's vector is blended and given the
-    /// blended length, so guides swing without shrinking), or `None` without keys.
+    /// blended length, so guides swing without shrinking), or `None` without keys. Not yet
+    /// lifted ([`GuideAnimation::pose_lift`] is applied when the pose is applied).
     pub fn pose_at(&self, frame: f32) -> Option<Vec<Vec<Vector3<f32>>>> {
         match key_span(
             self.poses.iter().map(|k| k.frame),
@@ -277,7 +350,7 @@ impl GuideAnimation {
     }
 
     /// Sets the sim hairs' rest shapes and rest directions in `strands` to `pose` (root-local
-    /// guide shapes, checked). Returns the work done (blend operations plus points written:
+    /// guide shapes, checked; lifted out of the scalp first with a [`PoseLift`]). Returns the work done (blend operations plus points written:
     /// linear in the points). Call [`GuideAnimation::bind`] first.
     pub(crate) fn apply_pose(
         &self,
@@ -293,7 +366,8 @@ impl GuideAnimation {
         let p0 = strands.points(range.start).start;
         let s0 = strands.segments(range.start).start;
         scratch.resize(base.interpolated.len(), Vector3::zeros());
-        let mut work = self.blend.apply(pose, scratch);
+        let lifted = self.lift.as_ref().map(|l| l.lift(pose));
+        let mut work = self.blend.apply(lifted.as_deref().unwrap_or(pose), scratch);
         let rest = &mut strands.rest_local_mut()[p0..p0 + scratch.len()];
         for ((r, (b, i)), a) in rest
             .iter_mut()

@@ -16,6 +16,7 @@ use crate::animated_guides::GuideAnimation;
 use crate::scene::guide_anim::{
     self, AnimationKeys, HairSelection, PinSection, PoseSection, SimWeightSection,
 };
+use crate::scene::maps::ScalpMaps;
 use crate::scene::motion::Interpolation;
 use crate::scene::RegionSection;
 
@@ -81,6 +82,11 @@ pub struct GuidesSection {
     /// Interpolation between pose keys, `"ease"` (default) or `"linear"`.
     #[serde(default)]
     pub pose_interpolation: Interpolation,
+    /// Height above the scalp, m, that every pose the sim hairs follow (keyed, between keys,
+    /// or set by a host) is lifted to where its guides would dip into the scalp (absent: poses
+    /// as given). A sweep that turns hair towards the head then lays it over the head instead.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pose_clearance: Option<f32>,
     /// `[guides.sim_weight]`: the curve handing sim hairs between simulation (0) and the
     /// animated guides (1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -153,6 +159,7 @@ impl GuidesSection {
         AnimationKeys {
             poses: &self.pose,
             interpolation: self.pose_interpolation,
+            clearance: self.pose_clearance,
             sim_weight: self.sim_weight.as_ref(),
             pins: &self.pin,
             hold_out: self.hold_out.as_ref(),
@@ -202,6 +209,7 @@ pub fn build(
     mesh: &TriMesh,
     base_dir: &Path,
     gravity: &Vector3<f32>,
+    maps: &ScalpMaps,
 ) -> Result<GuidedHair, String> {
     if guides.file.is_some() && guides.style.is_some() {
         return Err("[guides.style] lays generated guides over the scalp; an imported groom keeps its shape: remove [guides.style] or `file`".into());
@@ -365,6 +373,7 @@ pub fn build(
             &mut inputs,
             points,
             guides.max_snap_distance,
+            maps,
             &read,
         )?)
     };
