@@ -223,11 +223,7 @@ pub fn build(
     }
     let lift = match keys.clearance {
         None => None,
-        Some(c) if c.is_finite() && c >= 0.0 => Some(PoseLift::new(
-            mesh.clone(),
-            guides.iter().map(|g| g.root).collect(),
-            c,
-        )),
+        Some(c) if c.is_finite() && c >= 0.0 => Some(PoseLift::new(mesh.clone(), c)),
         Some(c) => {
             return Err(format!(
                 "[guides] pose_clearance = {c}: give a height ≥ 0 m above the scalp \

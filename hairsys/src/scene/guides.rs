@@ -82,9 +82,10 @@ pub struct GuidesSection {
     /// Interpolation between pose keys, `"ease"` (default) or `"linear"`.
     #[serde(default)]
     pub pose_interpolation: Interpolation,
-    /// Height above the scalp, m, that every pose the sim hairs follow (keyed, between keys,
-    /// or set by a host) is lifted to where its guides would dip into the scalp (absent: poses
-    /// as given). A sweep that turns hair towards the head then lays it over the head instead.
+    /// Height above the scalp, m, that posed sim hairs (keyed poses, between keys, or set by a
+    /// host) are lifted to where they would dip into the scalp (absent: as posed). A sweep
+    /// that turns hair towards the head then lays it over the head instead. The sim hairs'
+    /// radius plus the scalp collider's thickness puts posed hair just touching.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pose_clearance: Option<f32>,
     /// `[guides.sim_weight]`: the curve handing sim hairs between simulation (0) and the
