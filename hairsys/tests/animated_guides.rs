@@ -452,11 +452,10 @@ fn pose_files_with_changed_point_counts_or_missing_guides_are_refused() {
 #[test]
 #[ignore = "timing; run in release (command above)"]
 fn reinterpolation_costs_under_five_percent_of_a_frame() {
-    let text =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/gust.toml"))
-            .unwrap()
-            .replace("count = 2000", "count = 4000")
-            .replace("frames = [1, 48]", "frames = [1, 9]");
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/gust.toml"))
+        .unwrap()
+        .replace("count = 2000", "count = 4000")
+        .replace("frames = [1, 48]", "frames = [1, 9]");
     let file = SceneFile::parse(&text, "gust.toml", ".".into()).unwrap();
     let mut s = Session::from_scene(&file).unwrap();
     let (mut pose, mut step) = (0.0f64, 0.0f64);

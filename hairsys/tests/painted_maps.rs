@@ -344,9 +344,7 @@ fn a_map_selection_that_names_no_hair_is_refused() {
     );
     let e = refused(
         dir.path(),
-        &guided_scene(
-            "[maps.side]\ntexture = \"side.png\"\n\n[[guides.pin]]\nmap = { name = \"fringe\" }\n",
-        ),
+        &guided_scene("[[guides.pin]]\nmap = { name = \"fringe\" }\n"),
     );
     assert!(
         e.contains("\"fringe\"") && e.contains("[maps.fringe]"),
@@ -368,6 +366,14 @@ fn unused_and_unsupported_maps_are_refused_by_name() {
         &hair_scene("[maps.density]\ntexture = \"m.png\"\n"),
     );
     assert!(e.contains("not supported yet"), "{e}");
+    let e = refused(
+        dir.path(),
+        &hair_scene("[maps.sim_weight]\ntexture = \"m.png\"\n"),
+    );
+    assert!(
+        e.contains("[maps.sim_weight]") && e.contains("no [guides]"),
+        "{e}"
+    );
     let e = refused(
         dir.path(),
         &hair_scene("[maps.goal]\ntexture = \"missing.png\"\n"),

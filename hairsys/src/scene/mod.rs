@@ -1012,6 +1012,13 @@ impl SceneFile {
                     .into(),
             );
         };
+        if sections.contains_key("sim_weight") && self.scene.guides.is_none() {
+            return Err(
+                "[maps.sim_weight] paints the sim weight of hair grown from guides, but \
+                        the scene has no [guides]: add [guides] and [sim_hairs] or remove the map"
+                    .into(),
+            );
+        }
         let used: Vec<&str> = self
             .scene
             .guides
