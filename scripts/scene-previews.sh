@@ -19,6 +19,7 @@ scenes=(
   "collision_demo 1,25,42        back"
   "sintel         1,20,36,48     three-quarter"
   "character      1,8,15,24      three-quarter"
+  "gust           1,10,18,26,34,48 side"
   "strips_head    1,24,48        three-quarter"
   "parity         1,12,24        three-quarter"
 )

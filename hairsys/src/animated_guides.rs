@@ -20,9 +20,21 @@
 //! guides, values between hand the shot back and forth (Maya nHair's and Houdini Vellum's
 //! "blend to animation"). Hold-out hair is pinned at every point and has weight 1: it follows
 //! the guides exactly and takes no part in the dynamics.
+//!
+//! **Posed hair keeps its lengths.** The posed shape of a hair is its built shape moved by the
+//! change of its interpolated guides, re-walked from the root with each segment at its built
+//! length: adding a large change (a 70° sweep) point by point would otherwise stretch or
+//! shorten segments, and a hair put on the pose at sim weight 1 would be stretched with it.
+//!
+//! **Posed hair stays out of the scalp.** With a [`PoseLift`] (`[guides] pose_clearance`), each
+//! posed sim hair is then lifted out of the scalp at rest by [`hair_groom::lift_out_of_scalp`]
+//! (walking the hair from its root, a point closer than the clearance is raised to it and its
+//! segment re-aimed at its own length): a keyed sweep that turns hair towards the head lays it
+//! over the head, at every frame between keys too. It costs a nearest-point query per posed
+//! point per frame.
 
 use hair_core::frames::{rest_directions, RestDirection};
-use hair_core::{RootFrame, StrandSet};
+use hair_core::{Anchor, RootFrame, StrandInput, StrandSet, TriMesh};
 use hair_groom::GuideBlend;
 use nalgebra::Vector3;
 
@@ -97,6 +109,60 @@ fn key_span(
     Some(Span::Between(i, s))
 }
 
+/// Lifts posed sim hairs out of the scalp at rest (see the module docs).
+#[derive(Debug, Clone)]
+pub struct PoseLift {
+    mesh: TriMesh,
+    clearance: f32,
+}
+
+impl PoseLift {
+    /// Lifts posed hair out of `mesh` (the scalp at rest the roots refer to) to `clearance` m.
+    pub(crate) fn new(mesh: TriMesh, clearance: f32) -> Self {
+        Self { mesh, clearance }
+    }
+
+    /// Height above the scalp posed hair is lifted to, m.
+    pub fn clearance(&self) -> f32 {
+        self.clearance
+    }
+
+    /// Lifts each root-local shape in `shapes` (rooted at `anchors`, one shape per anchor, `n`
+    /// points each) to the clearance, in place; returns the number of points lifted.
+    fn lift(&self, anchors: &[Anchor], shapes: &mut [Vector3<f32>], n: usize) -> usize {
+        let mut inputs: Vec<StrandInput> = anchors
+            .iter()
+            .zip(shapes.chunks_exact(n))
+            .map(|(anchor, shape)| StrandInput {
+                anchor: *anchor,
+                rest: shape.to_vec(),
+                mass: Vec::new(),
+                radius: Vec::new(),
+                goal_weight: Vec::new(),
+                pinned: Vec::new(),
+            })
+            .collect();
+        // The clearance was checked when the scene was built and the scalp is a valid mesh:
+        // lifting cannot fail; if it did, the shapes stay as posed.
+        let Ok(lifted) = hair_groom::lift_out_of_scalp(&mut inputs, &self.mesh, self.clearance)
+        else {
+            return 0;
+        };
+        for (out, input) in shapes.chunks_exact_mut(n).zip(&inputs) {
+            out.copy_from_slice(&input.rest);
+        }
+        lifted
+    }
+}
+
+impl PartialEq for PoseLift {
+    fn eq(&self, other: &Self) -> bool {
+        self.clearance == other.clearance
+            && self.mesh.positions() == other.mesh.positions()
+            && self.mesh.triangles() == other.mesh.triangles()
+    }
+}
+
 /// The rest state of the animated sim hairs as built (before any pose), bound to a strand set.
 #[derive(Debug, Clone, PartialEq)]
 struct Base {
@@ -125,6 +191,8 @@ pub struct GuideAnimation {
     /// any value in [0, 1] from a host).
     factor: Vec<f32>,
     hold_out: Vec<bool>,
+    /// Lifts every pose out of the scalp (`[guides] pose_clearance`).
+    lift: Option<PoseLift>,
     /// First strand of the sim hairs in the strand set.
     first_strand: usize,
     base: Option<Base>,
@@ -142,8 +210,10 @@ impl GuideAnimation {
         sim_weight: WeightCurve,
         factor: Vec<f32>,
         hold_out: Vec<bool>,
+        lift: Option<PoseLift>,
     ) -> Self {
         Self {
+            lift,
             blend,
             frames,
             groom,
@@ -200,6 +270,11 @@ impl GuideAnimation {
     /// Per sim hair: held out of the simulation (follows the guides exactly).
     pub fn hold_out(&self) -> &[bool] {
         &self.hold_out
+    }
+
+    /// The lift applied to posed hair, if the scene asks for one.
+    pub fn pose_lift(&self) -> Option<&PoseLift> {
+        self.lift.as_ref()
     }
 
     /// The keyed pose at `frame` (between keys each segment's vector is blended and given the
@@ -293,7 +368,8 @@ impl GuideAnimation {
     }
 
     /// Sets the sim hairs' rest shapes and rest directions in `strands` to `pose` (root-local
-    /// guide shapes, checked). Returns the work done (blend operations plus points written:
+    /// guide shapes, checked): lengths kept, and lifted out of the scalp with a [`PoseLift`]
+    /// (see the module docs). Returns the work done (blend operations plus points written:
     /// linear in the points). Call [`GuideAnimation::bind`] first.
     pub(crate) fn apply_pose(
         &self,
@@ -310,15 +386,37 @@ impl GuideAnimation {
         let s0 = strands.segments(range.start).start;
         scratch.resize(base.interpolated.len(), Vector3::zeros());
         let mut work = self.blend.apply(pose, scratch);
-        let rest = &mut strands.rest_local_mut()[p0..p0 + scratch.len()];
-        for ((r, (b, i)), a) in rest
-            .iter_mut()
-            .zip(base.rest.iter().zip(&base.interpolated))
-            .zip(scratch.iter())
-        {
-            *r = if a == i { *b } else { b + (a - i) };
+        let mut posed = base.rest.clone();
+        let mut moved = Vec::new();
+        for (h, shape) in posed.chunks_exact_mut(n).enumerate() {
+            let at = h * n..(h + 1) * n;
+            let (built, groom, now) = (
+                &base.rest[at.clone()],
+                &base.interpolated[at.clone()],
+                &scratch[at],
+            );
+            if groom == now {
+                continue;
+            }
+            moved.push(h);
+            keep_lengths(shape, built, groom, now);
         }
-        let posed: Vec<Vector3<f32>> = strands.rest_local()[p0..p0 + scratch.len()].to_vec();
+        if let (Some(lift), false) = (&self.lift, moved.is_empty()) {
+            let anchors: Vec<Anchor> = moved
+                .iter()
+                .map(|&h| strands.anchors()[range.start + h])
+                .collect();
+            let mut shapes: Vec<Vector3<f32>> = moved
+                .iter()
+                .flat_map(|&h| posed[h * n..(h + 1) * n].iter().copied())
+                .collect();
+            lift.lift(&anchors, &mut shapes, n);
+            for (&h, shape) in moved.iter().zip(shapes.chunks_exact(n)) {
+                posed[h * n..(h + 1) * n].copy_from_slice(shape);
+            }
+            work += shapes.len() as u64;
+        }
+        strands.rest_local_mut()[p0..p0 + posed.len()].copy_from_slice(&posed);
         let bend = &mut strands.bend_rest_mut()[s0..s0 + range.len() * (n - 1)];
         for (h, shape) in posed.chunks_exact(n).enumerate() {
             let seg = h * (n - 1)..(h + 1) * (n - 1);
@@ -394,6 +492,30 @@ impl GuideAnimation {
                 }
             }
         }
+    }
+}
+
+/// `shape` (a copy of `built`) moved by the change from `groom` to `now` (its interpolated
+/// guides then and now) and re-walked from the root with each segment at its built length and
+/// the moved segment's direction (the built one where the moved segment vanishes).
+fn keep_lengths(
+    shape: &mut [Vector3<f32>],
+    built: &[Vector3<f32>],
+    groom: &[Vector3<f32>],
+    now: &[Vector3<f32>],
+) {
+    let moved = |j: usize| built[j] + (now[j] - groom[j]);
+    shape[0] = moved(0);
+    for j in 1..shape.len() {
+        let length = (built[j] - built[j - 1]).norm();
+        let d = moved(j) - moved(j - 1);
+        let n = d.norm();
+        let step = if n > 1e-12 {
+            d * (length / n)
+        } else {
+            built[j] - built[j - 1]
+        };
+        shape[j] = shape[j - 1] + step;
     }
 }
 

@@ -2,8 +2,10 @@
 //! (`[[guides.pose]]`), the sim weight curve that hands the shot between simulation and the
 //! animated guides (`[guides.sim_weight]`), pinned points (`[[guides.pin]]`) and hold-out
 //! hair that follows the guides exactly (`[guides.hold_out]`). Hair is selected by guide (the
-//! sim hairs whose nearest guide is listed), by sim-hair index or by a cone of root normals on
-//! the scalp at rest, until painted maps exist.
+//! sim hairs whose nearest guide is listed), by sim-hair index, by a cone of root normals on
+//! the scalp at rest, or by a painted map's value at the root (`map = { name, min, max }`,
+//! see [`crate::scene::maps`]); a `[maps.sim_weight]` paints each sim hair's factor of the
+//! sim weight curve.
 //!
 //! This module parses and checks the keys and turns them into an
 //! [`crate::animated_guides::GuideAnimation`]; applying it each frame is the runtime's.
@@ -15,7 +17,8 @@ use hair_groom::{GuideBlend, SimHair};
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
-use crate::animated_guides::{GuideAnimation, PoseKey, WeightCurve};
+use crate::animated_guides::{GuideAnimation, PoseKey, PoseLift, WeightCurve};
+use crate::scene::maps::{MapSelection, ScalpMaps};
 use crate::scene::motion::Interpolation;
 use crate::scene::RegionSection;
 
@@ -51,8 +54,9 @@ pub struct SweepSection {
 }
 
 /// Which sim hairs a setting applies to: the union of the hairs whose nearest guide is in
-/// `guides`, the sim hairs numbered in `strands` (0 = the first sim hair), and the hairs rooted
-/// where the scalp's normal at rest lies within `region`.
+/// `guides`, the sim hairs numbered in `strands` (0 = the first sim hair), the hairs rooted
+/// where the scalp's normal at rest lies within `region`, and those where a painted map's value
+/// at the root lies within `map`'s bounds.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct HairSelection {
@@ -65,11 +69,17 @@ pub struct HairSelection {
     /// A cone of root normals.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub region: Option<RegionSection>,
+    /// A painted map's range.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub map: Option<MapSelection>,
 }
 
 impl HairSelection {
     fn is_empty(&self) -> bool {
-        self.guides.is_none() && self.strands.is_none() && self.region.is_none()
+        self.guides.is_none()
+            && self.strands.is_none()
+            && self.region.is_none()
+            && self.map.is_none()
     }
 }
 
@@ -118,6 +128,8 @@ pub struct AnimationKeys<'a> {
     pub poses: &'a [PoseSection],
     /// `[guides] pose_interpolation`.
     pub interpolation: Interpolation,
+    /// `[guides] pose_clearance`, m.
+    pub clearance: Option<f32>,
     /// `[guides.sim_weight]`.
     pub sim_weight: Option<&'a SimWeightSection>,
     /// `[[guides.pin]]`.
@@ -126,7 +138,20 @@ pub struct AnimationKeys<'a> {
     pub hold_out: Option<&'a HairSelection>,
 }
 
-impl AnimationKeys<'_> {
+impl<'a> AnimationKeys<'a> {
+    /// The names of the maps the selections use.
+    pub fn map_names(&self) -> Vec<&'a str> {
+        let selections = self
+            .sim_weight
+            .map(|w| &w.select)
+            .into_iter()
+            .chain(self.pins.iter().map(|p| &p.select))
+            .chain(self.hold_out);
+        selections
+            .filter_map(|s| s.map.as_ref().map(|m| m.name.as_str()))
+            .collect()
+    }
+
     /// True when any key is given (otherwise guides stay a static groom, at no cost).
     pub fn any(&self) -> bool {
         !self.poses.is_empty()
@@ -150,6 +175,7 @@ pub fn build(
     inputs: &mut [StrandInput],
     points: usize,
     max_snap_distance: f32,
+    maps: &ScalpMaps,
     read: &PoseReader,
 ) -> Result<GuideAnimation, String> {
     let blend =
@@ -195,14 +221,31 @@ pub fn build(
             shapes,
         });
     }
+    let lift = match keys.clearance {
+        None => None,
+        Some(c) if c.is_finite() && c >= 0.0 => Some(PoseLift::new(mesh.clone(), c)),
+        Some(c) => {
+            return Err(format!(
+                "[guides] pose_clearance = {c}: give a height ≥ 0 m above the scalp \
+                 (e.g. the sim hairs' clearance) or remove the key"
+            ))
+        }
+    };
     let hair_count = hairs.len();
     let select = |s: &HairSelection, what: &str| -> Result<Vec<bool>, String> {
-        selection(s, what, mesh, guides.len(), hairs)
+        selection(s, what, mesh, guides.len(), hairs, maps)
     };
     // Each hair's factor of the sim weight: every hair by default (the curve is then 0, but a
     // host's `set_sim_weight` reaches all hair), only the selected ones under a selection.
     let mut sim_factor = vec![1.0f32; hair_count];
     let curve = match keys.sim_weight {
+        None if maps.get("sim_weight").is_some() => {
+            return Err(
+                "[maps.sim_weight] paints each sim hair's factor of the sim weight \
+                        curve, but there is no [guides.sim_weight]: add its keys or remove the map"
+                    .into(),
+            )
+        }
         None => WeightCurve::default(),
         Some(w) => {
             let what = "[guides.sim_weight]";
@@ -229,6 +272,18 @@ pub fn build(
             for (f, c) in sim_factor.iter_mut().zip(chosen) {
                 *f = if c { 1.0 } else { 0.0 };
             }
+            if let Some(map) = maps.get("sim_weight") {
+                for (i, (f, h)) in sim_factor.iter_mut().zip(hairs).enumerate() {
+                    let v = map.at(mesh, &h.root, &format!("sim hair {i}"))?;
+                    if !(0.0..=1.0).contains(&v) {
+                        return Err(format!(
+                            "[maps.sim_weight] is {v} at sim hair {i}: a sim weight factor is \
+                             in [0, 1]; paint values in [0, 1]"
+                        ));
+                    }
+                    *f *= v;
+                }
+            }
             WeightCurve::new(
                 w.interpolation,
                 w.keys.iter().map(|k| (k.frame, k.value)).collect(),
@@ -239,7 +294,7 @@ pub fn build(
         let what = format!("[[guides.pin]] #{i}");
         if pin.select.is_empty() {
             return Err(format!(
-                "{what} selects no hair: give `guides`, `strands` or `region`"
+                "{what} selects no hair: give `guides`, `strands`, `region` or `map`"
             ));
         }
         let chosen = select(&pin.select, &what)?;
@@ -265,7 +320,7 @@ pub fn build(
         let what = "[guides.hold_out]";
         if h.is_empty() {
             return Err(format!(
-                "{what} selects no hair: give `guides`, `strands` or `region`"
+                "{what} selects no hair: give `guides`, `strands`, `region` or `map`"
             ));
         }
         hold_out = select(h, what)?;
@@ -282,6 +337,7 @@ pub fn build(
         curve,
         sim_factor,
         hold_out,
+        lift,
     ))
 }
 
@@ -293,6 +349,7 @@ fn selection(
     mesh: &TriMesh,
     guide_count: usize,
     hairs: &[SimHair],
+    maps: &ScalpMaps,
 ) -> Result<Vec<bool>, String> {
     let mut chosen = vec![false; hairs.len()];
     if let Some(list) = &s.guides {
@@ -337,8 +394,14 @@ fn selection(
             *c |= normal.dot(&axis) >= cos;
         }
     }
+    if let Some(m) = &s.map {
+        let map = maps.selected(m, what)?;
+        for (i, (c, h)) in chosen.iter_mut().zip(hairs).enumerate() {
+            *c |= m.contains(map.at(mesh, &h.root, &format!("sim hair {i}"))?);
+        }
+    }
     if !chosen.iter().any(|&c| c) {
-        return Err(format!("{what} names no hair: no sim hair matches its guides, strands or region; widen the selection"));
+        return Err(format!("{what} names no hair: no sim hair matches its guides, strands, region or map; widen the selection"));
     }
     Ok(chosen)
 }

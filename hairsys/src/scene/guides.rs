@@ -16,6 +16,7 @@ use crate::animated_guides::GuideAnimation;
 use crate::scene::guide_anim::{
     self, AnimationKeys, HairSelection, PinSection, PoseSection, SimWeightSection,
 };
+use crate::scene::maps::ScalpMaps;
 use crate::scene::motion::Interpolation;
 use crate::scene::RegionSection;
 
@@ -81,6 +82,12 @@ pub struct GuidesSection {
     /// Interpolation between pose keys, `"ease"` (default) or `"linear"`.
     #[serde(default)]
     pub pose_interpolation: Interpolation,
+    /// Height above the scalp, m, that posed sim hairs (keyed poses, between keys, or set by a
+    /// host) are lifted to where they would dip into the scalp (absent: as posed). A sweep
+    /// that turns hair towards the head then lays it over the head instead. The sim hairs'
+    /// radius plus the scalp collider's thickness puts posed hair just touching.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pose_clearance: Option<f32>,
     /// `[guides.sim_weight]`: the curve handing sim hairs between simulation (0) and the
     /// animated guides (1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -153,6 +160,7 @@ impl GuidesSection {
         AnimationKeys {
             poses: &self.pose,
             interpolation: self.pose_interpolation,
+            clearance: self.pose_clearance,
             sim_weight: self.sim_weight.as_ref(),
             pins: &self.pin,
             hold_out: self.hold_out.as_ref(),
@@ -202,6 +210,7 @@ pub fn build(
     mesh: &TriMesh,
     base_dir: &Path,
     gravity: &Vector3<f32>,
+    maps: &ScalpMaps,
 ) -> Result<GuidedHair, String> {
     if guides.file.is_some() && guides.style.is_some() {
         return Err("[guides.style] lays generated guides over the scalp; an imported groom keeps its shape: remove [guides.style] or `file`".into());
@@ -366,6 +375,7 @@ pub fn build(
             &mut inputs,
             points,
             guides.max_snap_distance,
+            maps,
             &read,
         )?)
     };

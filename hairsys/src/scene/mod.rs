@@ -28,6 +28,7 @@ pub mod deforming;
 pub mod fields;
 pub mod guide_anim;
 pub mod guides;
+pub mod maps;
 pub mod motion;
 pub mod strips;
 pub mod style;
@@ -115,6 +116,9 @@ pub struct Scene {
     /// `[solver] model = "strips"`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub strips: Option<crate::scene::strips::StripsSection>,
+    /// `[maps.NAME]`: painted maps over the scalp (see [`crate::scene::maps`]).
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub maps: std::collections::BTreeMap<String, crate::scene::maps::MapSection>,
 }
 
 /// `[scene]`.
@@ -730,6 +734,7 @@ impl SceneFile {
 
         self.check_point_budget()?;
         let (rest_mesh, scalp_animation) = self.scalp_mesh()?;
+        let maps = self.scalp_maps(rest_mesh.as_ref()).map_err(err)?;
         let mut strands = StrandSet::new();
         if let Some(hair) = &s.hair {
             let Some(mesh) = &rest_mesh else {
@@ -764,6 +769,8 @@ impl SceneFile {
                 hair_groom::lay_over_scalp(&mut inputs, mesh, &opts)
                     .map_err(|e| err(format!("[hair.style] {e}")))?;
             }
+            maps.scale_goal(&mut inputs, mesh, "[hair] strand")
+                .map_err(err)?;
             for input in inputs {
                 strands
                     .push(input)
@@ -781,8 +788,11 @@ impl SceneFile {
                 mesh,
                 &self.base_dir,
                 &s.physics.gravity(),
+                &maps,
             )
             .map_err(err)?;
+            maps.scale_goal(&mut built.inputs, mesh, "sim hair")
+                .map_err(err)?;
             if s.solver.model != StrandModel::MassSpring {
                 if guides.animation_keys().any() {
                     return Err(err(
@@ -989,6 +999,41 @@ impl SceneFile {
     }
 
     /// The scalp's rest mesh and, for a deforming scalp, its vertices at every frame.
+    /// The scene's `[maps.NAME]`, read and checked against the scalp at rest `mesh`.
+    fn scalp_maps(&self, mesh: Option<&TriMesh>) -> Result<maps::ScalpMaps, String> {
+        let sections = &self.scene.maps;
+        if sections.is_empty() {
+            return Ok(maps::ScalpMaps::none());
+        }
+        let Some(mesh) = mesh else {
+            return Err(
+                "[maps] paint values over the scalp, but [scalp.mesh] kind = \"none\"; \
+                        choose a scalp mesh or remove [maps]"
+                    .into(),
+            );
+        };
+        if sections.contains_key("sim_weight") && self.scene.guides.is_none() {
+            return Err(
+                "[maps.sim_weight] paints the sim weight of hair grown from guides, but \
+                        the scene has no [guides]: add [guides] and [sim_hairs] or remove the map"
+                    .into(),
+            );
+        }
+        let used: Vec<&str> = self
+            .scene
+            .guides
+            .as_ref()
+            .map(|g| g.animation_keys().map_names())
+            .unwrap_or_default();
+        maps::ScalpMaps::load(
+            sections,
+            &self.base_dir,
+            mesh,
+            || crate::children::scalp_colors(self),
+            &used,
+        )
+    }
+
     fn scalp_mesh(&self) -> Result<(Option<TriMesh>, Option<MeshAnimation>), SceneError> {
         let err = |m: String| self.error(format!("[scalp.mesh] {m}"));
         if let Some(source) = self.scene.scalp.mesh.deforming() {

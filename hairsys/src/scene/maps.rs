@@ -1,0 +1,224 @@
+//! `[maps.NAME]`: painted maps over the scalp (issue 20), read from a PNG texture over the
+//! scalp's UVs or from the OBJ scalp's vertex colours, and sampled at each hair's root (see
+//! [`crate::maps`] for the sampling).
+//!
+//! ```toml
+//! [maps.goal]                 # scales every surface-rooted hair's goal weights
+//! texture = "goal.png"        # relative to the scene file
+//! channel = "r"               # r (default), g, b or a
+//!
+//! [maps.sim_weight]           # paints the factor of [guides.sim_weight] per sim hair
+//! vertex_colors = true        # the OBJ scalp's `v x y z r g b`
+//! channel = "g"
+//!
+//! [maps.fringe]               # any other name: a map selections use
+//! texture = "fringe.png"      # [guides.hold_out] map = { name = "fringe", min = 0.5 }
+//! ```
+//!
+//! Names with a purpose: `goal` multiplies the goal weight of every point of each hair grown on
+//! the scalp (`[hair]` and `[sim_hairs]`) by the map at its root; `sim_weight` multiplies each
+//! sim hair's factor of the `[guides.sim_weight]` curve (needs that curve). The other uses
+//! issue 20 names — `density`, `length`, `stiffness`, `clump`, `curl` — are not implemented and
+//! refused by name rather than ignored. Any other name must be used by a selection
+//! (`map = { name, min, max }` in `[guides.sim_weight]`, `[[guides.pin]]` or
+//! `[guides.hold_out]`), so a misspelt purpose is an error, not a silent no-op.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use hair_core::{Anchor, StrandInput, TriMesh};
+use serde::{Deserialize, Serialize};
+
+use crate::maps::{Channel, MapSource, ScalpMap, Texture};
+
+/// Map names with a purpose that hairsys applies.
+pub const APPLIED: [&str; 2] = ["goal", "sim_weight"];
+
+/// Purposes issue 20 names that are not implemented yet (refused by name).
+pub const NOT_YET: [&str; 5] = ["density", "length", "stiffness", "clump", "curl"];
+
+/// `[maps.NAME]`: where one map's values come from. Give `texture` or `vertex_colors`.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MapSection {
+    /// PNG image over the scalp's UVs, relative to the scene file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub texture: Option<PathBuf>,
+    /// The OBJ scalp's vertex colours (`v x y z r g b`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub vertex_colors: bool,
+    /// Colour channel: `"r"` (default), `"g"`, `"b"` or `"a"` (textures only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub channel: Option<String>,
+}
+
+/// Selects the hairs whose map value at the root lies in `[min, max]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MapSelection {
+    /// The map's name (a `[maps.NAME]` section).
+    pub name: String,
+    /// Least value selected (default 0.5: the painted half of a 0–1 map).
+    #[serde(default = "half")]
+    pub min: f32,
+    /// Largest value selected (default: no limit).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max: Option<f32>,
+}
+
+fn half() -> f32 {
+    0.5
+}
+
+impl MapSelection {
+    /// True when `value` is selected.
+    pub fn contains(&self, value: f32) -> bool {
+        value >= self.min && self.max.is_none_or(|m| value <= m)
+    }
+}
+
+/// The scene's maps, read and checked against the scalp at rest.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ScalpMaps {
+    maps: BTreeMap<String, ScalpMap>,
+}
+
+impl ScalpMaps {
+    /// No maps.
+    pub fn none() -> Self {
+        Self::default()
+    }
+
+    /// Reads every `[maps.NAME]` section: textures relative to `base_dir`, vertex colours from
+    /// `colors` (the OBJ scalp's, `None` for another scalp), each checked against `mesh`.
+    /// `used` are the names selections use. Errors name the section, the file and the fix.
+    pub fn load(
+        sections: &BTreeMap<String, MapSection>,
+        base_dir: &Path,
+        mesh: &TriMesh,
+        colors: impl FnOnce() -> Result<Option<Vec<[f32; 3]>>, String>,
+        used: &[&str],
+    ) -> Result<Self, String> {
+        let mut colors = Some(colors);
+        let mut read_colors: Option<Option<Vec<[f32; 3]>>> = None;
+        let mut maps = BTreeMap::new();
+        for (name, s) in sections {
+            let what = format!("[maps.{name}]");
+            if NOT_YET.contains(&name.as_str()) {
+                return Err(format!(
+                    "{what}: a painted {name} map is not supported yet (maps can scale goal \
+                     weights, paint the sim weight and select hair for pins and hold-outs); \
+                     remove the section"
+                ));
+            }
+            if !APPLIED.contains(&name.as_str()) && !used.contains(&name.as_str()) {
+                return Err(format!(
+                    "{what} is used by nothing: name it `goal` or `sim_weight`, or select hair \
+                     with it (`map = {{ name = \"{name}\" }}` in [guides.sim_weight], \
+                     [[guides.pin]] or [guides.hold_out])"
+                ));
+            }
+            let channel = match s.channel.as_deref() {
+                None => Channel::R,
+                Some(c) => Channel::parse(c).ok_or_else(|| {
+                    format!("{what} channel = \"{c}\": use \"r\", \"g\", \"b\" or \"a\"")
+                })?,
+            };
+            let source = match (&s.texture, s.vertex_colors) {
+                (Some(_), true) => {
+                    return Err(format!(
+                        "{what}: give `texture` or `vertex_colors = true`, not both"
+                    ))
+                }
+                (None, false) => {
+                    return Err(format!(
+                        "{what} has no values: give `texture = \"map.png\"` (over the scalp's \
+                         UVs) or `vertex_colors = true` (an OBJ scalp's `v x y z r g b`)"
+                    ))
+                }
+                (Some(file), false) => {
+                    let path = base_dir.join(file);
+                    let texture = Texture::read_png(&path, channel)
+                        .map_err(|e| format!("{what} texture {}: {e}", path.display()))?;
+                    MapSource::Texture { path, texture }
+                }
+                (None, true) => {
+                    if channel == Channel::A {
+                        return Err(format!(
+                            "{what} channel = \"a\": vertex colours have no alpha; use r, g or b"
+                        ));
+                    }
+                    if read_colors.is_none() {
+                        let read = colors.take().map_or(Ok(None), |f| f())?;
+                        read_colors = Some(read);
+                    }
+                    let Some(Some(rgb)) = &read_colors else {
+                        return Err(format!(
+                            "{what} vertex_colors: the scalp has no vertex colours; vertex \
+                             colours come from an OBJ scalp with `v x y z r g b` on every \
+                             vertex (USD primvars are not read yet): use a texture"
+                        ));
+                    };
+                    let c = match channel {
+                        Channel::G => 1,
+                        Channel::B => 2,
+                        _ => 0,
+                    };
+                    MapSource::Vertex(rgb.iter().map(|v| v[c]).collect())
+                }
+            };
+            maps.insert(name.clone(), ScalpMap::new(name, source, mesh)?);
+        }
+        Ok(Self { maps })
+    }
+
+    /// The map named `name`.
+    pub fn get(&self, name: &str) -> Option<&ScalpMap> {
+        self.maps.get(name)
+    }
+
+    /// The map a selection names, or an error naming `what` (the selecting section).
+    pub fn selected(&self, s: &MapSelection, what: &str) -> Result<&ScalpMap, String> {
+        if !(s.min.is_finite() && s.max.is_none_or(|m| m.is_finite() && m >= s.min)) {
+            return Err(format!(
+                "{what} map: min = {} and max = {:?} must be finite with min ≤ max",
+                s.min, s.max
+            ));
+        }
+        self.get(&s.name).ok_or_else(|| {
+            let known: Vec<&str> = self.maps.keys().map(String::as_str).collect();
+            format!(
+                "{what} map names \"{}\", but the scene's maps are {known:?}: add [maps.{}] or \
+                 fix the name",
+                s.name, s.name
+            )
+        })
+    }
+
+    /// Multiplies the goal weights of every surface-rooted strand in `inputs` by the `goal`
+    /// map at its root (nothing without that map). `what` names the hairs in errors.
+    pub fn scale_goal(
+        &self,
+        inputs: &mut [StrandInput],
+        mesh: &TriMesh,
+        what: &str,
+    ) -> Result<(), String> {
+        let Some(map) = self.get("goal") else {
+            return Ok(());
+        };
+        for (i, input) in inputs.iter_mut().enumerate() {
+            let Anchor::Surface(sample) = input.anchor else {
+                continue;
+            };
+            let g = map.at(mesh, &sample, &format!("{what} {i}"))?;
+            if !(0.0..=1.0).contains(&g) {
+                return Err(format!(
+                    "[maps.goal] is {g} at {what} {i}: a goal weight scale is in [0, 1]; \
+                     paint values in [0, 1]"
+                ));
+            }
+            input.goal_weight.iter_mut().for_each(|w| *w *= g);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,112 @@
+//! The shipped gust scene (`scenes/gust.toml`, issue 20): a keyed gust on long hair that the
+//! simulation follows exactly (sim weight 1) and hands back. Held to the shipped scenes' bounds
+//! (`tests/tests/shipped_scenes_look.rs`): no point deeper than 0.5 mm in the head and at most
+//! 0.01 % of point-frames deeper than 0.1 mm — while the hair lies exactly on the keyed pose
+//! too, which `[guides] pose_clearance` keeps outside the head —, stretch within the 1 % strain
+//! limit (posed hair keeps its segment lengths), no hairpins. Before the pose was lifted and
+//! its lengths kept, the same shot put hair 72 mm into the head and stretched segments by 34 %.
+
+use std::path::Path;
+
+use hair_cache::WriterOptions;
+use hairsys::quality::RunQuality;
+use hairsys::run::{simulate, SimulateOptions};
+use hairsys::scene::SceneFile;
+
+/// Slow (48 frames of 2,000 hairs with the quality report; 36 s in release on the 2-core
+/// machine, 8 min in the test profile under load): `cargo test --release -p hairsys --test
+/// gust_scene -- --ignored`.
+#[test]
+#[ignore = "slow: run in release with --ignored (command above)"]
+fn the_keyed_gust_stays_out_of_the_head_and_unstretched() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/gust.toml");
+    let dir = tempfile::tempdir().unwrap();
+    let q = simulate(
+        &SimulateOptions {
+            scene: SceneFile::load(&path).unwrap(),
+            cache: dir.path().join("gust.mcap"),
+            frames: None,
+            threads: None,
+            writer: WriterOptions::default(),
+            resume: false,
+            kernel: Default::default(),
+            quality: true,
+        },
+        |_| {},
+    )
+    .unwrap()
+    .quality
+    .expect("asked for");
+    let r = &q.run;
+    let p = r.penetration.as_ref().expect("the head collides");
+    assert!(p.inside_fraction <= 1e-4, "{p:?}");
+    assert!(p.deepest <= 5e-4, "{p:?}");
+    // The strain limit (max_strain = 0.01) to f32 round-off, the worst segment within twice it.
+    assert!(r.strain.stretch.p99() <= 0.01 + 1e-4, "{:?}", r.strain);
+    assert!(r.strain.stretch.max() <= 0.02, "{:?}", r.strain);
+    assert_eq!(r.hairpins.count, 0, "{:?}", r.hairpins);
+    // Handed back at frame 30, the hair has fallen back near its groom by frame 48: tips within
+    // 2 cm RMS (measured 2026-11-24: 8.1 mm).
+    let last = q.last.drift.as_ref().unwrap();
+    assert!(last.tip_rms < 0.02, "{last:?}");
+}
+
+/// The shipped gust shortened to its first 18 frames (to the keyed pose, followed exactly from
+/// frame 14), with fewer hairs, the sweep turned to `sweep` and `pose_clearance` replaced by
+/// `clearance` (a line, or nothing).
+fn small_gust(sweep: &str, clearance: &str) -> RunQuality {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/gust.toml");
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("frames = [1, 48]", "frames = [1, 18]")
+        .replace("count = 2000", "count = 300")
+        .replace("count = 200\n", "count = 60\n")
+        .replace(
+            "sweep = { direction = [0.3, 1.0, 0.5], angle_deg = 70.0 }",
+            sweep,
+        )
+        .replace(
+            "pose_clearance = 0.0035        # m: posed sim hairs are lifted this far out of the head",
+            clearance,
+        );
+    assert!(text.contains(sweep) && text.contains("count = 60\n"));
+    let dir = tempfile::tempdir().unwrap();
+    simulate(
+        &SimulateOptions {
+            scene: SceneFile::parse(&text, "gust.toml", dir.path().into()).unwrap(),
+            cache: dir.path().join("gust.mcap"),
+            frames: None,
+            threads: None,
+            writer: WriterOptions::default(),
+            resume: false,
+            kernel: Default::default(),
+            quality: true,
+        },
+        |_| {},
+    )
+    .unwrap()
+    .quality
+    .expect("asked for")
+}
+
+/// The regression the shipped scene was held back by: a sweep towards +X turns the hair on the
+/// head's −X side into it, and sim weight 1 followed it there. Lifted, the posed hair stays
+/// outside and unstretched; without the lift the same keys put hair centimetres deep. (Lifted,
+/// measured 2026-11-24: 0.055 % of point-frames inside, deepest 0.61 mm, stretch p99 0.39 %,
+/// max 2.4 % — a sweep this hard against the head leaves a few points of the hand-over blend,
+/// frames 6–14, touching it and stretched; the bounds are those figures with a margin.)
+#[test]
+fn a_sweep_into_the_head_is_lifted_out_of_it_with_lengths_kept() {
+    let into_head = "sweep = { direction = [1.0, 0.0, 0.0], angle_deg = 80.0 }";
+    let lifted = small_gust(into_head, "pose_clearance = 0.0035");
+    let p = lifted.run.penetration.as_ref().unwrap();
+    assert!(p.deepest <= 1e-3 && p.inside_fraction <= 1e-3, "{p:?}");
+    let stretch = &lifted.run.strain.stretch;
+    assert!(
+        stretch.p99() <= 0.01 && stretch.max() <= 0.03,
+        "{stretch:?}"
+    );
+    let free = small_gust(into_head, "");
+    let p = free.run.penetration.as_ref().unwrap();
+    assert!(p.deepest > 0.01, "without the lift: {p:?}");
+}
