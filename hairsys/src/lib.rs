@@ -44,6 +44,7 @@ pub mod children;
 pub mod error;
 pub mod export_shot;
 pub mod groom_input;
+pub mod plan;
 pub mod preview;
 pub mod quality;
 pub mod resume;
