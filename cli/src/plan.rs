@@ -151,7 +151,7 @@ pub fn table(p: &Plan) -> String {
     );
     let s = &p.scene_method;
     t += &format!(
-        "scene as written: {}: {} mm, predicted {:.1} s for {} frames\n",
+        "scene as written: {}: {} mm, predicted {:.1} s CPU for {} frames\n",
         s.method,
         mm(s.errors.rms_max),
         s.predicted_seconds,
@@ -160,7 +160,7 @@ pub fn table(p: &Plan) -> String {
     match p.choice() {
         Some(c) => {
             t += &format!(
-                "chosen: {}, {} sim hairs: {} mm RMS (tip {} mm), predicted {:.1} s ({:.1}x the scene as written)\n",
+                "chosen: {}, {} sim hairs: {} mm RMS (tip {} mm), predicted {:.1} s CPU ({:.1}x cheaper than the scene as written)\n",
                 c.method,
                 c.sim_hairs,
                 mm(c.errors.rms_max),
@@ -173,7 +173,7 @@ pub fn table(p: &Plan) -> String {
     }
     t += &format!(
         "\n{:<15} {:>10} {:>8} {:>9} {:>9} {:>9} {:>10} verdict\n",
-        "method", "substeps", "segments", "sim hairs", "rms mm", "tip mm", "predicted s"
+        "method", "substeps", "segments", "sim hairs", "rms mm", "tip mm", "cpu s"
     );
     for c in &p.candidates {
         t += &row(c);
@@ -186,7 +186,7 @@ pub fn table(p: &Plan) -> String {
         t += &format!("  {what}: {why}\n");
     }
     t += &format!(
-        "plan took {:.2} s ({:.1} % of the predicted {:.1} s run as written)\n",
+        "plan took {:.2} s CPU ({:.1} % of the predicted {:.1} s CPU of the run as written)\n",
         p.seconds,
         100.0 * p.seconds / s.predicted_seconds,
         s.predicted_seconds

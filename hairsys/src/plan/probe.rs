@@ -9,12 +9,11 @@
 //! [`strand_subset`] copies the chosen strands out of the built scene exactly (rest shapes,
 //! sag-free rest curvatures and lengths, masses, goals, pins), or rebuilt at another segment
 //! count: the groom polyline resampled at equal arc length, masses from the strand's linear
-//! density, and the sag-free rest state solved again for the new discretisation, as
-//! `SceneFile::build` would for `[hair] segments`.
+//! density, the springs rescaled to the same material ([`same_material`]), and the sag-free rest
+//! state solved again for the new discretisation, as `SceneFile::build` would for `[hair]
+//! segments`.
 
-use std::time::Instant;
-
-use hair_core::{HairError, Integrator, StrandInput, StrandSet, Substeps};
+use hair_core::{HairError, HairParams, Integrator, StrandInput, StrandSet, Substeps};
 use nalgebra::Vector3;
 
 use crate::plan::levels::farthest_points;
@@ -70,7 +69,7 @@ impl std::fmt::Display for Method {
 pub struct ProbeRun {
     /// Sampled positions per stepped frame.
     pub trace: Trace,
-    /// Wall-clock time of the steps, s.
+    /// CPU time of the steps summed over the process's threads, s ([`cpu_seconds`]).
     pub seconds: f64,
     /// Substeps per step the solver used (the last frame's).
     pub substeps: u32,
@@ -179,6 +178,20 @@ fn resampled(set: &StrandSet, s: usize, segments: u32) -> StrandInput {
     )
 }
 
+/// `params` of strands of `from` segments rescaled for the same strands cut into `to`: the
+/// springs are per segment, so the material they stand for is kept by keeping the axial
+/// stiffness `EA = k_s l` and the bending stiffness `EI = k_b l³` (a joint resists a turn with
+/// `k_b l²` N·m/rad, and `EI` is that times the segment length `l`). Without this, fewer
+/// segments would be a stiffer hair, not a coarser one.
+pub fn same_material(params: &HairParams, from: u32, to: u32) -> HairParams {
+    let r = to as f32 / from as f32;
+    HairParams {
+        stretch_stiffness: params.stretch_stiffness * r,
+        bend_stiffness: params.bend_stiffness * r * r * r,
+        ..*params
+    }
+}
+
 /// Runs `method` on the strands `keep` of the built scene `base` (whose strands are the full
 /// set `full`) over its frames, recording `samples` segments per strand.
 pub fn run(
@@ -206,6 +219,8 @@ pub fn run(
         .inextensible
         .then(hair_core::Inextensibility::default);
     if rebuild {
+        let from = (full.points(keep[0]).len() - 1) as u32;
+        sim.params = same_material(&sim.params, from, method.segments);
         let scalp = sim.scalp_at(sim.first_frame as f32);
         sim.strands.reset_to_rest(&scalp);
         if scene.scene.solver.sag_free {
@@ -233,7 +248,7 @@ pub fn run(
     let (first, last) = (sim.first_frame, sim.last_frame);
     let mut trace = Trace::new(&sim.strands, samples);
     let mut session = Session::from_simulation(sim, scene, "plan probe".into())?;
-    let start = Instant::now();
+    let start = cpu_seconds();
     let (mut substeps, mut point_substeps) = (0, 0);
     for _ in first..last {
         let report = session.step()?;
@@ -243,8 +258,30 @@ pub fn run(
     }
     Ok(ProbeRun {
         trace,
-        seconds: start.elapsed().as_secs_f64(),
+        seconds: cpu_seconds() - start,
         substeps,
         point_substeps,
+    })
+}
+
+/// CPU time the process's threads have run, s: on Linux the sum of every thread's
+/// `/proc/self/task/*/schedstat` (nanoseconds on a CPU), so that probes on a machine other work
+/// loads are timed by the work they do, not by the time they waited; elsewhere the wall clock
+/// since the first call.
+pub fn cpu_seconds() -> f64 {
+    let from_proc = || -> Option<f64> {
+        let mut ns = 0u64;
+        for task in std::fs::read_dir("/proc/self/task").ok()? {
+            let text = std::fs::read_to_string(task.ok()?.path().join("schedstat")).ok()?;
+            ns += text.split_whitespace().next()?.parse::<u64>().ok()?;
+        }
+        Some(ns as f64 * 1e-9)
+    };
+    static START: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
+    from_proc().unwrap_or_else(|| {
+        START
+            .get_or_init(std::time::Instant::now)
+            .elapsed()
+            .as_secs_f64()
     })
 }

@@ -6,13 +6,14 @@
 //! simple values `plan` writes (numbers, booleans, strings without `#`) are handled; the result
 //! is parsed again before it is returned.
 
-use crate::plan::probe::integrator_word;
+use crate::plan::probe::{integrator_word, same_material};
 use crate::plan::Candidate;
 use crate::scene::SceneFile;
 use crate::Error;
 
 /// `scene`'s text with `choice` written into it (`[solver] integrator`, `substeps`,
-/// `inextensibility`; `[hair] segments` and `count` or `[sim_hairs] count`; with fewer sim hairs
+/// `inextensibility`; `[hair] segments` with `[physics]` stiffnesses for the same material,
+/// and `[hair] count` or `[sim_hairs] count`; with fewer sim hairs
 /// than strands and no `[children]`, interpolated render children as many as the strands were),
 /// and a comment line saying what the plan chose. `total` is the scene's strand count.
 pub fn chosen_scene(
@@ -47,6 +48,19 @@ pub fn chosen_scene(
     if let Some(h) = &s.hair {
         if h.segments != m.segments {
             text = set_key(&text, "hair", "segments", &m.segments.to_string());
+            let p = same_material(&s.physics, h.segments, m.segments);
+            text = set_key(
+                &text,
+                "physics",
+                "stretch_stiffness",
+                &p.stretch_stiffness.to_string(),
+            );
+            text = set_key(
+                &text,
+                "physics",
+                "bend_stiffness",
+                &p.bend_stiffness.to_string(),
+            );
         }
     }
     if choice.sim_hairs < total {
