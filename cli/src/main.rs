@@ -117,6 +117,15 @@ enum Command {
         /// Write the scene with the chosen settings here (comments and layout kept).
         #[arg(long, value_name = "OUT.toml")]
         write: Option<PathBuf>,
+        /// Also re-run the chosen scene on the whole groom against the reference, over the
+        /// probed frames and over the whole shot (costs two full-groom reference runs).
+        #[arg(long)]
+        verify: bool,
+        /// Instead of planning, the sim-hair study: render hairs interpolated from each of these
+        /// sim-hair counts against every strand simulated, with the scene's settings, over
+        /// --frames (default: the whole shot), e.g. --levels 50,100,200,500,1000,2000.
+        #[arg(long, value_delimiter = ',', value_name = "COUNTS")]
+        levels: Vec<usize>,
         /// Print nothing but errors.
         #[arg(long, conflicts_with = "json")]
         quiet: bool,
@@ -639,6 +648,8 @@ fn main() -> ExitCode {
             tolerance,
             frames,
             write,
+            verify,
+            levels,
             quiet,
             json,
         } => report(
@@ -647,6 +658,8 @@ fn main() -> ExitCode {
                 tolerance,
                 frames,
                 write,
+                verify,
+                levels,
                 json,
                 quiet,
                 budget,

@@ -3,7 +3,8 @@
 use std::path::{Path, PathBuf};
 
 use hairsys::budget::Budget;
-use hairsys::plan::{plan, write::chosen_scene, Candidate, Plan, PlanOptions, Verdict};
+use hairsys::plan::study::{knee, sim_hair_levels};
+use hairsys::plan::{plan, verify, write::chosen_scene, Candidate, Plan, PlanOptions, Verdict};
 use hairsys::scene::SceneFile;
 
 use crate::output;
@@ -19,6 +20,10 @@ pub struct PlanArgs {
     pub frames: Option<(u32, u32)>,
     /// Where to write the chosen scene.
     pub write: Option<PathBuf>,
+    /// Re-run the chosen scene on the whole groom against the reference.
+    pub verify: bool,
+    /// Run the sim-hair study for these counts instead of planning.
+    pub levels: Vec<usize>,
     /// JSON on stdout instead of the table.
     pub json: bool,
     /// Nothing but errors.
@@ -53,6 +58,9 @@ pub fn parse_length(s: &str) -> Result<f32, String> {
 pub fn run(args: &PlanArgs) -> Result<(), (i32, String)> {
     let mut scene = SceneFile::load(&args.scene).map_err(|e| (2, e.to_string()))?;
     scene.budget = args.budget;
+    if !args.levels.is_empty() {
+        return levels(&scene, args);
+    }
     let mut opts = PlanOptions::new(args.tolerance);
     opts.frames = args.frames;
     let chatty = !args.quiet && !args.json;
@@ -77,14 +85,42 @@ pub fn run(args: &PlanArgs) -> Result<(), (i32, String)> {
         write_file(out, &text)?;
         written = Some(out.display().to_string());
     }
+    let mut verified = Vec::new();
+    if let (true, Some(c)) = (args.verify, p.choice()) {
+        let text = chosen_scene(&scene, c, p.strands, "verify").map_err(|e| (2, e.to_string()))?;
+        let chosen = SceneFile::parse(&text, &scene.origin, scene.base_dir.clone())
+            .map_err(|e| (2, e.to_string()))?;
+        let last = scene.scene.scene.frames[1];
+        for frames in [p.probe_frames, (p.probe_frames.0, last)] {
+            if chatty {
+                eprintln!("verify: the whole groom, frames {}-{}", frames.0, frames.1);
+            }
+            let e = verify::rerun(&scene, &chosen, p.reference, frames, opts.samples)
+                .map_err(|e| (e.exit_code(), e.to_string()))?;
+            verified.push((frames, e));
+        }
+    }
     if args.json {
         let mut v = serde_json::to_value(&p).expect("plans serialise");
         v["written"] = serde_json::json!(written);
+        v["verified"] = serde_json::json!(verified
+            .iter()
+            .map(|(f, e)| serde_json::json!({ "frames": [f.0, f.1], "errors": e }))
+            .collect::<Vec<_>>());
         output::line(&serde_json::to_string_pretty(&v).expect("values serialise"));
     } else if !args.quiet {
         output::block(&table(&p));
         if let Some(w) = &written {
             output::line(&format!("wrote {w}"));
+        }
+        for (f, e) in &verified {
+            output::line(&format!(
+                "verified on the whole groom, frames {}-{}: {} mm RMS worst frame (tip {} mm)",
+                f.0,
+                f.1,
+                mm(e.rms_max),
+                mm(e.tip_max)
+            ));
         }
     }
     match p.choice() {
@@ -97,6 +133,49 @@ pub fn run(args: &PlanArgs) -> Result<(), (i32, String)> {
             ),
         )),
     }
+}
+
+/// The sim-hair study (`--levels`): a markdown table on stdout, or JSON.
+fn levels(scene: &SceneFile, args: &PlanArgs) -> Result<(), (i32, String)> {
+    let frames = args
+        .frames
+        .unwrap_or((scene.scene.scene.frames[0], scene.scene.scene.frames[1]));
+    if !args.quiet && !args.json {
+        eprintln!(
+            "simulating every strand, then {} sim-hair counts, frames {}-{}",
+            args.levels.len(),
+            frames.0,
+            frames.1
+        );
+    }
+    let rows = sim_hair_levels(scene, frames, &args.levels, 8)
+        .map_err(|e| (e.exit_code(), e.to_string()))?;
+    // The full run is the reference itself (zero error by construction): the knee is among
+    // the fewer counts.
+    let k = knee(&rows[..rows.len() - 1]);
+    if args.json {
+        output::line(
+            &serde_json::to_string_pretty(&serde_json::json!({ "rows": rows, "knee": k }))
+                .expect("values serialise"),
+        );
+    } else if !args.quiet {
+        let mut t = String::from(
+            "| sim hairs | CPU ms/frame | worst-frame RMS mm | RMS mm | worst-frame tip RMS mm |\n|---|---|---|---|---|\n",
+        );
+        for (i, r) in rows.iter().enumerate() {
+            t += &format!(
+                "| {}{} | {:.1} | {} | {} | {} |\n",
+                r.sim_hairs,
+                if Some(i) == k { " (knee)" } else { "" },
+                r.ms_per_frame,
+                mm(r.errors.rms_max),
+                mm(r.errors.rms),
+                mm(r.errors.tip_max)
+            );
+        }
+        output::block(&t);
+    }
+    Ok(())
 }
 
 fn write_file(out: &Path, text: &str) -> Result<(), (i32, String)> {

@@ -59,3 +59,46 @@ fn a_tolerance_nothing_meets_chooses_nothing() {
     assert!(p.choice().is_none());
     assert!(p.candidates.iter().all(|c| c.errors.rms_max > 1e-7));
 }
+
+/// The default head scene planned for 2 mm and 5 mm, each choice re-run on all 4,000 strands
+/// over the probed frames and over the whole shot, against the plan's reference. Slow (two
+/// full-groom reference runs per tolerance); prints the (cost, error) points for the bench
+/// chart:
+/// `cargo test --release -p hairsys --test plan -- --ignored --nocapture default_scene`
+#[test]
+#[ignore = "slow: full-groom reference runs of the default scene"]
+fn default_scene_plans_meet_their_tolerance_on_the_whole_groom() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/default.toml");
+    let scene = SceneFile::load(&path).unwrap();
+    for tolerance in [2e-3, 5e-3] {
+        let p = plan(&scene, &PlanOptions::new(tolerance), &mut |_| {}).unwrap();
+        let choice = p.choice().expect("a choice").clone();
+        let text = chosen_scene(&scene, &choice, p.strands, "test").unwrap();
+        let chosen = SceneFile::parse(&text, "chosen", scene.base_dir.clone()).unwrap();
+        let probed = verify::rerun(&scene, &chosen, p.reference, p.probe_frames, 8).unwrap();
+        let shot = (p.probe_frames.0, scene.scene.scene.frames[1]);
+        let whole = verify::rerun(&scene, &chosen, p.reference, shot, 8).unwrap();
+        eprintln!(
+            "tolerance {:.1} mm: {}, {} sim hairs; plan {:.2} s CPU; predicted {:.2} s CPU \
+             (scene as written {:.2} s, {:.2} mm); probe {:.2} mm; whole groom frames {}-{} \
+             {:.2} mm (tip {:.2}); frames {}-{} {:.2} mm (tip {:.2})",
+            tolerance * 1e3,
+            choice.method,
+            choice.sim_hairs,
+            p.seconds,
+            choice.predicted_seconds,
+            p.scene_method.predicted_seconds,
+            p.scene_method.errors.rms_max * 1e3,
+            choice.errors.rms_max * 1e3,
+            p.probe_frames.0,
+            p.probe_frames.1,
+            probed.rms_max * 1e3,
+            probed.tip_max * 1e3,
+            shot.0,
+            shot.1,
+            whole.rms_max * 1e3,
+            whole.tip_max * 1e3,
+        );
+        assert!(probed.rms_max <= tolerance, "{probed:?}");
+    }
+}

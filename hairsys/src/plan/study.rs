@@ -84,9 +84,9 @@ pub fn knee(rows: &[LevelRow]) -> Option<usize> {
         let gap = |i: usize| {
             let x = (cost(&rows[i]) - c0) / span(c0, c1);
             let y = (err(&rows[i]) - e0) / span(e0, e1);
-            // The line runs from (0, 0) to (1, 1); below it the error has fallen faster than
-            // the cost has grown.
-            x - y
+            // `y` is the fraction of the error removed, `x` the fraction of the cost spent:
+            // the knee has removed the most error beyond what the cost alone would buy.
+            y - x
         };
         gap(a).total_cmp(&gap(b))
     })
