@@ -91,7 +91,11 @@ pub fn run(args: &PlanArgs) -> Result<(), (i32, String)> {
         let chosen = SceneFile::parse(&text, &scene.origin, scene.base_dir.clone())
             .map_err(|e| (2, e.to_string()))?;
         let last = scene.scene.scene.frames[1];
-        for frames in [p.probe_frames, (p.probe_frames.0, last)] {
+        let mut windows = vec![p.probe_frames];
+        if p.probe_frames.1 != last {
+            windows.push((p.probe_frames.0, last));
+        }
+        for frames in windows {
             if chatty {
                 eprintln!("verify: the whole groom, frames {}-{}", frames.0, frames.1);
             }
