@@ -6,6 +6,7 @@ pub mod bench;
 pub mod cache_export;
 pub mod cards;
 pub mod output;
+pub mod plan;
 pub mod progress;
 pub mod quality_text;
 pub mod scene_check;

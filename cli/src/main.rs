@@ -103,6 +103,36 @@ enum Command {
     },
     /// Print the manual page (roff): `hairsys man > hairsys.1; man ./hairsys.1`.
     Man,
+    /// Probe a scene for a few frames and choose the cheapest integrator, substeps, segments and
+    /// sim-hair count whose error against a converged probe stays within a tolerance.
+    Plan {
+        /// Scene file (TOML).
+        scene: PathBuf,
+        /// Largest accepted error (worst frame's RMS position error), e.g. 2mm, 0.5cm, 0.002.
+        #[arg(long, value_parser = hairsys_cli::plan::parse_length)]
+        tolerance: f32,
+        /// Frames to probe FIRST-LAST [default: the scene's first frame and the 12 after it].
+        #[arg(long, value_parser = parse_range)]
+        frames: Option<(u32, u32)>,
+        /// Write the scene with the chosen settings here (comments and layout kept).
+        #[arg(long, value_name = "OUT.toml")]
+        write: Option<PathBuf>,
+        /// Also re-run the chosen scene on the whole groom against the reference, over the
+        /// probed frames and over the whole shot (costs two full-groom reference runs).
+        #[arg(long)]
+        verify: bool,
+        /// Instead of planning, the sim-hair study: render hairs interpolated from each of these
+        /// sim-hair counts against every strand simulated, with the scene's settings, over
+        /// --frames (default: the whole shot), e.g. --levels 50,100,200,500,1000,2000.
+        #[arg(long, value_delimiter = ',', value_name = "COUNTS")]
+        levels: Vec<usize>,
+        /// Print nothing but errors.
+        #[arg(long, conflicts_with = "json")]
+        quiet: bool,
+        /// Print the plan as JSON on stdout.
+        #[arg(long)]
+        json: bool,
+    },
     /// Speed against accuracy: reference cases, the Pareto chart, the stability map.
     Bench {
         /// Small cases and grids (seconds instead of minutes).
@@ -613,6 +643,29 @@ fn main() -> ExitCode {
                 }
             }
         }
+        Command::Plan {
+            scene,
+            tolerance,
+            frames,
+            write,
+            verify,
+            levels,
+            quiet,
+            json,
+        } => report(
+            hairsys_cli::plan::run(&hairsys_cli::plan::PlanArgs {
+                scene,
+                tolerance,
+                frames,
+                write,
+                verify,
+                levels,
+                json,
+                quiet,
+                budget,
+            })
+            .map_err(|(code, message)| Failure { code, message }),
+        ),
         Command::Bench {
             quick,
             out,

@@ -45,6 +45,7 @@ pub mod error;
 pub mod export_shot;
 pub mod groom_input;
 pub mod maps;
+pub mod plan;
 pub mod preview;
 pub mod quality;
 pub mod resume;
