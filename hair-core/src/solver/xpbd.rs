@@ -26,10 +26,16 @@
 //! 1. **predict**: `v += h (g − drag v + a_ext)` (gravity, air drag, force fields and hair–hair
 //!    repulsion), kinematic points get the velocity of their prescribed motion, `p = x + h v`;
 //! 2. **stretch**: constraints `C_j = |p_{j+1} − p_j| − l_j` with compliance `α = 1/k_stretch`
-//!    (m/N); one Newton step of the compliant system `(G W Gᵀ + α/h²) Δλ = −C(p)` (`G` the
-//!    constraint gradients; tridiagonal, diagonal `w_j + w_{j+1} + α/h²`, off-diagonal
-//!    `−w_{j+1} t_j·t_{j+1}`), then `p += W Gᵀ Δλ`. At a fixed point this gives exactly the
-//!    spring's statics `len − l = T/k` (the hanging-chain test checks it);
+//!    (m/N); one Newton step of the compliant system `(G(p) W G(x)ᵀ + α/h²) Δλ = −C(p)`, then
+//!    `p += W G(x)ᵀ Δλ`: the corrections act along each segment's direction at the substep's
+//!    *start* `x`, as in SHAKE (Ryckaert, Ciccotti and Berendsen 1977; Goldenthal et al. 2007
+//!    compare it with the end-of-step direction). The matrix is tridiagonal, solved by the Thomas
+//!    algorithm: diagonal `(w_j + w_{j+1}) ĉ_j·t_j + α/h²`, off-diagonals `−w_{j+1} ĉ_j·t_{j+1}`
+//!    and `−w_{j+1} ĉ_{j+1}·t_j` (`ĉ` current, `t` start directions). At a fixed point at rest
+//!    this gives exactly the spring's statics `len − l = T/k` (the hanging-chain test checks it);
+//!    a segment that turns by more than 60° in one substep (far beyond any step this method is
+//!    meant for) takes its current direction instead, where the linearisation about the start
+//!    would be ill-conditioned;
 //! 3. **bending**: one Gauss–Seidel sweep root to tip over the joints of [`super::curvature`],
 //!    each a vector constraint `C_j = κ_j − K_j` (curvature binormal against its rest value in
 //!    the previous segment's frame, parallel-transported from the root frame along the sweep)
@@ -39,7 +45,7 @@
 //!    `(I − t tᵀ)/len`), solved by Cholesky; the root joint measures the first segment against its
 //!    rest direction in the root frame, as the energy does;
 //! 4. **goal springs**: `C = p − target` with compliance `1/(k_goal w_goal)`, solved per point;
-//! 5. the **velocity** `v = (p − x)/h`, the damping sub-loop on it ([`super::damping`]; the
+//! 5. the **velocity** `v = (p − x)/h` (see "Round-off"), the damping sub-loop on it ([`super::damping`]; the
 //!    stretch damping's meaning is unchanged), then the contact response, the position update,
 //!    the inextensibility projection and the strain limit exactly as the other integrators run
 //!    them ([`super::kernel::finish_substep`]): contacts get the last word on the velocity.
@@ -49,12 +55,28 @@
 //!
 //! # Accuracy and damping
 //!
-//! First order in `h`, like semi-implicit Euler. The bending sweep is one Gauss–Seidel pass, so
-//! each joint's correction is exact for that joint alone: its statics carry an error that
-//! vanishes with `h`, and a very stiff strand at a very large step is softer than its `k` (stable,
-//! though). The projection takes the energy of the motion it removes (stretch and bending modes
-//! faster than `1/h`) instead of letting them ring: `tests/tests/xpbd.rs` measures the damping
-//! of a pendulum's swing and of an undamped chain's energy.
+//! First order in `h`, like semi-implicit Euler. Why the start direction: with the direction at
+//! the predicted position (plain PBD/XPBD), the outward part of gravity's `h² g` in the
+//! prediction is projected out along a direction that has turned, which shortens the swing's
+//! step by `≈ (ωh)²` per substep — 13.5 % of a pendulum's amplitude per period at h = 1/96 s,
+//! as much as backward Euler loses. With the start direction, the tangential motion is
+//! semi-implicit Euler's and the pendulum keeps its amplitude and semi-implicit Euler's period
+//! (`tests/tests/xpbd.rs`). The stiff modes (stretch, bending faster than `1/h`) are damped by the
+//! compliance term as in backward Euler, which is what makes large steps stable.
+//!
+//! The bending sweep is one Gauss–Seidel pass with end-of-step gradients, so each joint's
+//! correction is exact for that joint alone: its statics carry an error that vanishes with `h`,
+//! a very stiff strand at a very large step is softer than its `k`, and it damps bending
+//! motion (an undamped swinging chain with bending loses a third of its energy in 10 s at
+//! h = 1/192 s; the test reports it).
+//!
+//! # Round-off
+//!
+//! The solve works on the displacement `d = p − x` of each point, not on `p`: segment vectors are
+//! `(x_{j+1} − x_j) + (d_{j+1} − d_j)`, and the velocity is `d / h`. Taking `(p − x)/h` instead
+//! divides the f32 round-off of `p` (3·10⁻⁸ m at 0.5 m) by `h`; at 1,000 substeps per frame the
+//! constraint corrections are that small, and a swinging chain stopped converging as the step
+//! shrank (it drifted by centimetres).
 
 use super::damping::damp_segments;
 use super::dispatch::avx2_copy;
@@ -79,10 +101,14 @@ pub(crate) fn auto_substeps(step_dt: f64) -> u32 {
 /// Per-thread buffers of the XPBD substep, refitted to each group.
 #[derive(Default)]
 pub(crate) struct XpbdScratch<L: Lane> {
-    /// Positions at the substep's start, m.
-    start: Vec<V3<L>>,
-    /// Per segment: unit direction of the predicted positions.
+    /// Displacement of each point over the substep, m: the solve's positions are `x + disp`,
+    /// kept apart so that the velocity `disp / h` does not take the round-off of `x` (module
+    /// docs, "Round-off").
+    disp: Vec<V3<L>>,
+    /// Per segment: unit direction at the substep's start (the direction of its corrections).
     tangent: Vec<V3<L>>,
+    /// Per segment: unit direction at the current positions (its constraint's gradient).
+    current: Vec<V3<L>>,
     /// Per segment: right-hand side `−C`, then the Thomas solve's modified right-hand side and
     /// the solution `Δλ`.
     rhs: Vec<L>,
@@ -97,10 +123,12 @@ impl<L: Lane> XpbdScratch<L> {
     /// Sizes the buffers for the gathered group `g` and takes the rest curvatures from it.
     fn fit(&mut self, g: &Scratch<L>, c: &StepConstants) {
         let n = g.x.len();
-        self.start.clear();
-        self.start.resize(n, V3::default());
-        self.tangent.clear();
-        self.tangent.resize(n - 1, V3::default());
+        self.disp.clear();
+        self.disp.resize(n, V3::default());
+        for buf in [&mut self.tangent, &mut self.current] {
+            buf.clear();
+            buf.resize(n - 1, V3::default());
+        }
         for buf in [&mut self.rhs, &mut self.factor] {
             buf.clear();
             buf.resize(n - 1, L::default());
@@ -162,31 +190,29 @@ pub(crate) fn step_group_xpbd<L: Lane>(
             let kinematic = kinematic_velocity(g, i, &origin, &rot, inv_h);
             g.v[i] = V3::select(g.free[i].simd_gt(zero), &g.v[i], &kinematic);
         }
-        s.start.copy_from_slice(&g.x);
         for i in 0..n {
-            g.x[i] += g.v[i] * h;
+            s.disp[i] = g.v[i] * h;
         }
         // 2–4. The constraints, on the predicted positions.
         if c.stretch > 0.0 {
             solve_stretch(g, &mut s, inv_h2 * splat(1.0 / c.stretch));
         }
         if c.bend > 0.0 {
-            sweep_bending(g, &s, &rot, inv_h2);
+            sweep_bending(g, &mut s, &rot, inv_h2);
         }
         if c.goal > 0.0 {
-            pull_to_goals(g, &origin, &rot, h * h);
+            pull_to_goals(g, &mut s, &origin, &rot, h * h);
         }
-        // 5. The velocity that moved each free point there; positions back to the start, so
-        // that the shared end of the substep (contacts, position update, projections) runs on
-        // them as after any other integrator's velocity update.
+        // 5. The velocity that moves each free point there; the shared end of the substep
+        // (contacts, position update, projections) runs on it as after any other integrator's
+        // velocity update.
         for i in 0..n {
-            let moved = (g.x[i] - s.start[i]) * inv_h;
+            let moved = s.disp[i] * inv_h;
             g.v[i] = V3::select(g.free[i].simd_gt(zero), &moved, &g.v[i]);
-            g.x[i] = s.start[i];
         }
         if c.damp_fraction > 0.0 {
             for j in 0..n - 1 {
-                let d = (g.x[j + 1] + g.v[j + 1] * h) - (g.x[j] + g.v[j] * h);
+                let d = (g.x[j + 1] - g.x[j]) + (s.disp[j + 1] - s.disp[j]);
                 g.tangent[j + 1] = d * div_or_zero(splat(1.0), d.dot(&d).sqrt(), 1e-9);
             }
             damp_segments(
@@ -209,36 +235,44 @@ pub(crate) fn step_group_xpbd<L: Lane>(
 /// the compliant tridiagonal system solved by the Thomas algorithm, `compliance` = `α/h²`
 /// (1/kg: `1/(k h²)`).
 #[inline(always)]
-fn solve_stretch<L: Lane>(g: &mut Scratch<L>, s: &mut XpbdScratch<L>, compliance: L) {
+fn solve_stretch<L: Lane>(g: &Scratch<L>, s: &mut XpbdScratch<L>, compliance: L) {
     let m = g.rest_length.len();
     let one = splat::<L>(1.0);
     for j in 0..m {
-        let d = g.x[j + 1] - g.x[j];
+        let start = g.x[j + 1] - g.x[j];
+        let d = start + (s.disp[j + 1] - s.disp[j]);
         let len = d.dot(&d).sqrt();
-        s.tangent[j] = d * div_or_zero(one, len, 1e-9);
+        let before = start * div_or_zero(one, start.dot(&start).sqrt(), 1e-9);
+        s.current[j] = d * div_or_zero(one, len, 1e-9);
+        // A segment that turns by more than 60° within the substep takes its current direction
+        // (the linearisation about the start would be ill-conditioned; module docs).
+        let turned = s.current[j].dot(&before).simd_gt(splat(0.5));
+        s.tangent[j] = V3::select(turned, &before, &s.current[j]);
         s.rhs[j] = g.rest_length[j] - len;
     }
-    // Forward elimination: diagonal w_j + w_{j+1} + α̃, upper (j, j + 1) −w_{j+1} t_j·t_{j+1}.
-    let mut upper_prev = splat::<L>(0.0);
+    // Forward elimination of the tridiagonal G(p) W G(x)ᵀ + α̃ (rows: current gradients,
+    // columns: start directions): diagonal (w_j + w_{j+1}) ĉ_j·t_j + α̃, upper (j, j + 1)
+    // −w_{j+1} ĉ_j·t_{j+1}, lower (j + 1, j) −w_{j+1} ĉ_{j+1}·t_j.
     for j in 0..m {
-        let diag = g.inv_mass[j] + g.inv_mass[j + 1] + compliance;
+        let diag =
+            (g.inv_mass[j] + g.inv_mass[j + 1]) * s.current[j].dot(&s.tangent[j]) + compliance;
         let (den, rhs) = if j == 0 {
             (diag, s.rhs[0])
         } else {
+            let lower = L::default() - g.inv_mass[j] * s.current[j].dot(&s.tangent[j - 1]);
             (
-                diag - upper_prev * s.factor[j - 1],
-                s.rhs[j] - upper_prev * s.rhs[j - 1],
+                diag - lower * s.factor[j - 1],
+                s.rhs[j] - lower * s.rhs[j - 1],
             )
         };
         let inv = div_or_zero(one, den, 0.0);
         let upper = if j + 1 < m {
-            L::default() - g.inv_mass[j + 1] * s.tangent[j].dot(&s.tangent[j + 1])
+            L::default() - g.inv_mass[j + 1] * s.current[j].dot(&s.tangent[j + 1])
         } else {
             L::default()
         };
         s.factor[j] = upper * inv;
         s.rhs[j] = rhs * inv;
-        upper_prev = upper;
     }
     for j in (0..m.saturating_sub(1)).rev() {
         s.rhs[j] = s.rhs[j] - s.factor[j] * s.rhs[j + 1];
@@ -246,8 +280,8 @@ fn solve_stretch<L: Lane>(g: &mut Scratch<L>, s: &mut XpbdScratch<L>, compliance
     // p_i += w_i (t_{i−1} Δλ_{i−1} − t_i Δλ_i).
     for j in 0..m {
         let push = s.tangent[j] * s.rhs[j];
-        g.x[j] -= push * g.inv_mass[j];
-        g.x[j + 1] += push * g.inv_mass[j + 1];
+        s.disp[j] -= push * g.inv_mass[j];
+        s.disp[j + 1] += push * g.inv_mass[j + 1];
     }
 }
 
@@ -336,7 +370,7 @@ fn solve_sym3<L: Lane>(a: &[L; 6], b: &V3<L>) -> V3<L> {
 /// One Gauss–Seidel sweep of the bending joints root to tip (module docs, step 3); `inv_h2` is
 /// `1/h²`, `rot` the root frame at the substep's end.
 #[inline(always)]
-fn sweep_bending<L: Lane>(g: &mut Scratch<L>, s: &XpbdScratch<L>, rot: &M3<L>, inv_h2: L) {
+fn sweep_bending<L: Lane>(g: &Scratch<L>, s: &mut XpbdScratch<L>, rot: &M3<L>, inv_h2: L) {
     let n = g.x.len();
     let (zero, one) = (splat::<L>(0.0), splat::<L>(1.0));
     let unit = |d: V3<L>| {
@@ -350,11 +384,11 @@ fn sweep_bending<L: Lane>(g: &mut Scratch<L>, s: &XpbdScratch<L>, rot: &M3<L>, i
     let r = g.root_rest;
     let root_dir = tp * r.x + up * r.y + tp.cross(&up) * r.z;
     for j in 0..n - 1 {
-        let (b, inv_b) = unit(g.x[j + 1] - g.x[j]);
+        let (b, inv_b) = unit((g.x[j + 1] - g.x[j]) + (s.disp[j + 1] - s.disp[j]));
         let (a, inv_a, rest) = if j == 0 {
             (root_dir, zero, V3::default())
         } else {
-            let (a, inv_a) = unit(g.x[j] - g.x[j - 1]);
+            let (a, inv_a) = unit((g.x[j] - g.x[j - 1]) + (s.disp[j] - s.disp[j - 1]));
             up = transport(&up, &tp, &a);
             tp = a;
             let k = s.rest_curvature[j];
@@ -380,10 +414,10 @@ fn sweep_bending<L: Lane>(g: &mut Scratch<L>, s: &XpbdScratch<L>, rot: &M3<L>, i
         jb.add_gram(w2, &mut mat);
         let lambda = solve_sym3(&mat, &(zero_v::<L>() - c));
         if j > 0 {
-            g.x[j - 1] -= ja.transpose_mul(&lambda) * w0;
+            s.disp[j - 1] -= ja.transpose_mul(&lambda) * w0;
         }
-        g.x[j] += jm.transpose_mul(&lambda) * w1;
-        g.x[j + 1] += jb.transpose_mul(&lambda) * w2;
+        s.disp[j] += jm.transpose_mul(&lambda) * w1;
+        s.disp[j + 1] += jb.transpose_mul(&lambda) * w2;
     }
 }
 
@@ -396,14 +430,99 @@ fn zero_v<L: Lane>() -> V3<L> {
 /// Goal springs as compliant constraints `p − target` (module docs, step 4), targets at the
 /// substep's end (`origin`, `rot`); `h2` is `h²`.
 #[inline(always)]
-fn pull_to_goals<L: Lane>(g: &mut Scratch<L>, origin: &V3<L>, rot: &M3<L>, h2: L) {
+fn pull_to_goals<L: Lane>(
+    g: &Scratch<L>,
+    s: &mut XpbdScratch<L>,
+    origin: &V3<L>,
+    rot: &M3<L>,
+    h2: L,
+) {
     let one = splat::<L>(1.0);
     for i in 0..g.x.len() {
         // w k h² / (1 + w k h²): the share of the offset a compliant constraint removes.
         let stiff = g.inv_mass[i] * g.goal_k[i] * h2;
         let share = stiff / (one + stiff);
         let target = *origin + rot.mul(&g.rest_local[i]);
-        let pull = (target - g.x[i]) * share;
-        g.x[i] += pull;
+        let pull = ((target - g.x[i]) - s.disp[i]) * share;
+        s.disp[i] += pull;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::Vector3;
+
+    use super::super::lanes::Baseline;
+    use super::*;
+
+    type L = Baseline;
+
+    fn v3(x: f32, y: f32, z: f32) -> V3<L> {
+        V3::splat(&Vector3::new(x, y, z))
+    }
+
+    /// The curvature binormal of points `p` (joint at `p[1]`).
+    fn kappa(p: &[Vector3<f64>; 3]) -> Vector3<f64> {
+        let a = (p[1] - p[0]).normalize();
+        let b = (p[2] - p[1]).normalize();
+        2.0 * a.cross(&b) / (1.0 + a.dot(&b))
+    }
+
+    /// The rows `sweep_bending` builds for a joint are the derivatives of `κ` in its three points
+    /// (checked against central differences in f64).
+    #[test]
+    fn bending_constraint_gradients_match_finite_differences() {
+        let p = [
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(0.02, 0.003, -0.011),
+            Vector3::new(0.031, 0.017, -0.02),
+        ];
+        let lanes = p.map(|q| {
+            let q = q.cast::<f32>();
+            v3(q.x, q.y, q.z)
+        });
+        let one = splat::<L>(1.0);
+        let unit = |d: V3<L>| {
+            let inv = one / d.dot(&d).sqrt();
+            (d * inv, inv)
+        };
+        let (a, inv_a) = unit(lanes[1] - lanes[0]);
+        let (b, inv_b) = unit(lanes[2] - lanes[1]);
+        let chi = one / (one + a.dot(&b));
+        let kap = a.cross(&b) * (chi * splat::<L>(2.0));
+        let jb = Rows::curvature_gradient(chi, &a, &(zero_v::<L>() - kap), &b, inv_b);
+        let ja = Rows::curvature_gradient(chi, &(zero_v::<L>() - b), &kap, &a, inv_a);
+        let grads = [Rows(ja.0.map(|r| zero_v::<L>() - r)), ja.minus(&jb), jb];
+        let eps = 1e-6;
+        for (point, grad) in grads.iter().enumerate() {
+            for axis in 0..3 {
+                let mut plus = p;
+                let mut minus = p;
+                plus[point][axis] += eps;
+                minus[point][axis] -= eps;
+                let fd = (kappa(&plus) - kappa(&minus)) / (2.0 * eps);
+                for row in 0..3 {
+                    let analytic = grad.0[row].lane(0)[axis] as f64;
+                    assert!(
+                        (analytic - fd[row]).abs() < 1e-3 * (1.0 + fd[row].abs()),
+                        "∂κ_{row}/∂x_{point},{axis}: {analytic} against {}",
+                        fd[row]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn symmetric_three_by_three_solve_inverts_the_matrix() {
+        let a = [4.0, 3.0, 5.0, 1.0, -0.5, 0.7].map(splat::<L>);
+        let b = v3(1.0, -2.0, 0.5);
+        let x = solve_sym3(&a, &b);
+        let back = V3 {
+            x: a[0] * x.x + a[3] * x.y + a[4] * x.z,
+            y: a[3] * x.x + a[1] * x.y + a[5] * x.z,
+            z: a[4] * x.x + a[5] * x.y + a[2] * x.z,
+        };
+        assert!((back - b).lane(0).norm() < 1e-5, "{:?}", back.lane(0));
     }
 }
