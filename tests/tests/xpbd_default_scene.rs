@@ -106,7 +106,6 @@ fn p99(values: &[f32]) -> f32 {
     v[(0.99 * (v.len() - 1) as f64) as usize]
 }
 
-
 fn counts(var: &str, default: &str) -> Vec<u32> {
     std::env::var(var)
         .unwrap_or_else(|_| default.into())
@@ -179,7 +178,12 @@ fn parity(integrator: &str, substeps: &str) -> SceneFile {
             &format!("integrator = \"{integrator}\""),
         )
         .replace("substeps = \"auto\"", &format!("substeps = {substeps}"));
-    SceneFile::parse(&text, "parity_collide (issue 22 measurement)", "scenes".into()).unwrap()
+    SceneFile::parse(
+        &text,
+        "parity_collide (issue 22 measurement)",
+        "scenes".into(),
+    )
+    .unwrap()
 }
 
 #[test]

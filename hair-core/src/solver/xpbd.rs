@@ -8,12 +8,14 @@
 //! ([`super::stability`]). XPBD (Macklin, Müller and Chentanez, "XPBD: Position-Based Simulation
 //! of Compliant Constrained Dynamics", MIG 2016) writes each elastic energy `½ k C(x)²` as a
 //! constraint `C` with compliance `α = 1/k` and solves, per step, for the positions where the
-//! constraint forces `−∇Cᵀ λ / h²` balance the inertia: the stiff parts are treated implicitly
+//! constraint forces `∇Cᵀ λ / h²` balance the inertia: the stiff parts are treated implicitly
 //! (a constraint's local solve is exact, so none overshoots), and the step follows accuracy.
 //! Macklin et al. ("Small Steps in Physics Simulation", SCA 2019) showed that one iteration per
 //! substep with many substeps beats many iterations per large step: the error is that of the
-//! substep, the iteration count no longer sets the stiffness, and the damping is small. This is
-//! that scheme. The stretch constraints along a strand are solved *directly*, all at once, by one
+//! substep, the iteration count no longer sets the stiffness, and the damping is small. This
+//! follows that scheme with a few ([`ITERATIONS`]) rounds per substep of (stretch solve, bending
+//! sweep), each on the multipliers accumulated so far: one round left the bending far from
+//! converged (see "Accuracy and damping"). The stretch constraints along a strand are solved *directly*, all at once, by one
 //! tridiagonal (Thomas) solve per strand, as Deul, Kugelstadt, Weiler and Bender ("Direct
 //! Position-Based Solver for Stiff Rods", CGF 2018) solve a rod's constraints with an O(n) direct
 //! solver instead of Gauss–Seidel, whose convergence along a stiff chain is slow (a hanging
@@ -26,7 +28,8 @@
 //! 1. **predict**: `v += h (g − drag v + a_ext)` (gravity, air drag, force fields and hair–hair
 //!    repulsion), kinematic points get the velocity of their prescribed motion, `p = x + h v`;
 //! 2. **stretch**: constraints `C_j = |p_{j+1} − p_j| − l_j` with compliance `α = 1/k_stretch`
-//!    (m/N); one Newton step of the compliant system `(G(p) W G(x)ᵀ + α/h²) Δλ = −C(p)`, then
+//!    (m/N); per round, one Newton step of the compliant system
+//!    `(G(p) W G(x)ᵀ + α/h²) Δλ = −C(p) − (α/h²) λ`, `λ += Δλ`, then
 //!    `p += W G(x)ᵀ Δλ`: the corrections act along each segment's direction at the substep's
 //!    *start* `x`, as in SHAKE (Ryckaert, Ciccotti and Berendsen 1977; Goldenthal et al. 2007
 //!    compare it with the end-of-step direction). The matrix is tridiagonal, solved by the Thomas
@@ -36,10 +39,11 @@
 //!    a segment that turns by more than 60° in one substep (far beyond any step this method is
 //!    meant for) takes its current direction instead, where the linearisation about the start
 //!    would be ill-conditioned;
-//! 3. **bending**: one Gauss–Seidel sweep root to tip over the joints of [`super::curvature`],
+//! 3. **bending**: per round, one Gauss–Seidel sweep root to tip over the joints of [`super::curvature`],
 //!    each a vector constraint `C_j = κ_j − K_j` (curvature binormal against its rest value in
 //!    the previous segment's frame, parallel-transported from the root frame along the sweep)
-//!    with compliance `1/k_j` (rad/(N·m)): the 3×3 system `(J W Jᵀ + I/(k_j h²)) Δλ = −C_j`
+//!    with compliance `1/k_j` (rad/(N·m)): the 3×3 system
+//!    `(J W Jᵀ + I/(k_j h²)) Δλ = −C_j − λ_j/(k_j h²)`, `λ_j += Δλ`,
 //!    with `J` the gradient of `κ_j` in the joint's three points (`∂κ/∂b = χ (2[a]× − κ aᵀ)`,
 //!    `∂κ/∂a = −χ (2[b]× + κ bᵀ)`, `χ = 1/(1 + a·b)`, times the tangents' derivatives
 //!    `(I − t tᵀ)/len`), solved by Cholesky; the root joint measures the first segment against its
@@ -64,11 +68,17 @@
 //! (`tests/tests/xpbd.rs`). The stiff modes (stretch, bending faster than `1/h`) are damped by the
 //! compliance term as in backward Euler, which is what makes large steps stable.
 //!
-//! The bending sweep is one Gauss–Seidel pass with end-of-step gradients, so each joint's
-//! correction is exact for that joint alone: its statics carry an error that vanishes with `h`,
-//! a very stiff strand at a very large step is softer than its `k`, and it damps bending
+//! The bending sweeps are Gauss–Seidel passes with end-of-step gradients, so each joint's
+//! correction is exact for that joint alone. Where a joint is stiff for the step
+//! (`J W Jᵀ ≫ 1/(k h²)`: on the default scene at 12 substeps per frame by a factor of ~100) a few
+//! sweeps do not converge along the strand: its statics carry an error that vanishes with `h` but
+//! is large at the steps this method is meant for (a stiff cantilever at 16 substeps per frame
+//! hangs 5 cm lower than its equilibrium with 4 rounds, 9 cm with 1), and the sweeps damp bending
 //! motion (an undamped swinging chain with bending loses a third of its energy in 10 s at
-//! h = 1/192 s; the test reports it).
+//! h = 1/192 s; the test reports it). On the default scene this is 18–49 mm RMS from the
+//! reference at 4–16 substeps per frame (issue 22; the branch notes), so this integrator is not
+//! yet competitive: a direct (banded) solve of the bending constraints with the stretch ones, as
+//! Deul et al. 2018 do, is the next step.
 //!
 //! # Round-off
 //!
@@ -86,8 +96,10 @@ use super::kernel::{
 use super::lanes::{div_or_zero, splat, Lane, LANES, M3, V3};
 use crate::mesh::RootFrame;
 
-/// Longest substep `substeps = "auto"` takes with this integrator, s (an accuracy limit, measured
-/// on the default scene; see [`auto_substeps`]).
+/// Longest substep `substeps = "auto"` takes with this integrator, s: 12 substeps per frame at
+/// 24 fps, the implicit integrator's cost class. Not an accuracy limit: on the default scene this
+/// step gives 24 mm RMS against the converged reference (module docs), far from issue 22's
+/// 1.5 mm target.
 pub(crate) const AUTO_DT: f64 = 1.0 / 288.0;
 
 /// Substeps per step of length `step_dt` (s) that `substeps = "auto"` chooses with this
@@ -97,6 +109,10 @@ pub(crate) fn auto_substeps(step_dt: f64) -> u32 {
         .ceil()
         .clamp(1.0, u32::MAX as f64) as u32
 }
+
+/// Iterations of the stretch solve and the bending sweep per substep, each on the multipliers
+/// accumulated so far (XPBD's `Δλ = −(C + α̃ λ) / (∇C W ∇Cᵀ + α̃)`).
+const ITERATIONS: u32 = 4;
 
 /// Per-thread buffers of the XPBD substep, refitted to each group.
 #[derive(Default)]
@@ -114,6 +130,10 @@ pub(crate) struct XpbdScratch<L: Lane> {
     rhs: Vec<L>,
     /// Per segment: the Thomas solve's modified upper diagonal.
     factor: Vec<L>,
+    /// Per segment: the stretch multiplier accumulated over the substep's iterations, kg·m.
+    stretch_lambda: Vec<L>,
+    /// Per joint: the bending multiplier accumulated over the substep's iterations.
+    bend_lambda: Vec<V3<L>>,
     /// Rest curvature `K_j` per joint in the previous segment's frame: (unused, u, w), 1
     /// (`rest_moment / joint_k`).
     rest_curvature: Vec<V3<L>>,
@@ -129,7 +149,9 @@ impl<L: Lane> XpbdScratch<L> {
             buf.clear();
             buf.resize(n - 1, V3::default());
         }
-        for buf in [&mut self.rhs, &mut self.factor] {
+        self.bend_lambda.clear();
+        self.bend_lambda.resize(n - 1, V3::default());
+        for buf in [&mut self.rhs, &mut self.factor, &mut self.stretch_lambda] {
             buf.clear();
             buf.resize(n - 1, L::default());
         }
@@ -194,11 +216,15 @@ pub(crate) fn step_group_xpbd<L: Lane>(
             s.disp[i] = g.v[i] * h;
         }
         // 2–4. The constraints, on the predicted positions.
-        if c.stretch > 0.0 {
-            solve_stretch(g, &mut s, inv_h2 * splat(1.0 / c.stretch));
-        }
-        if c.bend > 0.0 {
-            sweep_bending(g, &mut s, &rot, inv_h2);
+        s.stretch_lambda.fill(zero);
+        s.bend_lambda.fill(V3::default());
+        for _ in 0..ITERATIONS {
+            if c.stretch > 0.0 {
+                solve_stretch(g, &mut s, inv_h2 * splat(1.0 / c.stretch));
+            }
+            if c.bend > 0.0 {
+                sweep_bending(g, &mut s, &rot, inv_h2);
+            }
         }
         if c.goal > 0.0 {
             pull_to_goals(g, &mut s, &origin, &rot, h * h);
@@ -248,7 +274,7 @@ fn solve_stretch<L: Lane>(g: &Scratch<L>, s: &mut XpbdScratch<L>, compliance: L)
         // (the linearisation about the start would be ill-conditioned; module docs).
         let turned = s.current[j].dot(&before).simd_gt(splat(0.5));
         s.tangent[j] = V3::select(turned, &before, &s.current[j]);
-        s.rhs[j] = g.rest_length[j] - len;
+        s.rhs[j] = g.rest_length[j] - len - compliance * s.stretch_lambda[j];
     }
     // Forward elimination of the tridiagonal G(p) W G(x)ᵀ + α̃ (rows: current gradients,
     // columns: start directions): diagonal (w_j + w_{j+1}) ĉ_j·t_j + α̃, upper (j, j + 1)
@@ -279,6 +305,7 @@ fn solve_stretch<L: Lane>(g: &Scratch<L>, s: &mut XpbdScratch<L>, compliance: L)
     }
     // p_i += w_i (t_{i−1} Δλ_{i−1} − t_i Δλ_i).
     for j in 0..m {
+        s.stretch_lambda[j] += s.rhs[j];
         let push = s.tangent[j] * s.rhs[j];
         s.disp[j] -= push * g.inv_mass[j];
         s.disp[j + 1] += push * g.inv_mass[j + 1];
@@ -412,7 +439,8 @@ fn sweep_bending<L: Lane>(g: &Scratch<L>, s: &mut XpbdScratch<L>, rot: &M3<L>, i
         ja.add_gram(w0, &mut mat);
         jm.add_gram(w1, &mut mat);
         jb.add_gram(w2, &mut mat);
-        let lambda = solve_sym3(&mat, &(zero_v::<L>() - c));
+        let lambda = solve_sym3(&mat, &(zero_v::<L>() - c - s.bend_lambda[j] * compliance));
+        s.bend_lambda[j] += lambda;
         if j > 0 {
             s.disp[j - 1] -= ja.transpose_mul(&lambda) * w0;
         }
