@@ -160,6 +160,7 @@ impl Method for MassSpring {
             Integrator::ExplicitEuler => "explicit Euler".to_string(),
             Integrator::SemiImplicitEuler => "semi-implicit Euler".to_string(),
             Integrator::ImplicitEuler => "implicit Euler".to_string(),
+            Integrator::Xpbd => "XPBD".to_string(),
         };
         if !self.damping {
             name += ", no damping loop";

@@ -67,11 +67,12 @@
 //! `1 − (ωh)²/2`): 10 % per period for a 1 s swing at 192 substeps per second, 5 % at 384.
 //! The pendulum test in `tests/tests/implicit_euler.rs` measures it against this formula.
 
+use super::dispatch::avx2_copy;
 use super::kernel::{
     elastic_forces, finish_substep, kinematic_velocity, Scratch, StepConstants, StrandView,
     SubstepClock,
 };
-use super::lanes::{div_or_zero, splat, Lane, F8, LANES, V3};
+use super::lanes::{div_or_zero, splat, Lane, LANES, V3};
 use crate::mesh::RootFrame;
 
 /// Longest substep `substeps = "auto"` takes with this integrator, s. Stability sets no bound
@@ -222,35 +223,11 @@ impl<L: Lane> ImplicitScratch<L> {
     }
 }
 
-/// [`step_group_implicit`] on [`F8`] lanes compiled for AVX2 where the CPU has it (the same bits
-/// as the baseline copy; see [`super::kernel::step_group_avx2`]).
-pub(crate) fn step_group_implicit_avx2(
-    views: &mut [StrandView],
-    starts: &[RootFrame],
-    ends: &[RootFrame],
-    c: &StepConstants,
-    g: &mut Scratch<F8>,
-) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU has AVX2, checked just above.
-        unsafe { step_group_implicit_compiled_for_avx2(views, starts, ends, c, g) };
-        return;
-    }
-    step_group_implicit(views, starts, ends, c, g);
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn step_group_implicit_compiled_for_avx2(
-    views: &mut [StrandView],
-    starts: &[RootFrame],
-    ends: &[RootFrame],
-    c: &StepConstants,
-    g: &mut Scratch<F8>,
-) {
-    step_group_implicit(views, starts, ends, c, g);
-}
+avx2_copy!(
+    /// [`step_group_implicit`] on [`super::lanes::F8`] lanes compiled for AVX2 where the CPU has it (the same
+    /// bits as the baseline copy; see [`super::dispatch`]).
+    pub(crate) fn step_group_implicit_avx2 => step_group_implicit
+);
 
 /// Advances a group of strands (equal point counts, at most [`LANES`]) by one collision step of
 /// implicit substeps (module docs); roots and pinned points move as in the explicit kernel.

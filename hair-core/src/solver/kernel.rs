@@ -25,11 +25,13 @@ use crate::mesh::RootFrame;
 
 use super::curvature::{joint_stiffness, rest_curvature, rigidity, root_direction};
 use super::damping::damp_segments;
+use super::dispatch::avx2_copy;
 use super::implicit::ImplicitScratch;
 use super::inextensible::{project, Inextensibility, ProjectionScratch};
-use super::lanes::{div_or_zero, splat, Lane, F8, LANES, M3, Q4, V3};
+use super::lanes::{div_or_zero, splat, Lane, LANES, M3, Q4, V3};
 use super::params::{HairParams, Integrator};
 use super::strain_limit::limit_strain;
+use super::xpbd::XpbdScratch;
 
 /// Constants of a step shared by every strand.
 #[derive(Debug, Clone, Copy)]
@@ -178,6 +180,8 @@ pub(crate) struct Scratch<L: Lane> {
     pub(super) projection: ProjectionScratch<L>,
     /// Buffers of the implicit (backward Euler) substep (`super::implicit`).
     pub(super) implicit: ImplicitScratch<L>,
+    /// Buffers of the XPBD substep (`super::xpbd`).
+    pub(super) xpbd: XpbdScratch<L>,
 }
 
 fn refit<T: Copy + Default>(buf: &mut Vec<T>, len: usize) {
@@ -362,7 +366,7 @@ fn gather_contact<L: Lane>(views: &[StrandView], i: usize) -> ContactLanes<L> {
 
 /// Parallel transport of `u` from unit tangent `tp` to `t` (see [`crate::frames::transport`]).
 #[inline(always)]
-fn transport<L: Lane>(u: &V3<L>, tp: &V3<L>, t: &V3<L>) -> V3<L> {
+pub(super) fn transport<L: Lane>(u: &V3<L>, tp: &V3<L>, t: &V3<L>) -> V3<L> {
     let c = splat::<L>(1.0) + tp.dot(t);
     *u - (*tp + *t) * div_or_zero(u.dot(t), c, 1e-6)
 }
@@ -389,37 +393,13 @@ fn cpu_has_avx2() -> bool {
     })
 }
 
-/// [`step_group`] on [`F8`] lanes compiled for AVX2: eight lanes per instruction instead of
-/// four, the same bits. On a CPU without AVX2 it runs the same kernel compiled for the target's
-/// baseline (correct, but slower than [`step_group`] on `Baseline`; the solver picks that
-/// instead, see `wide_registers`).
-pub(crate) fn step_group_avx2(
-    views: &mut [StrandView],
-    starts: &[RootFrame],
-    ends: &[RootFrame],
-    c: &StepConstants,
-    g: &mut Scratch<F8>,
-) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU has AVX2, checked just above.
-        unsafe { step_group_compiled_for_avx2(views, starts, ends, c, g) };
-        return;
-    }
-    step_group(views, starts, ends, c, g);
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn step_group_compiled_for_avx2(
-    views: &mut [StrandView],
-    starts: &[RootFrame],
-    ends: &[RootFrame],
-    c: &StepConstants,
-    g: &mut Scratch<F8>,
-) {
-    step_group(views, starts, ends, c, g);
-}
+avx2_copy!(
+    /// [`step_group`] on [`super::lanes::F8`] lanes compiled for AVX2: eight lanes per instruction instead of
+    /// four, the same bits. On a CPU without AVX2 it runs the same kernel compiled for the
+    /// target's baseline (correct, but slower than [`step_group`] on `Baseline`; the solver picks
+    /// that instead, see `wide_registers`).
+    pub(crate) fn step_group_avx2 => step_group
+);
 
 /// Advances a group of strands (equal point counts, at most [`LANES`]) by one collision step:
 /// roots move from `starts` to `ends` (interpolated per substep), pinned points follow their
@@ -720,7 +700,7 @@ pub(super) fn finish_substep<L: Lane>(
 mod tests {
     use nalgebra::UnitQuaternion;
 
-    use super::super::lanes::Baseline;
+    use super::super::lanes::{Baseline, F8};
     use super::*;
 
     /// Seven wavy strands of six points (the group's eighth lane repeats the last), some points
@@ -866,5 +846,12 @@ mod tests {
         assert_ne!(bits(&implicit), bits(&baseline));
         assert_eq!(bits(&run::<F8>(step_group_implicit_avx2)), bits(&implicit));
         assert_eq!(bits(&run::<F8>(step_group_implicit::<F8>)), bits(&implicit));
+        // And the XPBD substep's.
+        use super::super::xpbd::{step_group_xpbd, step_group_xpbd_avx2};
+        let xpbd = run::<Baseline>(step_group_xpbd::<Baseline>);
+        assert!(xpbd.iter().all(|p| p.iter().all(|c| c.is_finite())));
+        assert_ne!(bits(&xpbd), bits(&baseline));
+        assert_eq!(bits(&run::<F8>(step_group_xpbd_avx2)), bits(&xpbd));
+        assert_eq!(bits(&run::<F8>(step_group_xpbd::<F8>)), bits(&xpbd));
     }
 }

@@ -45,6 +45,7 @@
 
 pub mod curvature;
 mod damping;
+mod dispatch;
 pub mod energy;
 mod f32_lanes;
 mod implicit;
@@ -55,6 +56,7 @@ pub mod params;
 pub mod sag_free;
 pub mod stability;
 mod strain_limit;
+mod xpbd;
 
 use std::time::{Duration, Instant};
 
@@ -190,10 +192,13 @@ impl Solver {
         let bound = StabilityBound::of(strands, &params);
         let substeps = match settings.substeps {
             Substeps::Fixed(n) => n,
-            Substeps::Auto if settings.integrator == Integrator::ImplicitEuler => {
-                implicit::auto_substeps(settings.step_dt())
-            }
-            Substeps::Auto => bound.auto_substeps(settings.step_dt()),
+            Substeps::Auto => match settings.integrator {
+                Integrator::ImplicitEuler => implicit::auto_substeps(settings.step_dt()),
+                Integrator::Xpbd => xpbd::auto_substeps(settings.step_dt()),
+                Integrator::SemiImplicitEuler | Integrator::ExplicitEuler => {
+                    bound.auto_substeps(settings.step_dt())
+                }
+            },
         };
         Ok(Self {
             settings,
@@ -535,33 +540,25 @@ impl Solver {
                 None => None,
             };
             let t2 = Instant::now();
-            let implicit = self.settings.integrator == Integrator::ImplicitEuler;
+            let integrator = self.settings.integrator;
             let outcome = if kernel::wide_registers(self.settings.kernel) {
-                self.step_strands(
-                    if implicit {
-                        implicit::step_group_implicit_avx2
-                    } else {
+                let kernel: GroupKernel<lanes::F8> = match integrator {
+                    Integrator::ImplicitEuler => implicit::step_group_implicit_avx2,
+                    Integrator::Xpbd => xpbd::step_group_xpbd_avx2,
+                    Integrator::SemiImplicitEuler | Integrator::ExplicitEuler => {
                         kernel::step_group_avx2
-                    },
-                    strands,
-                    &starts,
-                    &ends,
-                    &consts,
-                    contacts,
-                )
+                    }
+                };
+                self.step_strands(kernel, strands, &starts, &ends, &consts, contacts)
             } else {
-                self.step_strands(
-                    if implicit {
-                        implicit::step_group_implicit::<lanes::Baseline>
-                    } else {
+                let kernel: GroupKernel<lanes::Baseline> = match integrator {
+                    Integrator::ImplicitEuler => implicit::step_group_implicit::<lanes::Baseline>,
+                    Integrator::Xpbd => xpbd::step_group_xpbd::<lanes::Baseline>,
+                    Integrator::SemiImplicitEuler | Integrator::ExplicitEuler => {
                         kernel::step_group::<lanes::Baseline>
-                    },
-                    strands,
-                    &starts,
-                    &ends,
-                    &consts,
-                    contacts,
-                )
+                    }
+                };
+                self.step_strands(kernel, strands, &starts, &ends, &consts, contacts)
             };
             times.strands += t2.elapsed();
             if let Some((strand, cause)) = outcome.failure {

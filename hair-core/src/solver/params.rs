@@ -71,8 +71,8 @@ pub enum Substeps {
     /// Exactly this many substeps per step.
     Fixed(u32),
     /// Derived from the stability bound of the stiffest spring on the lightest point; with
-    /// [`Integrator::ImplicitEuler`], which has no such bound, from an accuracy limit on the
-    /// substep (1/384 s, measured on the default scene).
+    /// [`Integrator::ImplicitEuler`] and [`Integrator::Xpbd`], which have no such bound, from an
+    /// accuracy limit on the substep (measured on the default scene).
     Auto,
 }
 
@@ -90,6 +90,12 @@ pub enum Integrator {
     /// `hair_core::solver` module `implicit`). It adds artificial damping of `≈ exp(−π ω h)` per
     /// period to a swing of angular frequency `ω`.
     ImplicitEuler,
+    /// Extended position-based dynamics with small steps (Macklin et al. 2016, 2019): stretch,
+    /// bending and goal springs as compliant constraints (compliance = 1/stiffness), the stretch
+    /// constraints solved directly along each strand, bending by one Gauss–Seidel sweep; no
+    /// stability bound, so the substep follows accuracy (see `hair_core::solver` module `xpbd`).
+    /// Scene key `"xpbd"`.
+    Xpbd,
 }
 
 /// Which compiled copy of the mass-spring kernel runs (see [`crate::kernel_instructions`]). Both

@@ -158,7 +158,7 @@ pub enum SubstepsValue {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SolverSection {
-    /// `"semi-implicit-euler"` (default) or `"explicit-euler"`.
+    /// `"semi-implicit-euler"` (default), `"explicit-euler"`, `"implicit-euler"` or `"xpbd"`.
     pub integrator: Integrator,
     /// Collision steps per frame.
     pub steps: u32,

@@ -1,0 +1,446 @@
+//! The XPBD integrator (`Integrator::Xpbd`: compliant constraints with small steps,
+//! `hair_core::solver` module `xpbd`) against analytic values, at substeps the explicit kernel
+//! cannot take:
+//!
+//! - **pendulum**: a bob on a stiff spring (√(k/m) = 1000 rad/s) at h = 1/96 s (ω_spring h ≈ 10,
+//!   five times past the explicit bound). The constraint holds the length, and the swing is
+//!   advanced like semi-implicit Euler, whose phase per substep is `acos(1 − (ωh)²/2)`; the
+//!   projection shortens each substep's move from its chord to the arc, a relative loss of
+//!   `≈ (3/8)(v h / L)²` per substep, which at 5° is below 10⁻³ per period: the swing keeps its
+//!   amplitude (the implicit integrator loses 14.8 % per period at this step).
+//! - **hanging chain**: settled statics `Δl_j = T_j / k`, at h = 1/48 s: the direct stretch solve
+//!   is a Newton step of the compliant system, whose fixed point at rest is the spring's statics.
+//! - **convergence order**: a chain with bending released horizontally, error at 0.5 s against
+//!   the same method at 8× the finest step, as the step halves: first order.
+//! - **stiff cantilever** (k = 10⁴ N/m, k_b = 50 N/m on 1 cm segments: explicit needs ~750
+//!   substeps per frame): stable at 4 substeps per frame (h = 1/96 s, ~150× the explicit bound;
+//!   the largest step claimed: at 1 and 2 substeps per frame it runs away) for 10 s; the
+//!   equilibrium approaches the explicit kernel's as the step shrinks (the Gauss–Seidel bending
+//!   makes a stiff strand softer at large steps).
+//! - **no energy gain**: an undamped chain with bending and gravity swinging for 10 s never has
+//!   more energy than it started with; the loss is reported.
+//! - the head scene (collider, hair–hair, wind, goal springs, strain limit) gives the same bits on
+//!   one and two threads and when resumed.
+
+mod common;
+
+use common::*;
+use hair_core::{energy, HairParams, Integrator, Scalp, Solver, SolverSettings, StrandSet};
+use nalgebra::Vector3;
+
+const XPBD: Integrator = Integrator::Xpbd;
+
+/// `(time, x)` samples of a 5° pendulum (a 10 g bob on a 0.5 m, 10⁴ N/m spring) at one
+/// substep per frame of `fps`, over 8 periods; returns them with the period of the stretched
+/// pendulum and the substep.
+fn pendulum(fps: f32) -> (Vec<(f64, f64)>, f64, f64, f64) {
+    let length = 0.5f64;
+    let mass = 0.01f64;
+    let k = 1.0e4f64;
+    let theta0 = 5.0f64.to_radians();
+    let bob = Vector3::new(length * theta0.sin(), 0.0, -length * theta0.cos()).cast::<f32>();
+    let scalp = Scalp::fixed();
+    let mut strands = set_on(
+        &scalp,
+        [strand(
+            anchor_at(Vector3::zeros()),
+            vec![Vector3::zeros(), bob],
+            vec![0.0, mass as f32],
+            root_only(2),
+        )],
+    );
+    let mut params = bare_params(k as f32);
+    params.gravity = gravity();
+    let mut solver =
+        Solver::new(fixed_settings(fps, 1, XPBD), params, &strands, &scalp, 0).unwrap();
+    let h = solver.dt();
+    assert!(
+        h > 5.0 * solver.bound().dt_max,
+        "the test must step past the explicit bound"
+    );
+    let stretched = length + mass * G / k;
+    let omega = (G / stretched).sqrt();
+    let t_ref = 2.0 * std::f64::consts::PI / omega;
+    let frames = (8.0 * t_ref * fps as f64).ceil() as u32;
+    let mut samples = vec![(0.0, strands.positions[1].x as f64)];
+    run(&mut solver, &mut strands, &scalp, frames, |s, set| {
+        samples.push((s.frame() as f64 * h, set.positions[1].x as f64));
+    })
+    .unwrap();
+    (samples, t_ref, h, omega)
+}
+
+/// Fractional amplitude loss per period of a swing sampled in `samples`: the largest |x| in each
+/// half period, fitted by a line in log space.
+fn decay_per_period(samples: &[(f64, f64)], period: f64) -> f64 {
+    let half = period / 2.0;
+    let mut peaks = Vec::new();
+    let mut start = 0.0;
+    while start + half <= samples.last().unwrap().0 {
+        let peak = samples
+            .iter()
+            .filter(|(t, _)| *t >= start && *t < start + half)
+            .fold(0.0f64, |a, (_, x)| a.max(x.abs()));
+        peaks.push((start + half / 2.0, peak.ln()));
+        start += half;
+    }
+    let n = peaks.len() as f64;
+    let (mt, my) = (
+        peaks.iter().map(|p| p.0).sum::<f64>() / n,
+        peaks.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let slope = peaks.iter().map(|p| (p.0 - mt) * (p.1 - my)).sum::<f64>()
+        / peaks.iter().map(|p| (p.0 - mt).powi(2)).sum::<f64>();
+    1.0 - (slope * period).exp()
+}
+
+#[test]
+fn xpbd_pendulum_keeps_its_period_and_its_swing_past_the_explicit_bound() {
+    let theta0 = 5.0f64.to_radians();
+    let (samples, t_ref, h, omega) = pendulum(96.0);
+    let crossings = zero_crossings(&samples);
+    let period = period_from_crossings(&crossings);
+    let wh = omega * h;
+    // Semi-implicit Euler's period, with the 5° amplitude's θ₀²/16.
+    let t_se = 2.0 * std::f64::consts::PI * h / (1.0 - wh * wh / 2.0).acos()
+        * (1.0 + theta0.powi(2) / 16.0);
+    let err_exact = (period - t_ref).abs() / t_ref;
+    let err_se = (period - t_se).abs() / t_se;
+    let decay = decay_per_period(&samples, period);
+    // The arc-to-chord loss at the fastest point, over a period's substeps.
+    let v_max = theta0 * (G * 0.5).sqrt();
+    let chord_loss = 0.375 * (v_max * h / 0.5).powi(2) * period / h;
+    println!(
+        "xpbd pendulum, h = {h:.4e} s (ωh = {wh:.4}): T = {period:.6} s; 2π√(L'/g) = {t_ref:.6} s \
+         (rel. error {err_exact:.2e}); semi-implicit Euler's with amplitude correction \
+         {t_se:.6} s (rel. error {err_se:.2e}); amplitude loss per period {:.3} % (arc-to-chord \
+         estimate {:.3} %)",
+        100.0 * decay,
+        100.0 * chord_loss
+    );
+    assert!(crossings.len() >= 15, "expected ~16 crossings");
+    assert!(err_exact < 0.01, "period off by {:.3} %", 100.0 * err_exact);
+    assert!(
+        err_se < 1e-3,
+        "period off semi-implicit Euler's by {err_se:.2e}"
+    );
+    assert!(
+        decay.abs() < 0.01,
+        "the swing lost {:.3} % per period",
+        100.0 * decay
+    );
+}
+
+#[test]
+fn xpbd_hanging_chain_settles_at_weight_below_over_k() {
+    let segments = 8;
+    let seg_len = 0.05f32;
+    let k = 100.0f64;
+    let mut mass: Vec<f32> = (0..=segments)
+        .map(|i| 1e-3 * (1.0 + 0.25 * i as f32))
+        .collect();
+    mass[0] = 0.0;
+    let scalp = Scalp::fixed();
+    let mut strands = set_on(
+        &scalp,
+        [strand(
+            anchor_at(Vector3::new(0.0, 0.0, 0.2)),
+            straight(segments, seg_len, -Vector3::z()),
+            mass.clone(),
+            root_only(segments + 1),
+        )],
+    );
+    let mut params = bare_params(k as f32);
+    params.gravity = gravity();
+    params.stretch_damping = 50.0;
+    params.air_drag = 20.0;
+    let mut solver =
+        Solver::new(fixed_settings(24.0, 2, XPBD), params, &strands, &scalp, 0).unwrap();
+    assert!(solver.dt() > 5.0 * solver.bound().dt_max);
+    run(&mut solver, &mut strands, &scalp, 72, |_, _| {}).unwrap();
+    let x = &strands.positions;
+    let mut worst = 0.0f64;
+    for j in 0..segments {
+        let below: f64 = mass[j + 1..].iter().map(|&m| m as f64).sum();
+        let expected = G * below / k;
+        let measured = (x[j + 1] - x[j]).cast::<f64>().norm() - strands.rest_lengths()[j] as f64;
+        worst = worst.max((measured - expected).abs() / expected);
+    }
+    println!(
+        "xpbd hanging chain at h = {:.3e} s ({:.0}× the explicit bound): worst relative stretch \
+         error {worst:.2e} (limit 2e-4)",
+        solver.dt(),
+        solver.dt() / solver.bound().dt_max
+    );
+    assert!(worst < 2e-4, "stretch off T/k by {worst:.2e}");
+}
+
+/// A chain of `segments` segments of `seg_len` along +x from a root at the origin whose frame
+/// turns local z onto x (straight rest shape), with bending; masses `mass` per point.
+fn horizontal_chain(segments: usize, seg_len: f32, mass: f32) -> (StrandSet, Scalp) {
+    let scalp = Scalp::fixed();
+    let mut m = vec![mass; segments + 1];
+    m[segments] *= 0.5;
+    let strands = set_on(
+        &scalp,
+        [strand(
+            anchor_along(Vector3::zeros(), Vector3::x()),
+            straight(segments, seg_len, Vector3::z()),
+            m,
+            root_only(segments + 1),
+        )],
+    );
+    (strands, scalp)
+}
+
+fn swing_params() -> HairParams {
+    let mut p = bare_params(100.0);
+    p.gravity = gravity();
+    p.bend_stiffness = 0.5;
+    p.stretch_damping = 50.0;
+    p
+}
+
+/// Positions after `frames` frames at 24 fps with `substeps` XPBD substeps per frame.
+fn swing(substeps: u32, frames: u32) -> Vec<Vector3<f64>> {
+    let (mut strands, scalp) = horizontal_chain(8, 0.05, 1e-3);
+    let mut solver = Solver::new(
+        fixed_settings(24.0, substeps, XPBD),
+        swing_params(),
+        &strands,
+        &scalp,
+        0,
+    )
+    .unwrap();
+    run(&mut solver, &mut strands, &scalp, frames, |_, _| {}).unwrap();
+    strands.positions.iter().map(|p| p.cast()).collect()
+}
+
+#[test]
+fn xpbd_converges_at_first_order_as_the_step_halves() {
+    let frames = 12;
+    let counts = [16u32, 32, 64, 128];
+    let reference = swing(8 * counts[counts.len() - 1], frames);
+    let errors: Vec<f64> = counts
+        .iter()
+        .map(|&n| {
+            let x = swing(n, frames);
+            let sum: f64 = x
+                .iter()
+                .zip(&reference)
+                .map(|(a, b)| (a - b).norm_squared())
+                .sum();
+            (sum / x.len() as f64).sqrt()
+        })
+        .collect();
+    let orders: Vec<f64> = errors.windows(2).map(|e| (e[0] / e[1]).log2()).collect();
+    println!(
+        "xpbd swing at 0.5 s, substeps/frame {counts:?}: RMS errors {errors:?} m, orders \
+         {orders:.3?}"
+    );
+    for (i, p) in orders.iter().enumerate() {
+        assert!(
+            (0.8..1.3).contains(p),
+            "order {p:.3} between {} and {} substeps",
+            counts[i],
+            counts[i + 1]
+        );
+    }
+}
+
+#[test]
+fn xpbd_stiff_cantilever_is_stable_at_four_substeps_per_frame() {
+    let (segments, seg_len, mass) = (16, 0.01f32, 1e-4f32);
+    let mut params = bare_params(1.0e4);
+    params.gravity = gravity();
+    params.bend_stiffness = 50.0;
+    params.stretch_damping = 50.0;
+    params.air_drag = 2.0;
+    let settle = |integrator: Integrator, substeps: Option<u32>| {
+        let (mut strands, scalp) = horizontal_chain(segments, seg_len, mass);
+        let settings = match substeps {
+            Some(n) => fixed_settings(24.0, n, integrator),
+            None => SolverSettings::default(),
+        };
+        let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+        let ratio = solver.dt() / solver.bound().dt_max;
+        let mut worst = 0.0f32;
+        run(&mut solver, &mut strands, &scalp, 240, |_, set| {
+            worst = worst.max(set.velocities.iter().map(|v| v.norm()).fold(0.0, f32::max));
+        })
+        .unwrap();
+        (strands.positions[segments], ratio, worst, solver.substeps())
+    };
+    let (tip_explicit, _, _, explicit_substeps) = settle(Integrator::SemiImplicitEuler, None);
+    let mut report = Vec::new();
+    for n in [4u32, 8, 16, 64] {
+        let (tip, ratio, fastest, _) = settle(XPBD, Some(n));
+        let sag = -tip.z;
+        let diff = (tip - tip_explicit).norm();
+        report.push((n, ratio, sag, diff, fastest));
+    }
+    println!(
+        "stiff cantilever (the explicit kernel needs {explicit_substeps} substeps/frame, sag \
+         {:.4e} m): xpbd (substeps, × explicit bound, sag m, distance from the explicit \
+         equilibrium m, fastest point m/s) {report:.3?}",
+        -tip_explicit.z
+    );
+    // A point of the strand released from horizontal falls at most its length: free fall from
+    // 16 cm is 1.8 m/s; twice that allows the tip's whip, and no runaway.
+    let free_fall = (2.0 * G * (segments as f64 * seg_len as f64)).sqrt() as f32;
+    let (_, ratio, sag, _, fastest) = report[0];
+    assert!(ratio > 100.0);
+    assert!(
+        sag > 0.0 && fastest < 2.0 * free_fall,
+        "not a settled sag at 4 substeps"
+    );
+    // The Gauss–Seidel sweep's statics error (the strand is softer than its k at large steps)
+    // shrinks with the step.
+    for w in report.windows(2) {
+        assert!(
+            w[1].3 < w[0].3,
+            "no closer to the equilibrium at {} substeps",
+            w[1].0
+        );
+    }
+}
+
+#[test]
+fn xpbd_undamped_chain_gains_no_energy_over_ten_seconds() {
+    let (mut strands, scalp) = horizontal_chain(8, 0.05, 1e-3);
+    let mut params = swing_params();
+    params.stretch_damping = 0.0;
+    let mut settings = fixed_settings(24.0, 8, XPBD);
+    settings.damping_iterations = 0;
+    let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let total = |set: &StrandSet, s: &Solver| energy(set, s.params(), s.roots()).total();
+    let e0 = total(&strands, &solver);
+    // The energy scale: what the chain can convert by falling (its mass × g × its length).
+    let scale = 8.5e-3 * G * 0.4;
+    let mut highest = f64::NEG_INFINITY;
+    let mut trace = Vec::new();
+    run(&mut solver, &mut strands, &scalp, 240, |s, set| {
+        let e = total(set, s);
+        highest = highest.max(e - e0);
+        trace.push(e - e0);
+    })
+    .unwrap();
+    println!(
+        "undamped xpbd chain, h = {:.3e} s: largest gain {:.2e} J ({:.2e} of m g L); energy \
+         after 1 s {:.3e} J, 10 s {:.3e} J ({:.1} % of m g L lost)",
+        solver.dt(),
+        highest,
+        highest / scale,
+        trace[23],
+        trace[239],
+        -100.0 * trace[239] / scale
+    );
+    assert!(
+        highest <= 1e-5 * scale,
+        "energy rose by {highest:.3e} J above its start"
+    );
+}
+
+/// A small head scene on the XPBD integrator with everything that acts on a strand besides
+/// its springs: the head as a collider, hair–hair friction and repulsion, a wind field, goal
+/// springs and the strain limit.
+const HEAD_SCENE: &str = r#"
+[scene]
+frames = [1, 6]
+
+[solver]
+integrator = "xpbd"
+substeps = 4
+max_strain = 0.01
+
+[physics]
+goal_stiffness = 0.5
+air_drag = 2.0
+
+[scalp.mesh]
+kind = "builtin-head"
+
+[scalp.collider]
+thickness = 0.001
+friction = 0.3
+
+[scalp.motion]
+keys = [
+    { frame = 1, rotation_deg = [0.0, 0.0, 0.0] },
+    { frame = 6, rotation_deg = [20.0, 0.0, 60.0] },
+]
+
+[hair]
+count = 200
+length = 0.2
+segments = 12
+seed = 7
+length_variation = 0.3
+goal_tip = 0.2
+
+[hair_hair]
+cell_size = 0.01
+friction = 0.3
+repulsion = 0.5
+target_density = 0.2
+
+[[fields]]
+type = "wind"
+strength = 2.0
+direction = [1.0, 0.0, 0.0]
+"#;
+
+fn head_scene() -> hairsys::scene::SceneFile {
+    hairsys::scene::SceneFile::parse(HEAD_SCENE, "xpbd_head.toml", ".".into()).unwrap()
+}
+
+/// Runs the head scene from `first` (with the state `start`, if given) to its last frame on
+/// `threads` threads; returns every frame's positions and velocities as bits.
+fn head_run(threads: usize, start: Option<(u32, &[u32])>) -> Vec<Vec<u32>> {
+    let scene = head_scene();
+    let mut sim = scene.build().unwrap();
+    if let Some((frame, state)) = start {
+        let n = sim.strands.point_count();
+        let f = |i: usize| f32::from_bits(state[i]);
+        for i in 0..n {
+            sim.strands.positions[i] = Vector3::new(f(3 * i), f(3 * i + 1), f(3 * i + 2));
+            let j = 3 * (n + i);
+            sim.strands.velocities[i] = Vector3::new(f(j), f(j + 1), f(j + 2));
+        }
+        sim.first_frame = frame;
+    }
+    let last = sim.last_frame;
+    let first = sim.first_frame;
+    let mut session = hairsys::Session::from_simulation(sim, &scene, "xpbd".into()).unwrap();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    session.set_thread_pool(std::sync::Arc::new(pool));
+    (first..last)
+        .map(|_| {
+            session.step().unwrap();
+            session
+                .positions()
+                .iter()
+                .chain(session.velocities())
+                .flat_map(|p| p.map(f32::to_bits))
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn xpbd_head_run_is_bit_identical_on_one_and_two_threads_and_when_resumed() {
+    let one = head_run(1, None);
+    let two = head_run(2, None);
+    assert_eq!(one.len(), 5);
+    assert!(one == two, "1 thread and 2 threads differ");
+    assert_ne!(one[0], one[4], "the hair did not move");
+    // Resumed after frame 3 (index 1: frames 2, 3 ran) from the stored state.
+    let resumed = head_run(2, Some((3, &one[1])));
+    assert!(
+        resumed[..] == one[2..],
+        "the resumed run differs from the uninterrupted one"
+    );
+}
