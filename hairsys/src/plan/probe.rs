@@ -45,6 +45,7 @@ pub fn integrator_word(i: Integrator) -> &'static str {
         Integrator::SemiImplicitEuler => "semi-implicit-euler",
         Integrator::ExplicitEuler => "explicit-euler",
         Integrator::ImplicitEuler => "implicit-euler",
+        Integrator::Xpbd => "xpbd",
     }
 }
 
@@ -56,6 +57,8 @@ impl std::fmt::Display for Method {
             (Integrator::ExplicitEuler, _) => "explicit",
             (Integrator::ImplicitEuler, false) => "implicit",
             (Integrator::ImplicitEuler, true) => "implicit+inext",
+            (Integrator::Xpbd, false) => "xpbd",
+            (Integrator::Xpbd, true) => "xpbd+inext",
         };
         match self.substeps {
             Some(n) => write!(f, "{name}, {n} substeps, {} segments", self.segments),
