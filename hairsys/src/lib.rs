@@ -38,6 +38,7 @@
 //! ```
 
 pub mod animated_guides;
+pub mod accuracy;
 pub mod budget;
 pub mod cards;
 pub mod children;

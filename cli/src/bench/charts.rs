@@ -99,7 +99,7 @@ pub fn pareto(r: &BenchReport, path: &Path) -> Result<(), BenchError> {
         chart
             .configure_mesh()
             .x_desc("cost: ms per frame")
-            .y_desc("position RMS error vs reference (m)")
+            .y_desc("position RMS error vs the truth (m)")
             .x_labels(6)
             .y_labels(8)
             .x_label_formatter(&|v| tick(*v))
