@@ -35,8 +35,7 @@ pub fn position_rms(a: &[Vector3<f32>], b: &[Vector3<f32>], inverse_mass: &[f32]
 pub fn tip_rms(a: &[Vector3<f32>], b: &[Vector3<f32>], offsets: &[u32]) -> f64 {
     let (mut sum, mut count) = (0.0f64, 0usize);
     for r in ranges(offsets) {
-        if let (Some(pa), Some(pb)) = (a.get(r.end.wrapping_sub(1)), b.get(r.end.wrapping_sub(1)))
-        {
+        if let (Some(pa), Some(pb)) = (a.get(r.end.wrapping_sub(1)), b.get(r.end.wrapping_sub(1))) {
             sum += (pa - pb).cast::<f64>().norm_squared();
             count += 1;
         }

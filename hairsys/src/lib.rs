@@ -37,8 +37,8 @@
 //! # Ok::<(), hairsys::Error>(())
 //! ```
 
-pub mod animated_guides;
 pub mod accuracy;
+pub mod animated_guides;
 pub mod budget;
 pub mod cards;
 pub mod children;

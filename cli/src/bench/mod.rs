@@ -330,7 +330,9 @@ pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
                 reason.is_none()
             })
             .count();
-        total += runnable * ladder.len() + 2;
+        total += runnable * ladder.len()
+            + 1
+            + usize::from(MassSpring::DEFAULT.cannot_run(case).is_none());
     }
     let progress = Progress::new(total as u64, opts.quiet, opts.json, "bench");
     let mut runs = Vec::new();

@@ -39,6 +39,9 @@ use super::metrics::Trace;
 /// run then sits at half this).
 const BOUND_FRACTION: f64 = 0.5;
 
+/// Positions at each sample frame, m.
+pub type Samples = Vec<Vec<Vector3<f32>>>;
+
 /// What a case is measured against.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum TruthKind {
@@ -54,7 +57,7 @@ pub enum TruthKind {
 #[derive(Debug, Clone)]
 pub struct Truth {
     /// Positions at each sample frame, m.
-    pub samples: Vec<Vec<Vector3<f32>>>,
+    pub samples: Samples,
     /// Total energy at the last frame, J, where the truth has one comparable with the methods'
     /// (the pendulum's is its initial energy: the exact motion conserves it).
     pub energy_end: Option<f64>,
@@ -105,7 +108,7 @@ pub fn subdivide(
         }
         fine.extend(rest.last().copied());
         let mut input = StrandInput::uniform(
-            strands.anchors()[s].clone(),
+            strands.anchors()[s],
             fine,
             mass_per_length,
             radii[0],
@@ -159,11 +162,7 @@ fn refined(case: &Case, factor: usize) -> Result<Case, HairError> {
 }
 
 /// Runs the rod truth of `case` at `factor` subdivisions and `substeps`, at the case's points.
-fn rod_run(
-    case: &Case,
-    factor: usize,
-    substeps: u32,
-) -> Result<(Trace, Vec<Vec<Vector3<f32>>>), String> {
+fn rod_run(case: &Case, factor: usize, substeps: u32) -> Result<(Trace, Samples), String> {
     let fine = refined(case, factor).map_err(|e| e.to_string())?;
     let trace = Rod::REFERENCE.run(&fine, Some(substeps)).map_err(|e| {
         format!("the rod at {factor}× the segments, {substeps} substeps/frame: {e}")
@@ -177,7 +176,7 @@ fn rod_run(
     Ok((trace, samples))
 }
 
-fn rms(case: &Case, a: &[Vec<Vector3<f32>>], b: &[Vec<Vector3<f32>>]) -> f64 {
+fn rms(case: &Case, a: &Samples, b: &Samples) -> f64 {
     let w = case.sim.strands.inverse_masses();
     let sq: f64 = a
         .iter()
