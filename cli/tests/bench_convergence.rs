@@ -1,10 +1,14 @@
-//! The bench's reference cases converge as they should: semi-implicit Euler's position error
-//! against the very fine reference is first order in the substep (halving dt roughly halves the
+//! The bench's cases converge in time as they should: semi-implicit Euler's position error
+//! against its own very fine run is first order in the substep (halving dt roughly halves the
 //! error), and the inextensibility projection keeps every segment within 0.1 % of its rest
-//! length through the fast head turn.
+//! length through the fast head turn. (The hanging chain is compared only once settled, where
+//! no time error is left to measure, and `bench_truth` checks it against its catenary; on the
+//! 5 cm hair cantilever the method's time error at its stable substeps, 256 and more, is below
+//! the f32 round-off of a 48-frame run: its error against its own run at 16× the substeps stays
+//! at 2 × 10⁻⁵ m from 512 to 4096 substeps.)
 
 use hairsys_cli::bench::cases::{self, Case};
-use hairsys_cli::bench::methods::{MassSpring, Method};
+use hairsys_cli::bench::methods::{MassSpring, Method, Stretch};
 use hairsys_cli::bench::metrics::rms_difference;
 
 /// Least-squares slope of log(error) against log(dt).
@@ -24,7 +28,7 @@ fn errors(case: &Case, ladder: &[u32], reference: u32) -> Vec<f64> {
     let fine = m.run(case, Some(reference)).unwrap();
     ladder
         .iter()
-        .map(|&s| rms_difference(case, &m.run(case, Some(s)).unwrap(), &fine))
+        .map(|&s| rms_difference(case, &m.run(case, Some(s)).unwrap().samples, &fine.samples))
         .collect()
 }
 
@@ -54,16 +58,6 @@ fn pendulum_error_is_first_order_in_dt() {
 }
 
 #[test]
-fn hanging_chain_error_is_first_order_in_dt() {
-    check_first_order(cases::hanging_chain().unwrap(), &[32, 64, 128, 256]);
-}
-
-#[test]
-fn cantilever_error_is_first_order_in_dt() {
-    check_first_order(cases::cantilever().unwrap(), &[64, 128, 256, 512]);
-}
-
-#[test]
 fn head_turn_error_is_first_order_in_dt() {
     check_first_order(cases::head_turn(true).unwrap(), &[128, 256, 512]);
 }
@@ -72,10 +66,10 @@ fn head_turn_error_is_first_order_in_dt() {
 fn projection_keeps_stretch_below_a_tenth_of_a_percent_in_the_fast_head_turn() {
     let case = cases::head_turn(true).unwrap();
     let springs_only = MassSpring::DEFAULT.run(&case, None).unwrap();
-    for springs in [true, false] {
+    for stretch in [Stretch::Soft, Stretch::None] {
         let m = MassSpring {
             projection: true,
-            springs,
+            stretch,
             ..MassSpring::DEFAULT
         };
         let trace = m.run(&case, None).unwrap();

@@ -39,13 +39,16 @@ fn bench_quick_writes_pngs_and_a_table_row_per_case_and_method() {
         "semi-implicit Euler, no damping loop",
         "semi-implicit Euler + projection",
         "semi-implicit Euler + projection, no stretch springs",
+        "implicit Euler",
+        "implicit Euler, physical springs",
         "rod, 1 projection iteration",
         "rod, 2 projection iterations",
         "rod, 4 projection iterations",
         "rod, 8 projection iterations",
     ];
     let ladder = 9; // 1, 2, 4 … 256 substeps per frame
-    for case in ["pendulum", "chain", "cantilever", "head"] {
+    let cases = ["pendulum", "chain", "chain-rest", "cantilever", "head"];
+    for case in cases {
         for m in methods {
             let rows = runs_section
                 .lines()
@@ -66,7 +69,7 @@ fn bench_quick_writes_pngs_and_a_table_row_per_case_and_method() {
             "no auto row for {case}"
         );
     }
-    // The strip case runs the strips and the default mass-spring method (its reference) only.
+    // The strip case runs the strips and the default mass-spring method (the same edges) only.
     for m in ["strips", "semi-implicit Euler"] {
         let rows = runs_section
             .lines()
@@ -81,7 +84,7 @@ fn bench_quick_writes_pngs_and_a_table_row_per_case_and_method() {
     let runs = json["runs"].as_array().unwrap();
     assert_eq!(
         runs.len(),
-        4 * (methods.len() * ladder + 1) + 2 * ladder + 1
+        cases.len() * (methods.len() * ladder + 1) + 2 * ladder + 1
     );
     // Every stable head-case run has a cost per represented hair; rod runs carry their
     // projection figures.
@@ -118,8 +121,25 @@ fn bench_quick_writes_pngs_and_a_table_row_per_case_and_method() {
         "the report must say which cases a model cannot run"
     );
     assert!(
-        table.contains("counts as **converged** when halving its step"),
+        table.contains("counts as **converged** when halving its substep (time) and halving its"),
         "the table must say what converged means"
     );
+    // One truth per case, analytic where physics has an answer.
+    let truths = json["truths"].as_array().unwrap();
+    assert_eq!(truths.len(), cases.len() + 1);
+    for t in truths {
+        let name = t["truth"].as_str().unwrap();
+        let analytic = matches!(
+            t["case"].as_str(),
+            Some("pendulum" | "chain" | "chain-rest")
+        );
+        assert_eq!(name.starts_with("analytic"), analytic, "{t}");
+    }
+    // Every stable run reports the measures beside position error.
+    for run in runs.iter().filter(|r| r["status"] == "stable") {
+        for key in ["tip_rms", "length_error", "position_rms"] {
+            assert!(run["errors"][key].as_f64().is_some(), "{run}: {key}");
+        }
+    }
     assert!(table.contains("## Stability"), "no stability table");
 }

@@ -37,6 +37,7 @@
 //! # Ok::<(), hairsys::Error>(())
 //! ```
 
+pub mod accuracy;
 pub mod animated_guides;
 pub mod budget;
 pub mod cards;

@@ -1,18 +1,30 @@
-//! The reference cases of `hairsys bench`: small scenes whose motion is measured against the
-//! same scene run at a very fine step.
+//! The bench's cases: small scenes, each with **one physical truth** ([`super::truth`]) that
+//! every method is measured against.
 //!
-//! - **pendulum**: one 0.5 m segment released at 40° from the vertical, undamped (energy drift is
-//!   meaningful here: the exact motion conserves energy);
-//! - **hanging chain**: 20 segments, 1 m, pinned at both ends 0.8 m apart, released as a V and
-//!   swinging towards its catenary (air drag 2/s: a chain of free joints is a multiple pendulum,
-//!   chaotic when barely damped, and a chaotic case has no converged reference);
-//! - **cantilever**: a stiff 0.2 m strand held horizontally at its root by the bending springs,
-//!   released under gravity: it droops and rings down;
-//! - **head turn**: the built-in default scene (its hair, physics and solver settings) with the
-//!   head turned 80° and back within half a second, the scalp colliding with its own hair;
-//! - **head strips**: the same head and turn with seed 000's strips instead of hair (its edge
-//!   strands are the simulated strands), for the strip model against the mass-spring model on
-//!   the same edges.
+//! - **pendulum**: one 0.5 m link with a 10 g bob released at 40° from the vertical, undamped;
+//!   truth: the rigid pendulum (analytic);
+//! - **chain**: a 1 m hair in 20 segments pinned at both ends 0.8 m apart, released as a V, air
+//!   drag 6/s so that it settles in 3 s; truth at the last frame: the discrete catenary
+//!   (analytic). Bending is left out: the hair's bending length `(EI/μg)^{1/3}` is 5 mm against
+//!   5 cm segments, and the catenary has none;
+//! - **chain-rest**: the same chain started on its catenary: whatever moves is **shape drift at
+//!   rest** (a model that sags further, or creeps, shows it); truth: the catenary at every
+//!   sample;
+//! - **cantilever**: a 5 cm hair in 10 segments held horizontally at its root and released under
+//!   gravity (load parameter `μ g L³ / EI` ≈ 1: a large deflection), air drag 5/s, 2 s; truth:
+//!   the converged rod;
+//! - **head**: the built-in default scene's groom (64 strands, 16 with `quick`) with the head
+//!   turned 80° and back within half a second, the scalp colliding with its hair
+//!   (frictionless: the rod's contacts are); truth: the converged rod;
+//! - **head-strips**: the same head and turn with seed 000's strips instead of hair (its edge
+//!   strands are the simulated strands); truth: the converged rod on the same edge strands.
+//!
+//! Every hair case takes its material from one physical hair ([`super::physical`]): a strand of
+//! `n` hairs (1 for the chain and cantilever, the default scene's 1 g/m wisp is 151) has `n`
+//! times one hair's mass, stretch and bending rigidity, mapped to each model's parameters as
+//! that module documents. The mass-spring springs of a case are **soft** (the default scene's
+//! stiffness as a fraction of its physical `EA/l`, [`super::physical::soft_fraction`]); the
+//! methods that run the physical `EA/l` instead take [`Case::physical_stretch`].
 //!
 //! The rod's cantilever under a tip moment is measured apart ([`super::tip_moment`]): it needs a
 //! load no scene can express.
@@ -34,6 +46,10 @@ use hairsys::scene::motion::MotionKey;
 use hairsys::scene::strips::StripsSection;
 use hairsys::scene::{ScalpCollider, SceneError, SceneFile, Simulation};
 
+use super::analytic;
+use super::physical::{soft_fraction, Hair};
+use super::truth::TruthKind;
+
 /// One reference case.
 pub struct Case {
     /// Short name (file names, tables).
@@ -51,6 +67,15 @@ pub struct Case {
     /// Hairs the simulated strands stand for, for the cost per represented hair (head cases
     /// only: a strand is one hair, a strip `hairs_per_strip`).
     pub represented_hairs: Option<u64>,
+    /// What the case is measured against.
+    pub truth: TruthKind,
+    /// How many times the rod truth cuts each of the case's segments (see [`super::truth`]).
+    pub truth_subdivision: usize,
+    /// Linear density of its strands, kg/m (to subdivide them for the rod truth).
+    pub mass_per_length: f32,
+    /// The physical stretch stiffness `EA/l` of its springs, N/m (for a pendulum's link, a
+    /// link 100× stiffer than the case's springs).
+    pub physical_stretch: f32,
 }
 
 impl Case {
@@ -111,6 +136,7 @@ pub fn all(quick: bool) -> Result<Vec<Case>, SceneError> {
     Ok(vec![
         pendulum()?,
         hanging_chain()?,
+        chain_at_rest()?,
         cantilever()?,
         head_turn(quick)?,
         head_strips(quick)?,
@@ -142,23 +168,63 @@ fn energy_scale(sim: &Simulation) -> f64 {
         .sum()
 }
 
+/// Mass per length of strand 0 from its first free point's lumped mass, kg/m.
+fn mass_per_length(sim: &Simulation) -> f32 {
+    let l = sim.strands.rest_lengths();
+    let m = sim.strands.masses();
+    if l.len() < 2 || m.len() < 2 {
+        return 0.0;
+    }
+    m[1] / (0.5 * (l[0] + l[1]))
+}
+
+/// Mean rest segment length over all strands, m.
+fn mean_segment(sim: &Simulation) -> f64 {
+    let l = sim.strands.rest_lengths();
+    l.iter().map(|&x| x as f64).sum::<f64>() / l.len().max(1) as f64
+}
+
+/// Makes `sim` of `hair`: bending `EI/l̄³`, soft springs, the rod's material; returns the
+/// physical stretch stiffness `EA/l̄`, N/m.
+fn of_hair(sim: &mut Simulation, hair: Hair, bending: bool) -> f32 {
+    let l = mean_segment(sim);
+    sim.params.bend_stiffness = if bending {
+        hair.bend_stiffness(l) as f32
+    } else {
+        0.0
+    };
+    let physical = hair.stretch_stiffness(l);
+    sim.params.stretch_stiffness = (physical * soft_fraction()) as f32;
+    sim.rod = hair.rod(sim.rod);
+    physical as f32
+}
+
 fn case(
     name: &'static str,
     title: &'static str,
     sim: Simulation,
-    stride: u32,
+    samples: Vec<u32>,
     head: Option<Solid>,
+    truth: TruthKind,
+    physical_stretch: f32,
 ) -> Case {
-    let samples = every(sim.first_frame, sim.last_frame, stride);
     let energy_scale = energy_scale(&sim);
     Case {
         name,
         title,
-        sim,
         samples,
         energy_scale,
-        head,
         represented_hairs: None,
+        truth,
+        truth_subdivision: if truth == TruthKind::Rod && head.is_none() {
+            2
+        } else {
+            1
+        },
+        mass_per_length: mass_per_length(&sim),
+        physical_stretch,
+        head,
+        sim,
     }
 }
 
@@ -186,63 +252,111 @@ masses = [0.0, 0.01]
         -0.5 * c
     );
     let sim = parse("pendulum", &text)?;
+    let stiff = 100.0 * sim.params.stretch_stiffness;
+    let samples = every(sim.first_frame, sim.last_frame, 6);
     Ok(case(
         "pendulum",
-        "pendulum, 0.5 m at 40°, undamped, 2 s",
+        "pendulum, 0.5 m at 40°, 10 g bob, undamped, 2 s; truth: the rigid pendulum",
         sim,
-        6,
+        samples,
         None,
+        TruthKind::Pendulum,
+        stiff,
     ))
 }
 
-/// A chain of 20 segments (1 m, 50 g/m, 400 N/m) hung between pins 0.8 m apart, released as a V,
-/// damped (air drag 2/s); 2 s.
-pub fn hanging_chain() -> Result<Case, SceneError> {
-    let n = 20;
-    let (span, length) = (0.8f64, 1.0f64);
-    let seg = length / n as f64;
-    let dx = span / n as f64;
-    let dz = (seg * seg - dx * dx).sqrt();
-    let points: Vec<String> = (0..=n)
-        .map(|i| {
-            let down = if i <= n / 2 { i } else { n - i } as f64;
-            format!("[{:.6}, 0.0, {:.6}]", i as f64 * dx, -down * dz)
-        })
+/// Links, length (m) and span (m) of the chain cases.
+const CHAIN: (usize, f64, f64) = (20, 1.0, 0.8);
+
+/// A chain of one hair between two pins, starting from `points`, over `frames` frames.
+fn chain_sim(
+    name: &str,
+    points: &[[f64; 3]],
+    frames: u32,
+) -> Result<(Simulation, f32), SceneError> {
+    let n = points.len() - 1;
+    let points: Vec<String> = points
+        .iter()
+        .map(|p| format!("[{:.9}, {:.9}, {:.9}]", p[0], p[1], p[2]))
         .collect();
     let text = format!(
         r#"
 [scene]
-name = "bench hanging chain"
+name = "bench {name}"
 fps = 24.0
-frames = [0, 48]
+frames = [0, {frames}]
 [physics]
-stretch_stiffness = 400.0
-bend_stiffness = 0.0
 stretch_damping = 20.0
-air_drag = 2.0
+air_drag = 6.0
 [[strands]]
 pinned = [{n}]
-mass_per_length = 0.05
+mass_per_length = {}
 points = [{}]
 "#,
+        Hair::ONE.mass_per_length(),
         points.join(", ")
     );
-    let sim = parse("hanging chain", &text)?;
+    let mut sim = parse(name, &text)?;
+    let physical = of_hair(&mut sim, Hair::ONE, false);
+    Ok((sim, physical))
+}
+
+/// A hair of 1 m in 20 segments hung between pins 0.8 m apart, released as a V, air drag 6/s;
+/// compared with its catenary at the end of 3 s.
+pub fn hanging_chain() -> Result<Case, SceneError> {
+    let (n, length, span) = CHAIN;
+    let seg = length / n as f64;
+    let dx = span / n as f64;
+    let dz = (seg * seg - dx * dx).sqrt();
+    let points: Vec<[f64; 3]> = (0..=n)
+        .map(|i| {
+            let down = if i <= n / 2 { i } else { n - i } as f64;
+            [i as f64 * dx, 0.0, -down * dz]
+        })
+        .collect();
+    let (sim, physical) = chain_sim("hanging chain", &points, 72)?;
+    let samples = vec![sim.last_frame];
     Ok(case(
         "chain",
-        "hanging chain, 20 segments between pins, released as a V, 2 s",
+        "hanging chain: a 1 m hair in 20 segments between pins 0.8 m apart, released as a V, \
+         at rest after 3 s; truth: the catenary",
         sim,
-        6,
+        samples,
         None,
+        TruthKind::Catenary,
+        physical,
     ))
 }
 
-/// A stiff cantilever: 10 segments over 0.2 m (10 g/m), bending 5 N/m, stretch 100 N/m, held
-/// horizontally by its root frame and released under gravity; 2 s.
+/// The chain of [`hanging_chain`] started on its catenary, 2 s: its motion is drift at rest.
+pub fn chain_at_rest() -> Result<Case, SceneError> {
+    let (n, length, span) = CHAIN;
+    let shape =
+        analytic::discrete_catenary(n, length / n as f64, span).ok_or_else(|| SceneError {
+            file: "<bench case chain-rest>".into(),
+            message: "the chain does not reach across its span".into(),
+        })?;
+    let points: Vec<[f64; 3]> = shape.iter().map(|p| [p.x, 0.0, p.z]).collect();
+    let (sim, physical) = chain_sim("chain at rest", &points, 48)?;
+    let samples = every(sim.first_frame, sim.last_frame, 6);
+    Ok(case(
+        "chain-rest",
+        "the same chain started on its catenary, 2 s: shape drift at rest; truth: the catenary",
+        sim,
+        samples,
+        None,
+        TruthKind::Catenary,
+        physical,
+    ))
+}
+
+/// A 5 cm hair in 10 segments held horizontally by its root frame and released under gravity,
+/// air drag 5/s; 2 s.
 pub fn cantilever() -> Result<Case, SceneError> {
     let n = 10;
+    let length = 0.05;
     let points: Vec<String> = (0..=n)
-        .map(|i| format!("[{:.6}, 0.0, 0.0]", 0.02 * i as f64))
+        .map(|i| format!("[{:.6}, 0.0, 0.0]", length * i as f64 / n as f64))
         .collect();
     let text = format!(
         r#"
@@ -251,33 +365,38 @@ name = "bench cantilever"
 fps = 24.0
 frames = [0, 48]
 [physics]
-stretch_stiffness = 100.0
-bend_stiffness = 5.0
 stretch_damping = 50.0
-air_drag = 1.0
+air_drag = 5.0
 [[strands]]
-mass_per_length = 0.01
+mass_per_length = {}
 points = [{}]
 "#,
+        Hair::ONE.mass_per_length(),
         points.join(", ")
     );
-    let sim = parse("cantilever", &text)?;
+    let mut sim = parse("cantilever", &text)?;
+    let physical = of_hair(&mut sim, Hair::ONE, true);
+    let samples = every(sim.first_frame, sim.last_frame, 6);
     Ok(case(
         "cantilever",
-        "stiff cantilever, 0.2 m, released horizontally under gravity, 2 s",
+        "cantilever: a 5 cm hair in 10 segments released horizontally under gravity, 2 s; \
+         truth: the converged rod",
         sim,
-        6,
+        samples,
         None,
+        TruthKind::Rod,
+        physical,
     ))
 }
 
-/// The default scene (its hair, physics and solver) with a fast head turn, 80° about the vertical
-/// and back in half a second, then half a second to swing; the scalp collides with its hair.
-/// 256 strands over 24 frames, or 16 strands over 12 frames with `quick`.
+/// The default scene's groom (its hair made of 151 physical hairs per strand, its solver
+/// settings) with a fast head turn, 80° about the vertical and back in half a second, then half
+/// a second to swing; the scalp collides with its hair, frictionless. 64 strands over 24 frames,
+/// or 16 strands over 12 frames with `quick`.
 pub fn head_turn(quick: bool) -> Result<Case, SceneError> {
     let mut file = SceneFile::builtin_default();
     file.origin = "<bench case head turn (the built-in default scene)>".into();
-    let strands = if quick { 16 } else { 256 };
+    let strands = if quick { 16 } else { 64 };
     if let Some(hair) = file.scene.hair.as_mut() {
         hair.count = strands;
     }
@@ -285,7 +404,7 @@ pub fn head_turn(quick: bool) -> Result<Case, SceneError> {
         file,
         quick,
         "head",
-        "default head scene, head turned 80° and back in 0.5 s",
+        "default head scene's groom, head turned 80° and back in 0.5 s; truth: the converged rod",
     )?;
     case.represented_hairs = Some(case.sim.strands.len() as u64);
     Ok(case)
@@ -293,7 +412,8 @@ pub fn head_turn(quick: bool) -> Result<Case, SceneError> {
 
 /// The head turn of [`head_turn`] with seed 000's strips (the `[strips]` defaults: edge strands
 /// of 0.2 m in 8 segments, 100 hairs per strip) instead of the default hair: at most 64 strips,
-/// or 8 with `quick`, on every 4th scalp triangle.
+/// or 8 with `quick`, on every 4th scalp triangle. The strips keep their own spring settings;
+/// the rod truth takes the physical hair of the edge strands' mass.
 pub fn head_strips(quick: bool) -> Result<Case, SceneError> {
     let mut file = SceneFile::builtin_default();
     file.origin = "<bench case head strips (the built-in default scene with [strips])>".into();
@@ -314,19 +434,22 @@ pub fn head_strips(quick: bool) -> Result<Case, SceneError> {
         file,
         quick,
         "head-strips",
-        "default head scene with strips instead of hair, the same turn",
+        "default head scene with strips instead of hair, the same turn; truth: the converged \
+         rod on the edge strands",
     )?;
     case.represented_hairs = Some(case.sim.strands.len() as u64 / 2 * hairs_per_strip);
     Ok(case)
 }
 
-/// `file` over frames 1–24 (1–12 with `quick`) with the fast turn and the scalp collider.
+/// `file` over frames 1–24 (1–12 with `quick`) with the fast turn and the frictionless scalp
+/// collider, made of the physical hair of its strands' mass per length.
 fn turning_head(
     mut file: SceneFile,
     quick: bool,
     name: &'static str,
     title: &'static str,
 ) -> Result<Case, SceneError> {
+    let strips = file.scene.solver.model == StrandModel::Strips;
     let scene = &mut file.scene;
     let last = if quick { 13 } else { 25 };
     scene.scene.frames = [1, last];
@@ -336,19 +459,34 @@ fn turning_head(
         rotation_deg: [0.0, 0.0, yaw],
     };
     scene.scalp.motion.keys = vec![key(1.0, 0.0), key(7.0, 80.0), key(13.0, 0.0)];
+    // Frictionless: the rod's contacts are, and every method meets the same contact law.
     scene.scalp.collider = Some(ScalpCollider {
         thickness: 0.0,
-        friction: 0.3,
+        friction: 0.0,
     });
-    // The bench measures time integration: the default scene's strain limit and hair–hair
-    // friction correct positions and velocities by rules of their own, which set an error floor
-    // (0.75 mm here) that no substep count lowers.
+    // The bench measures the models: the default scene's strain limit and hair–hair friction
+    // correct positions and velocities by rules of their own, which set an error floor (0.75 mm
+    // here) that no substep count lowers.
     scene.solver.max_strain = None;
     scene.hair_hair = None;
     // Every method starts from the same groom with its plain rest shape: sag-free rest data is
     // the mass-spring model's own (the rod and the strips have other energies).
     scene.solver.sag_free = false;
-    let sim = file.build()?;
+    let mut sim = file.build()?;
+    let hair = Hair {
+        hairs: mass_per_length(&sim) as f64 / Hair::ONE.mass_per_length(),
+    };
+    let physical = if strips {
+        // The strips keep their springs; only the truth's material follows the hair.
+        sim.rod = hair.rod(sim.rod);
+        hair.stretch_stiffness(mean_segment(&sim)) as f32
+    } else {
+        let soft = sim.params.stretch_stiffness;
+        let physical = of_hair(&mut sim, hair, true);
+        // The head keeps the default scene's springs: they are what "soft" stands for.
+        sim.params.stretch_stiffness = soft;
+        physical
+    };
     let head = match sim.rest_mesh() {
         Some(mesh) => Some(Solid::new(mesh).map_err(|message| SceneError {
             file: file.origin.clone(),
@@ -356,6 +494,14 @@ fn turning_head(
         })?),
         None => None,
     };
-    let stride = if quick { 2 } else { 3 };
-    Ok(case(name, title, sim, stride, head))
+    let samples = every(sim.first_frame, sim.last_frame, if quick { 2 } else { 3 });
+    Ok(case(
+        name,
+        title,
+        sim,
+        samples,
+        head,
+        TruthKind::Rod,
+        physical,
+    ))
 }

@@ -84,13 +84,24 @@ pub fn pareto(r: &BenchReport, path: &Path) -> Result<(), BenchError> {
             methods.push(&run.method);
         }
     }
-    for ((case, title), panel) in r.cases.iter().zip(&panels) {
+    for ((case, _), panel) in r.cases.iter().zip(&panels) {
+        // The case and its truth, short enough for half the width.
+        let truth = r
+            .truths
+            .iter()
+            .find(|t| &t.case == case)
+            .map_or("", |t| t.truth.as_str());
+        let truth = match truth.strip_prefix("analytic: ") {
+            Some(rest) => rest.split(',').next().unwrap_or(rest),
+            None => "the converged rod",
+        };
+        let title = format!("{case}: against {truth}");
         let runs: Vec<_> = r.runs.iter().filter(|x| &x.case == case).collect();
         let stable = || runs.iter().filter_map(|x| x.stable().map(|s| (x, s)));
         let xr = log_range(stable().map(|(_, (c, _))| c.ms_per_frame));
         let yr = log_range(stable().map(|(_, (_, er))| er.position_rms));
         let mut chart = ChartBuilder::on(panel)
-            .caption(title, ("sans-serif", 20))
+            .caption(&title, ("sans-serif", 20))
             .margin(12)
             .x_label_area_size(45)
             .y_label_area_size(75)
@@ -99,7 +110,7 @@ pub fn pareto(r: &BenchReport, path: &Path) -> Result<(), BenchError> {
         chart
             .configure_mesh()
             .x_desc("cost: ms per frame")
-            .y_desc("position RMS error vs reference (m)")
+            .y_desc("position RMS error vs the truth (m)")
             .x_labels(6)
             .y_labels(8)
             .x_label_formatter(&|v| tick(*v))
@@ -172,7 +183,7 @@ fn tip_moment_panel(
         .collect();
     let mut chart = ChartBuilder::on(panel)
         .caption(
-            "rod: cantilever under a tip moment, against the analytic arc",
+            "rod: tip moment (t = 0.1 and 1.5 rad) against the elastica",
             ("sans-serif", 20),
         )
         .margin(12)
@@ -193,6 +204,7 @@ fn tip_moment_panel(
         .draw()
         .map_err(|x| e(format!("{x:?}")))?;
     let mut limits: Vec<u32> = r.tip_moment.iter().map(|t| t.iterations).collect();
+    limits.sort_unstable();
     limits.dedup();
     for (i, &it) in limits.iter().enumerate() {
         let color = COLORS[(i + 5) % COLORS.len()];

@@ -1,7 +1,14 @@
 //! The methods `hairsys bench` compares, behind one trait so that other models can join: a
-//! method has a name, names the model it converges to (its reference), and runs a case at a
-//! given number of substeps per frame. A solver with an iteration count of its own (a
-//! discrete-rod solver's projection iterations, say) joins as one [`Method`] value per count.
+//! method has a name and runs a case at a given number of substeps per frame; every method is
+//! measured against the case's one truth ([`super::truth`]). A solver with an iteration count of
+//! its own (a discrete-rod solver's projection iterations, say) joins as one [`Method`] value per
+//! count. [`all`] is the one list of methods: a new integrator joins there.
+//!
+//! The mass-spring methods differ in integrator, damping loop, projection and **stretch**: the
+//! case's soft springs ([`Stretch::Soft`], what a scene sets for an affordable step), the
+//! physical `EA/l` of the hair ([`Stretch::Physical`], which only an integrator without a
+//! stability bound can carry at frame-rate substeps), or none (the projection alone holds the
+//! lengths).
 
 use hair_core::{
     HairError, HairParams, Inextensibility, Integrator, RodParams, RodSolver, Solver,
@@ -18,9 +25,6 @@ use hairsys::scene::SceneError;
 pub trait Method: Sync {
     /// Label in charts and tables.
     fn name(&self) -> String;
-    /// The method whose very fine run is this one's reference: the same model (same physics),
-    /// advanced by the most accurate integrator.
-    fn reference(&self) -> Box<dyn Method>;
     /// Runs `case` from its first to its last frame with `substeps` force substeps per frame
     /// (`None`: the method's own automatic choice, if it has one).
     fn run(&self, case: &Case, substeps: Option<u32>) -> Result<Trace, HairError>;
@@ -66,6 +70,27 @@ fn named_components(case: &Case, solver: &StrandSolver) -> Vec<String> {
     c
 }
 
+/// Every method the bench compares, in chart order: the mass-spring configurations, the rod's
+/// iteration limits, the strips. A new integrator of the mass-spring solver (XPBD, say) joins
+/// [`MassSpring::all`].
+pub fn all() -> Vec<Box<dyn Method>> {
+    let mut methods = MassSpring::all();
+    methods.extend(Rod::all());
+    methods.push(Box::new(Strips));
+    methods
+}
+
+/// What holds a mass-spring strand's segments at their length.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stretch {
+    /// The case's stretch springs (soft: see [`super::physical::soft_fraction`]).
+    Soft,
+    /// Springs of the hair's physical stiffness `EA/l` ([`Case::physical_stretch`]).
+    Physical,
+    /// No springs (with the projection: inextensible).
+    None,
+}
+
 /// hair-core's mass-spring solver in one configuration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MassSpring {
@@ -75,8 +100,8 @@ pub struct MassSpring {
     pub damping: bool,
     /// Run the inextensibility projection after every substep.
     pub projection: bool,
-    /// Keep the stretch springs (false: the projection alone holds the lengths).
-    pub springs: bool,
+    /// Stretch springs.
+    pub stretch: Stretch,
 }
 
 impl MassSpring {
@@ -85,7 +110,7 @@ impl MassSpring {
         integrator: Integrator::SemiImplicitEuler,
         damping: true,
         projection: false,
-        springs: true,
+        stretch: Stretch::Soft,
     };
 
     /// The methods `hairsys bench` compares.
@@ -107,7 +132,16 @@ impl MassSpring {
             }),
             Box::new(Self {
                 projection: true,
-                springs: false,
+                stretch: Stretch::None,
+                ..d
+            }),
+            Box::new(Self {
+                integrator: Integrator::ImplicitEuler,
+                ..d
+            }),
+            Box::new(Self {
+                integrator: Integrator::ImplicitEuler,
+                stretch: Stretch::Physical,
                 ..d
             }),
         ]
@@ -115,10 +149,10 @@ impl MassSpring {
 
     fn params(&self, case: &Case) -> HairParams {
         HairParams {
-            stretch_stiffness: if self.springs {
-                case.sim.params.stretch_stiffness
-            } else {
-                0.0
+            stretch_stiffness: match self.stretch {
+                Stretch::Soft => case.sim.params.stretch_stiffness,
+                Stretch::Physical => case.physical_stretch,
+                Stretch::None => 0.0,
             },
             ..case.sim.params
         }
@@ -165,21 +199,15 @@ impl Method for MassSpring {
         if !self.damping {
             name += ", no damping loop";
         }
-        if self.projection {
-            name += if self.springs {
-                " + projection"
-            } else {
-                " + projection, no stretch springs"
-            };
-        }
+        name += match (self.projection, self.stretch) {
+            (false, Stretch::Soft) => "",
+            (false, Stretch::Physical) => ", physical springs",
+            (false, Stretch::None) => ", no stretch springs",
+            (true, Stretch::Soft) => " + projection",
+            (true, Stretch::Physical) => " + projection, physical springs",
+            (true, Stretch::None) => " + projection, no stretch springs",
+        };
         name
-    }
-
-    fn reference(&self) -> Box<dyn Method> {
-        Box::new(Self {
-            integrator: Integrator::SemiImplicitEuler,
-            ..*self
-        })
     }
 
     fn run(&self, case: &Case, substeps: Option<u32>) -> Result<Trace, HairError> {
@@ -196,7 +224,8 @@ impl Method for MassSpring {
     }
 
     fn cannot_run(&self, case: &Case) -> Option<String> {
-        // On the strip case only the default runs: it is the reference of the strips' edges.
+        // On the strip case only the default runs beside the strips: the same edge strands as
+        // plain hair, for the cost per represented hair.
         (case.sim.model == StrandModel::Strips && *self != Self::DEFAULT).then(|| {
             "the strip case compares the strip model with the default mass-spring method only"
                 .into()
@@ -205,8 +234,8 @@ impl Method for MassSpring {
 }
 
 /// Seed 002's discrete rod ([`RodSolver`]) with a given projection iteration limit; the case's
-/// `[rod]` material (the defaults: a keratin strand of semi-axes 0.25 × 0.2 mm) and its gravity
-/// and air drag. Stretching is a constraint, so the mass-spring stretch, bending and damping
+/// `[rod]` material (the physical hair's, [`super::physical::Hair::rod`]) and its gravity and
+/// air drag. Stretching is a constraint, so the mass-spring stretch, bending and damping
 /// parameters of the case do not apply.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Rod {
@@ -215,8 +244,13 @@ pub struct Rod {
 }
 
 impl Rod {
-    /// Iteration limit of the rod's reference (the scene default: converges to its tolerance).
+    /// Iteration limit of the rod truth (the scene default: converges to its tolerance).
     pub const REFERENCE_ITERATIONS: u32 = 20;
+
+    /// The rod of the truth ([`super::truth`]).
+    pub const REFERENCE: Self = Self {
+        iterations: Self::REFERENCE_ITERATIONS,
+    };
 
     /// The rod methods `hairsys bench` compares: 1, 2, 4 and 8 projection iterations.
     pub fn all() -> Vec<Box<dyn Method>> {
@@ -253,12 +287,6 @@ impl Method for Rod {
             self.iterations,
             if self.iterations == 1 { "" } else { "s" }
         )
-    }
-
-    fn reference(&self) -> Box<dyn Method> {
-        Box::new(Self {
-            iterations: Self::REFERENCE_ITERATIONS,
-        })
     }
 
     fn run(&self, case: &Case, substeps: Option<u32>) -> Result<Trace, HairError> {
@@ -306,18 +334,14 @@ impl Method for Rod {
 
 /// Seed 000's hair strips ([`hair_core::strips::StripSolver`]): the case's edge strands as
 /// mass-spring chains with Provot's strain limit, the root angle limiter and the two-stage head
-/// collision. Its reference is the default mass-spring method on the same edge strands without
-/// the strip passes, so its error is that of the ribbon's edges against the mass-spring model.
+/// collision. Its error is that of the ribbon's edges against the rod truth on the same edge
+/// strands.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Strips;
 
 impl Method for Strips {
     fn name(&self) -> String {
         "strips".into()
-    }
-
-    fn reference(&self) -> Box<dyn Method> {
-        Box::new(MassSpring::DEFAULT)
     }
 
     fn run(&self, case: &Case, substeps: Option<u32>) -> Result<Trace, HairError> {

@@ -1,14 +1,17 @@
-//! What a bench run measures: positions at the case's sample frames (for the error against the
-//! reference), the largest segment stretch, the energy at the end, the deepest penetration into
-//! the head, and the cost.
+//! What a bench run measures, against the case's truth ([`super::truth`]), with the measures
+//! of [`hairsys::accuracy`]:
 //!
-//! - **position error**: RMS over every free point and every sample frame of `|x − x_ref|`, m;
+//! - **position error**: RMS over every free point and every sample frame of `|x − x_true|`, m;
+//! - **tip error**: RMS over strands and sample frames of the tips' distance, m (silhouette);
+//! - **length error**: largest `|L/L_rest − 1|` of a strand's total length at any sample frame;
+//! - **curl kept**: mean curvature at the last sample over the truth's (1 = kept);
 //! - **max stretch**: largest `len/rest − 1` of any segment at the end of any frame;
-//! - **energy drift**: `(E(T) − E_ref(T)) / Σ m g L`, total mechanical energy at the last frame
-//!   against the reference's, as a fraction of the case's energy scale (for the undamped pendulum
-//!   `E_ref(T) = E(0)` to within the reference's own error, so this is the drift);
+//! - **energy drift**: `(E(T) − E_true(T)) / Σ m g L` where the truth has an energy (the
+//!   pendulum's is conserved; the rod truth's is its solver's);
 //! - **max penetration**: deepest free point centre inside the closed scalp at any frame end, m;
 //! - **cost**: wall-clock ms per frame of the solver alone, and point-substeps per second.
+//!
+//! Shape drift at rest is the position error of the chain-rest case.
 
 use std::time::{Duration, Instant};
 
@@ -17,6 +20,8 @@ use nalgebra::Vector3;
 use serde::Serialize;
 
 use super::cases::Case;
+use super::truth::Truth;
+use hairsys::accuracy;
 
 /// Wall-clock cost of a run (solver only).
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -125,40 +130,65 @@ pub fn blown_up(trace: &Trace) -> Option<String> {
     })
 }
 
-/// RMS distance between the free points of `a` and `b` over all sample frames, m.
-pub fn rms_difference(case: &Case, a: &Trace, b: &Trace) -> f64 {
+/// RMS distance between the free points of sample sets `a` and `b` over all sample frames, m.
+pub fn rms_difference(case: &Case, a: &[Vec<Vector3<f32>>], b: &[Vec<Vector3<f32>>]) -> f64 {
     let free = case.sim.strands.inverse_masses();
-    let (mut sum, mut count) = (0.0f64, 0usize);
-    for (xa, xb) in a.samples.iter().zip(&b.samples) {
-        for ((pa, pb), &w) in xa.iter().zip(xb).zip(free) {
-            if w > 0.0 {
-                sum += (pa - pb).cast::<f64>().norm_squared();
-                count += 1;
-            }
-        }
-    }
-    (sum / count.max(1) as f64).sqrt()
+    let sq: f64 = a
+        .iter()
+        .zip(b)
+        .map(|(xa, xb)| accuracy::position_rms(xa, xb, free).powi(2))
+        .sum();
+    (sq / a.len().max(1) as f64).sqrt()
 }
 
-/// Errors of one stable run against its reference.
+/// Errors of one stable run against the case's truth.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct Errors {
     /// Position RMS error, m.
     pub position_rms: f64,
+    /// Tip (silhouette) RMS error, m.
+    pub tip_rms: f64,
+    /// Largest strand length error `|L/L_rest − 1|` at the sample frames.
+    pub length_error: f64,
+    /// Mean curvature at the last sample over the truth's (`None` where the truth is straight).
+    pub curl_kept: Option<f64>,
     /// Largest relative segment elongation (0.01 = 1 %).
     pub max_stretch: f32,
-    /// Energy at the end against the reference's, as a fraction of `Σ m g L`.
-    pub energy_drift: f64,
+    /// Energy at the end against the truth's, as a fraction of `Σ m g L` (`None`: the truth
+    /// has no energy comparable with the run's).
+    pub energy_drift: Option<f64>,
     /// Deepest point inside the head, m.
     pub max_penetration: f32,
 }
 
-/// Compares `run` with `reference`.
-pub fn errors(case: &Case, run: &Trace, reference: &Trace) -> Errors {
+/// Compares `run` with the case's `truth`.
+pub fn errors(case: &Case, run: &Trace, truth: &Truth) -> Errors {
+    let strands = &case.sim.strands;
+    let offsets = strands.offsets();
+    let tip_sq: f64 = run
+        .samples
+        .iter()
+        .zip(&truth.samples)
+        .map(|(x, t)| accuracy::tip_rms(x, t, offsets).powi(2))
+        .sum();
+    let length_error = run
+        .samples
+        .iter()
+        .map(|x| accuracy::length_error(x, offsets, strands.rest_lengths()))
+        .fold(0.0, f64::max);
+    let curl_kept = match (run.samples.last(), truth.samples.last()) {
+        (Some(x), Some(t)) => accuracy::curl_kept(x, t, offsets),
+        _ => None,
+    };
     Errors {
-        position_rms: rms_difference(case, run, reference),
+        position_rms: rms_difference(case, &run.samples, &truth.samples),
+        tip_rms: (tip_sq / run.samples.len().max(1) as f64).sqrt(),
+        length_error,
+        curl_kept,
         max_stretch: run.max_stretch,
-        energy_drift: (run.energy_end - reference.energy_end) / case.energy_scale.max(1e-30),
+        energy_drift: truth
+            .energy_end
+            .map(|e| (run.energy_end - e) / case.energy_scale.max(1e-30)),
         max_penetration: run.max_penetration,
     }
 }

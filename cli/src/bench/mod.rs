@@ -1,35 +1,35 @@
 //! `hairsys bench`: speed against accuracy, and where each method fails.
 //!
-//! Every [`Method`] runs every reference case ([`cases`]) at 1, 2, 4 … substeps per frame; each
-//! run gives its cost (ms/frame, point-substeps/s) and its errors ([`metrics`]) against the
-//! **reference**: the same case run by the method's reference (the same model advanced by its
-//! most accurate method: semi-implicit Euler, the rod with 20 projection iterations, or for the
-//! strips the default mass-spring method on the same edge strands) at [`REFERENCE_FACTOR`]
-//! times the finest substep charted. The reference counts as **converged** when halving its
-//! step changes it (position RMS over the sample frames) by less than the smallest error
-//! charted against it; the report states both numbers for each reference. `substeps = "auto"`
-//! is run too and marked on the chart.
+//! Every [`Method`] ([`methods::all`]) runs every case ([`cases`]) at 1, 2, 4 … substeps per
+//! frame; each run gives its cost (ms/frame, point-substeps/s) and its errors ([`metrics`])
+//! against the case's **one physical truth** ([`truth`]): the analytic answer where physics has
+//! one (the rigid pendulum, the catenary), otherwise a converged inextensible elastic rod of the
+//! same hair, whose convergence in time and space the report states. Every model is made of the
+//! same physical hair ([`physical`]), so the errors compare models. `substeps = "auto"` is run
+//! too and marked on the chart.
 //!
 //! The **stability map** ([`stability`]) runs a probe strand over a grid of stretch stiffness
 //! × substeps per method and draws the predicted bound `dt < 2/ω` on it (for the rod, whose
 //! stretching is a constraint, the rows set its bending to the same frequency).
 //!
 //! Beside the cases, [`tip_moment`] measures the rod's cantilever under a tip moment against
-//! the analytic large-rotation arc.
+//! the elastica ([`analytic::elastica_tip`]), at a small and a large deflection.
 //!
 //! Output ([`report`], [`charts`]): `pareto.png` (error against cost, log–log, one panel per
 //! case, one series per method), `stability_map.png`, `bench.md` (the tables) and `bench.json`
 //! (every number) in the output directory.
 
+pub mod analytic;
 pub mod cases;
 pub mod charts;
 pub mod methods;
 pub mod metrics;
+pub mod physical;
 pub mod report;
 pub mod stability;
 pub mod tip_moment;
+pub mod truth;
 
-use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -39,11 +39,12 @@ use serde::Serialize;
 use crate::progress::Progress;
 use cases::Case;
 use hairsys::scene::SceneError;
-use methods::{MassSpring, Method, Rod, Strips};
-use metrics::{blown_up, errors, rms_difference, Cost, Errors, Trace};
+use methods::{MassSpring, Method};
+use metrics::{blown_up, errors, Cost, Errors, Trace};
 use stability::{Grid, MethodMap};
+use truth::Convergence;
 
-/// The reference runs at this many times the finest substep count charted.
+/// The rod truth runs at (at least) this many times the finest substep count charted.
 pub const REFERENCE_FACTOR: u32 = 8;
 
 /// A stable run is repeated until the solver has spent this long on it (ms); its cost is the
@@ -72,6 +73,14 @@ pub enum BenchError {
     /// A run failed otherwise than by instability (which is a result, not an error).
     #[error("bench: {0}")]
     Solver(#[from] HairError),
+    /// A case's truth could not be computed.
+    #[error("bench: the truth of case {case} failed: {message}")]
+    Truth {
+        /// Case name.
+        case: String,
+        /// Which run failed, and why.
+        message: String,
+    },
     /// The output could not be written.
     #[error("cannot write {path}: {message}; check the --out directory is writable")]
     Write {
@@ -90,7 +99,7 @@ pub enum Outcome {
     Stable {
         /// Cost.
         cost: Cost,
-        /// Errors against the reference.
+        /// Errors against the case's truth.
         errors: Errors,
         /// The rod model's projection figures (rod methods only).
         #[serde(skip_serializing_if = "Option::is_none")]
@@ -131,23 +140,6 @@ impl Run {
     }
 }
 
-/// How well a reference is converged.
-#[derive(Debug, Clone, Serialize)]
-pub struct Convergence {
-    /// Case name.
-    pub case: String,
-    /// The reference method.
-    pub reference: String,
-    /// Its substeps per frame.
-    pub substeps: u32,
-    /// Position RMS difference between the reference and the same at half the substeps, m.
-    pub halving_change: f64,
-    /// Smallest position error charted against this reference, m.
-    pub smallest_error: f64,
-    /// `halving_change < smallest_error`.
-    pub converged: bool,
-}
-
 /// A method left out of a case, and why.
 #[derive(Debug, Clone, Serialize)]
 pub struct NotRun {
@@ -170,8 +162,8 @@ pub struct BenchReport {
     pub methods: Vec<(String, String)>,
     /// Every run, `auto` ones included.
     pub runs: Vec<Run>,
-    /// The references and their convergence.
-    pub references: Vec<Convergence>,
+    /// Each case's truth and its convergence.
+    pub truths: Vec<Convergence>,
     /// Methods left out of cases they cannot run.
     pub not_run: Vec<NotRun>,
     /// The rod's cantilever under a tip moment against the analytic arc.
@@ -211,44 +203,33 @@ fn outcome(result: Result<Trace, HairError>) -> Result<Result<Trace, String>, Ha
     }
 }
 
-/// Runs every method on `case`: the references first, then the ladder and `auto`.
+/// Runs every method on `case` against its truth: the ladder, and `auto` for the default.
 pub fn bench_case(
     case: &Case,
     methods: &[Box<dyn Method>],
     ladder: &[u32],
     progress: &Progress,
-) -> Result<(Vec<Run>, Vec<Convergence>), BenchError> {
+) -> Result<(Vec<Run>, Convergence), BenchError> {
     let methods: Vec<&dyn Method> = methods
         .iter()
         .map(|m| m.as_ref())
         .filter(|m| m.cannot_run(case).is_none())
         .collect();
     let finest = *ladder.last().unwrap_or(&1);
-    let n_ref = finest * REFERENCE_FACTOR;
     let step_dt = 1.0 / case.sim.settings.fps as f64;
-    let mut references: BTreeMap<String, (Trace, f64)> = BTreeMap::new();
-    for m in &methods {
-        let r = m.reference();
-        if references.contains_key(&r.name()) {
-            continue;
-        }
-        let fine = r.run(case, Some(n_ref))?;
-        let half = r.run(case, Some(n_ref / 2))?;
-        let change = rms_difference(case, &fine, &half);
-        for n in [n_ref, n_ref / 2] {
-            progress.tick(&Event {
-                event: "reference",
-                case: case.name,
-                method: &r.name(),
-                substeps: n,
-                status: "stable",
-            });
-        }
-        references.insert(r.name(), (fine, change));
-    }
+    let truth = truth::truth(case, finest * REFERENCE_FACTOR).map_err(|e| BenchError::Truth {
+        case: case.name.into(),
+        message: e,
+    })?;
+    progress.tick(&Event {
+        event: "truth",
+        case: case.name,
+        method: &truth.convergence.truth,
+        substeps: truth.convergence.substeps,
+        status: "done",
+    });
     let mut runs = Vec::new();
     let mut record = |m: &dyn Method, substeps: Option<u32>| -> Result<(), BenchError> {
-        let reference = &references[&m.reference().name()].0;
         let result = outcome(m.run(case, substeps))?;
         let (n, outcome) = match result {
             Ok(trace) => {
@@ -267,7 +248,7 @@ pub fn bench_case(
                     trace.substeps,
                     Outcome::Stable {
                         cost,
-                        errors: errors(case, &trace, reference),
+                        errors: errors(case, &trace, &truth),
                         projection: trace.projection,
                     },
                 )
@@ -303,30 +284,17 @@ pub fn bench_case(
     if MassSpring::DEFAULT.cannot_run(case).is_none() {
         record(&MassSpring::DEFAULT, None)?;
     }
-    let convergence = references
-        .into_iter()
-        .map(|(name, (_, change))| {
-            let smallest = runs
-                .iter()
-                .filter(|r| !r.auto)
-                .filter(|r| {
-                    methods
-                        .iter()
-                        .any(|m| m.name() == r.method && m.reference().name() == name)
-                })
-                .filter_map(|r| r.stable().map(|(_, e)| e.position_rms))
-                .filter(|&e| e > 0.0)
-                .fold(f64::INFINITY, f64::min);
-            Convergence {
-                case: case.name.into(),
-                reference: name,
-                substeps: n_ref,
-                halving_change: change,
-                smallest_error: smallest,
-                converged: change < smallest,
-            }
-        })
-        .collect();
+    let mut convergence = truth.convergence;
+    convergence.smallest_error = runs
+        .iter()
+        .filter(|r| !r.auto)
+        .filter_map(|r| r.stable().map(|(_, e)| e.position_rms))
+        .filter(|&e| e > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    if convergence.substeps > 0 {
+        convergence.converged = convergence.time_change < convergence.smallest_error
+            && convergence.space_change < convergence.smallest_error;
+    }
     Ok((runs, convergence))
 }
 
@@ -336,9 +304,7 @@ pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
     // Fail before minutes of work, not after.
     report::create_dir(&opts.out)?;
     let cases = cases::all(opts.quick)?;
-    let mut methods = MassSpring::all();
-    methods.extend(Rod::all());
-    methods.push(Box::new(Strips));
+    let methods = methods::all();
     let ladder = ladder(opts.quick);
     let grid = Grid::new(opts.quick);
     let probe = stability::probe_case(1.0, 1)?;
@@ -364,15 +330,17 @@ pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
                 reason.is_none()
             })
             .count();
-        total += runnable * (ladder.len() + 2) + 1;
+        total += runnable * ladder.len()
+            + 1
+            + usize::from(MassSpring::DEFAULT.cannot_run(case).is_none());
     }
     let progress = Progress::new(total as u64, opts.quiet, opts.json, "bench");
     let mut runs = Vec::new();
-    let mut references = Vec::new();
+    let mut truths = Vec::new();
     for case in &cases {
         let (r, c) = bench_case(case, &methods, &ladder, &progress)?;
         runs.extend(r);
-        references.extend(c);
+        truths.push(c);
     }
     let tip_moment = tip_moment::bench(opts.quick, || {
         progress.tick(&Event {
@@ -412,7 +380,7 @@ pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
             .map(|c| (c.name.to_string(), c.title.to_string()))
             .collect(),
         runs,
-        references,
+        truths,
         not_run,
         tip_moment,
         stability_stiffness: grid.stiffness.clone(),

@@ -15,15 +15,15 @@ use super::{BenchError, BenchReport, Outcome, REFERENCE_FACTOR};
 /// drift (issue 9's inextensibility test: below 10⁻⁴).
 pub const ROD_STRAIN_LIMIT: f64 = 1e-4;
 
-/// Energy gained against the reference, as a fraction of `Σ m g L`, beyond which a run that
+/// Energy gained against the truth, as a fraction of `Σ m g L`, beyond which a run that
 /// finished is flagged as near-unstable.
 pub const ENERGY_GAIN_LIMIT: f64 = 0.5;
 
 /// The notes column of a finished run: the rod's projection figures, and an energy gain that
 /// betrays a run at the edge of stability.
-fn notes(projection: Option<&ProjectionReport>, energy_drift: f64) -> String {
+fn notes(projection: Option<&ProjectionReport>, energy_drift: Option<f64>) -> String {
     let mut note = projection.map_or(String::new(), projection_note);
-    if energy_drift > ENERGY_GAIN_LIMIT {
+    if energy_drift.is_some_and(|e| e > ENERGY_GAIN_LIMIT) {
         if !note.is_empty() {
             note += "; ";
         }
@@ -131,14 +131,17 @@ pub fn markdown(r: &BenchReport, grid: &Grid) -> String {
     }
     let _ = writeln!(
         s,
-        "\nThe rod (seed 002) takes its material from the scene's `[rod]` table (the defaults: \
-         keratin, semi-axes 0.25 × 0.2 mm) and only gravity and air drag from `[physics]`: the \
-         mass-spring stretch, bending and damping parameters, goal springs, force fields and \
-         hair–hair interaction do not apply to it, so on the cantilever it is a much softer strand \
-         than the mass-spring one and each model is measured against its own reference. The \
-         rod's iteration limit of its projection is its own axis (one series per limit); its \
-         reference uses {} iterations. The strips (seed 000) run only on the head-strips case, \
-         against the default mass-spring method on the same edge strands.",
+        "\nEvery hair case is made of one physical hair (E = {} GPa, ρ = {} kg/m³, r = {} µm; \
+         see `cli/src/bench/physical.rs`): masses `μ l`, bending `EI/l³` for the mass-spring \
+         model and `E` with a round section for the rod; **soft** springs are {:.2e} of the \
+         physical `EA/l` (the default scene's 40 N/m on its wisp), **physical springs** are \
+         `EA/l`. The rod's projection iteration limit is its own axis (one series per limit); \
+         its truth uses {} iterations. The strips (seed 000) run only on the head-strips case, \
+         beside the default mass-spring method on the same edge strands.",
+        super::physical::YOUNGS_MODULUS / 1e9,
+        super::physical::DENSITY,
+        super::physical::RADIUS * 1e6,
+        super::physical::soft_fraction(),
         super::methods::Rod::REFERENCE_ITERATIONS
     );
     if !r.not_run.is_empty() {
@@ -150,50 +153,63 @@ pub fn markdown(r: &BenchReport, grid: &Grid) -> String {
     }
     let _ = writeln!(
         s,
-        "\n## References\n\nEach method is measured against its **reference**: the same case, \
-         the same model, advanced by its most accurate method (mass-spring: semi-implicit Euler; \
-         rod: {} projection iterations; strips: the default mass-spring method on the same edge \
-         strands, without the strip passes) at {REFERENCE_FACTOR}× the finest substep count \
-         charted. A reference counts as **converged** when halving its step changes it \
-         (position RMS over the sample frames) by less than the smallest error charted against \
-         it.\n",
+        "\n## Truths\n\nEvery method is measured against one **truth** per case: the analytic \
+         answer where there is one, otherwise seed 002's rod with {} projection iterations on the \
+         case's strands, every segment cut in two on the cantilever and left whole on the head \
+         cases (`cli/src/bench/truth.rs`), at (at least) \
+         {REFERENCE_FACTOR}× the finest substep count charted and within half its stability \
+         bound. It counts as **converged** when halving its substep (time) and halving its \
+         segments again (space) each change it (position RMS at the case's points) by less than \
+         the smallest error charted against it.\n",
         super::methods::Rod::REFERENCE_ITERATIONS
     );
     let _ = writeln!(
         s,
-        "| case | reference | substeps/frame | change when halved (m) | smallest error charted (m) | converged |"
+        "| case | truth | substeps/frame | change, substep halved (m) | change, segments halved again (m) | smallest error charted (m) | converged |"
     );
-    let _ = writeln!(s, "|---|---|---:|---:|---:|---|");
-    for c in &r.references {
+    let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---|");
+    for c in &r.truths {
+        let analytic = c.substeps == 0;
+        let dash = |x: f64| if analytic { "—".to_string() } else { sci(x) };
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} |",
             c.case,
-            c.reference,
-            c.substeps,
-            sci(c.halving_change),
+            c.truth,
+            if analytic {
+                "—".into()
+            } else {
+                c.substeps.to_string()
+            },
+            dash(c.time_change),
+            dash(c.space_change),
             sci(c.smallest_error),
             if c.converged { "yes" } else { "**no**" }
         );
     }
     let _ = writeln!(
         s,
-        "\n## Runs\n\nPosition error: RMS of `|x − x_ref|` over free points and sample frames. \
-         Stretch: largest `len/rest − 1`. Energy drift: `(E(T) − E_ref(T)) / Σ m g L`. \
+        "\n## Runs\n\nAgainst the case's truth (`hairsys::accuracy`): position error, RMS of \
+         `|x − x_true|` over free points and sample frames (on chain-rest: the shape drift at \
+         rest); tip error, RMS of the tips' distance (silhouette); length error, largest \
+         `|L/L_rest − 1|` of a strand's length; curl kept, mean curvature at the last sample over \
+         the truth's (— where the truth is straight). \
+         Stretch: largest segment `len/rest − 1`. Energy drift: `(E(T) − E_true(T)) / Σ m g L` \
+         (— where the truth has no comparable energy). \
          Penetration: deepest point centre inside the head. `auto` marks `substeps = \"auto\"`. \
          µs/frame/hair: cost per frame per hair the simulated strands stand for (head cases). \
          Notes: for the rod, mean (and most) iterations per projection, largest residual, largest \
          segment strain; a rod run whose projection stops at its limit, or leaves a strain above \
          {ROD_STRAIN_LIMIT:.0e}, says so; so does a run that ends with more than \
-         {ENERGY_GAIN_LIMIT} m g L above its reference's energy. A failed run gives its cause.\n"
+         {ENERGY_GAIN_LIMIT} m g L above the truth's energy. A failed run gives its cause.\n"
     );
     let _ = writeln!(
         s,
-        "| case | method | substeps/frame | dt (s) | ms/frame | M point-substeps/s | position error (m) | max stretch (%) | energy drift | max penetration (mm) | µs/frame/hair | notes |"
+        "| case | method | substeps/frame | dt (s) | ms/frame | M point-substeps/s | position error (m) | tip error (m) | length error (%) | curl kept | max stretch (%) | energy drift | max penetration (mm) | µs/frame/hair | notes |"
     );
     let _ = writeln!(
         s,
-        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
     );
     for run in &r.runs {
         let substeps = if run.auto {
@@ -209,7 +225,7 @@ pub fn markdown(r: &BenchReport, grid: &Grid) -> String {
             } => {
                 let _ = writeln!(
                     s,
-                    "| {} | {} | {} | {} | {:.3} | {:.1} | {} | {:.3} | {} | {:.2} | {} | {} |",
+                    "| {} | {} | {} | {} | {:.3} | {:.1} | {} | {} | {:.3} | {} | {:.3} | {} | {:.2} | {} | {} |",
                     run.case,
                     run.method,
                     substeps,
@@ -217,8 +233,11 @@ pub fn markdown(r: &BenchReport, grid: &Grid) -> String {
                     cost.ms_per_frame,
                     cost.point_substeps_per_s / 1e6,
                     sci(errors.position_rms),
+                    sci(errors.tip_rms),
+                    100.0 * errors.length_error,
+                    errors.curl_kept.map_or("—".into(), |c| format!("{c:.3}")),
                     100.0 * errors.max_stretch,
-                    sci(errors.energy_drift),
+                    errors.energy_drift.map_or("—".into(), sci),
                     1e3 * errors.max_penetration,
                     cost.us_per_represented_hair
                         .map_or(String::new(), |us| format!("{us:.3}")),
@@ -229,7 +248,7 @@ pub fn markdown(r: &BenchReport, grid: &Grid) -> String {
                 let cause: String = message.chars().take(140).collect();
                 let _ = writeln!(
                     s,
-                    "| {} | {} | {} | {} | unstable | | | | | | | fails: {} |",
+                    "| {} | {} | {} | {} | unstable | | | | | | | | | | fails: {} |",
                     run.case,
                     run.method,
                     substeps,
@@ -324,9 +343,9 @@ fn strips_table(s: &mut String, r: &BenchReport) {
     let _ = writeln!(
         s,
         "\n## Strips: cost per represented hair\n\nThe strip model (seed 000) on the head-strips \
-         case against the default mass-spring method on the same edge strands (its reference) and \
-         on the head case's hair (one strand per hair). Error: the strips' edge strands against \
-         the mass-spring reference at the sample frames.\n"
+         case against the default mass-spring method on the same edge strands and on the head \
+         case's hair (one strand per hair). Error: the edge strands against the rod truth on the \
+         same strands at the sample frames.\n"
     );
     let _ = writeln!(
         s,
@@ -354,35 +373,38 @@ fn strips_table(s: &mut String, r: &BenchReport) {
     }
 }
 
-/// The rod's cantilever under a tip moment against the analytic arc.
+/// The rod's cantilever under a tip moment against the elastica.
 fn tip_moment_table(s: &mut String, r: &BenchReport) {
-    let (u, v) = tip_moment::analytic_tip();
     let _ = writeln!(
         s,
-        "\n## Rod: cantilever under a tip moment\n\nA clamped 0.4 m rod (20 segments, \
-         EI = 10⁻³ N m², round) under a tip moment with t = ML/EI = {} rad, relaxed to rest by \
-         air drag over 2 s (see `cli/src/bench/tip_moment.rs`). Analytic tip: u = L(sin t/t − 1) \
-         = {} m, v = (L/t)(1 − cos t) = {} m. Error: largest node distance from the arc over L. \
-         The predicted bound 2/ω is {} s. The mass-spring model has no tip-moment input, so it is \
-         not measured here.\n",
-        tip_moment::ROTATION,
-        sci(u),
-        sci(v),
+        "\n## Rod: cantilever under a tip moment (the elastica)\n\nA clamped 0.4 m rod (20 \
+         segments, EI = 10⁻³ N m², round) under a tip moment M, relaxed to rest by air drag over \
+         2 s (see `cli/src/bench/tip_moment.rs`). Analytic: the tip turns by t = ML/EI and lies \
+         at u = L(sin t/t − 1), v = (L/t)(1 − cos t). Error: largest node distance from the arc \
+         over L. The predicted bound 2/ω is {} s. The mass-spring model has no tip-moment input, \
+         so it is not measured here.\n",
         sci(tip_moment::bound())
     );
     let _ = writeln!(
         s,
-        "| iterations | dt (s) | dt / bound | tip u (m) | tip v (m) | error / L | max strain | residual | unconverged substeps | µs/substep | status |"
+        "| t = ML/EI (rad) | analytic u, v (m) | iterations | dt / bound | tip turn (rad) | tip u (m) | tip v (m) | error / L | max strain | residual | unconverged substeps | µs/substep | status |"
     );
-    let _ = writeln!(s, "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|");
+    let _ = writeln!(
+        s,
+        "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+    );
     let opt = |x: Option<f64>| x.map_or(String::new(), sci);
     for t in &r.tip_moment {
+        let (u, v) = tip_moment::analytic_tip(t.rotation);
         let _ = writeln!(
             s,
-            "| {} | {} | {:.3} | {} | {} | {} | {} | {} | {} of {} | {:.1} | {} |",
+            "| {} | {}, {} | {} | {:.3} | {} | {} | {} | {} | {} | {} | {} of {} | {:.1} | {} |",
+            t.rotation,
+            sci(u),
+            sci(v),
             t.iterations,
-            sci(t.dt),
             t.dt_over_bound,
+            t.tip_angle.map_or(String::new(), |a| format!("{a:.4}")),
             opt(t.tip_u),
             opt(t.tip_v),
             opt(t.error_over_length),

@@ -129,6 +129,11 @@ points = [{}]
         energy_scale: 1.0,
         head: None,
         represented_hairs: None,
+        truth: super::truth::TruthKind::Rod,
+        truth_subdivision: 1,
+        mass_per_length: 0.0,
+        // The row's stiffness is the probe's physical one too: the rows vary it.
+        physical_stretch: k as f32,
         sim,
     })
 }

@@ -1,13 +1,16 @@
-//! The rod model's cantilever under a tip moment, against the large-rotation arc.
+//! The rod model's cantilever under a tip moment, against the elastica.
 //!
 //! A straight cantilever of length `L` and bending stiffness `EI`, clamped at its root and loaded
-//! by a pure moment `M` at its tip, bends into a circular arc: with `t = ML/EI` its tip lies at
-//! `u = L(sin t/t − 1)` along the clamp direction and `v = (L/t)(1 − cos t)` across it, and the
-//! point at arc length `s` at `((L/t) sin(ts/L) − s, (L/t)(1 − cos(ts/L)))`. The case follows
+//! by a pure moment `M` at its tip, bends into a circular arc ([`super::analytic::elastica_tip`]):
+//! its tip turns by `t = ML/EI` and lies at `u = L(sin t/t − 1)` along the clamp direction and
+//! `v = (L/t)(1 − cos t)` across it, and the point at arc length `s` at
+//! `((L/t) sin(ts/L) − s, (L/t)(1 − cos(ts/L)))`. The case follows
 //! `hair-core/tests/rod_cantilever_tip_moment.rs`: 20 segments over 0.4 m, 10 g/m, a round
-//! section with `EI = 10⁻³ N m²`, `t = 1.5` rad, the moment as a couple on the last segment that
-//! turns with it, no gravity, air drag `2 ω₁` to relax it to rest in 2 s. The error is the
-//! largest distance of a node from its place on the arc, as a fraction of `L`.
+//! section with `EI = 10⁻³ N m²`, the moment as a couple on the last segment that turns with it,
+//! no gravity, air drag `2 ω₁` to relax it to rest in 2 s, at a small deflection (`t = 0.1`
+//! rad, where beam theory's `v = ML²/2EI` holds) and a large one (`t = 1.5` rad). The errors are
+//! the largest distance of a node from its place on the arc, as a fraction of `L`, and the
+//! tip's turn (the last segment's angle) against `t`.
 //!
 //! The rod runs it through [`RodStrand::substep`] directly: a scene has no tip-moment input, and
 //! neither has the mass-spring model, which is therefore not measured on it.
@@ -29,8 +32,8 @@ pub const LENGTH: f64 = 0.4;
 const DENSITY: f64 = 0.01;
 /// Bending stiffness `EI`, N m².
 const EI: f64 = 1e-3;
-/// Total rotation `t = ML/EI`, rad.
-pub const ROTATION: f64 = 1.5;
+/// Total rotations `t = ML/EI` measured, rad: a small and a large deflection.
+pub const ROTATIONS: [f64; 2] = [0.1, 1.5];
 /// Simulated time, s.
 const DURATION: f64 = 2.0;
 /// Projection tolerance (relative strain).
@@ -39,6 +42,10 @@ const TOLERANCE: f64 = 1e-10;
 /// One run of the tip-moment case.
 #[derive(Debug, Clone, Serialize)]
 pub struct TipMomentRun {
+    /// Analytic tip turn `t = ML/EI`, rad.
+    pub rotation: f64,
+    /// The tip's measured turn (angle of the last segment from the clamp direction), rad.
+    pub tip_angle: Option<f64>,
     /// Projection iteration limit.
     pub iterations: u32,
     /// Substep, s.
@@ -65,10 +72,10 @@ pub struct TipMomentRun {
     pub status: String,
 }
 
-/// The analytic tip displacement `(u, v)`, m.
-pub fn analytic_tip() -> (f64, f64) {
-    let t = ROTATION;
-    (LENGTH * (t.sin() / t - 1.0), LENGTH / t * (1.0 - t.cos()))
+/// The analytic tip displacement `(u, v)` under the moment turning the tip by `rotation`, m.
+pub fn analytic_tip(rotation: f64) -> (f64, f64) {
+    let (_, u, v) = super::analytic::elastica_tip(LENGTH, EI, rotation * EI / LENGTH);
+    (u, v)
 }
 
 /// The rod's predicted bound `2/ω`, `ω² = 32 EI / (m l³)` (as [`hair_core::RodSolver`]), s.
@@ -89,13 +96,14 @@ fn grid(quick: bool) -> (Vec<f64>, Vec<u32>) {
 /// Number of runs [`bench()`] makes.
 pub fn runs(quick: bool) -> usize {
     let (f, i) = grid(quick);
-    f.len() * i.len()
+    f.len() * i.len() * ROTATIONS.len()
 }
 
-/// Runs the case at `dt` with the projection limited to `iterations`.
-pub fn run(iterations: u32, dt: f64) -> TipMomentRun {
+/// Runs the case at `dt` with the projection limited to `iterations`, under the moment that
+/// turns the tip by `rotation` (rad).
+pub fn run(iterations: u32, dt: f64, rotation: f64) -> TipMomentRun {
     let seg = LENGTH / SEGMENTS as f64;
-    let moment = ROTATION * EI / LENGTH;
+    let moment = rotation * EI / LENGTH;
     let rest: Vec<Vector3<f32>> = (0..=SEGMENTS)
         .map(|i| Vector3::new(0.0, 0.0, (seg * i as f64) as f32))
         .collect();
@@ -104,6 +112,8 @@ pub fn run(iterations: u32, dt: f64) -> TipMomentRun {
     inv_mass[SEGMENTS] *= 2.0;
     let stiffness = Stiffness::isotropic(EI, EI);
     let mut out = TipMomentRun {
+        rotation,
+        tip_angle: None,
         iterations,
         dt,
         dt_over_bound: dt / bound(),
@@ -177,7 +187,7 @@ pub fn run(iterations: u32, dt: f64) -> TipMomentRun {
     if !out.status.is_empty() {
         return out;
     }
-    let radius = LENGTH / ROTATION;
+    let radius = LENGTH / rotation;
     let worst = state
         .x
         .iter()
@@ -199,6 +209,8 @@ pub fn run(iterations: u32, dt: f64) -> TipMomentRun {
         .map(|(w, &l)| ((w[1] - w[0]).norm() / l - 1.0).abs())
         .fold(0.0, f64::max);
     let tip = state.x[SEGMENTS];
+    let last = state.x[SEGMENTS] - state.x[SEGMENTS - 1];
+    out.tip_angle = Some(last.z.atan2(last.x));
     out.tip_u = Some(tip.x - LENGTH);
     out.tip_v = Some(tip.z);
     out.error_over_length = Some(worst / LENGTH);
@@ -216,10 +228,12 @@ pub fn run(iterations: u32, dt: f64) -> TipMomentRun {
 pub fn bench(quick: bool, mut tick: impl FnMut()) -> Vec<TipMomentRun> {
     let (fractions, iterations) = grid(quick);
     let mut out = Vec::new();
-    for &i in &iterations {
-        for &f in &fractions {
-            out.push(run(i, f * bound()));
-            tick();
+    for &t in &ROTATIONS {
+        for &i in &iterations {
+            for &f in &fractions {
+                out.push(run(i, f * bound(), t));
+                tick();
+            }
         }
     }
     out
