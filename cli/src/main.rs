@@ -579,7 +579,10 @@ fn main() -> ExitCode {
                 scene,
                 budget,
             )
-            .map(|shot| ShotOptions { time_offset, ..shot })
+            .map(|shot| ShotOptions {
+                time_offset,
+                ..shot
+            })
             .and_then(|shot| {
                 hairsys_cli::cache_export::run(&file, &out, &shot, quiet, json)
                     .map_err(Failure::input)

@@ -294,7 +294,12 @@ fn export_inner(
                     .collect();
                 // The frame is written twice (default value and a time sample): one copy.
                 let frame_children = samples[centre].1.clone();
-                usd::export_usd(out, frame_children, &Motion::TimeSamples(&motion), &usd_opts)
+                usd::export_usd(
+                    out,
+                    frame_children,
+                    &Motion::TimeSamples(&motion),
+                    &usd_opts,
+                )
             } else {
                 // One sample: its buffers move into the layer, no copy of the points.
                 let (_, frame_children) = samples.swap_remove(centre);

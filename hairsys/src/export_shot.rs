@@ -165,8 +165,14 @@ pub fn export_shot(cache: &Path, out: &Path, opts: &ShotOptions) -> Result<ShotS
             ("children", curves, points)
         }
         _ => {
-            let (curves, points) =
-                add_strands(&mut layer, &mut reader, &scene, sim.as_ref(), &times, offset)?;
+            let (curves, points) = add_strands(
+                &mut layer,
+                &mut reader,
+                &scene,
+                sim.as_ref(),
+                &times,
+                offset,
+            )?;
             ("hair", curves, points)
         }
     };

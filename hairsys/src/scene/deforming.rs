@@ -350,7 +350,11 @@ mod tests {
         assert_eq!(offset, plain);
         assert_eq!(offset, vec![0.0, 0.1, 0.2, 0.3]);
         // Two time codes per scene frame: frames 1001, 1002 read time codes 1001 and 1003.
-        let halves = heights(&section("shot.usdc", -1001.0, 2.0), dir.path(), (1001, 1002));
+        let halves = heights(
+            &section("shot.usdc", -1001.0, 2.0),
+            dir.path(),
+            (1001, 1002),
+        );
         assert_eq!(halves, vec![0.0, 0.2]);
         // Without the offset the shot's time codes are outside scene frames 1–4: refused.
         let e = load(
@@ -373,8 +377,13 @@ mod tests {
             (f64::INFINITY, 1.0, "time_offset"),
         ] {
             let s = section("shot.usdc", offset, scale);
-            let e = load(DeformingSource::Usd(&s), dir.path(), (1, 2), &Budget::default())
-                .unwrap_err();
+            let e = load(
+                DeformingSource::Usd(&s),
+                dir.path(),
+                (1, 2),
+                &Budget::default(),
+            )
+            .unwrap_err();
             assert!(e.contains("shot.usdc") && e.contains(key), "{e}");
         }
     }

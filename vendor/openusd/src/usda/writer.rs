@@ -1179,7 +1179,9 @@ fn format_float(s: &mut String, v: f32) {
         // Integer-valued: the same `.0` form as `format_double`.
         format_double(s, f64::from(v));
     } else if v.is_finite() && v != 0.0 {
-        write!(s, "{v}").unwrap();
+        // hairsys fix: `zmij` prints the same shortest round-trip digits as `{v}` several times
+        // faster (exponent form for very small and large values, which USD parsers read).
+        s.push_str(zmij::Buffer::new().format_finite(v));
     } else {
         format_double(s, f64::from(v));
     }
