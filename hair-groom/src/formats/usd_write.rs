@@ -439,7 +439,7 @@ fn regroup<T: bytemuck::Pod, const N: usize>(
 ) -> Vec<T> {
     debug_assert_eq!(std::mem::size_of::<T>(), N * std::mem::size_of::<f32>());
     flat.truncate(flat.len() - flat.len() % N);
-    if flat.capacity() % N != 0 {
+    if !flat.capacity().is_multiple_of(N) {
         // Shrinking a large allocation is an in-place `realloc` (no copy) in the usual allocators.
         flat.shrink_to_fit();
     }
