@@ -41,9 +41,14 @@ pub fn run(
         Some(false) => "static scalp",
         None => "no scalp",
     };
+    let offset = if opts.time_offset == 0.0 {
+        String::new()
+    } else {
+        format!(" at time codes {}–{}", s.time_codes.0, s.time_codes.1)
+    };
     crate::output::line(&format!(
-        "wrote {}: frames {}–{} ({} time samples), {} {} curves, {} points, {scalp}, {} bytes \
-         in {seconds:.2} s",
+        "wrote {}: frames {}–{}{offset} ({} time samples), {} {} curves, {} points, {scalp}, {} \
+         bytes in {seconds:.2} s",
         out.display(),
         s.frames.0,
         s.frames.1,

@@ -195,6 +195,10 @@ struct ExportArgs {
     /// Output file: .usdc (binary USD BasisCurves), .usda (text) or .hair.
     #[arg(short, long)]
     out: PathBuf,
+    /// USD: frames added to every time code written: --time-offset 1000 writes frame 12 at
+    /// time code 1012 (a shot starting at 1001) [0].
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    time_offset: f64,
     /// Print nothing but errors.
     #[arg(long, conflicts_with = "json")]
     quiet: bool,
@@ -423,6 +427,10 @@ enum CacheCommand {
         /// Scene overriding the one stored in the cache (roots, scalp, [children]).
         #[arg(long)]
         scene: Option<PathBuf>,
+        /// Frames added to every USD time code: --time-offset 1000 writes frame 1 at time
+        /// code 1001 (a shot starting at 1001) [0].
+        #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+        time_offset: f64,
         /// Print nothing but errors.
         #[arg(long, conflicts_with = "json")]
         quiet: bool,
@@ -587,6 +595,7 @@ fn main() -> ExitCode {
                     children,
                     child,
                     scene,
+                    time_offset,
                     quiet,
                     json,
                 },
@@ -600,6 +609,10 @@ fn main() -> ExitCode {
                 scene,
                 budget,
             )
+            .map(|shot| ShotOptions {
+                time_offset,
+                ..shot
+            })
             .and_then(|shot| {
                 hairsys_cli::cache_export::run(&file, &out, &shot, quiet, json)
                     .map_err(Failure::input)
@@ -969,6 +982,7 @@ fn cache_export_options(
         }),
         scene,
         budget,
+        time_offset: 0.0,
     })
 }
 
@@ -1008,6 +1022,7 @@ fn export_children(a: ExportArgs, budget: Budget) -> Result<(), Failure> {
             }),
             scene: a.scene,
             budget,
+            time_offset: a.time_offset,
         };
         return hairsys_cli::cache_export::run(cache, &a.out, &shot, a.quiet, a.json)
             .map_err(Failure::input);
@@ -1023,6 +1038,7 @@ fn export_children(a: ExportArgs, budget: Budget) -> Result<(), Failure> {
         format,
         out: a.out,
         budget,
+        time_offset: a.time_offset,
     };
     let progress = Progress::new(opts.motion_samples as u64, a.quiet, false, "children");
     let summary = export(&opts, || progress.tick(&()));

@@ -69,7 +69,7 @@ fn layer_bytes() -> Vec<u8> {
     let times = |f: &dyn Fn(f32) -> Vec<f32>| {
         Samples::Times((1..=3).map(|t| (f64::from(t), f(t as f32))).collect())
     };
-    layer.add_curves(&UsdCurvesPrim {
+    layer.add_curves(UsdCurvesPrim {
         name: "hair",
         vertex_counts: vec![3, 3],
         points: times(&frame),
@@ -81,7 +81,7 @@ fn layer_bytes() -> Vec<u8> {
         uniform_floats: vec![("random", vec![0.25, 0.75])],
         uniform_ints: vec![("id", vec![0, 1])],
     });
-    layer.add_mesh(&UsdMeshPrim {
+    layer.add_mesh(UsdMeshPrim {
         name: "scalp",
         face_vertex_counts: vec![3, 3],
         face_vertex_indices: vec![0, 1, 2, 0, 2, 3],

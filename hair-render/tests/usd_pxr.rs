@@ -160,7 +160,7 @@ fn usda_with_time_samples_opens_in_pixar_usd() {
             time_code: 12.0,
             ..Default::default()
         };
-        export_usd(&path, &frame, &Motion::TimeSamples(&samples), &opts).unwrap();
+        export_usd(&path, frame.clone(), &Motion::TimeSamples(&samples), &opts).unwrap();
         assert!(!dir.path().join(format!("children.{ext}.partial")).exists());
         let exp = expected(
             &frame,
@@ -190,7 +190,7 @@ fn usda_with_velocities_and_without_uvs_opens_in_pixar_usd() {
         let path = dir.path().join(format!("children.{ext}"));
         export_usd(
             &path,
-            &frame,
+            frame.clone(),
             &Motion::Velocities(&v),
             &UsdOptions {
                 time_code: 12.0,
@@ -219,7 +219,7 @@ fn usda_with_interpolated_children_opens_in_pixar_usd() {
         time_code: 12.0,
         ..Default::default()
     };
-    export_usd(&path, &frame, &Motion::None, &opts).unwrap();
+    export_usd(&path, frame.clone(), &Motion::None, &opts).unwrap();
     run_checker(&path, &expected(&frame, &[], None));
 }
 
@@ -241,7 +241,7 @@ fn a_failed_export_leaves_nothing_behind() {
     let path = dir.path().join("c.usda");
     let err = export_usd(
         &path,
-        &frame,
+        frame.clone(),
         &Motion::TimeSamples(&samples),
         &UsdOptions::default(),
     )
@@ -250,7 +250,7 @@ fn a_failed_export_leaves_nothing_behind() {
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
     let err = export_usd(
         &dir.path().join("missing/c.usda"),
-        &frame,
+        frame.clone(),
         &Motion::None,
         &UsdOptions::default(),
     )

@@ -55,6 +55,9 @@ pub struct ExportOptions {
     pub out: PathBuf,
     /// Memory limit checked before the children are generated (children × points × samples).
     pub budget: Budget,
+    /// Frames added to the USD time codes written (frame `f` at `f + time_offset`; finite);
+    /// 0 for scene frames as they are.
+    pub time_offset: f64,
 }
 
 /// Child settings that override the scene's `[children]` section (`None`: the scene's value, or
@@ -273,6 +276,10 @@ fn export_inner(
         on_sample();
     }
     let centre = samples.len() / 2;
+    let (curves, points) = (
+        samples[centre].1.curve_count(),
+        samples[centre].1.point_count(),
+    );
     let out = &opts.out;
     *writing = true;
     match opts.format {
@@ -281,32 +288,39 @@ fn export_inner(
                 .map_err(|e| e.to_string())?;
         }
         Format::Usd => {
-            let motion: Vec<MotionSample> = samples
-                .iter()
-                .map(|(time_code, children)| MotionSample {
-                    time_code: *time_code,
-                    children,
-                })
-                .collect();
-            let motion = if motion.len() > 1 {
-                Motion::TimeSamples(&motion)
-            } else {
-                Motion::None
-            };
             let usd_opts = UsdOptions {
                 frames_per_second: fps,
-                time_code: frame as f64,
+                time_code: frame as f64 + opts.time_offset,
                 ..UsdOptions::default()
             };
-            usd::export_usd(out, &samples[centre].1, &motion, &usd_opts)
-                .map_err(|e| e.to_string())?;
+            if samples.len() > 1 {
+                let motion: Vec<MotionSample> = samples
+                    .iter()
+                    .map(|(time_code, children)| MotionSample {
+                        time_code: time_code + opts.time_offset,
+                        children,
+                    })
+                    .collect();
+                // The frame is written twice (default value and a time sample): one copy.
+                let frame_children = samples[centre].1.clone();
+                usd::export_usd(
+                    out,
+                    frame_children,
+                    &Motion::TimeSamples(&motion),
+                    &usd_opts,
+                )
+            } else {
+                // One sample: its buffers move into the layer, no copy of the points.
+                let (_, frame_children) = samples.swap_remove(centre);
+                usd::export_usd(out, frame_children, &Motion::None, &usd_opts)
+            }
+            .map_err(|e| e.to_string())?;
         }
     }
-    let children = &samples[centre].1;
     Ok(ExportSummary {
         out: out.display().to_string(),
-        curves: children.curve_count(),
-        points: children.point_count(),
+        curves,
+        points,
         time_samples: if opts.format == Format::Usd {
             samples.len()
         } else {

@@ -11,8 +11,11 @@
 //! sibling `Mesh` prim `/scalp`: with time-sampled `points` when it moves (keyed rigid motion
 //! today; any mesh [`crate::scene::Simulation::scalp_at`] returns), else one static value.
 //!
-//! Time codes are frame numbers (`timeCodesPerSecond` = the cache's fps; `startTimeCode` and
-//! `endTimeCode` = the first and last frame written). With a shutter ([`Shutter`]), each frame
+//! Time codes are frame numbers plus [`ShotOptions::time_offset`] (`timeCodesPerSecond` = the
+//! cache's fps; `startTimeCode` and `endTimeCode` = the first and last time code written): a
+//! scene simulated over frames 1–48 for a shot that starts at 1001 is exported with an offset of
+//! 1000 and lands on time codes 1001–1048 (`--time-offset 1000`). The offset is whole frames
+//! or not; it moves the time codes only, never which cached frames are read. With a shutter ([`Shutter`]), each frame
 //! gets its sub-frame samples at fractional time codes, `frame + offset`, positions and
 //! velocities taken from the cache's cubic Hermite interpolation
 //! ([`hair_cache::CacheReader::sample`]); samples outside the cached frames are left out (the
@@ -37,6 +40,7 @@ use hair_groom::formats::obj::UpAxis;
 use hair_groom::formats::usd_write::{
     Samples, UsdCurvesPrim, UsdEncoding, UsdLayer, UsdMeshPrim, UsdStageInfo,
 };
+use hair_render::buffers::ChildBuffers;
 use hair_render::export::usd::curves_prim;
 use nalgebra::Vector3;
 
@@ -68,6 +72,9 @@ pub struct ShotOptions {
     pub scene: Option<PathBuf>,
     /// Memory limit on the children held until written (children × points × samples).
     pub budget: Budget,
+    /// Added to every time code written (frames; finite): frame `f` is written at `f +
+    /// time_offset`. 0 writes scene frames as they are.
+    pub time_offset: f64,
 }
 
 /// What [`export_shot`] wrote.
@@ -79,8 +86,11 @@ pub struct ShotSummary {
     pub frame_count: usize,
     /// Time samples per animated attribute (frames, plus sub-frame samples with a shutter).
     pub time_samples: usize,
-    /// Sub-frame samples left out because they lie outside the cached frames, as time codes.
+    /// Sub-frame samples left out because they lie outside the cached frames, as scene frames
+    /// (before the time offset).
     pub dropped_samples: Vec<f64>,
+    /// First and last time code written (the frames plus the time offset).
+    pub time_codes: (f64, f64),
     /// Path of the curves prim (`/hair` or `/children`).
     pub prim: String,
     /// Curves in the file.
@@ -121,7 +131,18 @@ pub fn export_shot(cache: &Path, out: &Path, opts: &ShotOptions) -> Result<ShotS
         ));
     };
     let (lo, hi) = (f64::from(cached[0]), f64::from(cached[cached.len() - 1]));
+    if !opts.time_offset.is_finite() {
+        return Err(format!(
+            "time offset {}: give a finite number of frames, e.g. 1000 for a shot starting at \
+             frame 1001",
+            opts.time_offset
+        ));
+    }
     let (times, dropped) = time_codes(&chosen, opts.shutter.as_ref(), (lo, hi));
+    let time_range = (
+        times[0] + opts.time_offset,
+        times[times.len() - 1] + opts.time_offset,
+    );
     // The scene is needed for children; for strands only its scalp is, and a scene that no
     // longer builds (its OBJ moved) loses the scalp, not the export.
     let sim = match (&opts.children, scene.build()) {
@@ -133,9 +154,10 @@ pub fn export_shot(cache: &Path, out: &Path, opts: &ShotOptions) -> Result<ShotS
         up_axis: UpAxis::Z,
         meters_per_unit: 1.0,
         time_codes_per_second: Some(fps),
-        time_range: Some((times[0], times[times.len() - 1])),
+        time_range: Some(time_range),
     };
     let mut layer = UsdLayer::new(&stage);
+    let offset = opts.time_offset;
     let (prim, curves, points) = match (&opts.children, &sim) {
         (Some(request), Some(sim)) => {
             let (curves, points) =
@@ -143,14 +165,20 @@ pub fn export_shot(cache: &Path, out: &Path, opts: &ShotOptions) -> Result<ShotS
             ("children", curves, points)
         }
         _ => {
-            let (curves, points) =
-                add_strands(&mut layer, &mut reader, &scene, sim.as_ref(), &times)?;
+            let (curves, points) = add_strands(
+                &mut layer,
+                &mut reader,
+                &scene,
+                sim.as_ref(),
+                &times,
+                offset,
+            )?;
             ("hair", curves, points)
         }
     };
     layer.set_default_prim(prim);
     let scalp_animated = match &sim {
-        Some(sim) => add_scalp(&mut layer, sim, &times),
+        Some(sim) => add_scalp(&mut layer, sim, &times, offset),
         None => None,
     };
     layer
@@ -162,6 +190,7 @@ pub fn export_shot(cache: &Path, out: &Path, opts: &ShotOptions) -> Result<ShotS
         frame_count: chosen.len(),
         time_samples: times.len(),
         dropped_samples: dropped,
+        time_codes: time_range,
         prim: format!("/{prim}"),
         curves,
         points,
@@ -206,6 +235,7 @@ fn add_strands(
     scene: &SceneFile,
     sim: Option<&Simulation>,
     times: &[f64],
+    offset: f64,
 ) -> Result<(usize, usize), String> {
     let fps = reader.header().fps;
     let layout = reader.layout().clone();
@@ -215,8 +245,8 @@ fn add_strands(
         let s = reader
             .sample(t / fps, Interpolation::Hermite)
             .map_err(|e| e.to_string())?;
-        points.push((t, flat(&s.positions)));
-        velocities.push((t, flat(&s.velocities)));
+        points.push((t + offset, flat(&s.positions)));
+        velocities.push((t + offset, flat(&s.velocities)));
     }
     let counts: Vec<i32> = layout
         .offsets
@@ -228,7 +258,7 @@ fn add_strands(
         Some(sim) if sim.strands.len() == curves => root_attributes(scene, sim)?,
         _ => (None, None),
     };
-    layer.add_curves(&UsdCurvesPrim {
+    layer.add_curves(UsdCurvesPrim {
         name: "hair",
         vertex_counts: counts,
         points: Samples::Times(points),
@@ -309,7 +339,7 @@ fn add_children(
     let (settings, lod) = child_settings(scene, &request.overrides, request.display)?;
     check_children_memory(&opts.budget, sim, &settings, times.len())?;
     let colors = scalp_colors(scene)?;
-    let mut first = None;
+    let mut first: Option<ChildBuffers> = None;
     let mut points = Vec::with_capacity(times.len());
     for &t in times {
         let s = reader
@@ -324,24 +354,31 @@ fn add_children(
             lod,
         )
         .map_err(|e| e.to_string())?;
-        match &first {
-            None => first = Some(children.clone()),
-            Some(c) => c
-                .check_same_topology(&children)
-                .map_err(|e| format!("children at time code {t}: {e}"))?,
+        if let Some(c) = &first {
+            // Compares the curves' point counts only: `first` has given up its points.
+            c.check_same_topology(&children)
+                .map_err(|e| format!("children at time code {t}: {e}"))?;
         }
-        points.push((t, children.points));
+        let (frame_points, rest) = take_points(children);
+        points.push((t + opts.time_offset, frame_points));
+        // The first time code's curves (less their points) carry the topology and per-curve data.
+        first.get_or_insert(rest);
     }
     let first = first.ok_or("no time code to export")?;
+    let sizes = (first.curve_count(), points[0].1.len() / 3);
     let velocities = central_differences(&points, fps);
-    let prim = curves_prim(
+    layer.add_curves(curves_prim(
         "children",
-        &first,
+        first,
         Samples::Times(points),
         Some(Samples::Times(velocities)),
-    );
-    layer.add_curves(&prim);
-    Ok((first.curve_count(), first.point_count()))
+    ));
+    Ok(sizes)
+}
+
+/// `children` split into its points and the rest (topology and per-curve data, no points).
+fn take_points(mut children: ChildBuffers) -> (Vec<f32>, ChildBuffers) {
+    (std::mem::take(&mut children.points), children)
 }
 
 /// Velocities (units per second) of the sampled `points` by central differences of the
@@ -368,14 +405,15 @@ fn central_differences(points: &[(f64, Vec<f32>)], fps: f64) -> Vec<(f64, Vec<f3
         .collect()
 }
 
-/// The scene's scalp mesh as `/scalp`, animated when it moves over `times`; returns whether it
+/// The scene's scalp mesh as `/scalp`, animated when it moves over `times` (scene frames,
+/// written at `offset` time codes later); returns whether it
 /// is animated, `None` without a scalp mesh.
-fn add_scalp(layer: &mut UsdLayer, sim: &Simulation, times: &[f64]) -> Option<bool> {
+fn add_scalp(layer: &mut UsdLayer, sim: &Simulation, times: &[f64], offset: f64) -> Option<bool> {
     let rest = sim.rest_mesh()?;
     let tris = rest.triangles();
     let frames: Vec<(f64, Vec<f32>)> = times
         .iter()
-        .filter_map(|&t| Some((t, flat(sim.scalp_at(t as f32).mesh?.positions()))))
+        .filter_map(|&t| Some((t + offset, flat(sim.scalp_at(t as f32).mesh?.positions()))))
         .collect();
     let moves = frames.windows(2).any(|w| w[0].1 != w[1].1);
     let points = if moves {
@@ -388,7 +426,7 @@ fn add_scalp(layer: &mut UsdLayer, sim: &Simulation, times: &[f64]) -> Option<bo
                 .map_or_else(|| flat(rest.positions()), |(_, p)| p),
         )
     };
-    layer.add_mesh(&UsdMeshPrim {
+    layer.add_mesh(UsdMeshPrim {
         name: "scalp",
         face_vertex_counts: vec![3; tris.len()],
         face_vertex_indices: tris.iter().flatten().map(|&i| i as i32).collect(),

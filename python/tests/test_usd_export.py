@@ -253,3 +253,35 @@ def test_cache_export_refuses_child_options_without_children(run):
                           "--shutter", "0.5,-0.5"], cwd=d, capture_output=True, text=True)
     assert out.returncode == 2 and "--shutter" in out.stderr, out.stderr
     assert not (d / "x.usdc").exists()
+
+
+@pytest.mark.parametrize("ext", ["usdc", "usda"])
+def test_a_shot_starting_at_frame_1001_round_trips_with_a_time_offset(run, ext):
+    """`--time-offset 1000`: cache frame f lands on time code 1000 + f (strands, scalp and
+    the stage's range), and render children of one frame on 1000 + f with their shutter."""
+    d, _, frames = run
+    hairsys("cache", "export", "c.mcap", "-o", f"late.{ext}", "--time-offset", "1000", cwd=d)
+    stage = Usd.Stage.Open(str(d / f"late.{ext}"))
+    assert (stage.GetStartTimeCode(), stage.GetEndTimeCode()) == (1001.0, 1024.0)
+    curves = UsdGeom.BasisCurves(stage.GetPrimAtPath("/hair"))
+    times = [1000.0 + f for f in range(FRAMES[0], FRAMES[1] + 1)]
+    assert curves.GetPointsAttr().GetTimeSamples() == times
+    for f in (1, 12, 24):
+        pos, vel = frames[f]
+        assert np.array_equal(points(curves.GetPointsAttr(), 1000 + f), pos), f"points at {f}"
+        assert np.array_equal(points(curves.GetVelocitiesAttr(), 1000 + f), vel), f
+        check_extent(stage.GetPrimAtPath("/hair"), 1000 + f)
+    scalp = UsdGeom.Mesh(stage.GetPrimAtPath("/scalp"))
+    assert scalp.GetPointsAttr().GetTimeSamples() == times
+    # The same frame without the offset: the same scalp, 1000 time codes earlier.
+    hairsys("cache", "export", "c.mcap", "-o", f"early.{ext}", cwd=d)
+    early = Usd.Stage.Open(str(d / f"early.{ext}"))
+    early_scalp = UsdGeom.Mesh(early.GetPrimAtPath("/scalp"))
+    assert np.array_equal(points(scalp.GetPointsAttr(), 1012),
+                          points(early_scalp.GetPointsAttr(), 12))
+    hairsys("render-children", "export", "--cache", "c.mcap", "--frame", "12", "--count", "300",
+            "--shutter", "-0.25,0.25", "--time-offset", "1000", "-o", f"kids.{ext}", cwd=d)
+    kids = Usd.Stage.Open(str(d / f"kids.{ext}"))
+    assert (kids.GetStartTimeCode(), kids.GetEndTimeCode()) == (1011.75, 1012.25)
+    pts = UsdGeom.BasisCurves(kids.GetPrimAtPath("/children")).GetPointsAttr()
+    assert pts.GetTimeSamples() == [1011.75, 1012.0, 1012.25]

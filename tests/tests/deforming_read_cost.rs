@@ -49,7 +49,7 @@ fn deforming_50k_vertex_mesh_read_and_collider_update_per_frame() {
         time_codes_per_second: Some(24.0),
         time_range: Some((1.0, f64::from(FRAMES))),
     });
-    layer.add_mesh(&UsdMeshPrim {
+    layer.add_mesh(UsdMeshPrim {
         name: "body",
         face_vertex_counts: vec![3; mesh.triangles().len()],
         face_vertex_indices: mesh

@@ -178,7 +178,7 @@ pub fn write_usda(path: &Path, groom: &Groom, opts: &ImportOptions) -> Result<()
         time_codes_per_second: None,
         time_range: None,
     });
-    layer.add_curves(&UsdCurvesPrim {
+    layer.add_curves(UsdCurvesPrim {
         name: "hair",
         vertex_counts: counts,
         points: super::usd_write::Samples::Default(points),

@@ -16,6 +16,13 @@
 //!
 //! The `.usdc` writer is `openusd` 0.6's with one fix (children lists typed `TfTokenVector`,
 //! `vendor/openusd/VENDORED.md`), without which Pixar's USD refuses the file.
+//!
+//! **No copies of the big arrays.** [`UsdLayer::add_curves`] and [`UsdLayer::add_mesh`] take their
+//! prim by value and move its arrays into the layer: a flat `Vec<f32>` of x, y, z becomes the
+//! layer's `Vec<Vec3f>` by reinterpreting the same allocation (`bytemuck::try_cast_vec`; both are
+//! 4-byte aligned `f32`s), and the writers read the layer's values in place. A million children ×
+//! 17 points (204 MB of points) are therefore written from the buffer the children were generated
+//! into, with no copy on the way out but the one into the file.
 
 use std::fmt;
 use std::io::{BufWriter, Write};
@@ -185,8 +192,12 @@ impl UsdLayer {
         }
     }
 
-    /// Adds a `BasisCurves` prim (linear, non-periodic).
-    pub fn add_curves(&mut self, c: &UsdCurvesPrim<'_>) {
+    /// Adds a `BasisCurves` prim (linear, non-periodic); its arrays move into the layer.
+    pub fn add_curves(&mut self, c: UsdCurvesPrim<'_>) {
+        // Bounds first: the points move into the layer below.
+        let extent = c
+            .extent
+            .then(|| extent_samples(&c.points, c.widths.as_ref()));
         let prim = self.add_prim(c.name, "BasisCurves");
         let mut props = Vec::new();
         let mut attr = |name: &str, ty: &str, value: Value, uniform: bool, interp: Option<&str>| {
@@ -198,18 +209,18 @@ impl UsdLayer {
         attr(
             "curveVertexCounts",
             "int[]",
-            Value::IntVec(c.vertex_counts.clone()),
+            Value::IntVec(c.vertex_counts),
             false,
             None,
         );
-        attr("points", "point3f[]", vec3_samples(&c.points), false, None);
-        if let Some(v) = &c.velocities {
+        attr("points", "point3f[]", vec3_samples(c.points), false, None);
+        if let Some(v) = c.velocities {
             attr("velocities", "vector3f[]", vec3_samples(v), false, None);
         }
-        if let Some(w) = &c.widths {
+        if let Some(w) = c.widths {
             attr("widths", "float[]", float_samples(w), false, Some("vertex"));
         }
-        if let Some(uv) = &c.root_uv {
+        if let Some(uv) = c.root_uv {
             // `st` for renderers; `surface_uv_coordinate` is the name Blender's curves use.
             let uv = vec2(uv);
             attr(
@@ -227,7 +238,7 @@ impl UsdLayer {
                 Some("uniform"),
             );
         }
-        if let Some(rgb) = &c.colors {
+        if let Some(rgb) = c.colors {
             attr(
                 "primvars:displayColor",
                 "color3f[]",
@@ -236,40 +247,23 @@ impl UsdLayer {
                 Some("uniform"),
             );
         }
-        for (name, v) in &c.uniform_floats {
+        for (name, v) in c.uniform_floats {
             let name = format!("primvars:{name}");
-            attr(
-                &name,
-                "float[]",
-                Value::FloatVec(v.clone()),
-                false,
-                Some("uniform"),
-            );
+            attr(&name, "float[]", Value::FloatVec(v), false, Some("uniform"));
         }
-        for (name, v) in &c.uniform_ints {
+        for (name, v) in c.uniform_ints {
             let name = format!("primvars:{name}");
-            attr(
-                &name,
-                "int[]",
-                Value::IntVec(v.clone()),
-                false,
-                Some("uniform"),
-            );
+            attr(&name, "int[]", Value::IntVec(v), false, Some("uniform"));
         }
-        if c.extent {
-            attr(
-                "extent",
-                "float3[]",
-                extent_samples(&c.points, c.widths.as_ref()),
-                false,
-                None,
-            );
+        if let Some(extent) = extent {
+            attr("extent", "float3[]", extent, false, None);
         }
         self.set_properties(&prim, props);
     }
 
-    /// Adds a `Mesh` prim.
-    pub fn add_mesh(&mut self, m: &UsdMeshPrim<'_>) {
+    /// Adds a `Mesh` prim; its arrays move into the layer.
+    pub fn add_mesh(&mut self, m: UsdMeshPrim<'_>) {
+        let extent = extent_samples(&m.points, None);
         let prim = self.add_prim(m.name, "Mesh");
         let mut props = Vec::new();
         let mut attr = |name: &str, ty: &str, value: Value, uniform: bool, interp: Option<&str>| {
@@ -279,18 +273,18 @@ impl UsdLayer {
         attr(
             "faceVertexCounts",
             "int[]",
-            Value::IntVec(m.face_vertex_counts.clone()),
+            Value::IntVec(m.face_vertex_counts),
             false,
             None,
         );
         attr(
             "faceVertexIndices",
             "int[]",
-            Value::IntVec(m.face_vertex_indices.clone()),
+            Value::IntVec(m.face_vertex_indices),
             false,
             None,
         );
-        attr("points", "point3f[]", vec3_samples(&m.points), false, None);
+        attr("points", "point3f[]", vec3_samples(m.points), false, None);
         attr(
             "subdivisionScheme",
             "token",
@@ -298,7 +292,7 @@ impl UsdLayer {
             true,
             None,
         );
-        if let Some(uv) = &m.uv {
+        if let Some(uv) = m.uv {
             attr(
                 "primvars:st",
                 "texCoord2f[]",
@@ -307,7 +301,7 @@ impl UsdLayer {
                 Some("vertex"),
             );
         }
-        if let Some(rgb) = &m.colors {
+        if let Some(rgb) = m.colors {
             attr(
                 "primvars:displayColor",
                 "color3f[]",
@@ -316,13 +310,7 @@ impl UsdLayer {
                 Some("vertex"),
             );
         }
-        attr(
-            "extent",
-            "float3[]",
-            extent_samples(&m.points, None),
-            false,
-            None,
-        );
+        attr("extent", "float3[]", extent, false, None);
         self.set_properties(&prim, props);
     }
 
@@ -428,29 +416,47 @@ fn partial_path(path: &Path) -> PathBuf {
     path.with_file_name(name)
 }
 
-/// Flat x, y, z as `Vec3f`s.
-fn vec3(flat: &[f32]) -> Vec<gf::Vec3f> {
-    flat.chunks_exact(3)
-        .map(|c| gf::Vec3f {
-            x: c[0],
-            y: c[1],
-            z: c[2],
-        })
-        .collect()
+/// Flat x, y, z as `Vec3f`s: the same allocation reinterpreted (no copy) when its length and
+/// capacity are whole `Vec3f`s, else copied; a trailing partial triple is dropped.
+fn vec3(flat: Vec<f32>) -> Vec<gf::Vec3f> {
+    regroup(flat, |c: &[f32; 3]| gf::Vec3f {
+        x: c[0],
+        y: c[1],
+        z: c[2],
+    })
 }
 
-/// Flat u, v as `Vec2f`s.
-fn vec2(flat: &[f32]) -> Vec<gf::Vec2f> {
-    flat.chunks_exact(2)
-        .map(|c| gf::Vec2f { x: c[0], y: c[1] })
-        .collect()
+/// Flat u, v as `Vec2f`s, like [`vec3`].
+fn vec2(flat: Vec<f32>) -> Vec<gf::Vec2f> {
+    regroup(flat, |c: &[f32; 2]| gf::Vec2f { x: c[0], y: c[1] })
+}
+
+/// `flat` grouped into `T`s of `N` `f32`s each: reinterpreted in place when the allocation holds
+/// whole `T`s (the common case: buffers sized `N × count`), else copied through `make`.
+fn regroup<T: bytemuck::Pod, const N: usize>(
+    mut flat: Vec<f32>,
+    make: impl Fn(&[f32; N]) -> T,
+) -> Vec<T> {
+    debug_assert_eq!(std::mem::size_of::<T>(), N * std::mem::size_of::<f32>());
+    flat.truncate(flat.len() - flat.len() % N);
+    if !flat.capacity().is_multiple_of(N) {
+        // Shrinking a large allocation is an in-place `realloc` (no copy) in the usual allocators.
+        flat.shrink_to_fit();
+    }
+    match bytemuck::allocation::try_cast_vec::<f32, T>(flat) {
+        Ok(v) => v,
+        Err((_, flat)) => flat
+            .chunks_exact(N)
+            .map(|c| make(c.try_into().expect("chunks of N")))
+            .collect(),
+    }
 }
 
 /// An attribute's value: each array of `s` through `one`, as a default, time samples, or both
-/// (a `Value::TimeSamples` wrapping the default first, split again by the layer).
-fn sampled(s: &Samples, one: impl Fn(&[f32]) -> Value) -> Value {
-    let times = |t: &[(f64, Vec<f32>)]| {
-        Value::TimeSamples(t.iter().map(|(time, v)| (*time, one(v))).collect())
+/// (a `Value::ValueVec` of the default and the time samples, split again by the layer).
+fn sampled(s: Samples, one: impl Fn(Vec<f32>) -> Value) -> Value {
+    let times = |t: Vec<(f64, Vec<f32>)>| {
+        Value::TimeSamples(t.into_iter().map(|(time, v)| (time, one(v))).collect())
     };
     match s {
         Samples::Default(v) => one(v),
@@ -460,13 +466,13 @@ fn sampled(s: &Samples, one: impl Fn(&[f32]) -> Value) -> Value {
 }
 
 /// A `float3[]` attribute value.
-fn vec3_samples(s: &Samples) -> Value {
+fn vec3_samples(s: Samples) -> Value {
     sampled(s, |v| Value::Vec3fVec(vec3(v)))
 }
 
 /// A `float[]` attribute value.
-fn float_samples(s: &Samples) -> Value {
-    sampled(s, |v| Value::FloatVec(v.to_vec()))
+fn float_samples(s: Samples) -> Value {
+    sampled(s, Value::FloatVec)
 }
 
 /// `extent` of points (grown by half the largest width when given), per time sample.
@@ -478,41 +484,148 @@ fn extent_samples(points: &Samples, widths: Option<&Samples>) -> Value {
             .flat_map(|a| a.iter())
             .fold(0.0f32, |m, &x| m.max(x))
     });
-    let bounds = |v: &[f32]| {
-        let mut lo = [f32::INFINITY; 3];
-        let mut hi = [f32::NEG_INFINITY; 3];
-        for p in v.chunks_exact(3) {
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-        if v.is_empty() {
-            lo = [0.0; 3];
-            hi = [0.0; 3];
-        }
-        Value::Vec3fVec(vec![
-            gf::Vec3f {
-                x: lo[0] - pad,
-                y: lo[1] - pad,
-                z: lo[2] - pad,
-            },
-            gf::Vec3f {
-                x: hi[0] + pad,
-                y: hi[1] + pad,
-                z: hi[2] + pad,
-            },
-        ])
+    let value = |b: Option<Bounds>| {
+        let (lo, hi) = b.unwrap_or(([0.0; 3], [0.0; 3]));
+        let corner = |c: [f32; 3], d: f32| gf::Vec3f {
+            x: c[0] + d,
+            y: c[1] + d,
+            z: c[2] + d,
+        };
+        Value::Vec3fVec(vec![corner(lo, -pad), corner(hi, pad)])
+    };
+    let times = |t: &[(f64, Vec<f32>)]| {
+        Value::TimeSamples(
+            t.iter()
+                .map(|(time, v)| (*time, value(bounds(v))))
+                .collect(),
+        )
     };
     match points {
+        Samples::Default(v) => value(bounds(v)),
+        Samples::Times(t) => times(t),
         // The default extent bounds every sample (a reader without a time sees them all).
         Samples::DefaultAndTimes(_, t) => {
-            let all: Vec<f32> = points.arrays().concat();
-            Value::ValueVec(vec![
-                bounds(&all),
-                sampled(&Samples::Times(t.clone()), bounds),
-            ])
+            let all = points
+                .arrays()
+                .into_iter()
+                .filter_map(bounds)
+                .reduce(|(lo, hi), (l, h)| {
+                    (
+                        std::array::from_fn(|k| lo[k].min(l[k])),
+                        std::array::from_fn(|k| hi[k].max(h[k])),
+                    )
+                });
+            Value::ValueVec(vec![value(all), times(t)])
         }
-        _ => sampled(points, bounds),
+    }
+}
+
+/// Lowest and highest x, y, z.
+type Bounds = ([f32; 3], [f32; 3]);
+
+/// The bounds of flat x, y, z points; `None` for no points.
+fn bounds(v: &[f32]) -> Option<Bounds> {
+    if v.len() < 3 {
+        return None;
+    }
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for p in v.chunks_exact(3) {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    Some((lo, hi))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formats::usd::{read_usd, UsdReadOptions};
+
+    #[test]
+    fn flat_points_become_vec3s_in_their_own_allocation_without_a_copy() {
+        let mut flat = Vec::with_capacity(3 * 1000);
+        flat.extend((0..3000).map(|i| i as f32));
+        let at = flat.as_ptr() as usize;
+        let v = vec3(flat);
+        assert_eq!(v.as_ptr() as usize, at, "the points were copied");
+        assert_eq!((v.len(), v[999].x, v[999].z), (1000, 2997.0, 2999.0));
+    }
+
+    #[test]
+    fn flat_points_in_an_odd_sized_allocation_keep_their_values() {
+        // A capacity that is no whole number of triples (and a trailing partial triple).
+        let mut flat = Vec::with_capacity(3 * 5 + 2);
+        flat.extend((0..3 * 5 + 1).map(|i| i as f32 * 0.5));
+        let v = vec3(flat);
+        assert_eq!(v.len(), 5);
+        for (i, p) in v.iter().enumerate() {
+            let x = (3 * i) as f32 * 0.5;
+            assert_eq!((p.x, p.y, p.z), (x, x + 0.5, x + 1.0));
+        }
+        let uv = vec2(vec![0.25, 0.75, 1.0]);
+        assert_eq!(uv, vec![gf::Vec2f { x: 0.25, y: 0.75 }]);
+    }
+
+    /// The text writer prints arrays in blocks (`vendor/openusd`, `stream_vec`): arrays many
+    /// blocks long, in the default and in time samples, read back bit for bit; so do the binary
+    /// writer's, written from the layer in place.
+    #[test]
+    fn arrays_longer_than_a_text_block_read_back_bit_exact_in_text_and_binary() {
+        let curves = 4000;
+        let n = 17;
+        let points: Vec<f32> = (0..curves * n * 3)
+            .map(|i| ((i as f32) * 0.618_034).sin() * 0.123_456_7 + i as f32 * 1e-6)
+            .collect();
+        let widths: Vec<f32> = (0..curves * n).map(|i| 1e-4 / (1 + i % n) as f32).collect();
+        let dir = tempfile::tempdir().unwrap();
+        for ext in ["usda", "usdc"] {
+            let path = dir.path().join(format!("big.{ext}"));
+            let mut layer = UsdLayer::new(&UsdStageInfo {
+                up_axis: UpAxis::Z,
+                meters_per_unit: 1.0,
+                time_codes_per_second: Some(24.0),
+                time_range: Some((1.0, 2.0)),
+            });
+            let shifted: Vec<f32> = points.iter().map(|p| p + 1.0).collect();
+            layer.add_curves(UsdCurvesPrim {
+                name: "hair",
+                vertex_counts: vec![n as i32; curves],
+                points: Samples::DefaultAndTimes(
+                    points.clone(),
+                    vec![(1.0, points.clone()), (2.0, shifted)],
+                ),
+                widths: Some(Samples::Default(widths.clone())),
+                velocities: None,
+                root_uv: None,
+                colors: None,
+                extent: true,
+                uniform_floats: Vec::new(),
+                uniform_ints: Vec::new(),
+            });
+            layer.write(&path).unwrap();
+            let read = read_usd(&path, &UsdReadOptions::default()).unwrap();
+            let back: Vec<f32> = read
+                .groom
+                .curves()
+                .iter()
+                .flatten()
+                .flat_map(|p| [p.x, p.y, p.z])
+                .collect();
+            assert_eq!(back.len(), points.len(), "{ext}");
+            let same = back
+                .iter()
+                .zip(&points)
+                .all(|(a, b)| a.to_bits() == b.to_bits());
+            assert!(same, "{ext}: points changed on the way through the file");
+            let radii = read.radii.expect("widths were written");
+            let same = radii
+                .iter()
+                .zip(&widths)
+                .all(|(r, w)| r.to_bits() == (0.5 * w).to_bits());
+            assert!(same, "{ext}: widths changed on the way through the file");
+        }
     }
 }

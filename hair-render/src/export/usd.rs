@@ -21,6 +21,10 @@
 //! `startTimeCode`/`endTimeCode` spanning them; or `velocities` (m/s per point) on the one frame.
 //! A whole range of frames in one file is `hairsys::export_shot`, which builds its prim with
 //! [`curves_prim`].
+//!
+//! The exported frame is taken by value: its points, widths and per-curve arrays move into the
+//! layer and are written from there, not copied (a million children × 17 points are 204 MB of
+//! points; `BENCHMARKS.md`). Motion samples are borrowed and copied once into their time samples.
 
 use std::io::Write;
 use std::path::Path;
@@ -96,14 +100,15 @@ pub fn velocities(before: &ChildBuffers, after: &ChildBuffers, seconds: f32) -> 
         .collect())
 }
 
-/// The layer of `children` with `motion` blur (see the module docs). Refuses no children, a
-/// bad prim name or rate, and motion samples whose curves differ from `children`.
+/// The layer of `children` with `motion` blur (see the module docs); the children's buffers
+/// move into it. Refuses no children, a bad prim name or rate, and motion samples whose curves
+/// differ from `children`.
 pub fn children_layer(
-    children: &ChildBuffers,
+    mut children: ChildBuffers,
     motion: &Motion,
     opts: &UsdOptions,
 ) -> Result<UsdLayer> {
-    check(children, motion, opts)?;
+    check(&children, motion, opts)?;
     let (start, end) = match motion {
         Motion::TimeSamples(s) => (s[0].time_code, s[s.len() - 1].time_code),
         _ => (opts.time_code, opts.time_code),
@@ -114,49 +119,52 @@ pub fn children_layer(
         time_codes_per_second: Some(opts.frames_per_second),
         time_range: Some((start, end)),
     });
+    let frame_points = std::mem::take(&mut children.points);
     let points = match motion {
         // The frame's points as the default too: a reader without a time sees the frame.
         Motion::TimeSamples(s) => Samples::DefaultAndTimes(
-            children.points.clone(),
+            frame_points,
             s.iter()
                 .map(|m| (m.time_code, m.children.points.clone()))
                 .collect(),
         ),
-        _ => Samples::Default(children.points.clone()),
+        _ => Samples::Default(frame_points),
     };
     let velocities = match motion {
         Motion::Velocities(v) => Some(Samples::Default(v.to_vec())),
         _ => None,
     };
-    layer.add_curves(&curves_prim(&opts.prim, children, points, velocities));
+    layer.add_curves(curves_prim(&opts.prim, children, points, velocities));
     layer.set_default_prim(&opts.prim);
     Ok(layer)
 }
 
-/// The `BasisCurves` prim of `children` with `points` (and `velocities`) as given: topology,
-/// widths, root UVs, colours, `random`, `parent` and a per-curve `id` (the child's index).
+/// The `BasisCurves` prim of `children` with `points` (and `velocities`) as given (the
+/// children's own `points` are not used): topology, widths, root UVs, colours, `random`,
+/// `parent` and a per-curve `id` (the child's index). The children's buffers move into the prim.
 pub fn curves_prim<'a>(
     name: &'a str,
-    children: &ChildBuffers,
+    children: ChildBuffers,
     points: Samples,
     velocities: Option<Samples>,
 ) -> UsdCurvesPrim<'a> {
+    let ids = (0..children.curve_count() as i32).collect();
     UsdCurvesPrim {
         name,
         vertex_counts: children.vertex_counts.iter().map(|&c| c as i32).collect(),
         points,
-        widths: Some(Samples::Default(children.widths.clone())),
+        widths: Some(Samples::Default(children.widths)),
         velocities,
-        root_uv: children.root_uv.clone(),
-        colors: children.color.clone(),
+        root_uv: children.root_uv,
+        colors: children.color,
         extent: true,
-        uniform_floats: vec![("random", children.random.clone())],
+        uniform_floats: vec![("random", children.random)],
         uniform_ints: vec![
             (
                 "parent",
                 children.parent.iter().map(|&p| p as i32).collect(),
             ),
-            ("id", (0..children.curve_count() as i32).collect()),
+            ("id", ids),
         ],
     }
 }
@@ -165,7 +173,7 @@ pub fn curves_prim<'a>(
 /// [`children_layer`] refuses.
 pub fn write_usda<W: Write>(
     mut out: W,
-    children: &ChildBuffers,
+    children: ChildBuffers,
     motion: &Motion,
     opts: &UsdOptions,
 ) -> Result<()> {
@@ -175,10 +183,11 @@ pub fn write_usda<W: Write>(
 }
 
 /// Writes `children` to the file at `path` through a `.partial` sibling renamed into place:
-/// `.usdc` or `.usd` binary, any other name `.usda` text ([`UsdLayer::write`]).
+/// `.usdc` or `.usd` binary, any other name `.usda` text ([`UsdLayer::write`]). The children's
+/// buffers are written without a copy ([`children_layer`]).
 pub fn export_usd(
     path: &Path,
-    children: &ChildBuffers,
+    children: ChildBuffers,
     motion: &Motion,
     opts: &UsdOptions,
 ) -> Result<()> {
@@ -226,7 +235,8 @@ fn check(children: &ChildBuffers, motion: &Motion, opts: &UsdOptions) -> Result<
             "use a finite frame number",
         ));
     }
-    if children.extent().is_none() {
+    // What `children.extent()` is `None` for, without a pass over the points.
+    if children.widths.is_empty() {
         return Err(RenderError::Input(
             "no children to export: raise the child count".into(),
         ));

@@ -14,8 +14,11 @@
 //! ```
 //!
 //! # Frames and times
-//! Scene frame `f` reads USD time code `f` (Blender writes one time code per frame) or the
-//! sequence's file numbered `f`. The mesh at the scene's first frame (`[scene] frames[0]`) is
+//! Scene frame `f` reads USD time code `time_offset + time_scale × f` (defaults 0 and 1: time
+//! code `f`, as Blender writes one time code per frame) or the sequence's file numbered `f`. A
+//! character animated on the shot's frames 1001–1048 runs in a scene of frames 1–48 with
+//! `time_offset = 1000`; a stage with two time codes per frame takes `time_scale = 2` (USD's
+//! layer-offset convention: stage time = offset + scale × scene time). The mesh at the scene's first frame (`[scene] frames[0]`) is
 //! the **rest mesh**: hair is grown or snapped on it, and the collider is built from it. Every
 //! frame of `[scene] frames` is read when the scene is built, so a missing frame, a topology
 //! change or a time outside the stage's range is refused before any step, naming the file, the
@@ -63,6 +66,53 @@ pub struct UsdMeshSection {
     /// the stage's.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub up_axis: Option<UpAxis>,
+    /// Time code read at scene frame 0, in time codes (finite): frame `f` reads time code
+    /// `time_offset + time_scale × f`. Default 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub time_offset: f64,
+    /// Time codes per scene frame (finite, > 0). Default 1.
+    #[serde(default = "one_f64", skip_serializing_if = "is_one")]
+    pub time_scale: f64,
+}
+
+impl UsdMeshSection {
+    /// The stage time code read at scene frame `frame`.
+    pub fn time_code(&self, frame: f64) -> f64 {
+        self.time_offset + self.time_scale * frame
+    }
+
+    /// Refuses a time offset or scale that maps frames to no usable time code.
+    fn check_time_mapping(&self) -> Result<(), String> {
+        if !self.time_offset.is_finite() {
+            return Err(format!(
+                "{}: time_offset = {}: give a finite number of time codes, e.g. 1000 for a \
+                 character animated from frame 1001 in a scene starting at frame 1",
+                self.path.display(),
+                self.time_offset
+            ));
+        }
+        if !(self.time_scale.is_finite() && self.time_scale > 0.0) {
+            return Err(format!(
+                "{}: time_scale = {}: give the time codes per scene frame, a finite number > 0 \
+                 (1 when the stage has one time code per frame)",
+                self.path.display(),
+                self.time_scale
+            ));
+        }
+        Ok(())
+    }
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
+fn is_one(x: &f64) -> bool {
+    *x == 1.0
+}
+
+fn one_f64() -> f64 {
+    1.0
 }
 
 /// `kind = "obj-sequence"`: one OBJ file per frame, `path = "body.####.obj"`.
@@ -167,6 +217,7 @@ pub fn load(
     };
     match source {
         DeformingSource::Usd(s) => {
+            s.check_time_mapping()?;
             let units = match (s.scale, s.up_axis) {
                 (None, None) => None,
                 (scale, up_axis) => Some(ObjOptions {
@@ -184,11 +235,12 @@ pub fn load(
             )
             .map_err(|e| e.to_string())?;
             let what = format!("{} prim {}", s.path.display(), usd.prim());
-            let rest = usd.mesh_at(f64::from(first)).map_err(|e| e.to_string())?;
+            let at = |f: u32| s.time_code(f64::from(f));
+            let rest = usd.mesh_at(at(first)).map_err(|e| e.to_string())?;
             check(rest.positions().len(), &what)?;
             let mut out = vec![rest.positions().to_vec()];
             for f in first + 1..=last {
-                out.push(usd.positions_at(f64::from(f)).map_err(|e| e.to_string())?);
+                out.push(usd.positions_at(at(f)).map_err(|e| e.to_string())?);
             }
             Ok((rest, animation(what, first, out)))
         }
@@ -239,4 +291,100 @@ pub fn hashed_files(
             (first..=last).map(|f| seq.frame_path(f)).collect()
         }
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hair_groom::formats::usd_write::{Samples, UsdLayer, UsdMeshPrim, UsdStageInfo};
+
+    /// A one-triangle mesh whose vertices rise by 0.1 m per time code, written with time samples
+    /// at `first..first + 3`.
+    fn rising_triangle(path: &Path, first: f64) {
+        let mut layer = UsdLayer::new(&UsdStageInfo {
+            up_axis: UpAxis::Z,
+            meters_per_unit: 1.0,
+            time_codes_per_second: Some(24.0),
+            time_range: Some((first, first + 3.0)),
+        });
+        let at = |k: f64| {
+            let z = 0.1 * k as f32;
+            vec![0.0, 0.0, z, 1.0, 0.0, z, 0.0, 1.0, z]
+        };
+        layer.add_mesh(UsdMeshPrim {
+            name: "body",
+            face_vertex_counts: vec![3],
+            face_vertex_indices: vec![0, 1, 2],
+            points: Samples::Times((0..4).map(|k| (first + k as f64, at(k as f64))).collect()),
+            uv: None,
+            colors: None,
+        });
+        layer.write(path).unwrap();
+    }
+
+    fn section(path: &str, time_offset: f64, time_scale: f64) -> UsdMeshSection {
+        UsdMeshSection {
+            path: path.into(),
+            prim: "/body".into(),
+            scale: None,
+            up_axis: None,
+            time_offset,
+            time_scale,
+        }
+    }
+
+    fn heights(s: &UsdMeshSection, dir: &Path, frames: (u32, u32)) -> Vec<f32> {
+        let (_, anim) = load(DeformingSource::Usd(s), dir, frames, &Budget::default()).unwrap();
+        (frames.0..=frames.1)
+            .map(|f| anim.vertices_at(f as f32)[0].z)
+            .collect()
+    }
+
+    #[test]
+    fn a_shot_animated_from_frame_1001_runs_on_scene_frames_1_to_4_with_a_time_offset() {
+        let dir = tempfile::tempdir().unwrap();
+        rising_triangle(&dir.path().join("shot.usdc"), 1001.0);
+        rising_triangle(&dir.path().join("plain.usda"), 1.0);
+        let offset = heights(&section("shot.usdc", 1000.0, 1.0), dir.path(), (1, 4));
+        let plain = heights(&section("plain.usda", 0.0, 1.0), dir.path(), (1, 4));
+        assert_eq!(offset, plain);
+        assert_eq!(offset, vec![0.0, 0.1, 0.2, 0.3]);
+        // Two time codes per scene frame: frames 1001, 1002 read time codes 1001 and 1003.
+        let halves = heights(
+            &section("shot.usdc", -1001.0, 2.0),
+            dir.path(),
+            (1001, 1002),
+        );
+        assert_eq!(halves, vec![0.0, 0.2]);
+        // Without the offset the shot's time codes are outside scene frames 1–4: refused.
+        let e = load(
+            DeformingSource::Usd(&section("shot.usdc", 0.0, 1.0)),
+            dir.path(),
+            (1, 4),
+            &Budget::default(),
+        )
+        .unwrap_err();
+        assert!(e.contains("shot.usdc"), "{e}");
+    }
+
+    #[test]
+    fn a_time_scale_that_maps_frames_to_no_time_code_is_refused_naming_the_key() {
+        let dir = tempfile::tempdir().unwrap();
+        rising_triangle(&dir.path().join("shot.usdc"), 1.0);
+        for (offset, scale, key) in [
+            (0.0, 0.0, "time_scale"),
+            (0.0, f64::NAN, "time_scale"),
+            (f64::INFINITY, 1.0, "time_offset"),
+        ] {
+            let s = section("shot.usdc", offset, scale);
+            let e = load(
+                DeformingSource::Usd(&s),
+                dir.path(),
+                (1, 2),
+                &Budget::default(),
+            )
+            .unwrap_err();
+            assert!(e.contains("shot.usdc") && e.contains(key), "{e}");
+        }
+    }
 }

@@ -242,13 +242,15 @@ impl<W: Write> Emitter<'_, W> {
         };
         write!(self.out, "{type_name} {name}")?;
 
-        let default = get_value(data, path, FieldKey::Default.as_str());
-        let time_samples = get_value(data, path, FieldKey::TimeSamples.as_str());
+        // hairsys fix: the default and the time samples are read in place (`get_value`
+        // copies: every array, points included, was copied before being printed).
+        let default = data.get_field(path, FieldKey::Default.as_str()).ok();
+        let time_samples = data.get_field(path, FieldKey::TimeSamples.as_str()).ok();
         let spline = get_value(data, path, SPLINE_FIELD);
 
-        if let Some(v) = default {
+        if let Some(v) = &default {
             self.out.write_all(b" = ")?;
-            self.write_value(&v)?;
+            self.write_value(v)?;
         }
 
         let meta_fields: Vec<String> = data
@@ -274,10 +276,10 @@ impl<W: Write> Emitter<'_, W> {
         writeln!(self.out)?;
 
         // Time samples (separate statement if present)
-        if let Some(Value::TimeSamples(samples)) = time_samples {
+        if let Some(Value::TimeSamples(samples)) = time_samples.as_deref() {
             self.write_indent()?;
             write!(self.out, "{type_name} {name}.timeSamples = ")?;
-            self.write_time_samples(&samples)?;
+            self.write_time_samples(samples)?;
             writeln!(self.out)?;
         }
 
@@ -817,10 +819,54 @@ impl<W: Write> Emitter<'_, W> {
 
     // ---------- value formatting ----------
 
+    /// hairsys fix: the numeric arrays (the bulk of a geometry layer) are printed in blocks of
+    /// [`STREAM_BLOCK`] bytes straight to the output (was: every value formatted into one
+    /// `String` first, e.g. 1 GB for a million hairs); the text is the same as
+    /// [`format_value`]'s.
     fn write_value(&mut self, value: &Value) -> Result<()> {
-        let mut buf = String::new();
-        format_value(&mut buf, value)?;
-        self.out.write_all(buf.as_bytes())?;
+        match value {
+            Value::IntVec(v) => self.stream_vec(v, |s, n| write!(s, "{n}").map_err(Into::into)),
+            Value::FloatVec(v) => self.stream_vec(v, |s, f| {
+                format_float(s, *f);
+                Ok(())
+            }),
+            Value::DoubleVec(v) => self.stream_vec(v, |s, d| {
+                format_double(s, *d);
+                Ok(())
+            }),
+            Value::Vec2fVec(v) => self.stream_vec(v, |s, a| format_tuple_f32(s, &[a.x, a.y])),
+            Value::Vec3fVec(v) => self.stream_vec(v, |s, a| format_tuple_f32(s, &[a.x, a.y, a.z])),
+            Value::Vec4fVec(v) => self.stream_vec(v, |s, a| format_tuple_f32(s, &[a.x, a.y, a.z, a.w])),
+            Value::Vec2dVec(v) => self.stream_vec(v, |s, a| format_tuple_f64(s, &[a.x, a.y])),
+            Value::Vec3dVec(v) => self.stream_vec(v, |s, a| format_tuple_f64(s, &[a.x, a.y, a.z])),
+            _ => {
+                let mut buf = String::new();
+                format_value(&mut buf, value)?;
+                self.out.write_all(buf.as_bytes())?;
+                Ok(())
+            }
+        }
+    }
+
+    /// hairsys fix: `items` as [`format_vec`] prints them, written to the output in blocks.
+    fn stream_vec<T, F>(&mut self, items: &[T], mut fmt: F) -> Result<()>
+    where
+        F: FnMut(&mut String, &T) -> Result<()>,
+    {
+        let mut s = String::with_capacity(STREAM_BLOCK + 256);
+        s.push('[');
+        for (i, item) in items.iter().enumerate() {
+            if i > 0 {
+                s.push_str(", ");
+            }
+            fmt(&mut s, item)?;
+            if s.len() >= STREAM_BLOCK {
+                self.out.write_all(s.as_bytes())?;
+                s.clear();
+            }
+        }
+        s.push(']');
+        self.out.write_all(s.as_bytes())?;
         Ok(())
     }
 
@@ -842,6 +888,9 @@ impl<W: Write> Emitter<'_, W> {
         Ok(())
     }
 }
+
+/// hairsys fix: bytes of text an array is printed into before they are written out.
+const STREAM_BLOCK: usize = 64 << 10;
 
 // ---------- value formatter (string-producing) ----------
 
@@ -1130,7 +1179,9 @@ fn format_float(s: &mut String, v: f32) {
         // Integer-valued: the same `.0` form as `format_double`.
         format_double(s, f64::from(v));
     } else if v.is_finite() && v != 0.0 {
-        write!(s, "{v}").unwrap();
+        // hairsys fix: `zmij` prints the same shortest round-trip digits as `{v}` several times
+        // faster (exponent form for very small and large values, which USD parsers read).
+        s.push_str(zmij::Buffer::new().format_finite(v));
     } else {
         format_double(s, f64::from(v));
     }

@@ -114,7 +114,9 @@ impl<'w, W: Write + Seek> Packer<'w, W> {
             let fieldset_idx = self.fieldsets.len() as u32;
             if let Some(field_names) = data.list_fields(path) {
                 for name in field_names {
-                    let value = data.get_field(path, &name)?.into_owned();
+                    // hairsys fix: read the value in place (was `.into_owned()`, a
+                    // copy of every array, points included, before writing it).
+                    let value = data.get_field(path, &name)?;
                     let children = is_children_field(&name);
                     let token = if name == crate::sdf::ChildrenKey::PropertyChildren.as_str() {
                         super::CRATE_PROPERTY_CHILDREN.to_owned()
@@ -126,7 +128,7 @@ impl<'w, W: Write + Seek> Packer<'w, W> {
                     // `TfTokenVector` (crate type 41), not as a `token[]` array;
                     // Pixar's reader refuses a `token[]` there ("Invalid
                     // children found in primChildren field").
-                    let rep = match (&value, children) {
+                    let rep = match (&*value, children) {
                         (Value::TokenVec(v), true) => self.write_token_vector(v)?,
                         _ => self.write_value(&value)?,
                     };
@@ -737,12 +739,8 @@ impl<'w, W: Write + Seek> Packer<'w, W> {
     }
 
     fn write_array_f32(&mut self, v: &[f32]) -> Result<ValueRep> {
-        let off = self.pos()?;
-        self.write_count(v.len() as u64)?;
-        for f in v {
-            self.write_pod(f)?;
-        }
-        Ok(rep_heap(Type::Float, off, true))
+        // hairsys fix: one write of the array's bytes (was one 4-byte write per value).
+        self.write_array(Type::Float, v.len(), v)
     }
 
     fn write_array_f64_type(&mut self, ty: Type, len: usize, values: impl Iterator<Item = f64>) -> Result<ValueRep> {
