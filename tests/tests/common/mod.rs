@@ -5,6 +5,7 @@
 #![allow(dead_code)]
 
 pub mod collide;
+pub mod integrators;
 
 use hair_core::{
     Anchor, HairError, HairParams, Integrator, RootFrame, Scalp, Solver, SolverSettings,
