@@ -24,7 +24,7 @@ mod common;
 
 use common::integrators::*;
 use common::*;
-use hair_core::{energy, HairParams, Integrator, Scalp, Solver, SolverSettings, StrandSet};
+use hair_core::{Integrator, Scalp, Solver, SolverSettings};
 use nalgebra::Vector3;
 
 const IMPLICIT: Integrator = Integrator::ImplicitEuler;

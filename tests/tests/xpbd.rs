@@ -26,7 +26,7 @@ mod common;
 
 use common::integrators::*;
 use common::*;
-use hair_core::{energy, HairParams, Integrator, Scalp, Solver, SolverSettings, StrandSet};
+use hair_core::{Integrator, Scalp, Solver, SolverSettings};
 use nalgebra::Vector3;
 
 const XPBD: Integrator = Integrator::Xpbd;
