@@ -139,15 +139,16 @@ impl StyleOptions {
 }
 
 /// The scalp as a searchable surface: nearest point and its smooth normal.
-struct Surface<'a> {
-    mesh: &'a TriMesh,
+#[derive(Debug, Clone)]
+struct Surface {
+    mesh: TriMesh,
     query: parry3d::shape::TriMesh,
 }
 
-impl<'a> Surface<'a> {
-    fn new(mesh: &'a TriMesh) -> Result<Self, GroomError> {
+impl Surface {
+    fn new(mesh: &TriMesh) -> Result<Self, GroomError> {
         Ok(Self {
-            mesh,
+            mesh: mesh.clone(),
             query: crate::snap::searchable(mesh)?,
         })
     }
@@ -264,38 +265,80 @@ fn tangential_flow(
 }
 
 /// Lifts every surface-rooted strand of `strands` out of `mesh` (the scalp at the rest pose the
-/// anchors refer to): walking each strand from its root, a point lying less than `clearance`
-/// (m) above the scalp — measured along the smooth normal at its nearest scalp point, negative
-/// inside — is lifted to that height and its segment re-aimed through it at its own length, so
-/// roots, point counts and segment lengths are kept. Points within the first `clearance` of arc
-/// length from the root rise with it (a hair leaves the scalp where it grows). For grooms that
-/// dip into a scalp they were not made on: interpolated hair between guides on a curved head, a
-/// groom fitted to a finer mesh than the collider. Returns the number of points lifted.
+/// anchors refer to) to `clearance` m: [`ScalpLift::lift`] on each. For grooms that dip into a
+/// scalp they were not made on: interpolated hair between guides on a curved head, a groom
+/// fitted to a finer mesh than the collider. Returns the number of points lifted.
 pub fn lift_out_of_scalp(
     strands: &mut [StrandInput],
     mesh: &TriMesh,
     clearance: f32,
 ) -> Result<usize, GroomError> {
-    if !(clearance.is_finite() && clearance >= 0.0) {
-        return Err(parameter(
-            "clearance",
+    let lift = ScalpLift::new(mesh, clearance)?;
+    Ok(strands
+        .iter_mut()
+        .map(|strand| lift.lift(&strand.anchor, &mut strand.rest))
+        .sum())
+}
+
+/// A scalp at rest made searchable once, to lift strands out of it to a clearance as often as
+/// they are posed (animated guides lift every frame's pose; building the search tree is the
+/// costly part).
+///
+/// Walking a strand from its root, a point lying less than the clearance above the scalp —
+/// measured along the smooth normal at its nearest scalp point, negative inside — is lifted to
+/// that height and its segment re-aimed through it at its own length, so roots, point counts
+/// and segment lengths are kept. Points within the first clearance of arc length from the root
+/// rise with it (a hair leaves the scalp where it grows).
+#[derive(Debug, Clone)]
+pub struct ScalpLift {
+    surface: Surface,
+    clearance: f32,
+}
+
+impl ScalpLift {
+    /// Prepares `mesh` (the scalp at the rest pose anchors refer to) for lifting strands to
+    /// `clearance` m above it. Errors: a clearance that is not a finite height ≥ 0, a mesh that
+    /// cannot be searched.
+    pub fn new(mesh: &TriMesh, clearance: f32) -> Result<Self, GroomError> {
+        if !(clearance.is_finite() && clearance >= 0.0) {
+            return Err(parameter(
+                "clearance",
+                clearance,
+                "must be a finite height ≥ 0 m",
+            ));
+        }
+        Ok(Self {
+            surface: Surface::new(mesh)?,
             clearance,
-            "must be a finite height ≥ 0 m",
-        ));
+        })
     }
-    let surface = Surface::new(mesh)?;
-    let mut lifted = 0;
-    for strand in strands.iter_mut() {
-        let Anchor::Surface(sample) = strand.anchor else {
-            continue;
+
+    /// The scalp this lifts out of.
+    pub fn mesh(&self) -> &TriMesh {
+        &self.surface.mesh
+    }
+
+    /// Height above the scalp strands are lifted to, m.
+    pub fn clearance(&self) -> f32 {
+        self.clearance
+    }
+
+    /// Lifts one strand's root-local rest shape `rest`, rooted at `anchor`, in place (see the
+    /// type's docs); strands anchored in body space are left as given. Returns the number of
+    /// points lifted.
+    pub fn lift(&self, anchor: &Anchor, rest: &mut [Vector3<f32>]) -> usize {
+        let Anchor::Surface(sample) = *anchor else {
+            return 0;
         };
-        let frame = mesh.evaluate(&sample);
-        let mut world: Vec<Vector3<f32>> = strand.rest.iter().map(|p| frame.to_world(p)).collect();
+        let surface = &self.surface;
+        let frame = surface.mesh.evaluate(&sample);
+        let mut world: Vec<Vector3<f32>> = rest.iter().map(|p| frame.to_world(p)).collect();
         let mut arc = 0.0f32;
+        let mut lifted = 0;
         for j in 1..world.len() {
             let length = (world[j] - world[j - 1]).norm();
             arc += length;
-            let allowed = clearance.min(arc);
+            let allowed = self.clearance.min(arc);
             let mut moved_any = false;
             // Re-aiming at the lifted point keeps the segment's length, which can leave the
             // point short of it on a curved scalp: a few rounds converge.
@@ -316,14 +359,17 @@ pub fn lift_out_of_scalp(
                 }
                 moved_any = true;
             }
-            if !moved_any {
-                continue;
+            if moved_any {
+                lifted += 1;
             }
-            lifted += 1;
         }
-        strand.rest = world.iter().map(|p| frame.to_local(p)).collect();
+        if lifted > 0 {
+            for (out, p) in rest.iter_mut().zip(&world) {
+                *out = frame.to_local(p);
+            }
+        }
+        lifted
     }
-    Ok(lifted)
 }
 
 /// The strands of `strands` (indices, increasing) whose rest shape passes through `mesh` (the

@@ -27,16 +27,17 @@
 //! shorten segments, and a hair put on the pose at sim weight 1 would be stretched with it.
 //!
 //! **Posed hair stays out of the scalp.** With a [`PoseLift`] (`[guides] pose_clearance`), each
-//! posed sim hair is then lifted out of the scalp at rest by [`hair_groom::lift_out_of_scalp`]
+//! posed sim hair is then lifted out of the scalp at rest by [`hair_groom::ScalpLift`]
 //! (walking the hair from its root, a point closer than the clearance is raised to it and its
 //! segment re-aimed at its own length): a keyed sweep that turns hair towards the head lays it
 //! over the head, at every frame between keys too. It costs a nearest-point query per posed
-//! point per frame.
+//! point per frame, spread over the threads; the scalp's search tree is built once.
 
 use hair_core::frames::{rest_directions, RestDirection};
-use hair_core::{Anchor, RootFrame, StrandInput, StrandSet, TriMesh};
-use hair_groom::GuideBlend;
+use hair_core::{Anchor, RootFrame, StrandSet, TriMesh};
+use hair_groom::{GroomError, GuideBlend, ScalpLift};
 use nalgebra::Vector3;
+use rayon::prelude::*;
 
 use crate::scene::motion::Interpolation;
 
@@ -109,57 +110,50 @@ fn key_span(
     Some(Span::Between(i, s))
 }
 
-/// Lifts posed sim hairs out of the scalp at rest (see the module docs).
+/// Lifts posed sim hairs out of the scalp at rest (see the module docs): the scalp's search
+/// tree is built once, when the scene is, and posed hairs are lifted in parallel.
 #[derive(Debug, Clone)]
-pub struct PoseLift {
-    mesh: TriMesh,
-    clearance: f32,
-}
+pub struct PoseLift(ScalpLift);
 
 impl PoseLift {
-    /// Lifts posed hair out of `mesh` (the scalp at rest the roots refer to) to `clearance` m.
-    pub(crate) fn new(mesh: TriMesh, clearance: f32) -> Self {
-        Self { mesh, clearance }
+    /// Lifts posed hair out of `mesh` (the scalp at rest the roots refer to) to `clearance` m;
+    /// errors as [`ScalpLift::new`].
+    pub(crate) fn new(mesh: &TriMesh, clearance: f32) -> Result<Self, GroomError> {
+        ScalpLift::new(mesh, clearance).map(Self)
     }
 
     /// Height above the scalp posed hair is lifted to, m.
     pub fn clearance(&self) -> f32 {
-        self.clearance
+        self.0.clearance()
     }
 
-    /// Lifts each root-local shape in `shapes` (rooted at `anchors`, one shape per anchor, `n`
-    /// points each) to the clearance, in place; returns the number of points lifted.
-    fn lift(&self, anchors: &[Anchor], shapes: &mut [Vector3<f32>], n: usize) -> usize {
-        let mut inputs: Vec<StrandInput> = anchors
-            .iter()
-            .zip(shapes.chunks_exact(n))
-            .map(|(anchor, shape)| StrandInput {
-                anchor: *anchor,
-                rest: shape.to_vec(),
-                mass: Vec::new(),
-                radius: Vec::new(),
-                goal_weight: Vec::new(),
-                pinned: Vec::new(),
+    /// Lifts the root-local shapes in `shapes` (`n` points each, rooted at `anchors`) whose
+    /// flag in `moved` is set, in place; returns the number of points walked.
+    fn lift(
+        &self,
+        anchors: &[Anchor],
+        shapes: &mut [Vector3<f32>],
+        n: usize,
+        moved: &[bool],
+    ) -> u64 {
+        shapes
+            .par_chunks_mut(n)
+            .zip(anchors.par_iter().zip(moved.par_iter()))
+            .filter(|(_, (_, &m))| m)
+            .map(|(shape, (anchor, _))| {
+                self.0.lift(anchor, shape);
+                n as u64
             })
-            .collect();
-        // The clearance was checked when the scene was built and the scalp is a valid mesh:
-        // lifting cannot fail; if it did, the shapes stay as posed.
-        let Ok(lifted) = hair_groom::lift_out_of_scalp(&mut inputs, &self.mesh, self.clearance)
-        else {
-            return 0;
-        };
-        for (out, input) in shapes.chunks_exact_mut(n).zip(&inputs) {
-            out.copy_from_slice(&input.rest);
-        }
-        lifted
+            .sum()
     }
 }
 
 impl PartialEq for PoseLift {
     fn eq(&self, other: &Self) -> bool {
-        self.clearance == other.clearance
-            && self.mesh.positions() == other.mesh.positions()
-            && self.mesh.triangles() == other.mesh.triangles()
+        let (a, b) = (self.0.mesh(), other.0.mesh());
+        self.clearance() == other.clearance()
+            && a.positions() == b.positions()
+            && a.triangles() == b.triangles()
     }
 }
 
@@ -387,7 +381,7 @@ impl GuideAnimation {
         scratch.resize(base.interpolated.len(), Vector3::zeros());
         let mut work = self.blend.apply(pose, scratch);
         let mut posed = base.rest.clone();
-        let mut moved = Vec::new();
+        let mut moved = vec![false; posed.len() / n];
         for (h, shape) in posed.chunks_exact_mut(n).enumerate() {
             let at = h * n..(h + 1) * n;
             let (built, groom, now) = (
@@ -398,23 +392,12 @@ impl GuideAnimation {
             if groom == now {
                 continue;
             }
-            moved.push(h);
+            moved[h] = true;
             keep_lengths(shape, built, groom, now);
         }
-        if let (Some(lift), false) = (&self.lift, moved.is_empty()) {
-            let anchors: Vec<Anchor> = moved
-                .iter()
-                .map(|&h| strands.anchors()[range.start + h])
-                .collect();
-            let mut shapes: Vec<Vector3<f32>> = moved
-                .iter()
-                .flat_map(|&h| posed[h * n..(h + 1) * n].iter().copied())
-                .collect();
-            lift.lift(&anchors, &mut shapes, n);
-            for (&h, shape) in moved.iter().zip(shapes.chunks_exact(n)) {
-                posed[h * n..(h + 1) * n].copy_from_slice(shape);
-            }
-            work += shapes.len() as u64;
+        if let Some(lift) = &self.lift {
+            let anchors = &strands.anchors()[range.clone()];
+            work += lift.lift(anchors, &mut posed, n, &moved);
         }
         strands.rest_local_mut()[p0..p0 + posed.len()].copy_from_slice(&posed);
         let bend = &mut strands.bend_rest_mut()[s0..s0 + range.len() * (n - 1)];

@@ -223,7 +223,9 @@ pub fn build(
     }
     let lift = match keys.clearance {
         None => None,
-        Some(c) if c.is_finite() && c >= 0.0 => Some(PoseLift::new(mesh.clone(), c)),
+        Some(c) if c.is_finite() && c >= 0.0 => {
+            Some(PoseLift::new(mesh, c).map_err(|e| format!("[guides] pose_clearance: {e}"))?)
+        }
         Some(c) => {
             return Err(format!(
                 "[guides] pose_clearance = {c}: give a height ≥ 0 m above the scalp \
