@@ -326,7 +326,20 @@ impl ScalpLift {
     /// Lifts one strand's root-local rest shape `rest`, rooted at `anchor`, in place (see the
     /// type's docs); strands anchored in body space are left as given. Returns the number of
     /// points lifted.
+    ///
+    /// A point is only looked up on the scalp when it may be near it: the distance to a surface
+    /// changes by at most the distance moved, so a point whose predecessor stands higher above
+    /// the scalp than the clearance plus the segment between them is outside and clear of it
+    /// (the segment cannot reach the surface, so it cannot cross into a closed scalp) and is
+    /// skipped, carrying that lower bound on to the next point. Hair hanging away from the head
+    /// costs a query every few points instead of one per point.
     pub fn lift(&self, anchor: &Anchor, rest: &mut [Vector3<f32>]) -> usize {
+        self.lift_points(anchor, rest, true)
+    }
+
+    /// [`ScalpLift::lift`], skipping points known to be clear when `skip_clear` is set (always
+    /// but in the test that holds the skip to the full walk).
+    fn lift_points(&self, anchor: &Anchor, rest: &mut [Vector3<f32>], skip_clear: bool) -> usize {
         let Anchor::Surface(sample) = *anchor else {
             return 0;
         };
@@ -335,16 +348,26 @@ impl ScalpLift {
         let mut world: Vec<Vector3<f32>> = rest.iter().map(|p| frame.to_world(p)).collect();
         let mut arc = 0.0f32;
         let mut lifted = 0;
+        // A lower bound on the previous point's height above the scalp, m (the root is on it).
+        let mut clear_by = 0.0f32;
         for j in 1..world.len() {
             let length = (world[j] - world[j - 1]).norm();
             arc += length;
             let allowed = self.clearance.min(arc);
+            if skip_clear && clear_by - length > self.clearance {
+                clear_by -= length;
+                continue;
+            }
+            clear_by = 0.0;
             let mut moved_any = false;
             // Re-aiming at the lifted point keeps the segment's length, which can leave the
             // point short of it on a curved scalp: a few rounds converge.
             for _ in 0..16 {
                 let (height, target) = surface.height_and_lift(&world[j], allowed);
                 if height >= allowed - 1e-6 || length == 0.0 {
+                    if !moved_any {
+                        clear_by = height.max(0.0);
+                    }
                     break;
                 }
                 let aim = target - world[j - 1];
@@ -641,6 +664,35 @@ mod tests {
         // Already clear: nothing moves.
         let again = lift_out_of_scalp(&mut strands, &mesh, clearance * 0.5).unwrap();
         assert_eq!(again, 0);
+    }
+
+    #[test]
+    fn skipping_points_clear_of_the_scalp_lifts_exactly_as_looking_up_every_point() {
+        // Hair swept about in every direction around a closed head: some dips in, some hangs
+        // far away; the skip must change no bit of the result.
+        let mesh = crate::builtin_head();
+        let lift = ScalpLift::new(&mesh, 0.0035).unwrap();
+        let mut strands = hair(&mesh);
+        let (mut lifted_some, mut clear_some) = (false, false);
+        for (k, s) in strands.iter_mut().enumerate() {
+            let n = s.rest.len();
+            let (a, b) = (0.37 * k as f32, 0.11 * k as f32);
+            let bend = Vector3::new(a.cos(), a.sin(), b.sin() - 0.2) * 0.02;
+            s.rest = (0..n)
+                .map(|i| {
+                    let t = i as f32 / (n - 1) as f32;
+                    Vector3::new(0.0, 0.0, 0.3 * t) * b.cos() + bend * (i * i) as f32 / n as f32
+                })
+                .collect();
+            let (mut fast, mut full) = (s.rest.clone(), s.rest.clone());
+            let lifted_fast = lift.lift_points(&s.anchor, &mut fast, true);
+            let lifted_full = lift.lift_points(&s.anchor, &mut full, false);
+            assert_eq!(lifted_fast, lifted_full, "strand {k}");
+            assert_eq!(fast, full, "strand {k}");
+            lifted_some |= lifted_full > 0;
+            clear_some |= lifted_full == 0;
+        }
+        assert!(lifted_some && clear_some);
     }
 
     #[test]

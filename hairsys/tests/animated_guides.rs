@@ -478,22 +478,19 @@ fn pose_files_with_changed_point_counts_or_missing_guides_are_refused() {
     );
 }
 
-/// The cost of animated guides against a default-scene frame (issue 20: at most 5 %): the
-/// shipped gust scene at the default scene's size (4,000 sim hairs of 17 points), 8 frames of
-/// the keyed gust (a pose re-interpolated and its lengths kept every frame), both timed in one
-/// process. Without `pose_clearance`: lifting posed hair out of the head is an opt-in on top,
-/// a nearest-point query per posed point per frame, and cost 16 % of a frame here (measured
-/// 2026-11-24 with the machine loaded: 1.06 s of 6.68 s per frame; without it 8.6 ms of
-/// 5.74 s, 0.15 %).
-/// `cargo test --release -p hairsys --test animated_guides -- --ignored --nocapture`
-#[test]
-#[ignore = "timing; run in release (command above)"]
-fn reinterpolation_costs_under_five_percent_of_a_frame() {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/gust.toml"))
-        .unwrap()
-        .replace("count = 2000", "count = 4000")
-        .replace("frames = [1, 48]", "frames = [1, 9]")
-        .replace("pose_clearance = 0.0035", "# pose_clearance = 0.0035");
+/// The share of a frame's step time spent re-interpolating animated guides (and lifting them
+/// when the scene asks) on the shipped gust scene at the default scene's size (4,000 sim hairs
+/// of 17 points), over 8 frames of the keyed gust (a pose re-interpolated and its lengths kept
+/// every frame), both timed in one process; `lift` keeps the scene's `pose_clearance`.
+fn share_of_a_frame(lift: bool) -> f64 {
+    let mut text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/gust.toml"))
+            .unwrap()
+            .replace("count = 2000", "count = 4000")
+            .replace("frames = [1, 48]", "frames = [1, 9]");
+    if !lift {
+        text = text.replace("pose_clearance = 0.0035", "# pose_clearance = 0.0035");
+    }
     let file = SceneFile::parse(&text, "gust.toml", ".".into()).unwrap();
     let mut s = Session::from_scene(&file).unwrap();
     let (mut pose, mut step) = (0.0f64, 0.0f64);
@@ -505,15 +502,30 @@ fn reinterpolation_costs_under_five_percent_of_a_frame() {
     }
     let frames = 8.0;
     println!(
-        "{} points: re-interpolation {:.3} ms/frame, whole step {:.1} ms/frame: {:.2} %",
+        "{} points, pose_clearance {}: re-interpolation {:.3} ms/frame, whole step {:.1} \
+         ms/frame: {:.2} %",
         s.strands().point_count(),
+        if lift { "on" } else { "off" },
         1e3 * pose / frames,
         1e3 * step / frames,
         100.0 * pose / step
     );
+    pose / step
+}
+
+/// The cost of animated guides against a default-scene frame (issue 20: at most 5 %), held
+/// without `pose_clearance`; with it (lifting posed hair out of the head, a nearest-point query
+/// per posed point near the scalp per frame, spread over the threads) the share is printed:
+/// it is over the budget (6.1 % on 2026-11-24 at load 8.6; BENCHMARKS.md).
+/// `cargo test --release -p hairsys --test animated_guides -- --ignored --nocapture`
+#[test]
+#[ignore = "timing; run in release (command above)"]
+fn reinterpolation_costs_under_five_percent_of_a_frame() {
+    let share = share_of_a_frame(false);
     assert!(
-        pose / step <= 0.05,
+        share <= 0.05,
         "re-interpolation is {:.1} % of a frame",
-        100.0 * pose / step
+        100.0 * share
     );
+    share_of_a_frame(true);
 }
