@@ -111,6 +111,7 @@ mod tests {
             (seed >> 8) as f32 / (1u32 << 24) as f32 - 0.5
         };
         let mut dense = vec![vec![0.0f32; rows]; rows];
+        #[allow(clippy::needless_range_loop)] // (r, c) and (c, r): both indices needed
         for r in 0..rows {
             for c in r.saturating_sub(W - 1)..r {
                 let v = rand();

@@ -335,8 +335,8 @@ fn start_gradients<L: Lane>(
             let jb = Rows::curvature_gradient(chi, &a, &(none - kappa), &b, inv_b);
             let ja = Rows::curvature_gradient(chi, &(none - b), &kappa, &a, inv_a);
             let jm = ja.minus(&jb);
-            for r in 0..3 {
-                grad[r] = [none - ja.0[r], jm.0[r], jb.0[r]];
+            for (r, row) in grad.iter_mut().take(3).enumerate() {
+                *row = [none - ja.0[r], jm.0[r], jb.0[r]];
             }
         }
         a = b;
@@ -428,11 +428,11 @@ fn correct<L: Lane>(g: &Scratch<L>, s: &mut XpbdScratch<L>) {
     for j in 0..s.gradient.len() {
         let grad = &s.gradient[j];
         let mut push = [V3::<L>::default(); 3];
-        for r in 0..ROWS {
+        for (r, row) in grad.iter().enumerate() {
             let dl = s.rhs[ROWS * j + r];
             s.lambda[ROWS * j + r] += dl;
-            for (o, p) in push.iter_mut().enumerate() {
-                *p += grad[r][o] * dl;
+            for (p, d) in push.iter_mut().zip(row) {
+                *p += *d * dl;
             }
         }
         for (o, p) in push.iter().enumerate() {
@@ -629,9 +629,11 @@ mod tests {
     }
 
     fn constants(dt: f32) -> StepConstants {
-        let mut p = crate::HairParams::default();
-        p.stretch_stiffness = 1.0e4;
-        p.bend_stiffness = 20.0;
+        let p = crate::HairParams {
+            stretch_stiffness: 1.0e4,
+            bend_stiffness: 20.0,
+            ..Default::default()
+        };
         StepConstants::new(&p, dt, 1, 0, crate::Integrator::Xpbd, None)
     }
 
