@@ -41,6 +41,8 @@ fn bench_quick_writes_pngs_and_a_table_row_per_case_and_method() {
         "semi-implicit Euler + projection, no stretch springs",
         "implicit Euler",
         "implicit Euler, physical springs",
+        "XPBD",
+        "XPBD, physical springs",
         "rod, 1 projection iteration",
         "rod, 2 projection iterations",
         "rod, 4 projection iterations",

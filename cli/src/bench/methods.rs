@@ -71,7 +71,7 @@ fn named_components(case: &Case, solver: &StrandSolver) -> Vec<String> {
 }
 
 /// Every method the bench compares, in chart order: the mass-spring configurations, the rod's
-/// iteration limits, the strips. A new integrator of the mass-spring solver (XPBD, say) joins
+/// iteration limits, the strips. A new integrator of the mass-spring solver joins
 /// [`MassSpring::all`].
 pub fn all() -> Vec<Box<dyn Method>> {
     let mut methods = MassSpring::all();
@@ -141,6 +141,15 @@ impl MassSpring {
             }),
             Box::new(Self {
                 integrator: Integrator::ImplicitEuler,
+                stretch: Stretch::Physical,
+                ..d
+            }),
+            Box::new(Self {
+                integrator: Integrator::Xpbd,
+                ..d
+            }),
+            Box::new(Self {
+                integrator: Integrator::Xpbd,
                 stretch: Stretch::Physical,
                 ..d
             }),

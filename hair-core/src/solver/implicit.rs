@@ -55,9 +55,9 @@
 //!
 //! The matrix is symmetric positive definite (masses plus positive semi-definite stiffness and
 //! damping), block-pentadiagonal with 3×3 blocks, i.e. a scalar band of half-width 8 over the
-//! `3n` velocity components. It is factored by band Cholesky (`L Lᵀ`, Golub and Van Loan, *Matrix
-//! Computations*, §4.3.5) in `≈ 3n · 8²/2` multiply–adds, eight strands per SIMD instruction like
-//! the explicit kernel, and solved for `Δv` (not `v'`, so rounding is relative to the change).
+//! `3n` velocity components. It is factored by band Cholesky ([`super::band`], shared with the
+//! XPBD solve) in `≈ 3n · 8²/2` multiply–adds, eight strands per SIMD instruction like the
+//! explicit kernel, and solved for `Δv` (not `v'`, so rounding is relative to the change).
 //!
 //! # Artificial damping
 //!
@@ -67,6 +67,7 @@
 //! `1 − (ωh)²/2`): 10 % per period for a 1 s swing at 192 substeps per second, 5 % at 384.
 //! The pendulum test in `tests/tests/implicit_euler.rs` measures it against this formula.
 
+use super::band::BandCholesky;
 use super::dispatch::avx2_copy;
 use super::kernel::{
     elastic_forces, finish_substep, kinematic_velocity, Scratch, StepConstants, StrandView,
@@ -91,9 +92,9 @@ pub(crate) fn auto_substeps(step_dt: f64) -> u32 {
         .clamp(1.0, u32::MAX as f64) as u32
 }
 
-/// Half-width of the scalar band: a point couples with points up to two away (bending), 3
-/// components each, so row `3i + a` reaches column `3(i − 2) + 0`, 8 to its left.
-const BAND: usize = 8;
+/// Width of the scalar band (diagonal included): a point couples with points up to two away
+/// (bending), 3 components each, so row `3i + a` reaches column `3(i − 2) + 0`, 8 to its left.
+const BAND_WIDTH: usize = 9;
 
 /// A symmetric 3×3 matrix per lane.
 #[derive(Clone, Copy, Default, Debug)]
@@ -191,10 +192,8 @@ pub(crate) struct ImplicitScratch<L: Lane> {
     skip: Vec<Sym3<L>>,
     /// Right-hand side per point, then `Δv` of kinematic points.
     rhs: Vec<V3<L>>,
-    /// Row `r` of the band: entry `d` is the matrix's `(r, r − d)`, then the Cholesky factor's.
-    band: Vec<[L; BAND + 1]>,
-    /// `1 / L_rr` per row.
-    inv_pivot: Vec<L>,
+    /// The matrix `M + h D + h² K` as a scalar band, then its Cholesky factor.
+    band: BandCholesky<L, BAND_WIDTH>,
     /// The right-hand side, then the solution, per scalar row.
     sol: Vec<L>,
 }
@@ -397,15 +396,11 @@ fn assemble<L: Lane>(g: &Scratch<L>, s: &mut ImplicitScratch<L>, c: &StepConstan
 fn solve<L: Lane>(s: &mut ImplicitScratch<L>) {
     let n = s.diag.len();
     let rows = 3 * n;
-    let zero = splat::<L>(0.0);
-    s.band.clear();
-    s.band.resize(rows, [zero; BAND + 1]);
-    s.inv_pivot.clear();
-    s.inv_pivot.resize(rows, zero);
-    s.sol.resize(rows, zero);
+    s.band.reset(rows);
+    s.sol.resize(rows, L::default());
     for i in 0..n {
         for a in 0..3 {
-            let row = &mut s.band[3 * i + a];
+            let row = s.band.row_mut(3 * i + a);
             for b in 0..=a {
                 row[a - b] = s.diag[i].get(a, b);
             }
@@ -422,40 +417,8 @@ fn solve<L: Lane>(s: &mut ImplicitScratch<L>) {
         s.sol[3 * i + 1] = s.rhs[i].y;
         s.sol[3 * i + 2] = s.rhs[i].z;
     }
-    // Factor: L[r][d] = (A[r][r−d] − Σ_{m>d} L[r][m] L[r−d][m−d]) / L[r−d][0].
-    for r in 0..rows {
-        let reach = r.min(BAND);
-        for d in (1..=reach).rev() {
-            let c = r - d;
-            let mut acc = s.band[r][d];
-            for m in d + 1..=reach {
-                acc -= s.band[r][m] * s.band[c][m - d];
-            }
-            s.band[r][d] = acc * s.inv_pivot[c];
-        }
-        let mut acc = s.band[r][0];
-        for m in 1..=reach {
-            acc -= s.band[r][m] * s.band[r][m];
-        }
-        let pivot = acc.sqrt();
-        s.band[r][0] = pivot;
-        s.inv_pivot[r] = splat::<L>(1.0) / pivot;
-    }
-    // Forward (L y = b) and back (Lᵀ x = y) substitution.
-    for r in 0..rows {
-        let mut acc = s.sol[r];
-        for m in 1..=r.min(BAND) {
-            acc -= s.band[r][m] * s.sol[r - m];
-        }
-        s.sol[r] = acc * s.inv_pivot[r];
-    }
-    for r in (0..rows).rev() {
-        let mut acc = s.sol[r];
-        for m in 1..=(rows - 1 - r).min(BAND) {
-            acc -= s.band[r + m][m] * s.sol[r + m];
-        }
-        s.sol[r] = acc * s.inv_pivot[r];
-    }
+    s.band.factor();
+    s.band.solve(&mut s.sol);
 }
 
 #[cfg(test)]

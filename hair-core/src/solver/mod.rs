@@ -43,6 +43,7 @@
 //! [`HairError::Unstable`] naming the frame, the strand and the bound, before a bad frame can be
 //! written anywhere.
 
+mod band;
 pub mod curvature;
 mod damping;
 mod dispatch;

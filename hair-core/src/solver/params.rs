@@ -92,8 +92,9 @@ pub enum Integrator {
     ImplicitEuler,
     /// Extended position-based dynamics with small steps (Macklin et al. 2016, 2019): stretch,
     /// bending and goal springs as compliant constraints (compliance = 1/stiffness), the stretch
-    /// constraints solved directly along each strand, bending by one Gauss–Seidel sweep; no
-    /// stability bound, so the substep follows accuracy (see `hair_core::solver` module `xpbd`).
+    /// and bending constraints of each strand solved together by one banded direct solve (Deul
+    /// et al. 2018); no stability bound, so the substep follows accuracy (see
+    /// `hair_core::solver` module `xpbd`).
     /// Scene key `"xpbd"`.
     Xpbd,
 }
