@@ -192,7 +192,7 @@ pub(crate) fn step_group_xpbd<L: Lane>(
     let h = splat::<L>(c.dt);
     let inv_h = splat::<L>(1.0 / c.dt);
     let inv_h2 = splat::<L>(1.0 / (c.dt * c.dt));
-    let drag = splat::<L>(c.drag);
+    let drag = g.drag;
     let gravity = V3::splat(&c.gravity);
     let zero = splat::<L>(0.0);
     let mut clock = SubstepClock::new(g);
@@ -220,7 +220,7 @@ pub(crate) fn step_group_xpbd<L: Lane>(
         s.bend_lambda.fill(V3::default());
         for _ in 0..ITERATIONS {
             if c.stretch > 0.0 {
-                solve_stretch(g, &mut s, inv_h2 * splat(1.0 / c.stretch));
+                solve_stretch(g, &mut s, inv_h2 * g.stretch_compliance);
             }
             if c.bend > 0.0 {
                 sweep_bending(g, &mut s, &rot, inv_h2);
