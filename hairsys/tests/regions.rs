@@ -165,7 +165,11 @@ fn overlapping_regions_take_each_key_from_the_last() {
         assert_eq!(scales[s].stretch, stretch, "strand {s}");
     }
     for &s in &only_front {
-        assert_eq!((scales[s].bend, scales[s].stretch), (2.0, 2.0), "strand {s}");
+        assert_eq!(
+            (scales[s].bend, scales[s].stretch),
+            (2.0, 2.0),
+            "strand {s}"
+        );
     }
     // Mass: ×2 in the fringe only.
     let plain = file(dir.path(), &scene("")).build().unwrap();
@@ -192,7 +196,10 @@ fn bad_regions_are_refused_by_name() {
     assert!(e.contains("\"chin\"") && e.contains("names no hair"), "{e}");
     let e = refused(dir.path(), &region("bend_stiffness = 4.0"));
     assert!(e.contains("\"fringe\" selects no hair"), "{e}");
-    let e = refused(dir.path(), &region(&format!("{FRINGE}\nbend_stiffness = -1.0")));
+    let e = refused(
+        dir.path(),
+        &region(&format!("{FRINGE}\nbend_stiffness = -1.0")),
+    );
     assert!(e.contains("\"fringe\" bend_stiffness = -1"), "{e}");
     let e = refused(
         dir.path(),
@@ -203,7 +210,10 @@ fn bad_regions_are_refused_by_name() {
         "{e}"
     );
     let e = refused(dir.path(), &region("strands = [9999]"));
-    assert!(e.contains("strand 9999") && e.contains("120 strands"), "{e}");
+    assert!(
+        e.contains("strand 9999") && e.contains("120 strands"),
+        "{e}"
+    );
     let twice = region(&format!("{FRINGE}\nbend_stiffness = 3.0"))
         + "[[regions]]\nname = \"fringe\"\nstrands = [1]\nbend_stiffness = 3.0\n";
     let e = refused(dir.path(), &twice);
@@ -211,7 +221,10 @@ fn bad_regions_are_refused_by_name() {
     let rod = region(&format!("{FRINGE}\nbend_stiffness = 3.0"))
         .replace("[solver]\n", "[solver]\nmodel = \"rod\"\n");
     let e = refused(dir.path(), &rod);
-    assert!(e.contains("[[regions]]") && e.contains("mass-spring"), "{e}");
+    assert!(
+        e.contains("[[regions]]") && e.contains("mass-spring"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -238,7 +251,10 @@ fn a_session_changes_a_regions_parameters_between_frames() {
     for _ in 0..12 {
         session.step().unwrap();
     }
-    let stiff = file(dir.path(), &text.replace("bend_stiffness = 2.0\n\n", "bend_stiffness = 20.0\n\n"));
+    let stiff = file(
+        dir.path(),
+        &text.replace("bend_stiffness = 2.0\n\n", "bend_stiffness = 20.0\n\n"),
+    );
     assert_eq!(session.positions(), run(&stiff).as_slice());
 
     let e = session
@@ -250,7 +266,10 @@ fn a_session_changes_a_regions_parameters_between_frames() {
         mass_scale: Some(3.0),
         ..RegionParams::default()
     };
-    let e = session.set_region_params("fringe", bad).unwrap_err().to_string();
+    let e = session
+        .set_region_params("fringe", bad)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("mass_scale"), "{e}");
 }
 
@@ -340,7 +359,9 @@ fn a_length_map_trims_each_hair_to_its_painted_fraction_along_its_groomed_curve(
     .build()
     .unwrap();
     let length = |sim: &hairsys::scene::Simulation, s: usize| -> f32 {
-        sim.strands.rest_lengths()[sim.strands.segments(s)].iter().sum()
+        sim.strands.rest_lengths()[sim.strands.segments(s)]
+            .iter()
+            .sum()
     };
     let mass = |sim: &hairsys::scene::Simulation, s: usize| -> f32 {
         // Free points only (the root's is not kept), compared as a ratio below.
@@ -368,12 +389,18 @@ fn a_length_map_trims_each_hair_to_its_painted_fraction_along_its_groomed_curve(
                         (w[0] + d * a - p).norm()
                     })
                     .fold(f32::INFINITY, f32::min);
-                assert!(nearest < 1e-6, "strand {s}: a point {nearest} m off the curve");
+                assert!(
+                    nearest < 1e-6,
+                    "strand {s}: a point {nearest} m off the curve"
+                );
             }
             let m = mass(&trimmed, s) / mass(&plain, s);
             assert!((m - 0.4).abs() < 0.02, "strand {s}: mass ratio {m}");
         } else {
-            assert!((ratio - 1.0).abs() < 1e-6, "strand {s}: length ratio {ratio}");
+            assert!(
+                (ratio - 1.0).abs() < 1e-6,
+                "strand {s}: length ratio {ratio}"
+            );
             full += 1;
         }
     }
@@ -382,6 +409,12 @@ fn a_length_map_trims_each_hair_to_its_painted_fraction_along_its_groomed_curve(
         "{short} trimmed, {full} full, {edge} on the edge"
     );
     write_png(&dir.path().join("zero.png"), 4, 4, |_, _| 0.0);
-    let e = refused(dir.path(), &scene("[maps.length]\ntexture = \"zero.png\"\n"));
-    assert!(e.contains("[maps.length] is 0") && e.contains("(0, 1]"), "{e}");
+    let e = refused(
+        dir.path(),
+        &scene("[maps.length]\ntexture = \"zero.png\"\n"),
+    );
+    assert!(
+        e.contains("[maps.length] is 0") && e.contains("(0, 1]"),
+        "{e}"
+    );
 }

@@ -19,8 +19,8 @@ mod common;
 
 use common::*;
 use hair_core::{
-    HairParams, Integrator, Scalp, Solver, SolverSettings, StabilityBound, StrandScales,
-    StrandSet, Substeps,
+    HairParams, Integrator, Scalp, Solver, SolverSettings, StabilityBound, StrandScales, StrandSet,
+    Substeps,
 };
 use nalgebra::Vector3;
 

@@ -285,10 +285,11 @@ impl<L: Lane> Scratch<L> {
             });
         }
         if c.bend > 0.0 {
-            let rigidity: [f64; LANES] =
-                std::array::from_fn(|l| gather(views, l, |s| {
+            let rigidity: [f64; LANES] = std::array::from_fn(|l| {
+                gather(views, l, |s| {
                     rigidity(c.bend * s.scales.bend, s.rest_length)
-                }));
+                })
+            });
             for j in 0..n - 1 {
                 let k: [f32; LANES] = std::array::from_fn(|l| {
                     let s = &views[l.min(views.len() - 1)];

@@ -237,7 +237,11 @@ impl Solver {
     /// Changes the strands' multipliers between frames (an animated region), checked against
     /// `strand_count`. Like [`Solver::params_mut`], this keeps the substep: stiffer strands
     /// than it was chosen for may make the next step unstable, which that step reports.
-    pub fn set_strand_scales(&mut self, scales: Vec<StrandScales>, strand_count: usize) -> Result<()> {
+    pub fn set_strand_scales(
+        &mut self,
+        scales: Vec<StrandScales>,
+        strand_count: usize,
+    ) -> Result<()> {
         if !scales.is_empty() && scales.len() != strand_count {
             return Err(HairError::Parameter {
                 name: "strand_scales".into(),

@@ -80,16 +80,14 @@ impl StabilityBound {
                 })
                 .fold(0.0f64, f64::max)
         };
-        let stretch = (0..scales.len())
-            .map(|s| scaled(s).stretch_stiffness)
-            .fold(
-                if scales.is_empty() {
-                    params.stretch_stiffness
-                } else {
-                    0.0
-                },
-                f32::max,
-            );
+        let stretch = (0..scales.len()).map(|s| scaled(s).stretch_stiffness).fold(
+            if scales.is_empty() {
+                params.stretch_stiffness
+            } else {
+                0.0
+            },
+            f32::max,
+        );
         let bend = if params.bend_stiffness > 0.0 {
             (0..strands.len())
                 .map(|s| {

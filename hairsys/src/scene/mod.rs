@@ -843,7 +843,13 @@ impl SceneFile {
             ));
         }
         nearest_guide.resize(strands.len(), None);
-        let regions = self.regions(&mut strands, rest_mesh.as_ref(), &nearest_guide, guided.as_ref(), &maps)?;
+        let regions = self.regions(
+            &mut strands,
+            rest_mesh.as_ref(),
+            &nearest_guide,
+            guided.as_ref(),
+            &maps,
+        )?;
         let scales = regions
             .scales(&s.physics, strands.len())
             .map_err(|m| err(format!("[[regions]] {m}")))?;

@@ -16,7 +16,12 @@ impl Session {
     /// assembled).
     pub fn region_names(&self) -> Vec<String> {
         self.animation.as_ref().map_or_else(Vec::new, |a| {
-            a.sim.regions.regions.iter().map(|r| r.name.clone()).collect()
+            a.sim
+                .regions
+                .regions
+                .iter()
+                .map(|r| r.name.clone())
+                .collect()
         })
     }
 
@@ -50,9 +55,7 @@ impl Session {
         let current = *self
             .solver
             .mass_spring()
-            .ok_or_else(|| {
-                Error::argument(&argument, "regions are for the mass-spring model")
-            })?
+            .ok_or_else(|| Error::argument(&argument, "regions are for the mass-spring model"))?
             .params();
         let table = &mut self
             .animation
