@@ -6,6 +6,9 @@
 //! (`hair_core::Solver::set_strand_scales`); like [`Session::params_mut`] it keeps the substep,
 //! so a region made stiffer than `substeps = "auto"` was chosen for may make the next step
 //! unstable, which that step reports. Mass and radius are fixed when the scene is built.
+//! [`Session::restore`] puts back the solver's factors of the snapshot's frame, but
+//! [`Session::region_params`] keeps reporting the values last set (the region table is not part
+//! of a snapshot).
 
 use crate::error::{Error, Result};
 use crate::scene::regions::{check_params, RegionParams};
