@@ -158,11 +158,11 @@ fn overlapping_regions_take_each_key_from_the_last() {
         !only_front.is_empty(),
         "the test needs fringe hair beyond strand 2"
     );
-    for s in 0..3 {
+    for (s, scale) in scales.iter().enumerate().take(3) {
         // The later region's bending; the earlier one's stretch where it holds the strand.
-        assert_eq!(scales[s].bend, 3.0, "strand {s}");
+        assert_eq!(scale.bend, 3.0, "strand {s}");
         let stretch = if both.contains(&s) { 2.0 } else { 1.0 };
-        assert_eq!(scales[s].stretch, stretch, "strand {s}");
+        assert_eq!(scale.stretch, stretch, "strand {s}");
     }
     for &s in &only_front {
         assert_eq!(
@@ -173,11 +173,10 @@ fn overlapping_regions_take_each_key_from_the_last() {
     }
     // Mass: ×2 in the fringe only.
     let plain = file(dir.path(), &scene("")).build().unwrap();
-    for s in [only_front[0], 5.max(front.len())] {
-        if s >= sim.strands.len() {
-            continue;
-        }
-        let factor = if front.contains(&s) { 2.0 } else { 1.0 };
+    let outside = (0..sim.strands.len())
+        .find(|s| !front.contains(s))
+        .expect("hair outside the fringe");
+    for (s, factor) in [(only_front[0], 2.0), (outside, 1.0)] {
         let i = sim.strands.points(s).start + 1;
         assert_eq!(sim.strands.masses()[i], plain.strands.masses()[i] * factor);
     }

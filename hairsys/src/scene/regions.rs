@@ -83,9 +83,12 @@ pub struct RegionParams {
     pub radius_scale: Option<f32>,
 }
 
+/// One `[physics]` key a region may give: its name, the region's value, and the scene's.
+type SolverKey = (&'static str, Option<f32>, fn(&HairParams) -> f32);
+
 impl RegionParams {
     /// The keys that change the solver's factors (not mass or radius).
-    fn solver_keys(&self) -> [(&'static str, Option<f32>, fn(&HairParams) -> f32); 5] {
+    fn solver_keys(&self) -> [SolverKey; 5] {
         [
             ("stretch_stiffness", self.stretch_stiffness, |p| {
                 p.stretch_stiffness
