@@ -5,7 +5,7 @@
 //! solver's time stepping, and the colliders hair collides with: `[scalp.collider]` (the scalp
 //! mesh, for its own hair), `[[colliders]]` (spheres, capsules and OBJ meshes with keyframed rigid
 //! motion, thickness and friction) and `[contacts]` (see `hair_core::ContactSettings`), voxel
-//! hair–hair interaction `[hair_hair]` and force fields `[[fields]]` (see [`crate::scene::fields`]). Unknown keys are rejected; every error names the file, the field
+//! hair–hair interaction `[hair_hair]` and force fields `[[fields]]` (see [`crate::scene::fields`]), and named regions of hair with their own physical parameters `[[regions]]` (see [`crate::scene::regions`]). Unknown keys are rejected; every error names the file, the field
 //! and the fix. `hairsys scene init` prints the built-in default scene with every key commented.
 
 use std::path::{Path, PathBuf};
