@@ -226,6 +226,22 @@ class Session:
         Raises ArgumentError for a session without guides, a wrong point count or a non-finite
         point.
         """
+    @property
+    def region_names(self) -> list[str]:
+        """Names of the scene's [[regions]], in file order (empty without regions)."""
+        ...
+    def region_strands(self, name: str) -> list[int]:
+        """Strand indices of region `name`, increasing. Raises ArgumentError for an unknown name."""
+        ...
+    def region_params(self, name: str) -> dict[str, float | None]:
+        """Region `name`'s parameters: stretch_stiffness, bend_stiffness, goal_stiffness (N/m),
+        stretch_damping, air_drag (1/s), mass_scale, radius_scale; None = the scene's."""
+        ...
+    def set_region_params(self, name: str, params: dict[str, float | None]) -> None:
+        """Changes region `name`'s springs, damping and drag from the next frame on (keys left
+        out keep their value, None = the scene's [physics]). Raises ArgumentError for an unknown
+        region or key, a bad value, or mass_scale / radius_scale (fixed at build)."""
+        ...
     def set_sim_weight(self, weight: float) -> None:
         """Sets the sim weight for the next frame instead of the scene's curve: 0 = simulation,
         1 = exactly the animated guides, between a blend (times each hair's factor).

@@ -52,7 +52,7 @@ pub use solver::energy::{energy, Energy};
 pub use solver::{
     kernel_instructions, make_sag_free, make_sag_free_supported, FrameReport, HairParams,
     Inextensibility, Integrator, KernelChoice, PhaseTimes, SagFreeLimits, SagFreeReport, Solver,
-    SolverSettings, StabilityBound, Substeps,
+    SolverSettings, StabilityBound, StrandScales, Substeps,
 };
 pub use strands::{Anchor, Scalp, StrandInput, StrandSet};
 pub use volume::{HairHairSettings, VoxelGrid};

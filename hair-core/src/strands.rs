@@ -223,6 +223,33 @@ impl StrandSet {
         Ok(())
     }
 
+    /// Multiplies strand `s`'s free points' masses by `mass` and every point's radius by
+    /// `radius` (per-region material, issue 20). Both factors must be finite, the mass factor
+    /// > 0 and the radius factor ≥ 0; kinematic points keep mass 0.
+    pub fn scale_strand(&mut self, s: usize, mass: f32, radius: f32) -> Result<()> {
+        if s >= self.len() {
+            return Err(HairError::Strand {
+                strand: s,
+                message: format!("does not exist: the set has {} strands", self.len()),
+            });
+        }
+        if !(mass.is_finite() && mass > 0.0 && radius.is_finite() && radius >= 0.0) {
+            return Err(HairError::Parameter {
+                name: format!("strand {s} mass and radius factors"),
+                value: format!("{mass}, {radius}"),
+                fix: "give a finite mass factor > 0 and radius factor ≥ 0".into(),
+            });
+        }
+        for i in self.points(s) {
+            if self.inv_mass[i] > 0.0 {
+                self.mass[i] *= mass;
+                self.inv_mass[i] = 1.0 / self.mass[i];
+            }
+            self.radius[i] *= radius;
+        }
+        Ok(())
+    }
+
     /// Number of strands.
     pub fn len(&self) -> usize {
         self.offsets.len().saturating_sub(1)

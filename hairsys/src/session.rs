@@ -52,6 +52,8 @@ use crate::animated_guides::GuideAnimation;
 use crate::error::{Error, Result};
 use crate::scene::{SceneFile, Simulation};
 
+mod regions;
+
 /// The scene a session was built from: its keyframes drive what the host does not set.
 #[derive(Debug, Clone)]
 struct SceneAnimation {

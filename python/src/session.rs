@@ -403,6 +403,71 @@ impl PySession {
         guard(|| self.session_mut().set_strand_sim_weights(&w).map_err(to_py))
     }
 
+    /// Names of the scene's `[[regions]]`, in file order (empty without regions).
+    #[getter]
+    fn region_names(&self) -> PyResult<Vec<String>> {
+        self.check()?;
+        Ok(self.session().region_names())
+    }
+
+    /// Strand indices of region `name`, increasing. Raises ArgumentError for an unknown name.
+    fn region_strands(&self, name: &str) -> PyResult<Vec<usize>> {
+        self.check()?;
+        self.session().region_strands(name).map_err(to_py)
+    }
+
+    /// Region `name`'s parameters as a dict: `stretch_stiffness`, `bend_stiffness`,
+    /// `goal_stiffness` (N/m), `stretch_damping`, `air_drag` (1/s), `mass_scale`,
+    /// `radius_scale`; None = the scene's `[physics]` value (or factor 1).
+    fn region_params<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyDict>> {
+        self.check()?;
+        let p = self.session().region_params(name).map_err(to_py)?;
+        let d = PyDict::new(py);
+        for (key, value) in region_entries(&p) {
+            d.set_item(key, value)?;
+        }
+        Ok(d)
+    }
+
+    /// Changes region `name`'s springs, damping and drag from the next frame on: `params` maps
+    /// any of `stretch_stiffness`, `bend_stiffness`, `goal_stiffness`, `stretch_damping`,
+    /// `air_drag` to a value in `[physics]`'s units, or None for the scene's; keys left out keep
+    /// their current value. The substep stays (a much stiffer region may make the next step
+    /// unstable, which it reports). Raises ArgumentError for an unknown region or key, a bad
+    /// value, or a mass or radius factor (fixed when the scene is built).
+    fn set_region_params(&mut self, name: &str, params: &Bound<'_, PyDict>) -> PyResult<()> {
+        self.check()?;
+        let mut p = self.session().region_params(name).map_err(to_py)?;
+        for (key, value) in params.iter() {
+            let key: String = key.extract()?;
+            let value: Option<f32> = value
+                .extract()
+                .map_err(|_| argument(&key, "give a number or None"))?;
+            let slot = match key.as_str() {
+                "stretch_stiffness" => &mut p.stretch_stiffness,
+                "bend_stiffness" => &mut p.bend_stiffness,
+                "goal_stiffness" => &mut p.goal_stiffness,
+                "stretch_damping" => &mut p.stretch_damping,
+                "air_drag" => &mut p.air_drag,
+                "mass_scale" | "radius_scale" => {
+                    return Err(argument(
+                        &key,
+                        "is fixed when the scene is built; set it in the scene's [[regions]]",
+                    ))
+                }
+                _ => {
+                    return Err(argument(
+                        &key,
+                        "is not a region parameter; use stretch_stiffness, bend_stiffness, \
+                         goal_stiffness, stretch_damping or air_drag",
+                    ))
+                }
+            };
+            *slot = value;
+        }
+        guard(|| self.session_mut().set_region_params(name, p).map_err(to_py))
+    }
+
     /// Point count of each guide, in the groom's order (empty without guides).
     #[getter]
     fn guide_point_counts(&self) -> PyResult<Vec<usize>> {
@@ -723,4 +788,17 @@ fn report_dict<'py>(py: Python<'py>, r: &FrameReport) -> PyResult<Bound<'py, PyD
     d.set_item("contact_points", r.contact_points)?;
     d.set_item("max_stretch", r.max_stretch)?;
     Ok(d)
+}
+
+/// A region's parameters as (key, value) pairs for Python (None = the scene's).
+fn region_entries(p: &hairsys::scene::regions::RegionParams) -> [(&'static str, Option<f32>); 7] {
+    [
+        ("stretch_stiffness", p.stretch_stiffness),
+        ("bend_stiffness", p.bend_stiffness),
+        ("goal_stiffness", p.goal_stiffness),
+        ("stretch_damping", p.stretch_damping),
+        ("air_drag", p.air_drag),
+        ("mass_scale", p.mass_scale),
+        ("radius_scale", p.radius_scale),
+    ]
 }

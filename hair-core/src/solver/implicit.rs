@@ -200,7 +200,7 @@ pub(crate) struct ImplicitScratch<L: Lane> {
 
 impl<L: Lane> ImplicitScratch<L> {
     /// Sizes the buffers for `n` points and takes the per-step constants from the gathered group.
-    fn fit(&mut self, g: &Scratch<L>, c: &StepConstants) {
+    fn fit(&mut self, g: &Scratch<L>) {
         let n = g.x.len();
         let fill = |buf: &mut Vec<_>, len| {
             buf.clear();
@@ -214,7 +214,7 @@ impl<L: Lane> ImplicitScratch<L> {
         for i in 0..n {
             self.mass[i] = div_or_zero(one, g.inv_mass[i], 0.0);
         }
-        let rate = splat::<L>(c.damp_rate);
+        let rate = g.damp_rate;
         for j in 0..n - 1 {
             self.inv_rest[j] = one / g.rest_length[j];
             self.damp[j] = div_or_zero(rate, g.inv_mass[j] + g.inv_mass[j + 1], 0.0);
@@ -241,7 +241,7 @@ pub(crate) fn step_group_implicit<L: Lane>(
     debug_assert!(!views.is_empty() && views.len() <= LANES);
     g.fit(views, starts, ends, c);
     let mut s = std::mem::take(&mut g.implicit);
-    s.fit(g, c);
+    s.fit(g);
     let mut clock = SubstepClock::new(g);
     for k in 0..c.substeps {
         let (origin, rot) = clock.end_of(g, k, c.substeps);
@@ -325,7 +325,7 @@ fn assemble<L: Lane>(g: &Scratch<L>, s: &mut ImplicitScratch<L>, c: &StepConstan
     let h = splat::<L>(c.dt);
     let h2 = h * h;
     let (zero, one) = (splat::<L>(0.0), splat::<L>(1.0));
-    let h2k = h2 * splat(c.stretch);
+    let h2k = h2 * g.stretch_k;
     // Stretch springs and their damping, per segment j (points j, j + 1; padded index j + 1).
     for j in 0..n - 1 {
         let t = g.tangent[j + 1];
@@ -358,7 +358,7 @@ fn assemble<L: Lane>(g: &Scratch<L>, s: &mut ImplicitScratch<L>, c: &StepConstan
         }
     }
     // Goal springs and air drag on the diagonal (zero on pinned points).
-    let drag = splat::<L>(c.drag);
+    let drag = g.drag;
     for i in 0..n {
         s.diag[i].add_diagonal(h2 * g.goal_k[i] + h * drag * s.mass[i]);
     }

@@ -29,7 +29,7 @@ use super::dispatch::avx2_copy;
 use super::implicit::ImplicitScratch;
 use super::inextensible::{project, Inextensibility, ProjectionScratch};
 use super::lanes::{div_or_zero, splat, Lane, LANES, M3, Q4, V3};
-use super::params::{HairParams, Integrator};
+use super::params::{HairParams, Integrator, StrandScales};
 use super::strain_limit::limit_strain;
 use super::xpbd::XpbdScratch;
 
@@ -67,13 +67,7 @@ impl StepConstants {
         integrator: Integrator,
         max_strain: Option<f32>,
     ) -> Self {
-        let damp_fraction = if damp_iterations > 0 && p.stretch_damping > 0.0 {
-            // Exact exponential decay over dt/iterations for an isolated segment, capped at 1/2 so
-            // the Jacobi iteration (two segments per point) never overshoots.
-            (1.0 - (-p.stretch_damping * dt / damp_iterations as f32).exp()).min(0.5)
-        } else {
-            0.0
-        };
+        let damp_fraction = damp_fraction(p.stretch_damping, dt, damp_iterations);
         Self {
             gravity: p.gravity(),
             stretch: p.stretch_stiffness,
@@ -97,6 +91,18 @@ impl StepConstants {
     }
 }
 
+/// Fraction of relative segment velocity the damping sub-loop removes per iteration for the
+/// decay rate `rate` (1/s) over a substep `dt` (s) in `iterations` iterations: the exact
+/// exponential decay over dt/iterations of an isolated segment, capped at 1/2 so the Jacobi
+/// iteration (two segments per point) never overshoots; 0 when off.
+fn damp_fraction(rate: f32, dt: f32, iterations: u32) -> f32 {
+    if iterations > 0 && rate > 0.0 {
+        (1.0 - (-rate * dt / iterations as f32).exp()).min(0.5)
+    } else {
+        0.0
+    }
+}
+
 /// Borrowed data of one strand.
 pub(crate) struct StrandView<'a> {
     pub x: &'a mut [Vector3<f32>],
@@ -111,6 +117,9 @@ pub(crate) struct StrandView<'a> {
     /// External acceleration per point for this step (force fields, hair–hair repulsion),
     /// m/s², constant over the substeps; `None` costs nothing.
     pub accel: Option<&'a [Vector3<f32>]>,
+    /// The strand's multipliers of the step's stiffnesses, damping and drag (per-region
+    /// physics; [`StrandScales::ONE`] = the scene's material).
+    pub scales: StrandScales,
 }
 
 /// One strand's contacts of a step (see [`crate::contacts::detect`]), per point.
@@ -135,6 +144,14 @@ pub(crate) struct Scratch<L: Lane> {
     pub(super) target: Vec<V3<L>>,
     /// Inverse masses, 1/kg (0 pinned).
     pub(super) inv_mass: Vec<L>,
+    /// Each lane's stretch stiffness (the step's × its strand's scale), N/m.
+    pub(super) stretch_k: L,
+    /// Each lane's stretch compliance `1 / stretch_k`, m/N (XPBD; 0 where stretch is off).
+    pub(super) stretch_compliance: L,
+    /// Each lane's air drag rate, 1/s.
+    pub(super) drag: L,
+    /// Each lane's stretch damping rate, 1/s (0 when the damping sub-loop is off).
+    pub(super) damp_rate: L,
     /// 1 for free points, 0 for pinned ones.
     pub(super) free: Vec<L>,
     pub(super) goal_k: Vec<L>,
@@ -241,6 +258,18 @@ impl<L: Lane> Scratch<L> {
         };
         let lanes1 =
             |f: &dyn Fn(&StrandView) -> f32| L::new(std::array::from_fn(|l| gather(views, l, f)));
+        // Per-strand parameters: each lane loads its own strand's scaled values (a unit scale
+        // gives the step's value bit for bit).
+        self.stretch_k = lanes1(&|s| c.stretch * s.scales.stretch);
+        self.stretch_compliance = if c.stretch > 0.0 {
+            lanes1(&|s| 1.0 / (c.stretch * s.scales.stretch))
+        } else {
+            L::default()
+        };
+        self.drag = lanes1(&|s| c.drag * s.scales.drag);
+        self.damp_rate = lanes1(&|s| c.damp_rate * s.scales.damping);
+        let damp_fraction =
+            lanes1(&|s| damp_fraction(c.damp_rate * s.scales.damping, c.dt, c.damp_iterations));
         for i in 0..n {
             self.x[i] = lanes3(&|s| s.x[i]);
             self.v[i] = lanes3(&|s| s.v[i]);
@@ -249,15 +278,18 @@ impl<L: Lane> Scratch<L> {
             self.free[i] = lanes1(&|s| if s.inv_mass[i] > 0.0 { 1.0 } else { 0.0 });
             self.goal_k[i] = lanes1(&|s| {
                 if s.inv_mass[i] > 0.0 {
-                    c.goal * s.goal_weight[i]
+                    c.goal * s.scales.goal * s.goal_weight[i]
                 } else {
                     0.0
                 }
             });
         }
         if c.bend > 0.0 {
-            let rigidity: [f64; LANES] =
-                std::array::from_fn(|l| gather(views, l, |s| rigidity(c.bend, s.rest_length)));
+            let rigidity: [f64; LANES] = std::array::from_fn(|l| {
+                gather(views, l, |s| {
+                    rigidity(c.bend * s.scales.bend, s.rest_length)
+                })
+            });
             for j in 0..n - 1 {
                 let k: [f32; LANES] = std::array::from_fn(|l| {
                     let s = &views[l.min(views.len() - 1)];
@@ -275,7 +307,7 @@ impl<L: Lane> Scratch<L> {
             self.rest_length[j] = lanes1(&|s| s.rest_length[j]);
             if c.damp_fraction > 0.0 {
                 let w = lanes1(&|s| s.inv_mass[j] + s.inv_mass[j + 1]);
-                self.damp_coef[j + 1] = div_or_zero(splat(c.damp_fraction), w, 0.0);
+                self.damp_coef[j + 1] = div_or_zero(damp_fraction, w, 0.0);
             }
         }
         self.has_accel = views[0].accel.is_some();
@@ -417,7 +449,7 @@ pub(crate) fn step_group<L: Lane>(
     g.fit(views, starts, ends, c);
     let n = views[0].x.len();
     let (dt, inv_dt) = (splat(c.dt), splat(1.0 / c.dt));
-    let drag = splat::<L>(c.drag);
+    let drag = g.drag;
     let gravity = V3::splat(&c.gravity);
     let explicit = c.integrator == Integrator::ExplicitEuler;
     let zero = splat(0.0);
@@ -507,7 +539,7 @@ pub(super) fn elastic_forces<L: Lane>(
     clock: &SubstepClock<L>,
 ) {
     let n = g.x.len();
-    let k_stretch = splat::<L>(c.stretch);
+    let k_stretch = g.stretch_k;
     let needs_targets = c.goal > 0.0;
     let zero = splat::<L>(0.0);
     let (origin_now, rot_now) = (clock.origin_now, clock.rot_now);
@@ -800,6 +832,7 @@ mod tests {
                         friction: &h.friction,
                     }),
                     accel: Some(&h.accel),
+                    scales: StrandScales::ONE,
                 })
                 .collect();
         let frame = |angle: f32| RootFrame {

@@ -78,7 +78,7 @@ pub use inextensible::Inextensibility;
 use kernel::{ContactSlice, GroupKernel, Scratch, StepConstants, StrandView};
 use lanes::Lane;
 use lanes::LANES;
-pub use params::{HairParams, Integrator, KernelChoice, SolverSettings, Substeps};
+pub use params::{HairParams, Integrator, KernelChoice, SolverSettings, StrandScales, Substeps};
 pub use sag_free::{make_sag_free, make_sag_free_supported, SagFreeLimits, SagFreeReport};
 pub use stability::StabilityBound;
 
@@ -168,6 +168,9 @@ pub struct Solver {
     external: Vec<Vector3<f32>>,
     /// The inextensibility projection, if on.
     inextensible: Option<Inextensibility>,
+    /// Each strand's multipliers of `params` (per-region physics); empty = all 1, the
+    /// scene's material (see [`Solver::with_strand_scales`]).
+    scales: Vec<StrandScales>,
 }
 
 /// Outcome of one strand's step, folded per block in strand order.
@@ -191,16 +194,7 @@ impl Solver {
         params.validate()?;
         strands.validate_anchors(scalp)?;
         let bound = StabilityBound::of(strands, &params);
-        let substeps = match settings.substeps {
-            Substeps::Fixed(n) => n,
-            Substeps::Auto => match settings.integrator {
-                Integrator::ImplicitEuler => implicit::auto_substeps(settings.step_dt()),
-                Integrator::Xpbd => xpbd::auto_substeps(settings.step_dt()),
-                Integrator::SemiImplicitEuler | Integrator::ExplicitEuler => {
-                    bound.auto_substeps(settings.step_dt())
-                }
-            },
-        };
+        let substeps = resolve_substeps(&settings, &bound);
         Ok(Self {
             settings,
             params,
@@ -220,7 +214,52 @@ impl Solver {
             hair_hair: None,
             fields: Vec::new(),
             external: Vec::new(),
+            scales: Vec::new(),
         })
+    }
+
+    /// Gives every strand its own multipliers of the parameters (per-region physics, issue 20):
+    /// strand `s` runs with `scales[s].apply(params)` in every integrator (the mass-spring
+    /// kernel, implicit Euler and XPBD; each lane of a SIMD group loads its own strand's
+    /// values). The stability bound takes the stiffest strand, and `substeps = auto` is
+    /// resolved again from it. An empty list, or all [`StrandScales::ONE`], is the scene's
+    /// material, bit for bit.
+    pub fn with_strand_scales(
+        mut self,
+        scales: Vec<StrandScales>,
+        strands: &StrandSet,
+    ) -> Result<Self> {
+        self.set_strand_scales(scales, strands.len())?;
+        self.bound = StabilityBound::of_scaled(strands, &self.params, &self.scales);
+        self.substeps = resolve_substeps(&self.settings, &self.bound);
+        Ok(self)
+    }
+
+    /// Changes the strands' multipliers between frames (an animated region), checked against
+    /// `strand_count`. Like [`Solver::params_mut`], this keeps the substep: stiffer strands
+    /// than it was chosen for may make the next step unstable, which that step reports.
+    pub fn set_strand_scales(
+        &mut self,
+        scales: Vec<StrandScales>,
+        strand_count: usize,
+    ) -> Result<()> {
+        if !scales.is_empty() && scales.len() != strand_count {
+            return Err(HairError::Parameter {
+                name: "strand_scales".into(),
+                value: format!("{} entries", scales.len()),
+                fix: format!("give one per strand ({strand_count}), or none"),
+            });
+        }
+        for (s, scale) in scales.iter().enumerate() {
+            scale.validate(s)?;
+        }
+        self.scales = scales;
+        Ok(())
+    }
+
+    /// Each strand's multipliers of the parameters (empty: all 1).
+    pub fn strand_scales(&self) -> &[StrandScales] {
+        &self.scales
     }
 
     /// Switches on voxel hair–hair interaction (friction and repulsion through a grid rebuilt
@@ -665,6 +704,7 @@ impl Solver {
                                 }
                             }),
                             accel: (!self.external.is_empty()).then(|| &self.external[p.clone()]),
+                            scales: self.scales.get(s).copied().unwrap_or_default(),
                         });
                     }
                     kernel(
@@ -684,7 +724,7 @@ impl Solver {
                         match check_strand(
                             view,
                             &data.mass[p],
-                            self.params.stretch_stiffness,
+                            self.params.stretch_stiffness * view.scales.stretch,
                             limit,
                         ) {
                             Ok(stretch) => out.max_stretch = out.max_stretch.max(stretch),
@@ -704,6 +744,21 @@ impl Solver {
                 max_stretch: acc.max_stretch.max(o.max_stretch),
                 failure: acc.failure.or(o.failure),
             })
+    }
+}
+
+/// Force substeps per collision step for `settings`: the fixed count, or `auto` from the
+/// stability bound (explicit-type integrators) or the accuracy limit (implicit Euler, XPBD).
+fn resolve_substeps(settings: &SolverSettings, bound: &StabilityBound) -> u32 {
+    match settings.substeps {
+        Substeps::Fixed(n) => n,
+        Substeps::Auto => match settings.integrator {
+            Integrator::ImplicitEuler => implicit::auto_substeps(settings.step_dt()),
+            Integrator::Xpbd => xpbd::auto_substeps(settings.step_dt()),
+            Integrator::SemiImplicitEuler | Integrator::ExplicitEuler => {
+                bound.auto_substeps(settings.step_dt())
+            }
+        },
     }
 }
 

@@ -64,6 +64,88 @@ impl HairParams {
     }
 }
 
+/// One strand's multipliers of the [`HairParams`] springs and damping (per-region physics,
+/// issue 20): the strand runs with `stretch_stiffness × stretch`, `bend_stiffness × bend`,
+/// `goal_stiffness × goal`, `stretch_damping × damping` and `air_drag × drag`. All 1 (the
+/// default) is the scene's material exactly: `x × 1.0 = x` in floating point, so a solver given
+/// only unit scales advances every strand bit for bit as one given none.
+///
+/// Multipliers rather than values, so that a host animating [`HairParams`] per frame moves every
+/// region with it. Gravity is not scaled (it is an acceleration, the same for every hair); mass
+/// and radius are per point in the [`crate::StrandSet`] already.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
+pub struct StrandScales {
+    /// Factor of the stretch stiffness (> 0: a strand without stretch springs falls apart).
+    pub stretch: f32,
+    /// Factor of the bending stiffness (≥ 0).
+    pub bend: f32,
+    /// Factor of the goal stiffness (≥ 0).
+    pub goal: f32,
+    /// Factor of the stretch damping rate (≥ 0).
+    pub damping: f32,
+    /// Factor of the air drag rate (≥ 0).
+    pub drag: f32,
+}
+
+impl Default for StrandScales {
+    fn default() -> Self {
+        Self::ONE
+    }
+}
+
+impl StrandScales {
+    /// Every factor 1: the scene's material.
+    pub const ONE: Self = Self {
+        stretch: 1.0,
+        bend: 1.0,
+        goal: 1.0,
+        damping: 1.0,
+        drag: 1.0,
+    };
+
+    /// Checks every factor is finite and ≥ 0, the stretch factor > 0; errors name
+    /// `strand_scales[strand].factor`.
+    pub fn validate(&self, strand: usize) -> Result<()> {
+        let fields = [
+            ("stretch", self.stretch),
+            ("bend", self.bend),
+            ("goal", self.goal),
+            ("damping", self.damping),
+            ("drag", self.drag),
+        ];
+        for (name, value) in fields {
+            let bad = !value.is_finite() || value < 0.0 || (name == "stretch" && value == 0.0);
+            if bad {
+                return Err(HairError::Parameter {
+                    name: format!("strand_scales[{strand}].{name}"),
+                    value: value.to_string(),
+                    fix: if name == "stretch" {
+                        "give a finite factor > 0 of [physics] stretch_stiffness (1 = the scene's)"
+                            .into()
+                    } else {
+                        "give a finite factor ≥ 0 of the scene's value (1 = the scene's)".into()
+                    },
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The parameters one strand runs with: `params` with its springs and damping scaled.
+    pub fn apply(&self, params: &HairParams) -> HairParams {
+        HairParams {
+            gravity: params.gravity,
+            stretch_stiffness: params.stretch_stiffness * self.stretch,
+            bend_stiffness: params.bend_stiffness * self.bend,
+            goal_stiffness: params.goal_stiffness * self.goal,
+            stretch_damping: params.stretch_damping * self.damping,
+            air_drag: params.air_drag * self.drag,
+        }
+    }
+}
+
 /// How many force substeps each collision step takes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]

@@ -25,7 +25,7 @@
 use crate::strands::StrandSet;
 
 use super::curvature::transverse_stiffness;
-use super::params::HairParams;
+use super::params::{HairParams, StrandScales};
 
 /// Fraction of the bound `2/ω` that `substeps = "auto"` aims for.
 pub const AUTO_SAFETY: f64 = 0.8;
@@ -47,20 +47,52 @@ pub struct StabilityBound {
 impl StabilityBound {
     /// Computes the bound for `strands` under `params`.
     pub fn of(strands: &StrandSet, params: &HairParams) -> Self {
+        Self::of_scaled(strands, params, &[])
+    }
+
+    /// Computes the bound for `strands` whose strand `s` runs with `scales[s].apply(params)`
+    /// (per-region physics; empty `scales`: every strand with `params`, as [`Self::of`]). Each
+    /// term takes its largest value over the strands — the stiffest stretch, bending and goal
+    /// springs, wherever they are — against the lightest point: a bound for every strand, and
+    /// with unit scales exactly the unscaled one.
+    pub fn of_scaled(strands: &StrandSet, params: &HairParams, scales: &[StrandScales]) -> Self {
+        let scale = |s: usize| scales.get(s).copied().unwrap_or_default();
+        let scaled = |s: usize| scale(s).apply(params);
         let min_mass = strands
             .masses()
             .iter()
             .filter(|&&m| m > 0.0)
             .fold(f64::INFINITY, |a, &m| a.min(m as f64));
-        let max_goal = strands
-            .goal_weights()
-            .iter()
-            .fold(0.0f64, |a, &w| a.max(w as f64));
+        // Goal stiffness × goal weight, the largest of any point.
+        let goal = if scales.is_empty() {
+            let max_goal = strands
+                .goal_weights()
+                .iter()
+                .fold(0.0f64, |a, &w| a.max(w as f64));
+            params.goal_stiffness as f64 * max_goal
+        } else {
+            (0..strands.len())
+                .map(|s| {
+                    let w = strands.goal_weights()[strands.points(s)]
+                        .iter()
+                        .fold(0.0f64, |a, &w| a.max(w as f64));
+                    scaled(s).goal_stiffness as f64 * w
+                })
+                .fold(0.0f64, f64::max)
+        };
+        let stretch = (0..scales.len()).map(|s| scaled(s).stretch_stiffness).fold(
+            if scales.is_empty() {
+                params.stretch_stiffness
+            } else {
+                0.0
+            },
+            f32::max,
+        );
         let bend = if params.bend_stiffness > 0.0 {
             (0..strands.len())
                 .map(|s| {
                     transverse_stiffness(
-                        params.bend_stiffness,
+                        scaled(s).bend_stiffness,
                         &strands.rest_lengths()[strands.segments(s)],
                         &strands.bend_rest()[strands.segments(s)],
                     )
@@ -69,9 +101,9 @@ impl StabilityBound {
         } else {
             0.0
         };
-        let k = params.stretch_stiffness as f64 + 4.0 * bend;
+        let k = stretch as f64 + 4.0 * bend;
         let omega2 = if min_mass.is_finite() {
-            (4.0 * k + params.goal_stiffness as f64 * max_goal) / min_mass
+            (4.0 * k + goal) / min_mass
         } else {
             0.0
         };

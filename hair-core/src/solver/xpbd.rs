@@ -174,7 +174,7 @@ impl<L: Lane> XpbdScratch<L> {
         let one = splat::<L>(1.0);
         let inv_h2 = splat::<L>(1.0 / (c.dt * c.dt));
         let stretch = if c.stretch > 0.0 {
-            inv_h2 * splat(1.0 / c.stretch)
+            inv_h2 * g.stretch_compliance
         } else {
             one
         };
@@ -222,7 +222,7 @@ pub(crate) fn step_group_xpbd<L: Lane>(
     let n = g.x.len();
     let h = splat::<L>(c.dt);
     let inv_h = splat::<L>(1.0 / c.dt);
-    let drag = splat::<L>(c.drag);
+    let drag = g.drag;
     let gravity = V3::splat(&c.gravity);
     let zero = splat::<L>(0.0);
     let constrained = c.stretch > 0.0 || c.bend > 0.0;

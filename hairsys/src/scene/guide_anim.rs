@@ -75,7 +75,8 @@ pub struct HairSelection {
 }
 
 impl HairSelection {
-    fn is_empty(&self) -> bool {
+    /// True when the selection gives no criterion at all.
+    pub fn is_empty(&self) -> bool {
         self.guides.is_none()
             && self.strands.is_none()
             && self.region.is_none()

@@ -201,6 +201,8 @@ pub struct GuidedHair {
     pub report: String,
     /// The guides' animation (poses, sim weight, pins, hold-outs), when the scene keys any.
     pub animation: Option<GuideAnimation>,
+    /// Each sim hair's nearest guide (the first of its blend sources), for selections.
+    pub nearest_guide: Vec<Option<usize>>,
 }
 
 /// Builds the guides and the sim hairs interpolated from them. Errors name the section and key.
@@ -387,6 +389,10 @@ pub fn build(
     );
     Ok(GuidedHair {
         guides: guides_list,
+        nearest_guide: hairs
+            .iter()
+            .map(|h| h.sources.first().map(|s| s.guide))
+            .collect(),
         inputs,
         report,
         animation,

@@ -17,11 +17,16 @@
 //!
 //! Names with a purpose: `goal` multiplies the goal weight of every point of each hair grown on
 //! the scalp (`[hair]` and `[sim_hairs]`) by the map at its root; `sim_weight` multiplies each
-//! sim hair's factor of the `[guides.sim_weight]` curve (needs that curve). The other uses
-//! issue 20 names — `density`, `length`, `stiffness`, `clump`, `curl` — are not implemented and
-//! refused by name rather than ignored. Any other name must be used by a selection
-//! (`map = { name, min, max }` in `[guides.sim_weight]`, `[[guides.pin]]` or
-//! `[guides.hold_out]`), so a misspelt purpose is an error, not a silent no-op.
+//! sim hair's factor of the `[guides.sim_weight]` curve (needs that curve); `stiffness`
+//! multiplies each scalp-rooted hair's bending stiffness by the map at its root (see
+//! [`crate::scene::regions`]); `length` trims each `[hair]` strand to the map's fraction of its
+//! length, keeping its groomed shape from the root (the curve is cut at that arc length and
+//! resampled to the same number of points, masses lumped again at the same mass per length;
+//! the resampled chords cut a curved groom's corners, so the polyline comes out up to ~1 %
+//! shorter than the fraction).
+//! The other uses issue 20 names — `density`, `clump`, `curl` — are not implemented and refused by name rather than ignored. Any other name must be
+//! used by a selection (`map = { name, min, max }` in `[guides.sim_weight]`, `[[guides.pin]]`,
+//! `[guides.hold_out]` or `[[regions]]`), so a misspelt purpose is an error, not a silent no-op.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -32,10 +37,10 @@ use serde::{Deserialize, Serialize};
 use crate::maps::{Channel, MapSource, ScalpMap, Texture};
 
 /// Map names with a purpose that hairsys applies.
-pub const APPLIED: [&str; 2] = ["goal", "sim_weight"];
+pub const APPLIED: [&str; 4] = ["goal", "sim_weight", "stiffness", "length"];
 
 /// Purposes issue 20 names that are not implemented yet (refused by name).
-pub const NOT_YET: [&str; 5] = ["density", "length", "stiffness", "clump", "curl"];
+pub const NOT_YET: [&str; 3] = ["density", "clump", "curl"];
 
 /// `[maps.NAME]`: where one map's values come from. Give `texture` or `vertex_colors`.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
@@ -107,15 +112,15 @@ impl ScalpMaps {
             if NOT_YET.contains(&name.as_str()) {
                 return Err(format!(
                     "{what}: a painted {name} map is not supported yet (maps can scale goal \
-                     weights, paint the sim weight and select hair for pins and hold-outs); \
-                     remove the section"
+                     weights and bending stiffness, paint the sim weight and select hair for \
+                     pins, hold-outs and regions); remove the section"
                 ));
             }
             if !APPLIED.contains(&name.as_str()) && !used.contains(&name.as_str()) {
                 return Err(format!(
-                    "{what} is used by nothing: name it `goal` or `sim_weight`, or select hair \
-                     with it (`map = {{ name = \"{name}\" }}` in [guides.sim_weight], \
-                     [[guides.pin]] or [guides.hold_out])"
+                    "{what} is used by nothing: name it `goal`, `sim_weight` or `stiffness`, or \
+                     select hair with it (`map = {{ name = \"{name}\" }}` in \
+                     [guides.sim_weight], [[guides.pin]], [guides.hold_out] or [[regions]])"
                 ));
             }
             let channel = match s.channel.as_deref() {
@@ -195,6 +200,38 @@ impl ScalpMaps {
         })
     }
 
+    /// Trims every surface-rooted strand in `inputs` to the `length` map's fraction (0, 1] of
+    /// its length at its root (nothing without that map): the rest curve is cut at that arc
+    /// length from the root and resampled to the same number of points (uniform in arc length),
+    /// and the masses are lumped again at the strand's mass per length. `what` names the hairs
+    /// in errors.
+    pub fn trim_length(
+        &self,
+        inputs: &mut [StrandInput],
+        mesh: &TriMesh,
+        what: &str,
+    ) -> Result<(), String> {
+        let Some(map) = self.get("length") else {
+            return Ok(());
+        };
+        for (i, input) in inputs.iter_mut().enumerate() {
+            let Anchor::Surface(sample) = input.anchor else {
+                continue;
+            };
+            let f = map.at(mesh, &sample, &format!("{what} {i}"))?;
+            if !(f > 0.0 && f <= 1.0) {
+                return Err(format!(
+                    "[maps.length] is {f} at {what} {i}: a length fraction is in (0, 1] (1 = the \
+                     full length); paint values above 0 where hair grows"
+                ));
+            }
+            if f < 1.0 {
+                trim(input, f);
+            }
+        }
+        Ok(())
+    }
+
     /// Multiplies the goal weights of every surface-rooted strand in `inputs` by the `goal`
     /// map at its root (nothing without that map). `what` names the hairs in errors.
     pub fn scale_goal(
@@ -221,4 +258,39 @@ impl ScalpMaps {
         }
         Ok(())
     }
+}
+
+/// Cuts `input`'s rest curve at `fraction` of its arc length and resamples it to the same point
+/// count, uniform in arc length; masses lumped again at its mass per length (kg/m).
+fn trim(input: &mut StrandInput, fraction: f32) {
+    let rest = &input.rest;
+    let n = rest.len();
+    let mut arc = Vec::with_capacity(n);
+    arc.push(0.0f32);
+    for w in rest.windows(2) {
+        arc.push(arc[arc.len() - 1] + (w[1] - w[0]).norm());
+    }
+    let length = arc[n - 1];
+    let per_length = input.mass.iter().sum::<f32>() / length;
+    let target = fraction * length;
+    let mut j = 0;
+    let trimmed: Vec<_> = (0..n)
+        .map(|k| {
+            let t = target * k as f32 / (n - 1) as f32;
+            while j + 2 < n && arc[j + 1] < t {
+                j += 1;
+            }
+            let span = arc[j + 1] - arc[j];
+            let a = if span > 0.0 { (t - arc[j]) / span } else { 0.0 };
+            rest[j] + (rest[j + 1] - rest[j]) * a.clamp(0.0, 1.0)
+        })
+        .collect();
+    let mut mass = vec![0.0; n];
+    for k in 1..n {
+        let half = 0.5 * per_length * (trimmed[k] - trimmed[k - 1]).norm();
+        mass[k - 1] += half;
+        mass[k] += half;
+    }
+    input.rest = trimmed;
+    input.mass = mass;
 }

@@ -5,7 +5,7 @@
 //! solver's time stepping, and the colliders hair collides with: `[scalp.collider]` (the scalp
 //! mesh, for its own hair), `[[colliders]]` (spheres, capsules and OBJ meshes with keyframed rigid
 //! motion, thickness and friction) and `[contacts]` (see `hair_core::ContactSettings`), voxel
-//! hair–hair interaction `[hair_hair]` and force fields `[[fields]]` (see [`crate::scene::fields`]). Unknown keys are rejected; every error names the file, the field
+//! hair–hair interaction `[hair_hair]` and force fields `[[fields]]` (see [`crate::scene::fields`]), and named regions of hair with their own physical parameters `[[regions]]` (see [`crate::scene::regions`]). Unknown keys are rejected; every error names the file, the field
 //! and the fix. `hairsys scene init` prints the built-in default scene with every key commented.
 
 use std::path::{Path, PathBuf};
@@ -30,6 +30,7 @@ pub mod guide_anim;
 pub mod guides;
 pub mod maps;
 pub mod motion;
+pub mod regions;
 pub mod strips;
 pub mod style;
 pub mod version;
@@ -119,6 +120,10 @@ pub struct Scene {
     /// `[maps.NAME]`: painted maps over the scalp (see [`crate::scene::maps`]).
     #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
     pub maps: std::collections::BTreeMap<String, crate::scene::maps::MapSection>,
+    /// `[[regions]]`: named regions of the hair with their own physical parameters (see
+    /// [`crate::scene::regions`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub regions: Vec<regions::RegionPhysicsSection>,
 }
 
 /// `[scene]`.
@@ -620,13 +625,14 @@ impl SceneFile {
         &self,
         settings: &SolverSettings,
         strands: &StrandSet,
+        scales: &[hair_core::StrandScales],
     ) -> Result<(), SceneError> {
         use crate::budget::MAX_SUBSTEPS;
         let s = &self.scene;
         let substeps = match settings.substeps {
             Substeps::Fixed(n) => f64::from(n),
             Substeps::Auto => {
-                let bound = hair_core::StabilityBound::of(strands, &s.physics);
+                let bound = hair_core::StabilityBound::of_scaled(strands, &s.physics, scales);
                 let wanted = f64::from(bound.auto_substeps(settings.step_dt()));
                 if wanted > f64::from(MAX_SUBSTEPS) {
                     return Err(self.error(format!(
@@ -771,6 +777,8 @@ impl SceneFile {
             }
             maps.scale_goal(&mut inputs, mesh, "[hair] strand")
                 .map_err(err)?;
+            maps.trim_length(&mut inputs, mesh, "[hair] strand")
+                .map_err(err)?;
             for input in inputs {
                 strands
                     .push(input)
@@ -778,6 +786,8 @@ impl SceneFile {
             }
         }
         let mut guided = None;
+        // Each strand's nearest guide (sim hairs only), for `[[regions]]` selections.
+        let mut nearest_guide = vec![None; strands.len()];
         if let Some(guides) = &s.guides {
             let Some(mesh) = &rest_mesh else {
                 return Err(err("[guides] puts guides on the scalp, but [scalp.mesh] kind = \"none\"; choose a scalp mesh".into()));
@@ -812,6 +822,7 @@ impl SceneFile {
                     .push(input.clone())
                     .map_err(|e| err(format!("[sim_hairs] {e}")))?;
             }
+            nearest_guide.extend(built.nearest_guide.iter().copied());
             guided = Some(built);
         } else if s.sim_hairs.is_some() {
             return Err(err(
@@ -831,7 +842,18 @@ impl SceneFile {
                 "the scene has no hair: add a [hair] section or [[strands]]".into(),
             ));
         }
-        self.check_work_budget(&settings, &strands)?;
+        nearest_guide.resize(strands.len(), None);
+        let regions = self.regions(
+            &mut strands,
+            rest_mesh.as_ref(),
+            &nearest_guide,
+            guided.as_ref(),
+            &maps,
+        )?;
+        let scales = regions
+            .scales(&s.physics, strands.len())
+            .map_err(|m| err(format!("[[regions]] {m}")))?;
+        self.check_work_budget(&settings, &strands, &scales)?;
         let colliders = self.colliders()?;
         if let Some(c) = &s.contacts {
             c.validate().map_err(|e| err(format!("[contacts] {e}")))?;
@@ -896,6 +918,7 @@ impl SceneFile {
                 .inextensibility
                 .then(hair_core::Inextensibility::default),
             strips,
+            regions,
         };
         let scalp = sim.scalp_at(first as f32);
         sim.strands
@@ -903,6 +926,13 @@ impl SceneFile {
             .map_err(|e| err(e.to_string()))?;
         sim.strands.reset_to_rest(&scalp);
         if s.solver.sag_free {
+            if !sim.regions.is_empty() {
+                return Err(err(
+                    "[solver] sag_free solves rest shapes for one material, but [[regions]] or \
+                     [maps.stiffness] give hair its own: remove sag_free or the regions"
+                        .into(),
+                ));
+            }
             if s.solver.model != StrandModel::MassSpring {
                 return Err(err(
                     "[solver] sag_free is for the mass-spring model; remove it or set \
@@ -940,6 +970,37 @@ impl SceneFile {
         sim.colliders_at(first as f32)
             .map_err(|e| err(sim.collider_message(&e)))?;
         Ok(sim)
+    }
+
+    /// Resolves `[[regions]]` and `[maps.stiffness]` over `strands` (applying their mass and
+    /// radius factors); refused for the rod and strip models.
+    fn regions(
+        &self,
+        strands: &mut StrandSet,
+        mesh: Option<&TriMesh>,
+        nearest_guide: &[Option<usize>],
+        guided: Option<&guides::GuidedHair>,
+        maps: &maps::ScalpMaps,
+    ) -> Result<regions::Regions, SceneError> {
+        let s = &self.scene;
+        if s.regions.is_empty() && maps.get("stiffness").is_none() {
+            return Ok(regions::Regions::default());
+        }
+        if s.solver.model != StrandModel::MassSpring {
+            return Err(self.error(
+                "[[regions]] and [maps.stiffness] give hair its own mass-spring parameters; the \
+                 rod and strip models have one material: remove them or set [solver] model = \
+                 \"mass-spring\""
+                    .into(),
+            ));
+        }
+        let roots = regions::StrandRoots {
+            mesh,
+            nearest_guide,
+            guide_count: guided.map_or(0, |g| g.guides.len()),
+        };
+        regions::Regions::build(&s.regions, &s.physics, strands, &roots, maps)
+            .map_err(|m| self.error(m))
     }
 
     /// Loads and checks the `[[colliders]]`.
@@ -1012,6 +1073,14 @@ impl SceneFile {
                     .into(),
             );
         };
+        if sections.contains_key("length") && self.scene.guides.is_some() {
+            return Err(
+                "[maps.length] trims [hair] strands; sim hairs take their shapes from the \
+                 (animated) guides, which it does not trim yet: remove the map or grow the hair \
+                 with [hair]"
+                    .into(),
+            );
+        }
         if sections.contains_key("sim_weight") && self.scene.guides.is_none() {
             return Err(
                 "[maps.sim_weight] paints the sim weight of hair grown from guides, but \
@@ -1019,12 +1088,18 @@ impl SceneFile {
                     .into(),
             );
         }
-        let used: Vec<&str> = self
+        let mut used: Vec<&str> = self
             .scene
             .guides
             .as_ref()
             .map(|g| g.animation_keys().map_names())
             .unwrap_or_default();
+        used.extend(
+            self.scene
+                .regions
+                .iter()
+                .filter_map(|r| r.select.map.as_ref().map(|m| m.name.as_str())),
+        );
         maps::ScalpMaps::load(
             sections,
             &self.base_dir,
@@ -1219,6 +1294,8 @@ pub struct Simulation {
     pub strips: Option<hair_core::strips::StripSettings>,
     /// Animated guides (`[[guides.pose]]`, `[guides.sim_weight]`, pins, hold-outs), if keyed.
     pub guide_animation: Option<crate::animated_guides::GuideAnimation>,
+    /// `[[regions]]` and `[maps.stiffness]` resolved to strands (empty: one material).
+    pub regions: regions::Regions,
 }
 
 impl Simulation {
@@ -1230,13 +1307,24 @@ impl Simulation {
         let scalp = self.scalp_at(self.first_frame as f32);
         Ok(match self.model {
             StrandModel::MassSpring => {
-                let solver = Solver::new(
+                let mut solver = Solver::new(
                     self.settings,
                     self.params,
                     &self.strands,
                     &scalp,
                     self.first_frame,
                 )?;
+                if !self.regions.is_empty() {
+                    let scales = self
+                        .regions
+                        .scales(&self.params, self.strands.len())
+                        .map_err(|fix| HairError::Parameter {
+                            name: "regions".into(),
+                            value: "their parameters".into(),
+                            fix,
+                        })?;
+                    solver = solver.with_strand_scales(scales, &self.strands)?;
+                }
                 self.with_inextensibility(self.with_interactions(solver)?)?
                     .into()
             }
