@@ -36,6 +36,7 @@ use hair_core::{Anchor, StrandInput, TriMesh};
 use nalgebra::{Unit, UnitQuaternion, Vector3};
 use parry3d::math::Vector;
 use parry3d::query::{PointQueryWithLocation, Ray, RayCast};
+use parry3d::shape::TrianglePointLocation;
 
 use crate::error::{parameter, GroomError};
 use crate::rng::{self, Purpose};
@@ -166,8 +167,15 @@ impl Surface {
         (c, n)
     }
 
-    /// The nearest scalp point to `p`, the smooth normal there and the unit normal of its
-    /// triangle (outward for a consistently wound scalp).
+    /// The nearest scalp point to `p`, the smooth normal there and the normal that tells which
+    /// side of the scalp `p` is on (outward for a consistently wound scalp): its triangle's own
+    /// unit normal where `p` projects inside the triangle, the smooth normal where it projects
+    /// on an edge or a vertex. There one triangle's normal does not tell: beyond a thin flap's
+    /// rim (an ear) the triangle the search names can face away from a point outside — its
+    /// normal at right angles to the offset or worse — and the point was taken to be inside
+    /// and dragged onto the rim (a hook at the tip of 3 of Sintel's sim hairs that came within
+    /// 23 mm of her ear). The smooth normal there lies between the faces meeting at the
+    /// feature, like the angle-weighted pseudo-normal (Bærentzen and Aanæs 2005) it stands for.
     fn nearest_with_face(&self, p: &Vector3<f32>) -> (Vector3<f32>, Vector3<f32>, Vector3<f32>) {
         let (proj, (triangle, location)) = self
             .query
@@ -184,7 +192,8 @@ impl Surface {
         let smooth = frame.rotation * Vector3::z();
         let [a, b, c] = self.mesh.corners(triangle as usize);
         let face = (b - a).cross(&(c - a));
-        let face = if face.norm() > 0.0 {
+        let on_face = matches!(location, TrianglePointLocation::OnFace(..));
+        let face = if on_face && face.norm() > 0.0 {
             face.normalize()
         } else {
             smooth
@@ -664,6 +673,49 @@ mod tests {
         // Already clear: nothing moves.
         let again = lift_out_of_scalp(&mut strands, &mesh, clearance * 0.5).unwrap();
         assert_eq!(again, 0);
+    }
+
+    /// Regression: beyond a sharp rim the triangle the search names can face away from a point
+    /// outside, which was then taken to be inside and lifted onto the rim. The tips of three of
+    /// Sintel's sim hairs (as blended, before lifting) lie 22–23 mm beside her left ear, where
+    /// the nearest scalp point is on an edge between two triangles whose normals are 90° apart;
+    /// they were dragged onto the ear, a 114° hook at one point. They read outside, and a
+    /// point above a triangle's interior and one inside the bust read as before.
+    #[test]
+    fn points_beside_a_sharp_rim_are_outside() {
+        let opts = crate::formats::obj::ObjOptions {
+            scale: 0.01,
+            up_axis: crate::formats::obj::UpAxis::Y,
+        };
+        let bust = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../data/sintel/sintel_bust.obj"
+        );
+        let mesh = crate::formats::obj::load_obj(std::path::Path::new(bust), &opts).unwrap();
+        let surface = Surface::new(&mesh).unwrap();
+        for tip in [
+            [-0.095_700_52, 0.040_653_005, 0.293_955_47],
+            [-0.093_721_13, 0.036_482_25, 0.291_113_64],
+            [-0.095_780_45, 0.040_933_44, 0.294_128_66],
+        ] {
+            let p = Vector3::from(tip);
+            let (height, target) = surface.height_and_lift(&p, 0.0015);
+            assert!(height > 0.02, "{p:?}: height {height}");
+            // Already clear of the scalp: a lift would leave it where it is.
+            assert!((target - p).norm() > height - 0.0015 - 1e-5);
+        }
+        // On the top of the head, 5 mm out and 5 mm in.
+        let top =
+            mesh.positions().iter().copied().fold(
+                Vector3::zeros(),
+                |a: Vector3<f32>, p| if p.z > a.z { p } else { a },
+            );
+        let (above, _) = surface.height_and_lift(&(top + Vector3::z() * 0.005), 0.0);
+        let (inside, _) = surface.height_and_lift(&(top - Vector3::z() * 0.005), 0.0);
+        assert!(
+            (above - 0.005).abs() < 1e-3 && inside < 0.0,
+            "{above} {inside}"
+        );
     }
 
     #[test]

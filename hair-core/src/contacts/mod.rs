@@ -15,6 +15,7 @@
 //! - [`settings`]: [`ContactSettings`] (fast-motion tolerance, push-out speed).
 //! - `detect`: detection once per step (query radius from relative motion, clearance skip, rapier
 //!   broad phase, parry narrow phase, the contact's surface model).
+//! - `coupling`: contacts solved together with the length constraints after the position update.
 //! - `escapes`: the frame-end check that puts back points which outran detection's margin.
 //! - `fast_projection`: an exact shortcut for the narrow phase near a convex part of a mesh.
 //! - `penalty`: the response in the substeps, in SIMD lanes (lanes = strands).
@@ -98,8 +99,11 @@
 //!   solid, near a concave part) both answers come from parry's search, with the hint only
 //!   bounding it; a near-tie there could still differ.
 //! - **Order in the substep.** Contacts act after the damping sub-loop and before the position
-//!   update; the strain limiter (if on) runs after the position update and can move a point by
-//!   its (small) correction into a collider, which the next substep undoes.
+//!   update; with a strain limit or the inextensibility projection on, the contacts are then
+//!   solved together with it after the position update (`coupling`: a few Gauss–Seidel rounds,
+//!   the push-out of a point found inside applied as a position correction its neighbours
+//!   follow without gaining velocity), so the length constraint no longer pulls contacts back
+//!   into the collider nor hands the push-out on as motion.
 //! - **Kinematic points** (roots, pinned points) are never pushed.
 //! - **Deforming meshes** ([`deforming`]): the shape stands exactly at the linearly interpolated
 //!   vertices at every step's start; within a step each contact's plane or sphere moves with its
@@ -122,6 +126,7 @@
 
 pub mod collider;
 pub mod collider_set;
+pub(crate) mod coupling;
 pub mod deforming;
 pub(crate) mod detect;
 pub(crate) mod escapes;

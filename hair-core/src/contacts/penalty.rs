@@ -80,23 +80,7 @@ pub(crate) fn respond<L: Lane>(
     max_push: L,
 ) -> V3<L> {
     let (zero, one) = (splat::<L>(0.0), splat::<L>(1.0));
-    // The plane model, and where any lane is curved the sphere model, selected per lane.
-    let plane_d = c.anchor.dot(x) + c.size - c.anchor.dot(&c.anchor_velocity) * t_end;
-    let curved = c.curved.simd_gt(zero);
-    let (n, d_end) = if L::any(curved) {
-        let w = *x - (c.anchor + c.anchor_velocity * t_end);
-        let len = w.dot(&w).sqrt();
-        let side = L::select(c.size.simd_lt(zero), -one, one);
-        let sphere_n = w * div_or_zero(side, len, 1e-12);
-        let sphere_d = (len - c.size.abs()) * side;
-        (
-            V3::select(curved, &sphere_n, &c.anchor),
-            L::select(curved, sphere_d, plane_d),
-        )
-    } else {
-        (c.anchor, plane_d)
-    };
-
+    let (n, d_end) = surface_model(x, c, t_end);
     let vn = n.dot(v);
     let v_target = -d_end * inv_dt;
     let touching = vn.simd_lt(v_target);
@@ -114,6 +98,32 @@ pub(crate) fn respond<L: Lane>(
     let after = *v + n * dv - rel_t * cut;
     *v = V3::select(touching, &after, v);
     n * L::select(touching, (v_target - vn_kept).min(max_push), zero)
+}
+
+/// The contact's surface model at time `t_end` (s, from the step's start) seen from a point at
+/// `x` (m): the model's outward unit normal there and the signed distance of the point's sphere
+/// from the thickened surface, m (negative inside). Exact along the normal: moving the point by
+/// `δ n` changes the distance by `δ` (plane, and sphere radially). Lanes without a contact get
+/// a distance of about [`super::detect::NO_CONTACT`].
+#[inline(always)]
+pub(crate) fn surface_model<L: Lane>(x: &V3<L>, c: &ContactLanes<L>, t_end: L) -> (V3<L>, L) {
+    let (zero, one) = (splat::<L>(0.0), splat::<L>(1.0));
+    // The plane model, and where any lane is curved the sphere model, selected per lane.
+    let plane_d = c.anchor.dot(x) + c.size - c.anchor.dot(&c.anchor_velocity) * t_end;
+    let curved = c.curved.simd_gt(zero);
+    if L::any(curved) {
+        let w = *x - (c.anchor + c.anchor_velocity * t_end);
+        let len = w.dot(&w).sqrt();
+        let side = L::select(c.size.simd_lt(zero), -one, one);
+        let sphere_n = w * div_or_zero(side, len, 1e-12);
+        let sphere_d = (len - c.size.abs()) * side;
+        (
+            V3::select(curved, &sphere_n, &c.anchor),
+            L::select(curved, sphere_d, plane_d),
+        )
+    } else {
+        (c.anchor, plane_d)
+    }
 }
 
 #[cfg(test)]

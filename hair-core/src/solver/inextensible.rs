@@ -165,14 +165,16 @@ impl<L: Lane> ProjectionScratch<L> {
 }
 
 /// Projects the group's positions `x` onto rest segment lengths `rest_length` (unpadded, one per
-/// segment, m), then its velocities `v` onto the velocities that keep those lengths.
-/// `inv_mass` (1/kg) is 0 for points that must not move.
+/// segment, m), then, with `velocities`, its velocities `v` onto the velocities that keep those
+/// lengths (without: a position correction, as `contacts::coupling` asks for when it moves
+/// points out of a collider). `inv_mass` (1/kg) is 0 for points that must not move.
 pub(crate) fn project<L: Lane>(
     x: &mut [V3<L>],
     v: &mut [V3<L>],
     inv_mass: &[L],
     rest_length: &[L],
     settings: &Inextensibility,
+    velocities: bool,
     s: &mut ProjectionScratch<L>,
 ) {
     s.fit(rest_length.len());
@@ -186,6 +188,9 @@ pub(crate) fn project<L: Lane>(
             break;
         }
         s.solve_and_apply(x, inv_mass);
+    }
+    if !velocities {
+        return;
     }
     // Velocities: remove every segment's stretching rate t_j·(v_{j+1} − v_j) at the projected
     // positions (the tangents are those `measure` left).
@@ -231,6 +236,7 @@ mod tests {
             &w,
             &rest,
             &Inextensibility::default(),
+            true,
             &mut scratch,
         );
         for j in 0..3 {

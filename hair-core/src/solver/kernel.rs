@@ -18,6 +18,7 @@ use std::sync::OnceLock;
 
 use nalgebra::Vector3;
 
+use crate::contacts::coupling::{self, Correction, CouplingScratch, SubstepContacts};
 use crate::contacts::detect::NO_CONTACT;
 use crate::contacts::penalty::{respond, ContactLanes};
 use crate::frames::RestDirection;
@@ -195,6 +196,8 @@ pub(crate) struct Scratch<L: Lane> {
     pub(super) o_end: V3<L>,
     /// Buffers of the inextensibility projection and the strain limit.
     pub(super) projection: ProjectionScratch<L>,
+    /// Buffers of the contacts solved with them (`contacts::coupling`).
+    pub(super) coupling: CouplingScratch<L>,
     /// Buffers of the implicit (backward Euler) substep (`super::implicit`).
     pub(super) implicit: ImplicitScratch<L>,
     /// Buffers of the XPBD substep (`super::xpbd`).
@@ -698,33 +701,46 @@ pub(super) fn finish_substep<L: Lane>(
         let moved_by = if explicit { g.v_old[i] } else { g.v[i] };
         g.x[i] += moved_by * (dt * g.free[i]);
     }
-    for &i in &g.contact_points {
-        g.x[i] += g.push[i] * (dt * g.free[i]);
+    // With a length constraint, contacts are solved together with it (`contacts::coupling`),
+    // which also applies the push-out; without one the push is a plain position correction.
+    let coupled = g.has_contacts && (c.inextensible.is_some() || c.max_length_ratio.is_some());
+    if !coupled {
+        for &i in &g.contact_points {
+            g.x[i] += g.push[i] * (dt * g.free[i]);
+        }
     }
     for &i in &g.pinned {
         let goal = *origin + rot.mul(&g.rest_local[i]);
         g.x[i] = V3::select(g.free[i].simd_gt(zero), &g.x[i], &goal);
     }
-    if let Some(p) = &c.inextensible {
-        project(
-            &mut g.x,
-            &mut g.v,
-            &g.inv_mass,
-            &g.rest_length,
-            p,
-            &mut g.projection,
-        );
-    }
-    if let Some(ratio) = c.max_length_ratio {
-        limit_strain(
-            &mut g.x,
-            &mut g.v,
-            &g.inv_mass,
-            &g.rest_length,
-            splat(ratio),
-            inv_dt,
-            &mut g.projection,
-        );
+    let (inv_mass, rest_length, projection) = (&g.inv_mass, &g.rest_length, &mut g.projection);
+    let mut lengths = |x: &mut [V3<L>], v: &mut [V3<L>], correction: Correction| {
+        if let Some(p) = &c.inextensible {
+            let velocities = correction == Correction::Motion;
+            project(x, v, inv_mass, rest_length, p, velocities, projection);
+        }
+        if let Some(ratio) = c.max_length_ratio {
+            // Recovery moves positions only: velocities by 0 × the displacement.
+            let rate = if correction == Correction::Motion {
+                inv_dt
+            } else {
+                zero
+            };
+            limit_strain(x, v, inv_mass, rest_length, splat(ratio), rate, projection);
+        }
+    };
+    if coupled {
+        let contacts = SubstepContacts {
+            points: &g.contact_points,
+            contact: &g.contact,
+            push: &g.push,
+            free: &g.free,
+            t_end: splat((k + 1) as f32 * c.dt),
+            dt: c.dt,
+        };
+        coupling::solve(&mut g.x, &mut g.v, &contacts, &mut g.coupling, lengths);
+    } else {
+        lengths(&mut g.x, &mut g.v, Correction::Motion);
     }
 }
 
