@@ -534,7 +534,12 @@ fn simulate_json_text_summary_and_cache_info_give_one_frame_count() {
     let s = s.to_str().unwrap();
     // The scene's own range (frames 1–3) and a --frames override (2–6): frames written, the
     // first (rest) frame included, are what the cache holds; `stepped` counts the steps.
-    for (args, frames) in [(vec![s], 3u64), (vec![s, "--frames", "2-6"], 5)] {
+    // One frame N (as `--help` says) writes the rest frame alone, without a step.
+    for (args, frames) in [
+        (vec![s], 3u64),
+        (vec![s, "--frames", "2-6"], 5),
+        (vec![s, "--frames", "4"], 1),
+    ] {
         let cache = format!("c{frames}.mcap");
         let (written, stepped, events, info) = counts_of_a_run(&dir, &args, &cache);
         assert_eq!((written, info), (frames, frames), "{args:?}");

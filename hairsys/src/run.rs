@@ -127,9 +127,10 @@ pub fn simulate(
 ) -> Result<RunSummary, Error> {
     let mut sim = opts.scene.build()?;
     if let Some((first, last)) = opts.frames {
-        if last <= first {
+        if last < first {
             return Err(Error::Usage(format!(
-                "--frames {first}-{last}: the last frame must come after the first"
+                "--frames {first}-{last}: the last frame must not come before the first (one \
+                 frame N writes the rest frame alone)"
             )));
         }
         sim.check_deforming_frames(first, last)
