@@ -381,17 +381,7 @@ fn selection(
         }
     }
     if let Some(r) = &s.region {
-        let axis = Vector3::from(r.direction);
-        if !(axis.iter().all(|c| c.is_finite())
-            && axis.norm() > 0.0
-            && (0.0..=180.0).contains(&r.max_angle_deg))
-        {
-            return Err(format!(
-                "{what} region: give a non-zero direction and max_angle_deg in [0, 180]"
-            ));
-        }
-        let cos = r.max_angle_deg.to_radians().cos();
-        let axis = axis.normalize();
+        let (axis, cos) = r.cone(what)?;
         for (c, h) in chosen.iter_mut().zip(hairs) {
             let normal = mesh.evaluate(&h.root).rotation * Vector3::z();
             *c |= normal.dot(&axis) >= cos;

@@ -414,6 +414,24 @@ pub struct RegionSection {
     pub max_angle_deg: f32,
 }
 
+impl RegionSection {
+    /// The cone as a unit axis and the cosine of its half-angle (a root normal `n` is in it
+    /// when `n · axis ≥ cos`), for selections named `what` in errors: a zero or non-finite
+    /// direction, or a half-angle outside [0, 180] degrees, is refused.
+    pub(crate) fn cone(&self, what: &str) -> Result<(Vector3<f32>, f32), String> {
+        let axis = Vector3::from(self.direction);
+        if !(axis.iter().all(|c| c.is_finite())
+            && axis.norm() > 0.0
+            && (0.0..=180.0).contains(&self.max_angle_deg))
+        {
+            return Err(format!(
+                "{what} region: give a non-zero direction and max_angle_deg in [0, 180]"
+            ));
+        }
+        Ok((axis.normalize(), self.max_angle_deg.to_radians().cos()))
+    }
+}
+
 /// `[[strands]]`: one strand given as a point list (world coordinates at the first frame, m).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -364,17 +364,7 @@ fn select(
         let mesh = roots.mesh.ok_or_else(|| {
             format!("{what} region: a cone of root normals needs a scalp mesh; select by `strands`")
         })?;
-        let axis = Vector3::from(r.direction);
-        if !(axis.iter().all(|c| c.is_finite())
-            && axis.norm() > 0.0
-            && (0.0..=180.0).contains(&r.max_angle_deg))
-        {
-            return Err(format!(
-                "{what} region: give a non-zero direction and max_angle_deg in [0, 180]"
-            ));
-        }
-        let cos = r.max_angle_deg.to_radians().cos();
-        let axis = axis.normalize();
+        let (axis, cos) = r.cone(what)?;
         for (i, c) in chosen.iter_mut().enumerate() {
             if let Some(sample) = surface(i) {
                 let normal = mesh.evaluate(&sample).rotation * Vector3::z();
