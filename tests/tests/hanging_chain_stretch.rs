@@ -11,43 +11,22 @@
 
 mod common;
 
+use common::integrators::{chain_stretch_and_weight_over_k, hanging_chain};
 use common::*;
-use hair_core::{Scalp, Solver, SolverSettings};
-use nalgebra::Vector3;
+use hair_core::{Solver, SolverSettings};
 
 #[test]
 fn settled_hanging_chain_stretches_by_weight_below_over_k() {
-    let segments = 8;
-    let seg_len = 0.05f32;
-    let k = 100.0f64;
-    let mut mass: Vec<f32> = (0..=segments)
-        .map(|i| 1e-3 * (1.0 + 0.25 * i as f32))
-        .collect();
-    mass[0] = 0.0;
-    let scalp = Scalp::fixed();
-    let mut strands = set_on(
-        &scalp,
-        [strand(
-            anchor_at(Vector3::new(0.0, 0.0, 0.2)),
-            straight(segments, seg_len, -Vector3::z()),
-            mass.clone(),
-            root_only(segments + 1),
-        )],
-    );
-    let mut params = bare_params(k as f32);
-    params.gravity = gravity();
-    params.stretch_damping = 50.0;
-    params.air_drag = 20.0;
+    let (mut strands, scalp, mass, params) = hanging_chain();
     let mut solver = Solver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
     // 3 s: every longitudinal mode decays at least as fast as exp(−drag·t/2) = e^{−30}.
     run(&mut solver, &mut strands, &scalp, 72, |_, _| {}).unwrap();
 
-    let x = &strands.positions;
     let mut worst = 0.0f64;
-    for j in 0..segments {
-        let below: f64 = mass[j + 1..].iter().map(|&m| m as f64).sum();
-        let expected = G * below / k;
-        let measured = (x[j + 1] - x[j]).cast::<f64>().norm() - strands.rest_lengths()[j] as f64;
+    for (j, (measured, expected)) in chain_stretch_and_weight_over_k(&strands, &mass)
+        .into_iter()
+        .enumerate()
+    {
         let rel = (measured - expected).abs() / expected;
         worst = worst.max(rel);
         println!(

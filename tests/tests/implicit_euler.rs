@@ -24,7 +24,7 @@ mod common;
 
 use common::integrators::*;
 use common::*;
-use hair_core::{Integrator, Scalp, Solver, SolverSettings};
+use hair_core::{Integrator, Scalp, Solver};
 use nalgebra::Vector3;
 
 const IMPLICIT: Integrator = Integrator::ImplicitEuler;
@@ -125,110 +125,19 @@ fn implicit_pendulum_period_and_swing_decay_match_backward_euler_analysis() {
 
 #[test]
 fn implicit_hanging_chain_settles_at_weight_below_over_k() {
-    let segments = 8;
-    let seg_len = 0.05f32;
-    let k = 100.0f64;
-    let mut mass: Vec<f32> = (0..=segments)
-        .map(|i| 1e-3 * (1.0 + 0.25 * i as f32))
-        .collect();
-    mass[0] = 0.0;
-    let scalp = Scalp::fixed();
-    let mut strands = set_on(
-        &scalp,
-        [strand(
-            anchor_at(Vector3::new(0.0, 0.0, 0.2)),
-            straight(segments, seg_len, -Vector3::z()),
-            mass.clone(),
-            root_only(segments + 1),
-        )],
-    );
-    let mut params = bare_params(k as f32);
-    params.gravity = gravity();
-    params.stretch_damping = 50.0;
-    params.air_drag = 20.0;
-    let mut solver = Solver::new(
-        fixed_settings(24.0, 2, IMPLICIT),
-        params,
-        &strands,
-        &scalp,
-        0,
-    )
-    .unwrap();
-    assert!(solver.dt() > 5.0 * solver.bound().dt_max);
-    run(&mut solver, &mut strands, &scalp, 72, |_, _| {}).unwrap();
-    let x = &strands.positions;
-    let mut worst = 0.0f64;
-    for j in 0..segments {
-        let below: f64 = mass[j + 1..].iter().map(|&m| m as f64).sum();
-        let expected = G * below / k;
-        let measured = (x[j + 1] - x[j]).cast::<f64>().norm() - strands.rest_lengths()[j] as f64;
-        worst = worst.max((measured - expected).abs() / expected);
-    }
-    println!(
-        "implicit hanging chain at h = {:.3e} s ({:.0}× the explicit bound): worst relative \
-         stretch error {worst:.2e} (limit 2e-4)",
-        solver.dt(),
-        solver.dt() / solver.bound().dt_max
-    );
-    assert!(worst < 2e-4, "stretch off T/k by {worst:.2e}");
+    assert_hanging_chain_settles_at_weight_below_over_k(IMPLICIT, "implicit");
 }
 
 #[test]
 fn implicit_euler_converges_at_first_order_as_the_step_halves() {
-    let frames = 12;
-    let counts = [16u32, 32, 64, 128];
-    let reference = swing(IMPLICIT, 8 * counts[counts.len() - 1], frames);
-    let errors: Vec<f64> = counts
-        .iter()
-        .map(|&n| {
-            let x = swing(IMPLICIT, n, frames);
-            let sum: f64 = x
-                .iter()
-                .zip(&reference)
-                .map(|(a, b)| (a - b).norm_squared())
-                .sum();
-            (sum / x.len() as f64).sqrt()
-        })
-        .collect();
-    let orders: Vec<f64> = errors.windows(2).map(|e| (e[0] / e[1]).log2()).collect();
-    println!(
-        "implicit swing at 0.5 s, substeps/frame {counts:?}: RMS errors {errors:?} m, \
-         orders {orders:.3?}"
-    );
-    // Against a reference at 8× the finest step, the finest error is overestimated by 1/(1 − 1/8)
-    // for a first-order method: the last ratio reads ~0.9–1.0.
-    for (i, p) in orders.iter().enumerate() {
-        assert!(
-            (0.8..1.3).contains(p),
-            "order {p:.3} between {} and {} substeps",
-            counts[i],
-            counts[i + 1]
-        );
-    }
+    assert_first_order_as_the_step_halves(IMPLICIT, "implicit");
 }
 
 #[test]
 fn implicit_stiff_cantilever_is_stable_at_one_substep_per_frame() {
-    let (segments, seg_len, mass) = (16, 0.01f32, 1e-4f32);
-    let mut params = bare_params(1.0e4);
-    params.gravity = gravity();
-    params.bend_stiffness = 50.0;
-    params.stretch_damping = 50.0;
-    params.air_drag = 2.0;
     let settle = |integrator: Integrator, substeps: Option<u32>| {
-        let (mut strands, scalp) = horizontal_chain(segments, seg_len, mass);
-        let settings = match substeps {
-            Some(n) => fixed_settings(24.0, n, integrator),
-            None => SolverSettings::default(),
-        };
-        let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
-        let ratio = solver.dt() / solver.bound().dt_max;
-        let mut worst = 0.0f32;
-        run(&mut solver, &mut strands, &scalp, 240, |_, set| {
-            worst = worst.max(set.velocities.iter().map(|v| v.norm()).fold(0.0, f32::max));
-        })
-        .unwrap();
-        (strands.positions[segments], ratio, worst, solver.substeps())
+        let r = settle_stiff_cantilever(integrator, substeps);
+        (r.tip, r.ratio, r.fastest, r.substeps)
     };
     let (tip, ratio, fastest, _) = settle(IMPLICIT, Some(1));
     let (tip_explicit, _, _, explicit_substeps) = settle(Integrator::SemiImplicitEuler, None);

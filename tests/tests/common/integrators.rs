@@ -2,7 +2,7 @@
 //! `tests/tests/xpbd.rs`): a swinging chain, its energy undamped over ten seconds, and a small
 //! head scene with everything that acts on a strand, bit-identical across threads and resume.
 
-use hair_core::{energy, HairParams, Integrator, Scalp, Solver, StrandSet};
+use hair_core::{energy, HairParams, Integrator, Scalp, Solver, SolverSettings, StrandSet};
 use nalgebra::Vector3;
 
 use super::*;
@@ -85,6 +85,157 @@ pub fn assert_undamped_chain_gains_no_energy(integrator: Integrator, name: &str)
         highest <= 1e-5 * scale,
         "energy rose by {highest:.3e} J above its start"
     );
+}
+
+/// The hanging chain (`hanging_chain_stretch.rs`): 8 segments of 5 cm hanging from a root at
+/// z = 0.2 m, unequal point masses, stretch stiffness `K_CHAIN`, with the damping and drag that
+/// settle it. Returns the strands, the scalp, the masses (kg) and the parameters.
+pub fn hanging_chain() -> (StrandSet, Scalp, Vec<f32>, HairParams) {
+    let segments = 8;
+    let mut mass: Vec<f32> = (0..=segments)
+        .map(|i| 1e-3 * (1.0 + 0.25 * i as f32))
+        .collect();
+    mass[0] = 0.0;
+    let scalp = Scalp::fixed();
+    let strands = set_on(
+        &scalp,
+        [strand(
+            anchor_at(Vector3::new(0.0, 0.0, 0.2)),
+            straight(segments, 0.05, -Vector3::z()),
+            mass.clone(),
+            root_only(segments + 1),
+        )],
+    );
+    let mut params = bare_params(K_CHAIN as f32);
+    params.gravity = gravity();
+    params.stretch_damping = 50.0;
+    params.air_drag = 20.0;
+    (strands, scalp, mass, params)
+}
+
+/// The hanging chain's stretch stiffness, N/m.
+pub const K_CHAIN: f64 = 100.0;
+
+/// Per segment of a chain hanging from its first point: the measured stretch and the weight it
+/// carries over `K_CHAIN` (statics of a linear spring chain), m.
+pub fn chain_stretch_and_weight_over_k(strands: &StrandSet, mass: &[f32]) -> Vec<(f64, f64)> {
+    let x = &strands.positions;
+    (0..x.len() - 1)
+        .map(|j| {
+            let below: f64 = mass[j + 1..].iter().map(|&m| m as f64).sum();
+            let measured =
+                (x[j + 1] - x[j]).cast::<f64>().norm() - strands.rest_lengths()[j] as f64;
+            (measured, G * below / K_CHAIN)
+        })
+        .collect()
+}
+
+/// The hanging chain settled by `integrator` (`name` in the printout) at 2 substeps per frame,
+/// more than 5× the explicit bound: every segment stretches by the weight below it over k to
+/// 2e-4 (see `hanging_chain_stretch.rs` for the bound).
+pub fn assert_hanging_chain_settles_at_weight_below_over_k(integrator: Integrator, name: &str) {
+    let (mut strands, scalp, mass, params) = hanging_chain();
+    let mut solver = Solver::new(
+        fixed_settings(24.0, 2, integrator),
+        params,
+        &strands,
+        &scalp,
+        0,
+    )
+    .unwrap();
+    assert!(solver.dt() > 5.0 * solver.bound().dt_max);
+    run(&mut solver, &mut strands, &scalp, 72, |_, _| {}).unwrap();
+    let worst = chain_stretch_and_weight_over_k(&strands, &mass)
+        .iter()
+        .map(|(measured, expected)| (measured - expected).abs() / expected)
+        .fold(0.0f64, f64::max);
+    println!(
+        "{name} hanging chain at h = {:.3e} s ({:.0}× the explicit bound): worst relative \
+         stretch error {worst:.2e} (limit 2e-4)",
+        solver.dt(),
+        solver.dt() / solver.bound().dt_max
+    );
+    assert!(worst < 2e-4, "stretch off T/k by {worst:.2e}");
+}
+
+/// The swing of [`swing`] by `integrator` (`name` in the printout) at 16…128 substeps per
+/// frame against 8× the finest: the RMS error halves with the step (order 0.8–1.3). Against a
+/// reference at 8× the finest step, the finest error is overestimated by 1/(1 − 1/8) for a
+/// first-order method: the last ratio reads ~0.9–1.0.
+pub fn assert_first_order_as_the_step_halves(integrator: Integrator, name: &str) {
+    let frames = 12;
+    let counts = [16u32, 32, 64, 128];
+    let reference = swing(integrator, 8 * counts[counts.len() - 1], frames);
+    let errors: Vec<f64> = counts
+        .iter()
+        .map(|&n| {
+            let x = swing(integrator, n, frames);
+            let sum: f64 = x
+                .iter()
+                .zip(&reference)
+                .map(|(a, b)| (a - b).norm_squared())
+                .sum();
+            (sum / x.len() as f64).sqrt()
+        })
+        .collect();
+    let orders: Vec<f64> = errors.windows(2).map(|e| (e[0] / e[1]).log2()).collect();
+    println!(
+        "{name} swing at 0.5 s, substeps/frame {counts:?}: RMS errors {errors:?} m, orders \
+         {orders:.3?}"
+    );
+    for (i, p) in orders.iter().enumerate() {
+        assert!(
+            (0.8..1.3).contains(p),
+            "order {p:.3} between {} and {} substeps",
+            counts[i],
+            counts[i + 1]
+        );
+    }
+}
+
+/// A stiff cantilever settled over 10 s: 16 segments of 1 cm released from horizontal,
+/// k = 10⁴ N/m, k_b = 50 N/m, by `integrator` at `substeps` per frame (the solver's default,
+/// explicit `auto`, for `None`).
+pub struct Settled {
+    /// The tip at rest, m.
+    pub tip: Vector3<f32>,
+    /// The step over the explicit stability bound.
+    pub ratio: f64,
+    /// The fastest any point moved over the 10 s, m/s.
+    pub fastest: f32,
+    /// Substeps per frame run.
+    pub substeps: u32,
+}
+
+/// Points of the stiff cantilever (segments, segment length m).
+pub const CANTILEVER: (usize, f32) = (16, 0.01);
+
+/// Settles the stiff cantilever of [`Settled`].
+pub fn settle_stiff_cantilever(integrator: Integrator, substeps: Option<u32>) -> Settled {
+    let (segments, seg_len) = CANTILEVER;
+    let mut params = bare_params(1.0e4);
+    params.gravity = gravity();
+    params.bend_stiffness = 50.0;
+    params.stretch_damping = 50.0;
+    params.air_drag = 2.0;
+    let (mut strands, scalp) = horizontal_chain(segments, seg_len, 1e-4);
+    let settings = match substeps {
+        Some(n) => fixed_settings(24.0, n, integrator),
+        None => SolverSettings::default(),
+    };
+    let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let ratio = solver.dt() / solver.bound().dt_max;
+    let mut fastest = 0.0f32;
+    run(&mut solver, &mut strands, &scalp, 240, |_, set| {
+        fastest = fastest.max(set.velocities.iter().map(|v| v.norm()).fold(0.0, f32::max));
+    })
+    .unwrap();
+    Settled {
+        tip: strands.positions[segments],
+        ratio,
+        fastest,
+        substeps: solver.substeps(),
+    }
 }
 
 /// A small head scene on the integrator `{integrator}` (the scene key) with everything that acts on a strand besides

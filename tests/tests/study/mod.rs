@@ -1,0 +1,167 @@
+//! The issue 22 study on the shipped default scene (and the parity scene with its collider):
+//! runs through a `Session` timed frame by frame, their error against a reference run and their
+//! stretch. Shared by `implicit_euler_default_scene.rs` and `xpbd_default_scene.rs`.
+#![allow(dead_code)]
+
+use std::time::{Duration, Instant};
+
+use hairsys::scene::{SceneFile, DEFAULT_SCENE};
+
+use hairsys::session::Session;
+
+const PARITY_COLLIDE: &str = include_str!("../../../scenes/parity_collide.toml");
+
+/// Frames each run steps.
+pub const FRAMES: usize = 24;
+
+/// One run of the study: its frames' positions, stretches and cost.
+pub struct Run {
+    /// Largest stretch any frame reported.
+    pub max_stretch: f32,
+    /// What ran.
+    pub label: String,
+    /// Wall time per frame, ms.
+    pub ms_per_frame: f64,
+    /// The strand phase alone (force substeps, solve, contact response), ms/frame.
+    pub strands_ms: f64,
+    /// Positions of every frame, m.
+    pub frames: Vec<Vec<[f32; 3]>>,
+    /// `|len/rest − 1|` of every segment of every frame.
+    pub stretch: Vec<f32>,
+}
+
+/// The shipped default scene on `integrator` at `substeps` (a TOML value), with the
+/// inextensibility projection when `inextensible`.
+pub fn scene(integrator: &str, substeps: &str, inextensible: bool) -> SceneFile {
+    let mut text = DEFAULT_SCENE
+        .replace(
+            "integrator = \"semi-implicit-euler\"",
+            &format!("integrator = \"{integrator}\""),
+        )
+        .replace("substeps = \"auto\"", &format!("substeps = {substeps}"));
+    if inextensible {
+        text = text.replace("# inextensibility = true", "inextensibility = true");
+    }
+    SceneFile::parse(&text, "default (issue 22 measurement)", ".".into()).unwrap()
+}
+
+/// Steps `scene` for [`FRAMES`] frames through a `Session`, timing each step.
+pub fn run(label: &str, scene: &SceneFile) -> Run {
+    let mut session = Session::from_scene(scene).unwrap();
+    let offsets = session.strand_offsets().to_vec();
+    let mut spent = Duration::ZERO;
+    let mut strand_time = Duration::ZERO;
+    let mut frames = Vec::new();
+    let mut stretch = Vec::new();
+    let mut max_stretch = 0.0f32;
+    let rest: Vec<f32> = session.strands().rest_lengths().to_vec();
+    for _ in 0..FRAMES {
+        let t = Instant::now();
+        let report = session.step().unwrap();
+        spent += t.elapsed();
+        strand_time += report.times.strands;
+        max_stretch = max_stretch.max(report.max_stretch);
+        let x = session.positions().to_vec();
+        let mut seg = 0;
+        for s in 0..offsets.len() - 1 {
+            for i in offsets[s] as usize..offsets[s + 1] as usize - 1 {
+                let d: f32 = (0..3).map(|c| (x[i + 1][c] - x[i][c]).powi(2)).sum();
+                stretch.push((d.sqrt() / rest[seg] - 1.0).abs());
+                seg += 1;
+            }
+        }
+        frames.push(x);
+    }
+    let report = Run {
+        max_stretch,
+        label: label.into(),
+        ms_per_frame: spent.as_secs_f64() * 1e3 / FRAMES as f64,
+        strands_ms: strand_time.as_secs_f64() * 1e3 / FRAMES as f64,
+        frames,
+        stretch,
+    };
+    eprintln!(
+        "  ran {label}: {:.1} ms/frame ({:.1} in the strand phase)",
+        report.ms_per_frame, report.strands_ms
+    );
+    report
+}
+
+/// RMS distance of `a`'s points from `b`'s, per frame, m.
+pub fn rms_per_frame(a: &Run, b: &Run) -> Vec<f64> {
+    a.frames
+        .iter()
+        .zip(&b.frames)
+        .map(|(x, y)| {
+            let sum: f64 = x
+                .iter()
+                .zip(y)
+                .map(|(p, q)| (0..3).map(|c| ((p[c] - q[c]) as f64).powi(2)).sum::<f64>())
+                .sum();
+            (sum / x.len() as f64).sqrt()
+        })
+        .collect()
+}
+
+/// The 99th percentile of `values`.
+pub fn p99(values: &[f32]) -> f32 {
+    let mut v = values.to_vec();
+    v.sort_by(f32::total_cmp);
+    v[(0.99 * (v.len() - 1) as f64) as usize]
+}
+
+/// Substep counts from the environment variable `var` (comma-separated), else `default`.
+pub fn counts(var: &str, default: &str) -> Vec<u32> {
+    std::env::var(var)
+        .unwrap_or_else(|_| default.into())
+        .split(',')
+        .map(|s| s.trim().parse().unwrap())
+        .collect()
+}
+
+/// Prints the study's table of `runs` against `reference` (Markdown).
+pub fn table(runs: &[Run], reference: &Run) {
+    println!(
+        "| method | ms/frame | strand phase ms/frame | RMS error, min–max over frames (mm) | RMS \
+         error, all frames (mm) | p99 stretch (%) |"
+    );
+    println!("|---|---|---|---|---|---|");
+    for r in runs {
+        let e = rms_per_frame(r, reference);
+        let all = (e.iter().map(|x| x * x).sum::<f64>() / e.len() as f64).sqrt();
+        let (lo, hi) = e
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
+        println!(
+            "| {} | {:.1} | {:.1} | {:.2}–{:.2} | {:.2} | {:.3} |",
+            r.label,
+            r.ms_per_frame,
+            r.strands_ms,
+            lo * 1e3,
+            hi * 1e3,
+            all * 1e3,
+            100.0 * p99(&r.stretch)
+        );
+    }
+    println!(
+        "reference: {:.1} ms/frame, p99 stretch {:.3} %",
+        reference.ms_per_frame,
+        100.0 * p99(&reference.stretch)
+    );
+}
+
+/// The parity scene with its head mesh as collider on `integrator` at `substeps`.
+pub fn parity(integrator: &str, substeps: &str) -> SceneFile {
+    let text = PARITY_COLLIDE
+        .replace(
+            "integrator = \"semi-implicit-euler\"",
+            &format!("integrator = \"{integrator}\""),
+        )
+        .replace("substeps = \"auto\"", &format!("substeps = {substeps}"));
+    SceneFile::parse(
+        &text,
+        "parity_collide (issue 22 measurement)",
+        "scenes".into(),
+    )
+    .unwrap()
+}
