@@ -24,55 +24,15 @@ mod common;
 
 use common::integrators::*;
 use common::*;
-use hair_core::{Integrator, Scalp, Solver};
-use nalgebra::Vector3;
+use hair_core::Integrator;
 
 const IMPLICIT: Integrator = Integrator::ImplicitEuler;
 
 #[test]
 fn implicit_pendulum_period_and_swing_decay_match_backward_euler_analysis() {
-    let length = 0.5f64;
-    let mass = 0.01f64;
-    let k = 1.0e4f64;
     let theta0 = 5.0f64.to_radians();
     // One substep per frame, so every substep is sampled.
-    let fps = 96.0f32;
-    let bob = Vector3::new(length * theta0.sin(), 0.0, -length * theta0.cos()).cast::<f32>();
-    let scalp = Scalp::fixed();
-    let mut strands = set_on(
-        &scalp,
-        [strand(
-            anchor_at(Vector3::zeros()),
-            vec![Vector3::zeros(), bob],
-            vec![0.0, mass as f32],
-            root_only(2),
-        )],
-    );
-    let mut params = bare_params(k as f32);
-    params.gravity = gravity();
-    let mut solver = Solver::new(
-        fixed_settings(fps, 1, IMPLICIT),
-        params,
-        &strands,
-        &scalp,
-        0,
-    )
-    .unwrap();
-    let h = solver.dt();
-    assert!(
-        h > 5.0 * solver.bound().dt_max,
-        "the test must step past the explicit bound"
-    );
-    let stretched = length + mass * G / k;
-    let omega = (G / stretched).sqrt();
-    let t_ref = 2.0 * std::f64::consts::PI / omega;
-    let frames = (8.0 * t_ref * fps as f64).ceil() as u32;
-    let mut samples = vec![(0.0, strands.positions[1].x as f64)];
-    run(&mut solver, &mut strands, &scalp, frames, |s, set| {
-        samples.push((s.frame() as f64 * h, set.positions[1].x as f64));
-    })
-    .unwrap();
-
+    let (samples, t_ref, h, omega) = pendulum(IMPLICIT, 96.0);
     // Period: backward Euler's phase per substep is atan(ωh); the 5° amplitude adds θ₀²/16.
     let crossings = zero_crossings(&samples);
     let period = period_from_crossings(&crossings);
@@ -80,26 +40,7 @@ fn implicit_pendulum_period_and_swing_decay_match_backward_euler_analysis() {
     let t_be = 2.0 * std::f64::consts::PI * h / wh.atan() * (1.0 + theta0.powi(2) / 16.0);
     let err_exact = (period - t_ref).abs() / t_ref;
     let err_be = (period - t_be).abs() / t_be;
-    // Swing decay: the largest |x| in each half period, fitted by a line in log space.
-    let half = t_ref / 2.0;
-    let mut peaks = Vec::new();
-    let mut start = 0.0;
-    while start + half <= samples.last().unwrap().0 {
-        let peak = samples
-            .iter()
-            .filter(|(t, _)| *t >= start && *t < start + half)
-            .fold(0.0f64, |a, (_, x)| a.max(x.abs()));
-        peaks.push((start + half / 2.0, peak.ln()));
-        start += half;
-    }
-    let n = peaks.len() as f64;
-    let (mt, my) = (
-        peaks.iter().map(|p| p.0).sum::<f64>() / n,
-        peaks.iter().map(|p| p.1).sum::<f64>() / n,
-    );
-    let slope = peaks.iter().map(|p| (p.0 - mt) * (p.1 - my)).sum::<f64>()
-        / peaks.iter().map(|p| (p.0 - mt).powi(2)).sum::<f64>();
-    let measured_decay = 1.0 - (slope * period).exp();
+    let measured_decay = decay_per_period(&samples, t_ref, period);
     let predicted_rate = (1.0 + wh * wh).ln() / (2.0 * h);
     let predicted_decay = 1.0 - (-predicted_rate * period).exp();
     println!(
@@ -107,7 +48,7 @@ fn implicit_pendulum_period_and_swing_decay_match_backward_euler_analysis() {
          2π√(L'/g) = {t_ref:.6} s (rel. error {err_exact:.2e}); backward Euler's 2πh/atan(ωh) \
          with amplitude correction {t_be:.6} s (rel. error {err_be:.2e}); amplitude loss per \
          period {:.2} %, backward Euler predicts {:.2} % (exp(−πωh) gives {:.2} %)",
-        (k / mass).sqrt() * h,
+        (PENDULUM_K / PENDULUM_MASS).sqrt() * h,
         100.0 * measured_decay,
         100.0 * predicted_decay,
         100.0 * (1.0 - (-std::f64::consts::PI * wh).exp())

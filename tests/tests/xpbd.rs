@@ -27,79 +27,14 @@ mod common;
 
 use common::integrators::*;
 use common::*;
-use hair_core::{Integrator, Scalp, Solver};
-use nalgebra::Vector3;
+use hair_core::Integrator;
 
 const XPBD: Integrator = Integrator::Xpbd;
-
-/// `(time, x)` samples of a 5° pendulum (a 10 g bob on a 0.5 m, 10⁴ N/m spring) at one
-/// substep per frame of `fps`, over 8 periods; returns them with the period of the stretched
-/// pendulum and the substep.
-fn pendulum(fps: f32) -> (Vec<(f64, f64)>, f64, f64, f64) {
-    let length = 0.5f64;
-    let mass = 0.01f64;
-    let k = 1.0e4f64;
-    let theta0 = 5.0f64.to_radians();
-    let bob = Vector3::new(length * theta0.sin(), 0.0, -length * theta0.cos()).cast::<f32>();
-    let scalp = Scalp::fixed();
-    let mut strands = set_on(
-        &scalp,
-        [strand(
-            anchor_at(Vector3::zeros()),
-            vec![Vector3::zeros(), bob],
-            vec![0.0, mass as f32],
-            root_only(2),
-        )],
-    );
-    let mut params = bare_params(k as f32);
-    params.gravity = gravity();
-    let mut solver =
-        Solver::new(fixed_settings(fps, 1, XPBD), params, &strands, &scalp, 0).unwrap();
-    let h = solver.dt();
-    assert!(
-        h > 5.0 * solver.bound().dt_max,
-        "the test must step past the explicit bound"
-    );
-    let stretched = length + mass * G / k;
-    let omega = (G / stretched).sqrt();
-    let t_ref = 2.0 * std::f64::consts::PI / omega;
-    let frames = (8.0 * t_ref * fps as f64).ceil() as u32;
-    let mut samples = vec![(0.0, strands.positions[1].x as f64)];
-    run(&mut solver, &mut strands, &scalp, frames, |s, set| {
-        samples.push((s.frame() as f64 * h, set.positions[1].x as f64));
-    })
-    .unwrap();
-    (samples, t_ref, h, omega)
-}
-
-/// Fractional amplitude loss per period of a swing sampled in `samples`: the largest |x| in each
-/// half period, fitted by a line in log space.
-fn decay_per_period(samples: &[(f64, f64)], period: f64) -> f64 {
-    let half = period / 2.0;
-    let mut peaks = Vec::new();
-    let mut start = 0.0;
-    while start + half <= samples.last().unwrap().0 {
-        let peak = samples
-            .iter()
-            .filter(|(t, _)| *t >= start && *t < start + half)
-            .fold(0.0f64, |a, (_, x)| a.max(x.abs()));
-        peaks.push((start + half / 2.0, peak.ln()));
-        start += half;
-    }
-    let n = peaks.len() as f64;
-    let (mt, my) = (
-        peaks.iter().map(|p| p.0).sum::<f64>() / n,
-        peaks.iter().map(|p| p.1).sum::<f64>() / n,
-    );
-    let slope = peaks.iter().map(|p| (p.0 - mt) * (p.1 - my)).sum::<f64>()
-        / peaks.iter().map(|p| (p.0 - mt).powi(2)).sum::<f64>();
-    1.0 - (slope * period).exp()
-}
 
 #[test]
 fn xpbd_pendulum_keeps_its_period_and_its_swing_past_the_explicit_bound() {
     let theta0 = 5.0f64.to_radians();
-    let (samples, t_ref, h, omega) = pendulum(96.0);
+    let (samples, t_ref, h, omega) = pendulum(XPBD, 96.0);
     let crossings = zero_crossings(&samples);
     let period = period_from_crossings(&crossings);
     let wh = omega * h;
@@ -108,7 +43,7 @@ fn xpbd_pendulum_keeps_its_period_and_its_swing_past_the_explicit_bound() {
         * (1.0 + theta0.powi(2) / 16.0);
     let err_exact = (period - t_ref).abs() / t_ref;
     let err_se = (period - t_se).abs() / t_se;
-    let decay = decay_per_period(&samples, period);
+    let decay = decay_per_period(&samples, period, period);
     // The arc-to-chord loss at the fastest point, over a period's substeps.
     let v_max = theta0 * (G * 0.5).sqrt();
     let chord_loss = 0.375 * (v_max * h / 0.5).powi(2) * period / h;

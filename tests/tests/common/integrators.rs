@@ -87,6 +87,80 @@ pub fn assert_undamped_chain_gains_no_energy(integrator: Integrator, name: &str)
     );
 }
 
+/// `(time, x)` samples of a 5° pendulum (a 10 g bob on a 0.5 m, 10⁴ N/m spring) at one
+/// substep per frame of `fps` by `integrator`, over 8 periods; returns them with the period of the stretched
+/// pendulum and the substep.
+pub fn pendulum(integrator: Integrator, fps: f32) -> (Vec<(f64, f64)>, f64, f64, f64) {
+    let length = 0.5f64;
+    let (mass, k) = (PENDULUM_MASS, PENDULUM_K);
+    let theta0 = 5.0f64.to_radians();
+    let bob = Vector3::new(length * theta0.sin(), 0.0, -length * theta0.cos()).cast::<f32>();
+    let scalp = Scalp::fixed();
+    let mut strands = set_on(
+        &scalp,
+        [strand(
+            anchor_at(Vector3::zeros()),
+            vec![Vector3::zeros(), bob],
+            vec![0.0, mass as f32],
+            root_only(2),
+        )],
+    );
+    let mut params = bare_params(k as f32);
+    params.gravity = gravity();
+    let mut solver = Solver::new(
+        fixed_settings(fps, 1, integrator),
+        params,
+        &strands,
+        &scalp,
+        0,
+    )
+    .unwrap();
+    let h = solver.dt();
+    assert!(
+        h > 5.0 * solver.bound().dt_max,
+        "the test must step past the explicit bound"
+    );
+    let stretched = length + mass * G / k;
+    let omega = (G / stretched).sqrt();
+    let t_ref = 2.0 * std::f64::consts::PI / omega;
+    let frames = (8.0 * t_ref * fps as f64).ceil() as u32;
+    let mut samples = vec![(0.0, strands.positions[1].x as f64)];
+    run(&mut solver, &mut strands, &scalp, frames, |s, set| {
+        samples.push((s.frame() as f64 * h, set.positions[1].x as f64));
+    })
+    .unwrap();
+    (samples, t_ref, h, omega)
+}
+
+/// The pendulum's bob mass, kg, and spring stiffness, N/m.
+pub const PENDULUM_MASS: f64 = 0.01;
+/// See [`PENDULUM_MASS`].
+pub const PENDULUM_K: f64 = 1.0e4;
+
+/// Fractional amplitude loss per `period` of a swing sampled in `samples`: the largest |x| in
+/// each half of `window`, fitted by a line in log space.
+pub fn decay_per_period(samples: &[(f64, f64)], window: f64, period: f64) -> f64 {
+    let half = window / 2.0;
+    let mut peaks = Vec::new();
+    let mut start = 0.0;
+    while start + half <= samples.last().unwrap().0 {
+        let peak = samples
+            .iter()
+            .filter(|(t, _)| *t >= start && *t < start + half)
+            .fold(0.0f64, |a, (_, x)| a.max(x.abs()));
+        peaks.push((start + half / 2.0, peak.ln()));
+        start += half;
+    }
+    let n = peaks.len() as f64;
+    let (mt, my) = (
+        peaks.iter().map(|p| p.0).sum::<f64>() / n,
+        peaks.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let slope = peaks.iter().map(|p| (p.0 - mt) * (p.1 - my)).sum::<f64>()
+        / peaks.iter().map(|p| (p.0 - mt).powi(2)).sum::<f64>();
+    1.0 - (slope * period).exp()
+}
+
 /// The hanging chain (`hanging_chain_stretch.rs`): 8 segments of 5 cm hanging from a root at
 /// z = 0.2 m, unequal point masses, stretch stiffness `K_CHAIN`, with the damping and drag that
 /// settle it. Returns the strands, the scalp, the masses (kg) and the parameters.
