@@ -89,7 +89,10 @@ fn strand_scales(obj: &Bound<'_, PyAny>) -> PyResult<Option<Vec<StrandScales>>> 
     let d = obj.cast::<PyDict>().map_err(|_| {
         argument(
             "strand_scales",
-            format!("give a dict of (C,) arrays with keys {}", SCALE_KEYS.join(", ")),
+            format!(
+                "give a dict of (C,) arrays with keys {}",
+                SCALE_KEYS.join(", ")
+            ),
         )
     })?;
     let mut out: Option<Vec<StrandScales>> = None;
