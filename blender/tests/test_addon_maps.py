@@ -176,3 +176,52 @@ def test_a_negative_stiffness_attribute_is_refused_naming_the_purpose(addon, tmp
     hair.hairsys.stiffness_source = "ATTRIBUTE"
     with pytest.raises(RuntimeError, match="Stiffness: 'stiffness' has a value below 0"):
         bpy.ops.hairsys.bake()
+
+
+def test_a_vertex_group_exported_to_usd_is_a_scene_map_source(addon, tmp_path):
+    """Blender's own USD export writes a vertex group as `float[] primvars:NAME` (vertex): a
+    scene on the exported scalp reads it with `[maps.length] primvar = NAME`, and each hair's
+    length is the group's weight blended at its root (a linear field: exact)."""
+    import bpy
+    from pxr import Usd, UsdGeom
+
+    import hairsys
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    cells, side, length = 4, 0.2, 0.05
+    weight = lambda x, y: 0.3 + 1.5 * x + 1.5 * y
+    n = cells + 1
+    verts = [(side * i / cells, side * j / cells, 0.0) for j in range(n) for i in range(n)]
+    faces = [(j * n + i, j * n + i + 1, (j + 1) * n + i + 1, (j + 1) * n + i)
+             for j in range(cells) for i in range(cells)]
+    scalp = mesh_object("scalp", verts, faces)
+    group = scalp.vertex_groups.new(name="trim")
+    for i, (x, y, _) in enumerate(verts):
+        group.add([i], weight(x, y), "REPLACE")
+    usd = tmp_path / "scalp.usda"
+    assert bpy.ops.wm.usd_export(filepath=str(usd)) == {"FINISHED"}
+    stage = Usd.Stage.Open(str(usd))
+    (prim,) = [p for p in stage.Traverse() if p.IsA(UsdGeom.Mesh)]
+    assert prim.GetAttribute("primvars:trim").GetMetadata("interpolation") == "vertex"
+    scene = tmp_path / "scene.toml"
+    scene.write_text(f"""
+[scene]
+frames = [1, 2]
+[scalp.mesh]
+kind = "usd"
+path = "scalp.usda"
+prim = "{prim.GetPath()}"
+[hair]
+count = 150
+length = {length}
+segments = 4
+seed = 2
+[maps.length]
+primvar = "trim"
+""")
+    s = hairsys.Session.from_scene(scene)
+    pos, off = np.array(s.positions), s.strand_offsets
+    roots = pos[off[:-1]]
+    lengths = np.array([np.linalg.norm(np.diff(pos[a:b], axis=0), axis=1).sum()
+                        for a, b in zip(off[:-1], off[1:])])
+    np.testing.assert_allclose(lengths, length * weight(roots[:, 0], roots[:, 1]), rtol=1e-4)
