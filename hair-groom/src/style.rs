@@ -343,18 +343,50 @@ impl ScalpLift {
     /// skipped, carrying that lower bound on to the next point. Hair hanging away from the head
     /// costs a query every few points instead of one per point.
     pub fn lift(&self, anchor: &Anchor, rest: &mut [Vector3<f32>]) -> usize {
-        self.lift_points(anchor, rest, true)
+        self.lift_points(anchor, rest, true, None)
     }
 
-    /// [`ScalpLift::lift`], skipping points known to be clear when `skip_clear` is set (always
-    /// but in the test that holds the skip to the full walk).
-    fn lift_points(&self, anchor: &Anchor, rest: &mut [Vector3<f32>], skip_clear: bool) -> usize {
+    /// [`ScalpLift::lift`] for a strand lifted again and again as it is posed (animated
+    /// guides, every frame): `memory` keeps, from the strand's last lift, where each point ended
+    /// and a lower bound on its height there, and a point that has moved by less than that
+    /// height minus the clearance since is clear of the scalp without a look-up (the distance
+    /// to a surface changes by at most the distance moved). Between frames of a pose hair moves
+    /// millimetres, so hair lying on the head is looked up only where it comes near the
+    /// clearance. Lifts exactly as [`ScalpLift::lift`] (the bound only skips look-ups that
+    /// would find the point clear); a memory of another point count starts afresh.
+    pub fn lift_remembering(
+        &self,
+        anchor: &Anchor,
+        rest: &mut [Vector3<f32>],
+        memory: &mut LiftMemory,
+    ) -> usize {
+        self.lift_points(anchor, rest, true, Some(memory))
+    }
+
+    /// [`ScalpLift::lift`], skipping points known to be clear (from their predecessor's height,
+    /// and from `memory` when given) when `skip_clear` is set (always but in the tests that hold
+    /// the skip to the full walk).
+    fn lift_points(
+        &self,
+        anchor: &Anchor,
+        rest: &mut [Vector3<f32>],
+        skip_clear: bool,
+        mut memory: Option<&mut LiftMemory>,
+    ) -> usize {
         let Anchor::Surface(sample) = *anchor else {
             return 0;
         };
         let surface = &self.surface;
         let frame = surface.mesh.evaluate(&sample);
         let mut world: Vec<Vector3<f32>> = rest.iter().map(|p| frame.to_world(p)).collect();
+        if let Some(m) = memory.as_deref_mut() {
+            if m.points.len() != world.len() {
+                m.points.clear();
+                m.points.resize(world.len(), Vector3::zeros());
+                m.heights.clear();
+                m.heights.resize(world.len(), f32::NEG_INFINITY);
+            }
+        }
         let mut arc = 0.0f32;
         let mut lifted = 0;
         // A lower bound on the previous point's height above the scalp, m (the root is on it).
@@ -363,16 +395,26 @@ impl ScalpLift {
             let length = (world[j] - world[j - 1]).norm();
             arc += length;
             let allowed = self.clearance.min(arc);
-            if skip_clear && clear_by - length > self.clearance {
-                clear_by -= length;
+            let mut bound = clear_by - length;
+            if let Some(m) = memory.as_deref() {
+                bound = bound.max(m.heights[j] - (world[j] - m.points[j]).norm());
+            }
+            if skip_clear && bound > self.clearance {
+                clear_by = bound;
+                if let Some(m) = memory.as_deref_mut() {
+                    (m.points[j], m.heights[j]) = (world[j], bound);
+                }
                 continue;
             }
             clear_by = 0.0;
             let mut moved_any = false;
+            // The height found at the point's present position (none once it has moved since).
+            let mut known = f32::NEG_INFINITY;
             // Re-aiming at the lifted point keeps the segment's length, which can leave the
             // point short of it on a curved scalp: a few rounds converge.
             for _ in 0..16 {
                 let (height, target) = surface.height_and_lift(&world[j], allowed);
+                known = height;
                 if height >= allowed - 1e-6 || length == 0.0 {
                     if !moved_any {
                         clear_by = height.max(0.0);
@@ -390,9 +432,14 @@ impl ScalpLift {
                     *p += shift;
                 }
                 moved_any = true;
+                known = f32::NEG_INFINITY;
             }
             if moved_any {
                 lifted += 1;
+            }
+            // Later points move only the points after them: this one is where it ends.
+            if let Some(m) = memory.as_deref_mut() {
+                (m.points[j], m.heights[j]) = (world[j], known);
             }
         }
         if lifted > 0 {
@@ -402,6 +449,15 @@ impl ScalpLift {
         }
         lifted
     }
+}
+
+/// What [`ScalpLift::lift_remembering`] keeps of one strand between lifts: where each point
+/// ended (scalp-at-rest space, m) and a lower bound on its height above the scalp there, m
+/// (−∞ where none is known). Empty until the first lift.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LiftMemory {
+    points: Vec<Vector3<f32>>,
+    heights: Vec<f32>,
 }
 
 /// The strands of `strands` (indices, increasing) whose rest shape passes through `mesh` (the
@@ -737,14 +793,51 @@ mod tests {
                 })
                 .collect();
             let (mut fast, mut full) = (s.rest.clone(), s.rest.clone());
-            let lifted_fast = lift.lift_points(&s.anchor, &mut fast, true);
-            let lifted_full = lift.lift_points(&s.anchor, &mut full, false);
+            let lifted_fast = lift.lift_points(&s.anchor, &mut fast, true, None);
+            let lifted_full = lift.lift_points(&s.anchor, &mut full, false, None);
             assert_eq!(lifted_fast, lifted_full, "strand {k}");
             assert_eq!(fast, full, "strand {k}");
             lifted_some |= lifted_full > 0;
             clear_some |= lifted_full == 0;
         }
         assert!(lifted_some && clear_some);
+    }
+
+    #[test]
+    fn lifting_with_memory_of_the_last_pose_lifts_exactly_as_without() {
+        // Hair swept a little further frame by frame (as a keyed pose moves it), some of it
+        // into the head: the memory of the last lift must change no bit of any frame's result.
+        let mesh = crate::builtin_head();
+        let lift = ScalpLift::new(&mesh, 0.0035).unwrap();
+        let strands = hair(&mesh);
+        let mut memories = vec![LiftMemory::default(); strands.len()];
+        let (mut lifted_some, mut clear_some) = (false, false);
+        for frame in 0..8 {
+            let sweep = 0.004 * frame as f32;
+            for (k, (s, memory)) in strands.iter().zip(&mut memories).enumerate() {
+                let n = s.rest.len();
+                let (a, b) = (0.37 * k as f32, 0.11 * k as f32);
+                let bend = Vector3::new(a.cos(), a.sin(), b.sin() - 0.2 - sweep) * (0.02 + sweep);
+                let posed: Vec<Vector3<f32>> = (0..n)
+                    .map(|i| {
+                        let t = i as f32 / (n - 1) as f32;
+                        Vector3::new(0.0, 0.0, 0.3 * t) * b.cos() + bend * (i * i) as f32 / n as f32
+                    })
+                    .collect();
+                let (mut with, mut without) = (posed.clone(), posed);
+                let lifted_with = lift.lift_remembering(&s.anchor, &mut with, memory);
+                let lifted_without = lift.lift_points(&s.anchor, &mut without, false, None);
+                assert_eq!(lifted_with, lifted_without, "frame {frame}, strand {k}");
+                assert_eq!(with, without, "frame {frame}, strand {k}");
+                lifted_some |= lifted_without > 0;
+                clear_some |= lifted_without == 0;
+            }
+        }
+        assert!(lifted_some && clear_some);
+        // The memory holds heights that can spare the next frame's look-ups.
+        assert!(memories
+            .iter()
+            .any(|m| m.heights.iter().any(|&h| h.is_finite() && h > 0.0035)));
     }
 
     #[test]

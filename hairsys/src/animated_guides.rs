@@ -30,12 +30,13 @@
 //! posed sim hair is then lifted out of the scalp at rest by [`hair_groom::ScalpLift`]
 //! (walking the hair from its root, a point closer than the clearance is raised to it and its
 //! segment re-aimed at its own length): a keyed sweep that turns hair towards the head lays it
-//! over the head, at every frame between keys too. It costs a nearest-point query per posed
-//! point per frame, spread over the threads; the scalp's search tree is built once.
+//! over the head, at every frame between keys too. The scalp's search tree is built once, hairs
+//! are lifted in parallel, and each hair remembers its last lift ([`hair_groom::LiftMemory`]):
+//! only points that come within reach of the clearance since are looked up on the scalp.
 
 use hair_core::frames::{rest_directions, RestDirection};
 use hair_core::{Anchor, RootFrame, StrandSet, TriMesh};
-use hair_groom::{GroomError, GuideBlend, ScalpLift};
+use hair_groom::{GroomError, GuideBlend, LiftMemory, ScalpLift};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
@@ -128,24 +129,56 @@ impl PoseLift {
     }
 
     /// Lifts the root-local shapes in `shapes` (`n` points each, rooted at `anchors`) whose
-    /// flag in `moved` is set, in place; returns the number of points walked.
+    /// flag in `moved` is set, in place, each remembering its last lift in `memory` (one per
+    /// shape; see [`ScalpLift::lift_remembering`]); returns the number of points walked.
     fn lift(
         &self,
         anchors: &[Anchor],
         shapes: &mut [Vector3<f32>],
         n: usize,
         moved: &[bool],
+        memory: &mut [LiftMemory],
     ) -> u64 {
         shapes
             .par_chunks_mut(n)
+            .zip(memory.par_iter_mut())
             .zip(anchors.par_iter().zip(moved.par_iter()))
             .filter(|(_, (_, &m))| m)
-            .map(|(shape, (anchor, _))| {
-                self.0.lift(anchor, shape);
+            .map(|((shape, memory), (anchor, _))| {
+                self.0.lift_remembering(anchor, shape, memory);
                 n as u64
             })
             .sum()
     }
+
+    /// Fills `memory` (one per shape) from the root-local `shapes` (`n` points each, rooted at
+    /// `anchors`) without changing them: a lift of a copy of each, so the first posed frame
+    /// after it looks up only what moved near the scalp.
+    fn remember(
+        &self,
+        anchors: &[Anchor],
+        shapes: &[Vector3<f32>],
+        n: usize,
+        memory: &mut [LiftMemory],
+    ) {
+        shapes
+            .par_chunks(n)
+            .zip(memory.par_iter_mut())
+            .zip(anchors.par_iter())
+            .for_each(|((shape, memory), anchor)| {
+                self.0.lift_remembering(anchor, &mut shape.to_vec(), memory);
+            });
+    }
+}
+
+/// Workspace of [`GuideAnimation::apply_pose`], kept from frame to frame: the sim hairs
+/// re-interpolated to the last pose, and what the pose lift remembers of each sim hair (where
+/// its points ended and how high above the scalp), which spares most look-ups of hair that
+/// moved little since. Results never depend on it.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct PoseScratch {
+    blended: Vec<Vector3<f32>>,
+    lift: Vec<LiftMemory>,
 }
 
 impl PartialEq for PoseLift {
@@ -369,7 +402,7 @@ impl GuideAnimation {
         &self,
         pose: &[Vec<Vector3<f32>>],
         strands: &mut StrandSet,
-        scratch: &mut Vec<Vector3<f32>>,
+        scratch: &mut PoseScratch,
     ) -> u64 {
         let Some(base) = &self.base else {
             return 0;
@@ -378,8 +411,9 @@ impl GuideAnimation {
         let range = self.strands();
         let p0 = strands.points(range.start).start;
         let s0 = strands.segments(range.start).start;
-        scratch.resize(base.interpolated.len(), Vector3::zeros());
-        let mut work = self.blend.apply(pose, scratch);
+        let PoseScratch { blended, lift } = scratch;
+        blended.resize(base.interpolated.len(), Vector3::zeros());
+        let mut work = self.blend.apply(pose, blended);
         let mut posed = base.rest.clone();
         let mut moved = vec![false; posed.len() / n];
         for (h, shape) in posed.chunks_exact_mut(n).enumerate() {
@@ -387,7 +421,7 @@ impl GuideAnimation {
             let (built, groom, now) = (
                 &base.rest[at.clone()],
                 &base.interpolated[at.clone()],
-                &scratch[at],
+                &blended[at],
             );
             if groom == now {
                 continue;
@@ -395,9 +429,15 @@ impl GuideAnimation {
             moved[h] = true;
             keep_lengths(shape, built, groom, now);
         }
-        if let Some(lift) = &self.lift {
+        if let Some(pose_lift) = &self.lift {
             let anchors = &strands.anchors()[range.clone()];
-            work += lift.lift(anchors, &mut posed, n, &moved);
+            if lift.len() != moved.len() {
+                // The first pose: remember the hair as built, once, so this and later frames
+                // look up only what the pose moves near the scalp.
+                *lift = vec![LiftMemory::default(); moved.len()];
+                pose_lift.remember(anchors, &base.rest, n, lift);
+            }
+            work += pose_lift.lift(anchors, &mut posed, n, &moved, lift);
         }
         strands.rest_local_mut()[p0..p0 + posed.len()].copy_from_slice(&posed);
         let bend = &mut strands.bend_rest_mut()[s0..s0 + range.len() * (n - 1)];

@@ -91,8 +91,8 @@ struct Pending {
 #[derive(Debug, Clone)]
 struct Guides {
     animation: GuideAnimation,
-    /// Re-interpolated sim hairs of the last pose (workspace).
-    scratch: Vec<Vector3<f32>>,
+    /// Workspace of the re-interpolation, kept between frames.
+    scratch: crate::animated_guides::PoseScratch,
     /// Work of the last frame's re-interpolation (blend operations and points written).
     work: u64,
     /// Wall-clock time of the last frame's re-interpolation.
@@ -186,7 +186,7 @@ impl Session {
         // Rest shapes at the first frame's pose (a resumed run continues with its frame's pose).
         let guides = sim.guide_animation.clone().map(|mut animation| {
             animation.bind(&strands);
-            let mut scratch = Vec::new();
+            let mut scratch = Default::default();
             let work = match animation.pose_at(first) {
                 Some(pose) => animation.apply_pose(&pose, &mut strands, &mut scratch),
                 None => 0,

@@ -516,7 +516,7 @@ fn share_of_a_frame(lift: bool) -> f64 {
 /// The cost of animated guides against a default-scene frame (issue 20: at most 5 %), held
 /// without `pose_clearance`; with it (lifting posed hair out of the head, a nearest-point query
 /// per posed point near the scalp per frame, spread over the threads) the share is printed:
-/// it is over the budget (6.1 % on 2026-11-24 at load 8.6; BENCHMARKS.md).
+/// it is over the budget (5.9–6.0 % on 2026-11-25 at load 3.5; BENCHMARKS.md).
 /// `cargo test --release -p hairsys --test animated_guides -- --ignored --nocapture`
 #[test]
 #[ignore = "timing; run in release (command above)"]
