@@ -14,7 +14,9 @@
 //! with each root's barycentric weights on its scalp triangle, exactly as the root's position
 //! is: a value painted on a vertex is the value of a root at that vertex.
 //!
-//! Sampling costs O(1) per root and happens once, when a scene is built.
+//! Sampling costs O(1) per root and happens once, when a scene is built. A density map is used
+//! as a [`hair_groom::RootDensity`] ([`MapDensity`]): roots are drawn by rejection against its
+//! largest value (see [`hair_groom::sampling`]).
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -283,6 +285,20 @@ impl ScalpMap {
         }
     }
 
+    /// The least and largest value the map can take anywhere on the scalp: over the texture's
+    /// pixels (bilinear blends stay between them) or the vertex values.
+    pub fn bounds(&self) -> [f32; 2] {
+        let values = match &self.source {
+            MapSource::Vertex(values) => values.as_slice(),
+            MapSource::Texture { texture, .. } => texture.values.as_slice(),
+        };
+        values
+            .iter()
+            .fold([f32::INFINITY, f32::NEG_INFINITY], |[lo, hi], &v| {
+                [lo.min(v), hi.max(v)]
+            })
+    }
+
     /// The map at every sample of `samples` (one per hair; `what` names the hairs, e.g.
     /// "sim hair").
     pub fn at_roots(
@@ -296,6 +312,50 @@ impl ScalpMap {
             .enumerate()
             .map(|(i, s)| self.at(mesh, s, &format!("{what} {i}")))
             .collect()
+    }
+}
+
+/// A map as the density of roots on the scalp it was checked against ([`hair_groom::RootDensity`]):
+/// roots grow ∝ area × the map, relative to its largest value.
+pub struct MapDensity<'a> {
+    map: &'a ScalpMap,
+    mesh: &'a TriMesh,
+    max: f32,
+}
+
+impl<'a> MapDensity<'a> {
+    /// The density of `map` on `mesh` (the mesh the map was checked against). Errors name the
+    /// map: a negative value (naming the vertex, or the texture), or 0 everywhere (no hair would
+    /// grow).
+    pub fn new(map: &'a ScalpMap, mesh: &'a TriMesh) -> Result<Self, String> {
+        let what = format!("[maps.{}]", map.name);
+        if let MapSource::Vertex(values) = &map.source {
+            if let Some(i) = values.iter().position(|v| *v < 0.0) {
+                return Err(format!(
+                    "{what} is {} at vertex {i}: a density is ≥ 0 (0 = no hair, the largest \
+                     value = the densest hair); paint values ≥ 0",
+                    values[i]
+                ));
+            }
+        }
+        let [_, max] = map.bounds();
+        if !(max > 0.0) {
+            return Err(format!(
+                "{what} is 0 everywhere: no hair would grow; paint values > 0 where hair grows \
+                 (the count is spread over the painted area by its value) or remove the map"
+            ));
+        }
+        Ok(Self { map, mesh, max })
+    }
+}
+
+impl hair_groom::RootDensity for MapDensity<'_> {
+    fn at(&self, sample: &MeshSample) -> Result<f32, String> {
+        self.map.at(self.mesh, sample, "a candidate root")
+    }
+
+    fn max(&self) -> f32 {
+        self.max
     }
 }
 
