@@ -339,7 +339,7 @@ impl<'a> MapDensity<'a> {
             }
         }
         let [_, max] = map.bounds();
-        if !(max > 0.0) {
+        if max.is_nan() || max <= 0.0 {
             return Err(format!(
                 "{what} is 0 everywhere: no hair would grow; paint values > 0 where hair grows \
                  (the count is spread over the painted area by its value) or remove the map"

@@ -11,6 +11,12 @@
 //! vertex_colors = true        # the OBJ scalp's `v x y z r g b`
 //! channel = "g"
 //!
+//! [maps.density]              # more roots per area where brighter; [hair] count stays the count
+//! texture = "density.png"
+//!
+//! [maps.clump]                # × [children] clump per parent (curl: × curl_radius)
+//! texture = "clump.png"
+//!
 //! [maps.fringe]               # any other name: a map selections use
 //! texture = "fringe.png"      # [guides.hold_out] map = { name = "fringe", min = 0.5 }
 //! ```
