@@ -331,6 +331,50 @@ mod tests {
     }
 
     #[test]
+    fn shape_factors_outside_zero_to_one_or_of_the_wrong_count_are_named() {
+        let pts = vec![
+            Vector3::zeros(),
+            Vector3::z(),
+            Vector3::x(),
+            Vector3::new(1.0, 0.0, 1.0),
+        ];
+        let parents = Parents::new(&pts, &[0, 2, 4]).unwrap();
+        let err = parents
+            .with_shape_factors(ShapeFactors {
+                clump: Some(&[1.0, 1.5]),
+                curl: None,
+            })
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("parent 1") && err.contains("clump factor 1.5"),
+            "{err}"
+        );
+        let err = parents
+            .with_shape_factors(ShapeFactors {
+                clump: None,
+                curl: Some(&[0.5]),
+            })
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("1 curl factors for 2 parents"), "{err}");
+        // Factors scale the setting's clump factor and curl radius per parent.
+        let p = parents
+            .with_shape_factors(ShapeFactors {
+                clump: Some(&[0.0, 0.5]),
+                curl: Some(&[1.0, 0.25]),
+            })
+            .unwrap();
+        let mut shape = Shape::default();
+        shape.clump.factor = 0.8;
+        shape.curl.radius = 0.004;
+        assert_eq!(p.shape(0, &shape).clump.factor, 0.0);
+        assert_eq!(p.shape(0, &shape).curl.radius, 0.004);
+        assert_eq!(p.shape(1, &shape).clump.factor, 0.4);
+        assert_eq!(p.shape(1, &shape).curl.radius, 0.001);
+    }
+
+    #[test]
     fn root_frame_from_first_segment_has_z_along_it() {
         let pts = vec![Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0)];
         let parents = Parents::new(&pts, &[0, 2]).unwrap();
