@@ -129,6 +129,9 @@ class Session:
         *,
         scalp_uvs: _Floats | None = None,
         goal_weights: _Floats | None = None,
+        pinned: npt.ArrayLike | None = None,
+        strand_scales: dict[Literal["stretch", "bend", "goal", "damping", "drag"], _Floats]
+        | None = None,
         sim_hairs: int | None = None,
         k: int = 4,
         points: int | None = None,
@@ -166,7 +169,13 @@ class Session:
         `positions` back onto them); an int interpolates that many hairs from the k nearest
         curves (as guides) with `points` points each. goal_weights (P,) in [0, 1]: per-point
         pull towards the animated rest shape (times goal_stiffness, N/m); without them goal
-        weights run linearly from goal_root to goal_tip. Stiffnesses in N/m, stretch_damping and
+        weights run linearly from goal_root to goal_tip. pinned (P,) bool: points held on the
+        rest shape in the root frame (kinematic, they follow the scalp rigidly; roots always
+        are); only with sim_hairs None. strand_scales: per-curve factors of the material, a dict
+        of (C,) arrays keyed stretch (> 0), bend, goal, damping, drag (≥ 0; a key left out is 1):
+        curve c runs with bend_stiffness × bend[c] and so on (what a scene's [[regions]] and
+        [maps.stiffness] give); interpolated hairs blend their guides' factors by their
+        interpolation weights. Stiffnesses in N/m, stretch_damping and
         air_drag in 1/s, mass_per_length in kg/m, radius in m (wisp radius, collision and
         render width). scalp_collider makes the scalp collide with its hair (thickness m,
         friction). colliders: see ColliderSpec; their ids are 0, 1, … in order, the scalp

@@ -5,7 +5,9 @@ Select a hair Curves object whose Surface is a mesh, open Properties > Physics >
 the cache path and the parameters, press Bake (progress in the status bar, Esc cancels and keeps
 the frames baked so far). With Playback on, the curves take the cache's positions whenever the
 frame changes. Every frame of a bake hands hairsys the evaluated surface (armature, shape keys,
-any modifier) in world space and the poses of the collider collection's meshes.
+any modifier) in world space and the poses of the collider collection's meshes. Goal weights,
+stiffness and pins may be painted: each takes a surface vertex group or a curve attribute
+(`maps`).
 """
 
 import bpy
@@ -15,6 +17,16 @@ from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty, P
 
 from . import playback
 from .bake import REST_ATTRIBUTE
+from .maps import PURPOSES
+
+
+def map_sources(none):
+    """The sources of a painted map (see `maps`); `none` describes the NONE choice."""
+    return [("NONE", "None", none),
+            ("ATTRIBUTE", "Curve Attribute",
+             "A float attribute of the curves (point or curve domain)"),
+            ("VERTEX_GROUP", "Vertex Group",
+             "A vertex group of the surface, blended at each curve's root over its triangle")]
 
 
 class HairsysSettings(bpy.types.PropertyGroup):
@@ -55,13 +67,27 @@ class HairsysSettings(bpy.types.PropertyGroup):
         description="Largest distance a curve's root may lie from the surface")
     weight_source: EnumProperty(
         name="Goal Weights", default="NONE",
-        items=[("NONE", "None", "No goal springs (weights 0)"),
-               ("ATTRIBUTE", "Curve Attribute", "A float attribute of the curves (point or curve domain)"),
-               ("VERTEX_GROUP", "Vertex Group", "A vertex group of the surface, at each curve's root")],
-        description="Where the per-point goal (pin) weights come from, 0-1")
+        items=map_sources("No goal springs (weights 0)"),
+        description="Where the per-point goal weights come from, 0-1 (times Goal Stiffness)")
     weight_name: StringProperty(
         name="Weight Name", default="goal",
         description="Name of the curve attribute or surface vertex group holding the goal weights")
+    stiffness_source: EnumProperty(
+        name="Stiffness", default="NONE",
+        items=map_sources("Every strand has the panel's Bend Stiffness"),
+        description="Where each strand's bend stiffness factor comes from (≥ 0; 1 = the panel's "
+                    "Bend Stiffness, 0 = none)")
+    stiffness_name: StringProperty(
+        name="Stiffness Name", default="stiffness",
+        description="Name of the curve attribute or surface vertex group holding the factors")
+    pin_source: EnumProperty(
+        name="Pin", default="NONE",
+        items=map_sources("Only the roots are pinned"),
+        description="Where pins come from: points whose value is ≥ 0.5 are held on the groom's "
+                    "shape and follow the surface rigidly (a vertex group pins whole strands)")
+    pin_name: StringProperty(
+        name="Pin Name", default="pin",
+        description="Name of the curve attribute or surface vertex group holding the pins")
     surface_collision: BoolProperty(
         name="Surface Collision", default=True,
         description="Hair collides with its surface mesh, as evaluated (deformed) at every frame")
@@ -248,9 +274,10 @@ class HAIRSYS_PT_panel(bpy.types.Panel):
                      "mass_per_length", "radius", "substeps", "threads", "max_snap_distance"):
             col.prop(s, name)
         col.separator()
-        col.prop(s, "weight_source")
-        if s.weight_source != "NONE":
-            col.prop(s, "weight_name")
+        for _, source, name, _ in PURPOSES:
+            col.prop(s, source)
+            if getattr(s, source) != "NONE":
+                col.prop(s, name)
         col.separator()
         col.prop(s, "surface_collision")
         if s.surface_collision:

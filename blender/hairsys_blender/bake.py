@@ -10,12 +10,16 @@ its rigid part `R` (rotation and translation, the collider's pose, so a turning 
 within the frame instead of cutting its corners) and the rest `R^-1 M` (scale, shear), which is
 applied with the evaluated mesh (armature, shape keys, any modifier that keeps the vertex count)
 to give the body-space vertices handed to `Session.set_collider_vertices`; within a frame each
-vertex moves in a straight line and friction acts against that motion.
+vertex moves in a straight line and friction acts against that motion. Painted maps (goal
+weights, stiffness, pins from vertex groups or curve attributes) are sampled at the first frame
+by `maps.strand_maps`.
 """
 
 import numpy as np
 
 import hairsys
+
+from .maps import strand_maps
 
 
 def world_points(matrix, local):
@@ -91,42 +95,6 @@ def curve_arrays(hair_obj):
     return world_points(hair_obj.matrix_world, local.astype(np.float64)), np.diff(offsets)
 
 
-def goal_weights(hair_obj, settings, surface_verts, points, counts):
-    """Per-point goal weights from the chosen source, or None.
-
-    ATTRIBUTE: a float attribute of the curves on the point or curve domain. VERTEX_GROUP: a
-    vertex group of the surface mesh; each curve takes the weight of the surface vertex nearest
-    its root, for all its points.
-    """
-    source = settings.weight_source
-    if source == "NONE":
-        return None
-    if source == "ATTRIBUTE":
-        attr = hair_obj.data.attributes.get(settings.weight_name)
-        if attr is None or attr.data_type != "FLOAT" or attr.domain not in {"POINT", "CURVE"}:
-            raise ValueError(
-                f"the hair has no float attribute {settings.weight_name!r} on points or curves; "
-                "add one or choose another weight source")
-        values = np.empty(len(attr.data), dtype=np.float32)
-        attr.data.foreach_get("value", values)
-        w = values if attr.domain == "POINT" else np.repeat(values, counts)
-        return np.clip(w, 0.0, 1.0)
-    surface = hair_obj.data.surface
-    group = surface.vertex_groups.get(settings.weight_name)
-    if group is None:
-        raise ValueError(
-            f"the surface {surface.name!r} has no vertex group {settings.weight_name!r}")
-    per_vertex = np.zeros(len(surface.data.vertices), dtype=np.float32)
-    for v in surface.data.vertices:
-        for g in v.groups:
-            if g.group == group.index:
-                per_vertex[v.index] = g.weight
-    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
-    roots = points[starts]
-    nearest = [int(np.argmin(np.linalg.norm(surface_verts - r, axis=1))) for r in roots]
-    return np.repeat(per_vertex[nearest], counts)
-
-
 def collider_objects(settings):
     """The mesh objects of the collider collection (empty without one)."""
     coll = settings.collider_collection
@@ -168,7 +136,7 @@ class Baker:
         depsgraph = context.evaluated_depsgraph_get()
         verts, tris = evaluated_mesh(surface, depsgraph, triangles=True)
         points, counts = curve_arrays(hair_obj)
-        weights = goal_weights(hair_obj, s, verts, points, counts)
+        maps = strand_maps(hair_obj, s, verts, tris, points, counts)
         self.colliders = collider_objects(s)
         specs = []
         self.collider_counts = []
@@ -190,8 +158,7 @@ class Baker:
         )
         if s.threads > 0:
             options["threads"] = s.threads
-        if weights is not None:
-            options["goal_weights"] = weights
+        options.update(maps)
         self.session = hairsys.Session.from_groom(verts, tris, points, counts, **options)
         self.path = bpy.path.abspath(s.cache_path)
         self.session.write_cache(self.path)

@@ -15,11 +15,15 @@
 //!
 //! Goal (pin) weights may be given per point of the curves; with interpolated hairs each hair's
 //! weight at a fraction of its length is the blend (by the interpolation's guide weights) of its
-//! guides' weights at the same fraction.
+//! guides' weights at the same fraction. A host's painted maps reach the strands the same way:
+//! pinned points per curve point (curves simulated as they are), and per-curve factors of the
+//! material ([`StrandScales`]: stretch, bend, goal, damping, drag; interpolated hairs blend
+//! their guides' factors by the same weights), which is what `[[regions]]` and
+//! `[maps.stiffness]` give a scene's strands.
 
 use hair_core::{
     Anchor, Collider, Colliders, ContactSettings, ForceField, HairHairSettings, HairParams, Scalp,
-    Solver, SolverSettings, StrandInput, StrandSet, TriMesh,
+    Solver, SolverSettings, StrandInput, StrandScales, StrandSet, TriMesh,
 };
 use hair_groom::{Distance, Groom, Guide, InterpolateOptions, Region, SnapOptions};
 use nalgebra::{Isometry3, Vector2, Vector3};
@@ -44,6 +48,13 @@ pub struct GroomArrays<'a> {
     /// Goal weight of every curve point in [0, 1] (`None`: linear from
     /// [`GroomOptions::goal_root`] to [`GroomOptions::goal_tip`]).
     pub goal_weights: Option<&'a [f32]>,
+    /// Whether each curve point is pinned: held kinematically on its rest shape in the root
+    /// frame, so it follows the scalp rigidly (`None`: only the roots). Only for
+    /// [`SimHairs::Curves`].
+    pub pinned: Option<&'a [bool]>,
+    /// Each curve's factors of the material's stiffnesses, damping and drag (`None`: all 1);
+    /// interpolated hairs blend their guides' factors by their interpolation weights.
+    pub strand_scales: Option<&'a [StrandScales]>,
 }
 
 /// Which strands are simulated.
@@ -130,6 +141,7 @@ impl Session {
         let mesh = scalp_mesh(input)?;
         let curves = curves(input)?;
         let weights = goal_weights(input, options)?;
+        let pinned = pinned(input, options)?;
         let groom =
             Groom::new(curves).map_err(|e| Error::argument("curve_points", e.to_string()))?;
         let snapped = hair_groom::snap_to_scalp(
@@ -140,7 +152,19 @@ impl Session {
             },
         )
         .map_err(|e| Error::argument("curve_points", e.to_string()))?;
-        let inputs = strand_inputs(&mesh, &snapped.guides, &weights, options)?;
+        let (mut inputs, scales) = strand_inputs(
+            &mesh,
+            &snapped.guides,
+            &weights,
+            input.strand_scales,
+            options,
+        )?;
+        if let Some(pinned) = pinned {
+            for (s, p) in inputs.iter_mut().zip(pinned) {
+                s.pinned = p;
+                s.pinned[0] = true;
+            }
+        }
         let mut strands = StrandSet::new();
         for (i, s) in inputs.into_iter().enumerate() {
             strands
@@ -164,6 +188,11 @@ impl Session {
             options.first_frame,
         )
         .map_err(solver_error)?;
+        if let Some(scales) = scales {
+            solver = solver
+                .with_strand_scales(scales, &strands)
+                .map_err(|e| Error::argument("strand_scales", e.to_string()))?;
+        }
         if let Some(h) = options.hair_hair {
             solver = solver.with_hair_hair(h, &strands).map_err(solver_error)?;
         }
@@ -319,6 +348,60 @@ fn goal_weights(input: &GroomArrays<'_>, options: &GroomOptions) -> Result<Optio
     Ok(Some(out))
 }
 
+/// Pinned flags per curve, one per point (`None` without them); refused with interpolated
+/// hairs, whose points are not the curves'.
+fn pinned(input: &GroomArrays<'_>, options: &GroomOptions) -> Result<Option<Vec<Vec<bool>>>> {
+    let Some(p) = input.pinned else {
+        return Ok(None);
+    };
+    if options.sim_hairs != SimHairs::Curves {
+        return Err(Error::argument(
+            "pinned",
+            "pins points of the curves, which are guides when sim_hairs is given: pin with \
+             sim_hairs=None (the curves simulated themselves), or hold interpolated hairs with \
+             goal_weights of 1",
+        ));
+    }
+    if p.len() != input.curve_points.len() {
+        return Err(Error::argument(
+            "pinned",
+            format!(
+                "{} values for {} curve points: give shape ({},), one flag per point",
+                p.len(),
+                input.curve_points.len(),
+                input.curve_points.len()
+            ),
+        ));
+    }
+    let mut out = Vec::with_capacity(input.curve_counts.len());
+    let mut start = 0usize;
+    for &c in input.curve_counts {
+        out.push(p[start..start + c as usize].to_vec());
+        start += c as usize;
+    }
+    Ok(Some(out))
+}
+
+/// The blend of the guides' factors `scales` by `sources`' weights (which sum to 1).
+fn blend_scales(sources: &[hair_groom::GuideWeight], scales: &[StrandScales]) -> StrandScales {
+    let mut out = StrandScales {
+        stretch: 0.0,
+        bend: 0.0,
+        goal: 0.0,
+        damping: 0.0,
+        drag: 0.0,
+    };
+    for s in sources {
+        let g = &scales[s.guide];
+        out.stretch += s.weight * g.stretch;
+        out.bend += s.weight * g.bend;
+        out.goal += s.weight * g.goal;
+        out.damping += s.weight * g.damping;
+        out.drag += s.weight * g.drag;
+    }
+    out
+}
+
 /// `weights` (one per point along a curve) at fraction `t` ∈ [0, 1] of its points, linearly.
 fn weight_at(weights: &[f32], t: f32) -> f32 {
     let x = t * (weights.len() - 1) as f32;
@@ -328,13 +411,31 @@ fn weight_at(weights: &[f32], t: f32) -> f32 {
 }
 
 /// The strand inputs of the simulated hairs: the guides themselves or hairs interpolated from
-/// them, with masses, radius and goal weights from `options` and `weights`.
+/// them, with masses, radius and goal weights from `options` and `weights`, and their factors
+/// of the material from the curves' `scales` (one per curve, checked here).
 fn strand_inputs(
     mesh: &TriMesh,
     guides: &[Guide],
     weights: &Option<Vec<Vec<f32>>>,
+    scales: Option<&[StrandScales]>,
     options: &GroomOptions,
-) -> Result<Vec<StrandInput>> {
+) -> Result<(Vec<StrandInput>, Option<Vec<StrandScales>>)> {
+    if let Some(scales) = scales {
+        if scales.len() != guides.len() {
+            return Err(Error::argument(
+                "strand_scales",
+                format!(
+                    "{} entries for {} curves: give one per curve",
+                    scales.len(),
+                    guides.len()
+                ),
+            ));
+        }
+        for (i, s) in scales.iter().enumerate() {
+            s.validate(i)
+                .map_err(|e| Error::argument("strand_scales", e.to_string()))?;
+        }
+    }
     let make = |anchor, rest: Vec<Vector3<f32>>, goal: Option<Vec<f32>>| {
         let mut s = StrandInput::uniform(
             anchor,
@@ -350,14 +451,17 @@ fn strand_inputs(
         s
     };
     match options.sim_hairs {
-        SimHairs::Curves => Ok(guides
-            .iter()
-            .enumerate()
-            .map(|(i, g)| {
-                let goal = weights.as_ref().map(|w| w[i].clone());
-                make(Anchor::Surface(g.root), g.rest.clone(), goal)
-            })
-            .collect()),
+        SimHairs::Curves => Ok((
+            guides
+                .iter()
+                .enumerate()
+                .map(|(i, g)| {
+                    let goal = weights.as_ref().map(|w| w[i].clone());
+                    make(Anchor::Surface(g.root), g.rest.clone(), goal)
+                })
+                .collect(),
+            scales.map(<[StrandScales]>::to_vec),
+        )),
         SimHairs::Interpolated {
             count,
             k,
@@ -379,7 +483,13 @@ fn strand_inputs(
                 },
             )
             .map_err(|e| Error::argument("sim_hairs", e.to_string()))?;
-            Ok(hairs
+            let blended = scales.map(|scales| {
+                hairs
+                    .iter()
+                    .map(|h| blend_scales(&h.sources, scales))
+                    .collect()
+            });
+            let inputs = hairs
                 .into_iter()
                 .map(|h| {
                     let goal = weights.as_ref().map(|w| {
@@ -397,7 +507,8 @@ fn strand_inputs(
                     });
                     make(Anchor::Surface(h.root), h.rest, goal)
                 })
-                .collect())
+                .collect();
+            Ok((inputs, blended))
         }
     }
 }

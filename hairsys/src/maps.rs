@@ -12,7 +12,10 @@
 //!
 //! **Vertex values** (an OBJ scalp's vertex colours `v x y z r g b`; one channel) are blended
 //! with each root's barycentric weights on its scalp triangle, exactly as the root's position
-//! is: a value painted on a vertex is the value of a root at that vertex.
+//! is: a value painted on a vertex is the value of a root at that vertex. **Corner values** (a
+//! USD scalp's primvar, whatever its interpolation: [`crate::scene::map_primvars`]) are three
+//! values per triangle, blended the same way, so a `faceVarying` or `uniform` primvar keeps
+//! each face's own values where a vertex is shared.
 //!
 //! Sampling costs O(1) per root and happens once, when a scene is built. A density map is used
 //! as a [`hair_groom::RootDensity`] ([`MapDensity`]): roots are drawn by rejection against its
@@ -197,6 +200,9 @@ pub enum MapSource {
     },
     /// One value per scalp vertex, in the scalp mesh's vertex order.
     Vertex(Vec<f32>),
+    /// Values at the three corners of every scalp triangle, in the scalp mesh's triangle order
+    /// (a USD primvar of any interpolation: see [`crate::scene::map_primvars`]).
+    Corners(Vec<[f32; 3]>),
 }
 
 /// A painted map: a name (for messages and selections) and its values over the scalp.
@@ -238,6 +244,22 @@ impl ScalpMap {
                     ));
                 }
             }
+            MapSource::Corners(values) => {
+                let n = mesh.triangles().len();
+                if values.len() != n {
+                    return Err(format!(
+                        "{what} has values on {} triangles but the scalp mesh has {n}: paint \
+                         the map on the scalp mesh the scene uses",
+                        values.len()
+                    ));
+                }
+                if let Some(i) = values.iter().position(|v| !v.iter().all(|x| x.is_finite())) {
+                    return Err(format!(
+                        "{what} triangle {i} has the values {:?}; paint finite values",
+                        values[i]
+                    ));
+                }
+            }
         }
         Ok(Self {
             name: name.to_string(),
@@ -267,6 +289,11 @@ impl ScalpMap {
                     .map(|(&i, w)| values[i as usize] * w)
                     .sum())
             }
+            MapSource::Corners(values) => Ok(values[sample.triangle as usize]
+                .iter()
+                .zip(sample.weights)
+                .map(|(v, w)| v * w)
+                .sum()),
             MapSource::Texture { path, texture } => {
                 let uv = mesh
                     .sample_uv(sample)
@@ -291,6 +318,7 @@ impl ScalpMap {
         let values = match &self.source {
             MapSource::Vertex(values) => values.as_slice(),
             MapSource::Texture { texture, .. } => texture.values.as_slice(),
+            MapSource::Corners(corners) => corners.as_flattened(),
         };
         values
             .iter()
@@ -329,14 +357,26 @@ impl<'a> MapDensity<'a> {
     /// grow).
     pub fn new(map: &'a ScalpMap, mesh: &'a TriMesh) -> Result<Self, String> {
         let what = format!("[maps.{}]", map.name);
-        if let MapSource::Vertex(values) = &map.source {
-            if let Some(i) = values.iter().position(|v| *v < 0.0) {
-                return Err(format!(
-                    "{what} is {} at vertex {i}: a density is ≥ 0 (0 = no hair, the largest \
-                     value = the densest hair); paint values ≥ 0",
-                    values[i]
-                ));
-            }
+        let negative = match &map.source {
+            MapSource::Vertex(values) => values
+                .iter()
+                .position(|v| *v < 0.0)
+                .map(|i| (values[i], format!("vertex {i}"))),
+            MapSource::Corners(corners) => corners
+                .iter()
+                .position(|c| c.iter().any(|v| *v < 0.0))
+                .map(|t| {
+                    let v = corners[t].iter().copied().fold(f32::INFINITY, f32::min);
+                    (v, format!("a corner of triangle {t}"))
+                }),
+            // PNG values are in [0, 1].
+            MapSource::Texture { .. } => None,
+        };
+        if let Some((v, at)) = negative {
+            return Err(format!(
+                "{what} is {v} at {at}: a density is ≥ 0 (0 = no hair, the largest value = \
+                 the densest hair); paint values ≥ 0"
+            ));
         }
         let [_, max] = map.bounds();
         if max.is_nan() || max <= 0.0 {

@@ -46,6 +46,8 @@ fn arrays<'a>(g: &'a Groom, weights: Option<&'a [f32]>) -> GroomArrays<'a> {
         curve_points: &g.2,
         curve_counts: &g.3,
         goal_weights: weights,
+        pinned: None,
+        strand_scales: None,
     }
 }
 

@@ -46,7 +46,7 @@ fn the_keyed_gust_stays_out_of_the_head_and_unstretched() {
     assert!(r.strain.stretch.max() <= 0.02, "{:?}", r.strain);
     assert_eq!(r.hairpins.count, 0, "{:?}", r.hairpins);
     // Handed back at frame 30, the hair has fallen back near its groom by frame 48: tips within
-    // 2 cm RMS (measured 2026-11-24: 8.1 mm).
+    // 2 cm RMS (measured 2026-11-25: 8.4 mm).
     let last = q.last.drift.as_ref().unwrap();
     assert!(last.tip_rms < 0.02, "{last:?}");
 }
@@ -109,4 +109,29 @@ fn a_sweep_into_the_head_is_lifted_out_of_it_with_lengths_kept() {
     let free = small_gust(into_head, "");
     let p = free.run.penetration.as_ref().unwrap();
     assert!(p.deepest > 0.01, "without the lift: {p:?}");
+}
+
+/// The shipped gust once grew its 2,000 sim hairs over the whole head — face and neck too, where
+/// no guide grows — so hair covered the face and stood out under the chin. Its sim hairs now
+/// grow only near the guides (`[sim_hairs] max_guide_distance`), whose region is the cone of
+/// root normals within 88° of `[0, 0.4, 1]`: every sim root's normal lies within that cone
+/// widened by the 1.5 cm reach on the 8 cm-radius head (about 11°). The face (normal −Y) is
+/// 112° off the axis.
+#[test]
+fn gust_hair_grows_only_where_its_guides_grow() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/gust.toml");
+    let sim = SceneFile::load(&path).unwrap().build().unwrap();
+    let scalp = sim.scalp_at(sim.first_frame as f32);
+    let mesh = scalp.mesh.as_ref().unwrap();
+    let axis = nalgebra::Vector3::new(0.0f32, 0.4, 1.0).normalize();
+    let widest = (88.0f32 + 11.0).to_radians().cos();
+    let strands = &sim.strands;
+    assert!(strands.len() >= 2000);
+    for anchor in strands.anchors() {
+        let hair_core::Anchor::Surface(sample) = anchor else {
+            panic!("the gust's hair grows on the head")
+        };
+        let normal = mesh.evaluate(sample).rotation * nalgebra::Vector3::z();
+        assert!(normal.dot(&axis) >= widest, "a root with normal {normal:?}");
+    }
 }

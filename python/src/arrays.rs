@@ -111,6 +111,19 @@ where
     with_float_rows(obj, name, expected, |rows| Ok(rows.to_vec()))
 }
 
+/// A 1-D boolean array (numpy dtype `bool`) as bools.
+pub fn bools(obj: &Bound<'_, PyAny>, name: &str, expected: &str) -> PyResult<Vec<bool>> {
+    let arr = as_array(obj, name)?;
+    check_shape(&arr, name, None, expected)?;
+    match kind(&arr) {
+        ('b', 1) => Ok(arr.cast::<PyArray1<bool>>()?.readonly().as_array().to_vec()),
+        (k, size) => Err(argument(
+            name,
+            format!("has dtype kind '{k}' of {size} bytes, expected bool of {expected}"),
+        )),
+    }
+}
+
 /// A 1-D float array (float32 or float64) as f32.
 pub fn floats(obj: &Bound<'_, PyAny>, name: &str, expected: &str) -> PyResult<Vec<f32>> {
     let arr = as_array(obj, name)?;

@@ -1,14 +1,14 @@
 //! `Session.from_groom`'s arguments: the arrays (checked for shape and dtype) and the keyword
 //! options, mapped onto [`hairsys::groom_input`].
 
-use hair_core::{Collider, ColliderShape, HairHairSettings, Substeps, TriMesh};
+use hair_core::{Collider, ColliderShape, HairHairSettings, StrandScales, Substeps, TriMesh};
 use hairsys::groom_input::{GroomArrays, GroomOptions, SimHairs};
 use hairsys::scene::ScalpCollider;
 use nalgebra::{Isometry3, Vector3};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::arrays::{float_rows, floats, indices, isometry};
+use crate::arrays::{bools, float_rows, floats, indices, isometry};
 use crate::errors::argument;
 
 /// The arrays of a groom, owned (converted from the host's dtypes).
@@ -19,10 +19,13 @@ pub struct GroomInput {
     curve_points: Vec<[f32; 3]>,
     curve_counts: Vec<u32>,
     goal_weights: Option<Vec<f32>>,
+    pinned: Option<Vec<bool>>,
+    strand_scales: Option<Vec<StrandScales>>,
 }
 
 impl GroomInput {
-    /// Reads the positional arrays and the `scalp_uvs` / `goal_weights` options.
+    /// Reads the positional arrays and the `scalp_uvs`, `goal_weights`, `pinned` and
+    /// `strand_scales` options.
     pub fn read(
         scalp_vertices: &Bound<'_, PyAny>,
         scalp_triangles: &Bound<'_, PyAny>,
@@ -39,6 +42,14 @@ impl GroomInput {
             Some(w) => Some(floats(&w, "goal_weights", "(P,)")?),
             None => None,
         };
+        let pinned = match option(options, "pinned")? {
+            Some(p) => Some(bools(&p, "pinned", "(P,)")?),
+            None => None,
+        };
+        let strand_scales = match option(options, "strand_scales")? {
+            Some(d) => strand_scales(&d)?,
+            None => None,
+        };
         Ok(Self {
             scalp_vertices: float_rows::<3>(scalp_vertices, "scalp_vertices", "(V, 3)")?,
             scalp_triangles: triangles
@@ -49,6 +60,8 @@ impl GroomInput {
             curve_points: float_rows::<3>(curve_points, "curve_points", "(P, 3)")?,
             curve_counts: indices(curve_counts, "curve_counts", None, "(C,)")?,
             goal_weights,
+            pinned,
+            strand_scales,
         })
     }
 
@@ -61,14 +74,68 @@ impl GroomInput {
             curve_points: &self.curve_points,
             curve_counts: &self.curve_counts,
             goal_weights: self.goal_weights.as_deref(),
+            pinned: self.pinned.as_deref(),
+            strand_scales: self.strand_scales.as_deref(),
         }
     }
+}
+
+/// The factors [`StrandScales`] names, as `strand_scales` keys.
+const SCALE_KEYS: [&str; 5] = ["stretch", "bend", "goal", "damping", "drag"];
+
+/// `strand_scales={"bend": (C,), …}`: per-curve factors, each key one of [`SCALE_KEYS`] with
+/// one value per curve; factors left out are 1 (an empty dict: `None`, every factor 1).
+fn strand_scales(obj: &Bound<'_, PyAny>) -> PyResult<Option<Vec<StrandScales>>> {
+    let d = obj.cast::<PyDict>().map_err(|_| {
+        argument(
+            "strand_scales",
+            format!(
+                "give a dict of (C,) arrays with keys {}",
+                SCALE_KEYS.join(", ")
+            ),
+        )
+    })?;
+    let mut out: Option<Vec<StrandScales>> = None;
+    for (key, value) in d.iter() {
+        let key: String = key.extract()?;
+        let name = format!("strand_scales[{key:?}]");
+        if !SCALE_KEYS.contains(&key.as_str()) {
+            return Err(argument(
+                &name,
+                format!("is not a factor; the keys are {}", SCALE_KEYS.join(", ")),
+            ));
+        }
+        let values = floats(&value, &name, "(C,)")?;
+        let scales = out.get_or_insert_with(|| vec![StrandScales::ONE; values.len()]);
+        if values.len() != scales.len() {
+            return Err(argument(
+                &name,
+                format!(
+                    "has {} values but another factor has {}: give one per curve",
+                    values.len(),
+                    scales.len()
+                ),
+            ));
+        }
+        for (s, v) in scales.iter_mut().zip(values) {
+            match key.as_str() {
+                "stretch" => s.stretch = v,
+                "bend" => s.bend = v,
+                "goal" => s.goal = v,
+                "damping" => s.damping = v,
+                _ => s.drag = v,
+            }
+        }
+    }
+    Ok(out)
 }
 
 /// Every keyword `from_groom` takes.
 const KEYS: &[&str] = &[
     "scalp_uvs",
     "goal_weights",
+    "pinned",
+    "strand_scales",
     "sim_hairs",
     "k",
     "points",

@@ -197,7 +197,8 @@ impl PySession {
     /// frame): `scalp_vertices` (V, 3) float, `scalp_triangles` (T, 3) int, `curve_points`
     /// (P, 3) float (every curve root first, curve after curve), `curve_counts` (C,) int
     /// (points per curve, ≥ 2, adding up to P). Keyword options (units in the stub
-    /// `hairsys.pyi`): scalp_uvs, goal_weights (P,), sim_hairs (None: simulate the curves
+    /// `hairsys.pyi`): scalp_uvs, goal_weights (P,), pinned (P,) bool, strand_scales (dict
+    /// of (C,) factors: stretch, bend, goal, damping, drag), sim_hairs (None: simulate the curves
     /// themselves, in order; an int: interpolate that many hairs from the curves as guides),
     /// k, points, seed, fps, first_frame, steps, substeps, damping_iterations, gravity,
     /// stretch_stiffness, bend_stiffness, goal_stiffness, stretch_damping, air_drag,

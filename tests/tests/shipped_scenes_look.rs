@@ -12,6 +12,12 @@
 //!   5 mm RMS from the groom posed on the scalp (a head easing into a turn moves hair by a few mm
 //!   in 1/24 s; a sagging or collapsing groom moves it by centimetres). Not checked where the
 //!   head turns at full speed from the first frame (strips), since lag and sag look alike there.
+//! - **velocities that moved the points**: the velocity–position mismatch between frames
+//!   (`hair_core::quality`: the mean velocity the positions imply against the trapezoid of the
+//!   stored ones) has p99 ≤ 0.25 m/s. Hermite sampling between frames then leaves the path by at
+//!   most 0.096·Δt·0.25 m/s = 1 mm at 24 fps for 99 % of points. A stale velocity — a position
+//!   correction not handed on to the velocity, as the strain limit once did — reads directly:
+//!   it made Sintel's p99 0.67 m/s and a hanging strand's 2.1 m/s.
 //!
 //! Sintel's bust is coarser than the groom made for her: three wisps rooted above her right ear
 //! start inside the gap between ear and head, so her deepest point is allowed 2 mm and says so.
@@ -71,6 +77,8 @@ struct Bounds {
     start_rms: Option<f32>,
     /// Point-frames turning by more than 90° allowed (0 but for Sintel's known flaw).
     hairpins: u64,
+    /// p99 of the velocity–position mismatch between frames, m/s.
+    mismatch_p99: f32,
 }
 
 const CLEAN: Bounds = Bounds {
@@ -80,6 +88,7 @@ const CLEAN: Bounds = Bounds {
     max_strain: 0.01,
     start_rms: Some(5e-3),
     hairpins: 0,
+    mismatch_p99: 0.25,
 };
 
 fn check(name: &str, q: &RunQuality, b: Bounds) {
@@ -102,6 +111,11 @@ fn check(name: &str, q: &RunQuality, b: Bounds) {
         r.strain
     );
     assert!(r.hairpins.count <= b.hairpins, "{name}: {:?}", r.hairpins);
+    let mismatch = r.velocity_mismatch.as_ref().expect("two frames or more");
+    assert!(
+        mismatch.p99() <= b.mismatch_p99,
+        "{name}: velocity mismatch {mismatch:?}"
+    );
     if let Some(bound) = b.start_rms {
         let start = q.first_step.drift.as_ref().unwrap();
         assert!(start.rms < bound, "{name}: first step {start:?}");
@@ -135,11 +149,26 @@ fn default_groom_does_not_sag_when_the_simulation_starts() {
 /// The character: a deforming mesh (Blender's skinned head turn and shrug, read from USD) is
 /// scalp and collider. Also: the report measured from its cache, where the mesh is placed at
 /// each cached frame, is the run's own.
+///
+/// Its mesh is given at whole frames and moves linearly between them (as the contacts assume),
+/// so every root's velocity jumps at every frame and its mismatch is exactly half the jump
+/// (measured 2026-11-25 from the cache: equal to the root's `|v₁ − v₀|/2` in every frame, p99
+/// 0.16 m/s at the roots), and the hair it drags inherits the kinks (p99 0.59 m/s over all
+/// points; the same with the collider or the strain limit taken out, so no correction causes
+/// it). Its mismatch is allowed 0.75 m/s: what a piecewise-linear drive gives, not a stale
+/// velocity.
 #[test]
 fn character() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/character.toml");
     let q = run_checked(SceneFile::load(&path).unwrap(), Some(&path), true);
-    check("character", &q, CLEAN);
+    check(
+        "character",
+        &q,
+        Bounds {
+            mismatch_p99: 0.75,
+            ..CLEAN
+        },
+    );
 }
 
 #[test]
@@ -169,7 +198,12 @@ fn strips_head() {
 #[test]
 fn parity() {
     // No collider (a comparison scene against Blender); its strain limit is 1.5 %; the head
-    // moves 1 m in the first frames (linear), so lag and sag look alike there.
+    // moves 1 m in the first frames (linear), so lag and sag look alike there. Its head, like
+    // every scalp, moves linearly between the frame's key poses (as the contacts assume): the
+    // roots' velocities jump at every frame by up to 1.2 m/s (1 m eased over 11 frames), their
+    // mismatch is half the jump (p99 0.72 m/s at the roots, measured 2026-11-25 from the cache),
+    // and 1.5 m strands amplify it to the tips (p99 4.6 m/s there, 1.02 m/s over all points).
+    // Allowed 1.5 m/s: what the drive gives, not a stale velocity (see `character`).
     check(
         "parity",
         &run("parity.toml"),
@@ -177,6 +211,7 @@ fn parity() {
             colliders: false,
             max_strain: 0.015,
             start_rms: None,
+            mismatch_p99: 1.5,
             ..CLEAN
         },
     );

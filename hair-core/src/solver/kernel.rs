@@ -147,8 +147,6 @@ pub(crate) struct Scratch<L: Lane> {
     pub(super) inv_mass: Vec<L>,
     /// Each lane's stretch stiffness (the step's × its strand's scale), N/m.
     pub(super) stretch_k: L,
-    /// Each lane's stretch compliance `1 / stretch_k`, m/N (XPBD; 0 where stretch is off).
-    pub(super) stretch_compliance: L,
     /// Each lane's air drag rate, 1/s.
     pub(super) drag: L,
     /// Each lane's stretch damping rate, 1/s (0 when the damping sub-loop is off).
@@ -264,11 +262,6 @@ impl<L: Lane> Scratch<L> {
         // Per-strand parameters: each lane loads its own strand's scaled values (a unit scale
         // gives the step's value bit for bit).
         self.stretch_k = lanes1(&|s| c.stretch * s.scales.stretch);
-        self.stretch_compliance = if c.stretch > 0.0 {
-            lanes1(&|s| 1.0 / (c.stretch * s.scales.stretch))
-        } else {
-            L::default()
-        };
         self.drag = lanes1(&|s| c.drag * s.scales.drag);
         self.damp_rate = lanes1(&|s| c.damp_rate * s.scales.damping);
         let damp_fraction =

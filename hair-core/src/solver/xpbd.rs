@@ -174,7 +174,8 @@ impl<L: Lane> XpbdScratch<L> {
         let one = splat::<L>(1.0);
         let inv_h2 = splat::<L>(1.0 / (c.dt * c.dt));
         let stretch = if c.stretch > 0.0 {
-            inv_h2 * g.stretch_compliance
+            // Compliance 1/k, m/N.
+            inv_h2 * (one / g.stretch_k)
         } else {
             one
         };

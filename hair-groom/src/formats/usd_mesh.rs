@@ -69,6 +69,8 @@ pub struct UsdMeshSource {
     point_of_vertex: Vec<u32>,
     /// Per mesh vertex, its UV, when the prim has UVs.
     uvs: Option<Vec<Vector2<f32>>>,
+    /// Whether the fans' winding is flipped (left-handed or mirrored), for [`Self::primvar`].
+    flip: bool,
     /// Times the mesh may be read at: the stage's authored range, or the samples' range.
     range: Option<(f64, f64)>,
     /// Whether `points` or a transform of the prim or an ancestor has more than one sample.
@@ -150,12 +152,13 @@ impl UsdMeshSource {
             .as_deref()
             == Some("leftHanded");
         let mirrored = world.fixed_view::<3, 3>(0, 0).determinant() < 0.0;
+        let flip = left_handed != mirrored;
         let (triangles, point_of_vertex, uvs) = triangulate(
             &face_counts,
             &corners,
             point_count,
             uv_corners.as_deref(),
-            left_handed != mirrored,
+            flip,
         );
         Ok(Self {
             path: path.to_path_buf(),
@@ -172,6 +175,7 @@ impl UsdMeshSource {
             triangles,
             point_of_vertex,
             uvs,
+            flip,
             range,
             animated,
         })
@@ -569,16 +573,33 @@ fn triangulate(
         })
     };
     let mut triangles = Vec::with_capacity(corners.len());
-    let mut start = 0usize;
-    for &c in counts {
-        let c = c as usize;
-        for k in 1..c - 1 {
-            let (a, b, d) = (vertex(start), vertex(start + k), vertex(start + k + 1));
-            triangles.push(if flip { [a, d, b] } else { [a, b, d] });
-        }
-        start += c;
+    for (_, [a, b, d]) in fans(counts) {
+        triangles.push(wind([vertex(a), vertex(b), vertex(d)], flip));
     }
     (triangles, point_of_vertex, vertex_uvs)
+}
+
+/// The fan triangulation of faces of `counts` corners (each ≥ 3, checked by `check_faces`),
+/// triangle after triangle: its face and its three face corners (indices into
+/// `faceVertexIndices`) before [`wind`].
+fn fans(counts: &[i32]) -> impl Iterator<Item = (usize, [usize; 3])> + '_ {
+    let starts = counts.iter().scan(0usize, |start, &c| {
+        let s = *start;
+        *start += c as usize;
+        Some((s, c as usize))
+    });
+    starts
+        .enumerate()
+        .flat_map(|(face, (s, c))| (1..c - 1).map(move |k| (face, [s, s + k, s + k + 1])))
+}
+
+/// A fan triangle's corners in the mesh's winding: `[a, b, c]`, or `[a, c, b]` when `flip`.
+fn wind<T: Copy>([a, b, c]: [T; 3], flip: bool) -> [T; 3] {
+    if flip {
+        [a, c, b]
+    } else {
+        [a, b, c]
+    }
 }
 
 /// Time sample times of every xformOp on the prim at `prim_path` and its ancestors (up to a
@@ -613,5 +634,7 @@ fn xform_sample_times(stage: &Stage, prim_path: &str) -> Result<Vec<Vec<f64>>, S
     Ok(out)
 }
 
+mod primvar;
+pub use primvar::{CornerValues, PrimvarInterpolation};
 #[cfg(test)]
 mod tests;

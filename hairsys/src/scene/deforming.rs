@@ -76,6 +76,21 @@ pub struct UsdMeshSection {
 }
 
 impl UsdMeshSection {
+    /// The prim and units to open the stage with.
+    pub fn options(&self) -> UsdMeshOptions {
+        let units = match (self.scale, self.up_axis) {
+            (None, None) => None,
+            (scale, up_axis) => Some(ObjOptions {
+                scale: scale.unwrap_or(1.0),
+                up_axis: up_axis.unwrap_or_default(),
+            }),
+        };
+        UsdMeshOptions {
+            prim: self.prim.clone(),
+            units,
+        }
+    }
+
     /// The stage time code read at scene frame `frame`.
     pub fn time_code(&self, frame: f64) -> f64 {
         self.time_offset + self.time_scale * frame
@@ -218,22 +233,8 @@ pub fn load(
     match source {
         DeformingSource::Usd(s) => {
             s.check_time_mapping()?;
-            let units = match (s.scale, s.up_axis) {
-                (None, None) => None,
-                (scale, up_axis) => Some(ObjOptions {
-                    scale: scale.unwrap_or(1.0),
-                    up_axis: up_axis.unwrap_or_default(),
-                }),
-            };
             let path = base_dir.join(&s.path);
-            let usd = UsdMeshSource::open(
-                &path,
-                &UsdMeshOptions {
-                    prim: s.prim.clone(),
-                    units,
-                },
-            )
-            .map_err(|e| e.to_string())?;
+            let usd = UsdMeshSource::open(&path, &s.options()).map_err(|e| e.to_string())?;
             let what = format!("{} prim {}", s.path.display(), usd.prim());
             let at = |f: u32| s.time_code(f64::from(f));
             let rest = usd.mesh_at(at(first)).map_err(|e| e.to_string())?;

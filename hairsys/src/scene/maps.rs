@@ -19,6 +19,9 @@
 //!
 //! [maps.fringe]               # any other name: a map selections use
 //! texture = "fringe.png"      # [guides.hold_out] map = { name = "fringe", min = 0.5 }
+//!
+//! [maps.stiffness]            # a USD scalp's primvar (kind = "usd"), any interpolation:
+//! primvar = "stiff"           # primvars:stiff, e.g. a vertex group exported by Blender
 //! ```
 //!
 //! Names with a purpose: `goal` multiplies the goal weight of every point of each hair grown on
@@ -76,7 +79,8 @@ pub const APPLIED: [(&str, &str); 7] = [
     ("curl", "scales the render children's curl radius"),
 ];
 
-/// `[maps.NAME]`: where one map's values come from. Give `texture` or `vertex_colors`.
+/// `[maps.NAME]`: where one map's values come from. Give `texture`, `vertex_colors` or
+/// `primvar`.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MapSection {
@@ -86,6 +90,11 @@ pub struct MapSection {
     /// The OBJ scalp's vertex colours (`v x y z r g b`).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub vertex_colors: bool,
+    /// A primvar of the USD scalp's `Mesh` prim by name (`"density"` reads
+    /// `primvars:density`): float values, or one `channel` of a color3f/float3 primvar, of any
+    /// interpolation (see [`super::map_primvars`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub primvar: Option<String>,
     /// Colour channel: `"r"` (default), `"g"`, `"b"` or `"a"` (textures only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub channel: Option<String>,
@@ -162,9 +171,10 @@ fn describe(section: &MapSection, channel: Channel) -> String {
         Channel::B => "b",
         Channel::A => "a",
     };
-    match &section.texture {
-        Some(file) => format!("texture {} (channel {channel})", file.display()),
-        None => format!("the scalp's vertex colours (channel {channel})"),
+    match (&section.texture, &section.primvar) {
+        (Some(file), _) => format!("texture {} (channel {channel})", file.display()),
+        (None, Some(name)) => format!("the USD scalp's primvars:{name}"),
+        (None, None) => format!("the scalp's vertex colours (channel {channel})"),
     }
 }
 
@@ -175,13 +185,16 @@ impl ScalpMaps {
     }
 
     /// Reads every `[maps.NAME]` section: textures relative to `base_dir`, vertex colours from
-    /// `colors` (the OBJ scalp's, `None` for another scalp), each checked against `mesh`.
-    /// `used` are the names selections use. Errors name the section, the file and the fix.
+    /// `colors` (the OBJ scalp's, `None` for another scalp), primvars from `primvar` (name and
+    /// channel, if one is given, to per-triangle corner values of the scalp), each checked
+    /// against `mesh`. `used` are the names selections use. Errors name the section, the file
+    /// and the fix.
     pub fn load(
         sections: &BTreeMap<String, MapSection>,
         base_dir: &Path,
         mesh: &TriMesh,
         colors: impl FnOnce() -> Result<Option<Vec<[f32; 3]>>, String>,
+        primvar: impl Fn(&str, Option<Channel>) -> Result<Vec<[f32; 3]>, String>,
         used: &[&str],
     ) -> Result<Self, String> {
         let mut colors = Some(colors);
@@ -205,6 +218,11 @@ impl ScalpMaps {
                     format!("{what} channel = \"{c}\": use \"r\", \"g\", \"b\" or \"a\"")
                 })?,
             };
+            if s.primvar.is_some() && (s.texture.is_some() || s.vertex_colors) {
+                return Err(format!(
+                    "{what}: give one of `texture`, `vertex_colors = true` and `primvar`"
+                ));
+            }
             let source = match (&s.texture, s.vertex_colors) {
                 (Some(_), true) => {
                     return Err(format!(
@@ -212,10 +230,24 @@ impl ScalpMaps {
                     ))
                 }
                 (None, false) => {
-                    return Err(format!(
-                        "{what} has no values: give `texture = \"map.png\"` (over the scalp's \
-                         UVs) or `vertex_colors = true` (an OBJ scalp's `v x y z r g b`)"
-                    ))
+                    let Some(name) = &s.primvar else {
+                        return Err(format!(
+                            "{what} has no values: give `texture = \"map.png\"` (over the \
+                             scalp's UVs), `vertex_colors = true` (an OBJ scalp's \
+                             `v x y z r g b`) or `primvar = \"NAME\"` (a USD scalp's)"
+                        ));
+                    };
+                    if channel == Channel::A {
+                        return Err(format!(
+                            "{what} channel = \"a\": a primvar map reads a float or one \
+                             channel of a color3f/float3 primvar; use r, g or b"
+                        ));
+                    }
+                    let given = s.channel.is_some().then_some(channel);
+                    MapSource::Corners(
+                        primvar(name, given)
+                            .map_err(|e| format!("{what} primvar = \"{name}\": {e}"))?,
+                    )
                 }
                 (Some(file), false) => {
                     let path = base_dir.join(file);
@@ -237,7 +269,8 @@ impl ScalpMaps {
                         return Err(format!(
                             "{what} vertex_colors: the scalp has no vertex colours; vertex \
                              colours come from an OBJ scalp with `v x y z r g b` on every \
-                             vertex (USD primvars are not read yet): use a texture"
+                             vertex (a USD scalp's values: `primvar = \"NAME\"`): use a \
+                             texture"
                         ));
                     };
                     let c = match channel {

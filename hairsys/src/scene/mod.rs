@@ -28,6 +28,7 @@ pub mod deforming;
 pub mod fields;
 pub mod guide_anim;
 pub mod guides;
+pub mod map_primvars;
 pub mod maps;
 pub mod motion;
 pub mod regions;
@@ -1144,6 +1145,7 @@ impl SceneFile {
             &self.base_dir,
             mesh,
             || crate::children::scalp_colors(self),
+            |name, channel| map_primvars::scalp_primvar(self, name, channel),
             &used,
         )
     }
