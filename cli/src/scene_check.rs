@@ -1,11 +1,15 @@
 //! `hairsys scene check`: everything a run of a scene will use, from the built scene and its
 //! strand solver, without stepping — strands and frames, the model, the force substeps (what
 //! `substeps = "auto"` resolves to, with the stability bound), the model components, colliders
-//! (name, shape, motion), hair–hair, force fields, guides, and the budget figures beside their
-//! limits. Printed as text or, with `--json`, one JSON object.
+//! (name, shape, motion), hair–hair, force fields, guides, painted maps (source, purpose, the
+//! values at the roots), regions (selection, strands, parameters), and the budget figures beside
+//! their limits. Printed as text or, with `--json`, one JSON object.
 
 use hair_core::{ColliderShape, Component, FieldKind, RodParams, StrandModel, Substeps};
 use hairsys::budget::{Budget, BYTES_PER_POINT};
+use hairsys::scene::guide_anim::HairSelection;
+use hairsys::scene::maps::MapSummary;
+use hairsys::scene::regions::RegionParams;
 use hairsys::scene::{SceneCollider, Simulation};
 use serde::Serialize;
 
@@ -46,6 +50,10 @@ pub struct SceneReport {
     pub fields: Vec<&'static str>,
     /// What `[guides]` and `[sim_hairs]` built, in words.
     pub guides: Option<String>,
+    /// The `[maps.NAME]` sections: source, purpose, values at the scalp-rooted strands' roots.
+    pub maps: Vec<MapSummary>,
+    /// The `[[regions]]`, in file order.
+    pub regions: Vec<RegionReport>,
     /// The budget figures checked before work.
     pub budget: BudgetReport,
 }
@@ -63,6 +71,20 @@ pub struct ColliderReport {
     pub thickness: f32,
     /// Coulomb friction coefficient.
     pub friction: f32,
+}
+
+/// One `[[regions]]` entry of the run.
+#[derive(Debug, Serialize)]
+pub struct RegionReport {
+    /// Its name.
+    pub name: String,
+    /// How it selects hair (`guides`, `strands`, `region`, `map`), as the scene gives it.
+    pub selection: HairSelection,
+    /// Strands it holds (a strand in two regions counts in both; see "Overlaps" in
+    /// `hairsys::scene::regions`).
+    pub strands: usize,
+    /// The parameters it sets (`[physics]` keys in their units, `mass_scale`, `radius_scale`).
+    pub params: RegionParams,
 }
 
 /// A run's estimates beside the limits they were checked against (see [`hairsys::budget`]).
@@ -126,6 +148,18 @@ pub fn report(scene: &str, sim: &Simulation, budget: Budget) -> Result<SceneRepo
         hair_hair: sim.hair_hair,
         fields: sim.fields.iter().map(|f| field_kind(&f.kind)).collect(),
         guides: sim.guides_report.clone(),
+        maps: sim.maps.clone(),
+        regions: sim
+            .regions
+            .regions
+            .iter()
+            .map(|r| RegionReport {
+                name: r.name.clone(),
+                selection: r.selection.clone(),
+                strands: r.strands.len(),
+                params: r.params,
+            })
+            .collect(),
         budget: BudgetReport {
             memory_bytes: points as f64 * BYTES_PER_POINT as f64,
             memory_limit: (budget.memory_bytes != u64::MAX).then_some(budget.memory_bytes as f64),
@@ -182,6 +216,11 @@ fn collider(i: usize, c: &SceneCollider) -> ColliderReport {
         thickness: c.collider.thickness,
         friction: c.collider.friction,
     }
+}
+
+/// `value` as one line of JSON (`{"bend_stiffness":4.0}`), for the text report.
+fn inline(value: &impl Serialize) -> String {
+    serde_json::to_string(value).unwrap_or_else(|e| format!("({e})"))
 }
 
 /// The `[[fields]] type` of `kind`.
@@ -250,6 +289,27 @@ impl std::fmt::Display for SceneReport {
         }
         if let Some(g) = &self.guides {
             writeln!(f, "  guides: {g}")?;
+        }
+        for m in &self.maps {
+            let range = match m.range {
+                Some([lo, hi]) => format!("{lo:.4}–{hi:.4} at {} roots", m.roots),
+                None => "no scalp-rooted strands".into(),
+            };
+            writeln!(
+                f,
+                "  map {}: {}; {}; values {range}",
+                m.name, m.source, m.purpose
+            )?;
+        }
+        for r in &self.regions {
+            writeln!(
+                f,
+                "  region {}: {} strands selected by {}; sets {}",
+                r.name,
+                r.strands,
+                inline(&r.selection),
+                inline(&r.params)
+            )?;
         }
         let of = |limit: Option<f64>| match limit {
             Some(l) => format!("limit {l:.3e}"),

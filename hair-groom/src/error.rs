@@ -121,6 +121,14 @@ pub enum GroomError {
         /// Index of the simulation hair (its root in the list of roots).
         hair: usize,
     },
+    /// A root density ([`crate::RootDensity`]) refused the sampling: a value out of range, an
+    /// error of its own (e.g. a texture that does not cover a root's UV), or too little density
+    /// to grow the hair asked for.
+    #[error("{message}")]
+    Density {
+        /// What is wrong and how to fix it.
+        message: String,
+    },
     /// An option or parameter is out of range, or `hair-core` refused the data built from it.
     #[error(transparent)]
     Core(#[from] HairError),

@@ -10,7 +10,9 @@ use nalgebra::Vector3;
 
 use crate::error::{parameter, GroomError};
 use crate::rng::{self, Purpose};
-use crate::sampling::{sample_area_weighted, Region};
+#[cfg(doc)]
+use crate::sampling::sample_area_weighted;
+use crate::sampling::{sample_roots, Region, RootDensity};
 
 /// What to grow. The field names are the scene-file keys under `[hair]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -111,8 +113,19 @@ impl GenerateOptions {
 /// from an independent stream of the same seed, so changing `length_variation` never moves a
 /// root. Masses, radii and goal weights follow [`StrandInput::uniform`].
 pub fn generate(mesh: &TriMesh, opts: &GenerateOptions) -> Result<Vec<StrandInput>, GroomError> {
+    generate_with_density(mesh, opts, None)
+}
+
+/// [`generate()`] with the roots distributed by `density` ([`sample_roots`]: still
+/// `opts.count` strands, denser where the density is higher; a density at its maximum
+/// everywhere gives [`generate()`]'s strands bit for bit).
+pub fn generate_with_density(
+    mesh: &TriMesh,
+    opts: &GenerateOptions,
+    density: Option<&dyn RootDensity>,
+) -> Result<Vec<StrandInput>, GroomError> {
     opts.validate()?;
-    let roots = sample_area_weighted(mesh, opts.count, opts.seed, &opts.region)?;
+    let roots = sample_roots(mesh, opts.count, opts.seed, &opts.region, density)?;
     let mut lengths = rng::stream(opts.seed, Purpose::Lengths);
     let strands = roots
         .into_iter()

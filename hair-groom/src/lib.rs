@@ -2,7 +2,7 @@
 //!
 //! The guide level of hairsys (seed 001, "Hair Levels"): the scalp meshes hair grows from
 //! ([`load_obj`], [`builtin_head`], [`uv_sphere`]), seeded points on them ([`sample_area_weighted`],
-//! [`sample_poisson_disk`] with an optional density from vertex weights), generated straight hair
+//! [`sample_roots`] and [`sample_poisson_disk`] with an optional [`RootDensity`]), generated straight hair
 //! handed to `hair-core` directly ([`generate()`]), and the guide workflow:
 //!
 //! 1. a [`Groom`] (world-space curves, m, Z up) read from a file ([`read_groom`]: Cem Yuksel
@@ -71,12 +71,15 @@ pub use formats::tfx::{read_tfx, write_tfx};
 pub use formats::usd::{read_usd, read_usda, write_usda, UsdCurves, UsdReadOptions};
 pub use formats::usd_mesh::{CornerValues, PrimvarInterpolation, UsdMeshOptions, UsdMeshSource};
 pub use formats::{read_groom, write_groom, GroomFormat, ImportOptions};
-pub use generate::{generate, GenerateOptions};
+pub use generate::{generate, generate_with_density, GenerateOptions};
 pub use groom::{groom_info, Groom, GroomInfo};
 pub use guides::{generate_guides, Curl, GrowDirection, GuideOptions};
 pub use interpolate::{interpolate, Distance, GuideWeight, InterpolateOptions, SimHair};
 pub use reinterpolate::GuideBlend;
-pub use sampling::{sample_area_weighted, sample_poisson_disk, Region};
+pub use sampling::{
+    sample_area_weighted, sample_poisson_disk, sample_roots, Region, RootDensity, RootSampler,
+    VertexDensity,
+};
 pub use shapes::{builtin_head, uv_sphere};
 pub use snap::{guides_to_groom, snap_to_scalp, Guide, SnapOptions, Snapped};
 pub use style::{

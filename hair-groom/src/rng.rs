@@ -20,6 +20,8 @@ pub(crate) enum Purpose {
     Poisson,
     /// Layer heights of hair laid over the scalp ([`crate::style`]).
     Layers,
+    /// Density keep tests of area-weighted roots ([`crate::sampling::RootSampler`]).
+    Density,
 }
 
 /// The generator for `purpose` under the user's `seed`.
@@ -31,6 +33,7 @@ pub(crate) fn stream(seed: u64, purpose: Purpose) -> Pcg64 {
         Purpose::Lengths => 0x6c65_6e67_7468_7321, // "lengths!"
         Purpose::Poisson => 0x706f_6973_736f_6e21, // "poisson!"
         Purpose::Layers => 0x6c61_7965_7273_2121,  // "layers!!"
+        Purpose::Density => 0x6465_6e73_6974_7921, // "density!"
     };
     Pcg64::seed_from_u64(seed ^ tag)
 }

@@ -1,6 +1,7 @@
 //! Seeded points on a mesh surface ([`MeshSample`]s, seed 001 "Mesh Point Sampling"), the roots of
-//! generated hair and of simulation hairs: area-weighted random ([`sample_area_weighted`]) and
-//! Poisson-disk ([`sample_poisson_disk`], optionally with a density from vertex weights).
+//! generated hair and of simulation hairs: area-weighted random ([`sample_area_weighted`],
+//! [`sample_roots`] with a [`RootDensity`], [`RootSampler`] for callers that filter further) and
+//! Poisson-disk ([`sample_poisson_disk`], optionally with a density).
 //!
 //! A triangle is picked with probability proportional to its area (binary search in the
 //! cumulative areas), then a point uniform within it by the square-root trick: with `r1`, `r2`
@@ -8,6 +9,18 @@
 //! uniform over the triangle. Areas are summed in f64 from the current vertex positions; the
 //! random numbers come from a seeded PCG64 stream built from raw integer output, so a seed gives
 //! bit-identical samples on every run and platform.
+//!
+//! **Density** (issue 20's painted density maps) is applied by rejection: each area-weighted
+//! candidate is kept with probability `d(x) / d_max`, so the roots kept are distributed with
+//! probability density ∝ area × `d` (von Neumann's acceptance–rejection method), exactly, also
+//! within a triangle where `d` varies (a texture). The count stays the count: candidates are drawn
+//! until `count` are kept, so `d` says *where* hair is denser, relative to its largest value,
+//! and `count` how much hair there is (Blender's particle density vertex groups do the same).
+//! The keep tests draw from their own seeded stream, so the candidates are the area-weighted
+//! sequence unchanged: a density equal to its maximum everywhere keeps every candidate and gives
+//! the roots of [`sample_area_weighted`] bit for bit. Rejection costs `d_max / mean(d)`
+//! candidates per root; a density that is 0 (or below a thousandth of its maximum) over nearly
+//! all of the region is refused after 1000 candidates per root rather than sampled for ever.
 
 use std::collections::HashMap;
 use std::fmt;
@@ -106,9 +119,208 @@ pub fn sample_area_weighted(
     seed: u64,
     region: &Region,
 ) -> Result<Vec<MeshSample>, GroomError> {
-    let table = AreaTable::new(mesh, region)?;
-    let mut rng = rng::stream(seed, Purpose::Roots);
-    Ok((0..count).map(|_| table.draw(&mut rng)).collect())
+    sample_roots(mesh, count, seed, region, None)
+}
+
+/// How densely roots grow over a mesh, relative to its largest value (hairs per area in any
+/// unit): a painted density map, vertex weights. Samplers keep a candidate at `x` with
+/// probability `at(x) / max()`.
+pub trait RootDensity {
+    /// The density at `sample` (a sample of the mesh being sampled), in [0, [`Self::max`]] (up
+    /// to a rounding error of a blend: 10⁻⁵ relative); an
+    /// `Err` (a message naming the place and the fix, e.g. a texture that does not cover the
+    /// sample's UV) stops the sampling with that message.
+    fn at(&self, sample: &MeshSample) -> Result<f32, String>;
+
+    /// An upper bound of [`Self::at`] over the mesh, finite and > 0: where the density reaches
+    /// it, every candidate is kept.
+    fn max(&self) -> f32;
+}
+
+/// Vertex weights in [0, 1], one per mesh vertex, blended with a sample's barycentric weights:
+/// the probability that a candidate is kept (its [`RootDensity::max`] is 1, so a weight of 0.5
+/// everywhere keeps half the candidates).
+#[derive(Debug, Clone, Copy)]
+pub struct VertexDensity<'a> {
+    mesh: &'a TriMesh,
+    weights: &'a [f32],
+}
+
+impl<'a> VertexDensity<'a> {
+    /// The density of `weights` on `mesh`. Errors: not one weight per vertex, a weight outside
+    /// [0, 1] (or not finite), naming the vertex.
+    pub fn new(mesh: &'a TriMesh, weights: &'a [f32]) -> Result<Self, GroomError> {
+        if weights.len() != mesh.positions().len() {
+            return Err(parameter(
+                "density",
+                format!("{} weights", weights.len()),
+                &format!(
+                    "give one weight per mesh vertex ({})",
+                    mesh.positions().len()
+                ),
+            ));
+        }
+        if let Some(i) = weights.iter().position(|x| !(0.0..=1.0).contains(x)) {
+            return Err(parameter(
+                "density",
+                format!("{} at vertex {i}", weights[i]),
+                "every vertex weight must lie in [0, 1]",
+            ));
+        }
+        Ok(Self { mesh, weights })
+    }
+}
+
+impl RootDensity for VertexDensity<'_> {
+    fn at(&self, sample: &MeshSample) -> Result<f32, String> {
+        let tri = self.mesh.triangles()[sample.triangle as usize];
+        Ok(tri
+            .iter()
+            .zip(sample.weights)
+            .map(|(&v, b)| self.weights[v as usize] * b)
+            .sum())
+    }
+
+    fn max(&self) -> f32 {
+        1.0
+    }
+}
+
+/// Candidates [`sample_roots`] draws per wanted root before it refuses a density that grows
+/// (almost) nothing.
+pub const MAX_DRAWS_PER_ROOT: usize = 1000;
+
+/// Draws `count` roots on `region` of `mesh` from `seed`, area-weighted and, with `density`,
+/// thinned by it (see the module docs): `count` roots distributed ∝ area × density.
+///
+/// Without a density (or with one at its maximum everywhere) these are the roots of
+/// [`sample_area_weighted`], bit for bit. Errors: a malformed or empty region, a density whose
+/// `max` is not finite and > 0 or whose value leaves [0, max], a density error, and fewer than
+/// `count` roots kept in `count` × [`MAX_DRAWS_PER_ROOT`] candidates.
+pub fn sample_roots(
+    mesh: &TriMesh,
+    count: usize,
+    seed: u64,
+    region: &Region,
+    density: Option<&dyn RootDensity>,
+) -> Result<Vec<MeshSample>, GroomError> {
+    let mut sampler = RootSampler::new(mesh, seed, region, density)?;
+    let max_draws = count.saturating_mul(MAX_DRAWS_PER_ROOT);
+    let roots = sampler.fill(count, max_draws, |_| true)?;
+    if roots.len() < count {
+        return Err(GroomError::Density {
+            message: format!(
+                "only {} of {count} roots were kept in {} candidates: the density is 0 (or under \
+                 1/{MAX_DRAWS_PER_ROOT} of its largest value) over nearly all of the region {region}; \
+                 paint more of it, widen the region or grow fewer hairs",
+                roots.len(),
+                sampler.drawn()
+            ),
+        });
+    }
+    Ok(roots)
+}
+
+/// The endless seeded sequence of area-weighted candidate roots of a region, each kept or not
+/// by an optional [`RootDensity`]: the sampler behind [`sample_roots`], for callers that filter
+/// the kept roots further (e.g. near guides) and draw until they have enough.
+pub struct RootSampler<'a> {
+    table: AreaTable,
+    roots: Pcg64,
+    keep: Pcg64,
+    density: Option<&'a dyn RootDensity>,
+    drawn: usize,
+}
+
+impl<'a> RootSampler<'a> {
+    /// The sampler of `region` on `mesh` from `seed`. Errors: a malformed or empty region, a
+    /// density whose `max` is not finite and > 0.
+    pub fn new(
+        mesh: &TriMesh,
+        seed: u64,
+        region: &Region,
+        density: Option<&'a dyn RootDensity>,
+    ) -> Result<Self, GroomError> {
+        if let Some(d) = density {
+            check_max(d)?;
+        }
+        Ok(Self {
+            table: AreaTable::new(mesh, region)?,
+            roots: rng::stream(seed, Purpose::Roots),
+            keep: rng::stream(seed, Purpose::Density),
+            density,
+            drawn: 0,
+        })
+    }
+
+    /// Draws the next candidate: `Some` when the density keeps it (always without a density).
+    pub fn next_candidate(&mut self) -> Result<Option<MeshSample>, GroomError> {
+        let sample = self.table.draw(&mut self.roots);
+        self.drawn += 1;
+        let Some(density) = self.density else {
+            return Ok(Some(sample));
+        };
+        let chance = keep_chance(density, &sample)?;
+        Ok((rng::unit_f32(&mut self.keep) < chance).then_some(sample))
+    }
+
+    /// Candidates drawn so far.
+    pub fn drawn(&self) -> usize {
+        self.drawn
+    }
+
+    /// The next `count` kept candidates that `accept` also takes, in sequence order, drawing
+    /// until `max_draws` candidates have been drawn in all: fewer than `count` when that limit
+    /// is reached first.
+    pub fn fill(
+        &mut self,
+        count: usize,
+        max_draws: usize,
+        mut accept: impl FnMut(&MeshSample) -> bool,
+    ) -> Result<Vec<MeshSample>, GroomError> {
+        let mut kept = Vec::with_capacity(count.min(1 << 20));
+        while kept.len() < count && self.drawn < max_draws {
+            if let Some(s) = self.next_candidate()? {
+                if accept(&s) {
+                    kept.push(s);
+                }
+            }
+        }
+        Ok(kept)
+    }
+}
+
+/// Refuses a density whose upper bound is not finite and > 0.
+fn check_max(density: &dyn RootDensity) -> Result<(), GroomError> {
+    let max = density.max();
+    if !(max.is_finite() && max > 0.0) {
+        return Err(GroomError::Density {
+            message: format!(
+                "the density's largest value is {max}: no hair would grow; give a density > 0 \
+                 where hair grows"
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// The probability, in [0, 1], that `density` keeps a candidate at `sample`.
+fn keep_chance(density: &dyn RootDensity, sample: &MeshSample) -> Result<f32, GroomError> {
+    let value = density
+        .at(sample)
+        .map_err(|message| GroomError::Density { message })?;
+    let max = density.max();
+    // Blends of values (barycentric, bilinear) may pass the largest by a rounding error.
+    if !(0.0..=max * (1.0 + 1e-5)).contains(&value) {
+        return Err(GroomError::Density {
+            message: format!(
+                "the density is {value} at a point of triangle {}, outside [0, {max}]: give \
+                 finite densities ≥ 0",
+                sample.triangle
+            ),
+        });
+    }
+    Ok((value / max).min(1.0))
 }
 
 /// Cumulative triangle areas of a region, to draw area-weighted points from.
@@ -180,20 +392,21 @@ const MAX_CANDIDATES: f64 = 2e7;
 ///
 /// Candidates are drawn area-weighted (`10 · area / min_distance²` of them, in a fixed order from
 /// the seed) and each is kept if no kept point lies within `min_distance` (a hash grid of cell
-/// `min_distance` finds the neighbours). With `density`, one weight in [0, 1] per mesh vertex,
-/// a candidate is first kept with probability equal to the weight interpolated at it, so the
-/// density of points follows the weights (a weight 0 grows nothing). Each result is a
+/// `min_distance` finds the neighbours). With a `density`, a candidate is first kept with
+/// probability `density.at / density.max` (vertex weights: [`VertexDensity`]), so the density of
+/// points follows it below the disk limit (a density 0 grows nothing). Each result is a
 /// [`MeshSample`]: it stays on the same material point when the mesh deforms and evaluates to the
 /// mesh's UV there with [`TriMesh::sample_uv`]. The same inputs give bit-identical samples.
 ///
 /// Errors: `min_distance` not finite and > 0 or so small that more than 2·10⁷ candidates would
-/// be needed, `density` not one finite weight in [0, 1] per vertex, an empty region.
+/// be needed, a density whose maximum is not finite and > 0 or whose value leaves [0, max], an
+/// empty region.
 pub fn sample_poisson_disk(
     mesh: &TriMesh,
     min_distance: f32,
     seed: u64,
     region: &Region,
-    density: Option<&[f32]>,
+    density: Option<&dyn RootDensity>,
 ) -> Result<Vec<MeshSample>, GroomError> {
     if !(min_distance.is_finite() && min_distance > 0.0) {
         return Err(parameter(
@@ -202,24 +415,8 @@ pub fn sample_poisson_disk(
             "must be a finite distance > 0 m (closest spacing of two samples)",
         ));
     }
-    if let Some(w) = density {
-        if w.len() != mesh.positions().len() {
-            return Err(parameter(
-                "density",
-                format!("{} weights", w.len()),
-                &format!(
-                    "give one weight per mesh vertex ({})",
-                    mesh.positions().len()
-                ),
-            ));
-        }
-        if let Some(i) = w.iter().position(|x| !(0.0..=1.0).contains(x)) {
-            return Err(parameter(
-                "density",
-                format!("{} at vertex {i}", w[i]),
-                "every vertex weight must lie in [0, 1]",
-            ));
-        }
+    if let Some(d) = density {
+        check_max(d)?;
     }
     let table = AreaTable::new(mesh, region)?;
     let d = f64::from(min_distance);
@@ -242,14 +439,8 @@ pub fn sample_poisson_disk(
     for _ in 0..candidates as usize {
         let sample = table.draw(&mut rng);
         let keep_draw = rng::unit_f32(&mut rng);
-        if let Some(w) = density {
-            let tri = mesh.triangles()[sample.triangle as usize];
-            let weight: f32 = tri
-                .iter()
-                .zip(sample.weights)
-                .map(|(&v, b)| w[v as usize] * b)
-                .sum();
-            if keep_draw >= weight {
+        if let Some(d) = density {
+            if keep_draw >= keep_chance(d, &sample)? {
                 continue;
             }
         }
@@ -477,7 +668,8 @@ mod tests {
             .iter()
             .map(|p| if p.z > 0.0 { 1.0 } else { 0.0 })
             .collect();
-        let samples = sample_poisson_disk(&mesh, 0.01, 2, &Region::All, Some(&weights)).unwrap();
+        let density = VertexDensity::new(&mesh, &weights).unwrap();
+        let samples = sample_poisson_disk(&mesh, 0.01, 2, &Region::All, Some(&density)).unwrap();
         let lower = samples
             .iter()
             .filter(|s| mesh.evaluate(s).origin.z < -0.02)
@@ -488,6 +680,7 @@ mod tests {
             samples.len()
         );
         let half: Vec<f32> = weights.iter().map(|w| 0.5 * w).collect();
+        let half = VertexDensity::new(&mesh, &half).unwrap();
         let thinner = sample_poisson_disk(&mesh, 0.01, 2, &Region::All, Some(&half)).unwrap();
         assert!(thinner.len() < samples.len());
     }
@@ -495,16 +688,81 @@ mod tests {
     #[test]
     fn bad_poisson_requests_are_named() {
         let mesh = unequal();
-        for (d, density, name) in [
-            (0.0, None, "`min_distance`"),
-            (f32::NAN, None, "`min_distance`"),
-            (1e-5, None, "too small"),
-            (0.1, Some(vec![1.0; 3]), "one weight per mesh vertex"),
-            (0.1, Some(vec![f32::NAN; 24]), "vertex 0"),
+        for (d, name) in [
+            (0.0, "`min_distance`"),
+            (f32::NAN, "`min_distance`"),
+            (1e-5, "too small"),
         ] {
-            let err =
-                sample_poisson_disk(&mesh, d, 1, &Region::All, density.as_deref()).unwrap_err();
+            let err = sample_poisson_disk(&mesh, d, 1, &Region::All, None).unwrap_err();
             assert!(err.to_string().contains(name), "{err}");
         }
+        for (weights, name) in [
+            (vec![1.0; 3], "one weight per mesh vertex"),
+            (vec![f32::NAN; 24], "vertex 0"),
+            (vec![-0.5; 24], "vertex 0"),
+        ] {
+            let err = VertexDensity::new(&mesh, &weights).unwrap_err();
+            assert!(err.to_string().contains(name), "{err}");
+        }
+    }
+    /// A density over [`unequal`]: 1 on even triangles, 0 on odd ones, or a constant.
+    struct Painted(Option<f32>);
+
+    impl RootDensity for Painted {
+        fn at(&self, s: &MeshSample) -> Result<f32, String> {
+            Ok(self.0.unwrap_or(if s.triangle.is_multiple_of(2) {
+                1.0
+            } else {
+                0.0
+            }))
+        }
+        fn max(&self) -> f32 {
+            1.0
+        }
+    }
+
+    #[test]
+    fn a_full_density_gives_the_area_weighted_roots_bit_for_bit() {
+        let mesh = unequal();
+        let plain = sample_area_weighted(&mesh, 500, 8, &Region::All).unwrap();
+        let full = sample_roots(&mesh, 500, 8, &Region::All, Some(&Painted(Some(1.0)))).unwrap();
+        assert_eq!(plain, full);
+    }
+
+    #[test]
+    fn density_zero_grows_nothing_and_the_count_stays_the_count() {
+        let mesh = unequal();
+        let n = 20_000;
+        let roots = sample_roots(&mesh, n, 8, &Region::All, Some(&Painted(None))).unwrap();
+        assert_eq!(roots.len(), n);
+        assert!(roots.iter().all(|s| s.triangle.is_multiple_of(2)));
+        // Kept roots follow the areas of the painted triangles (0, 2, 4, 6: 0.5, 1.5, 2.5,
+        // 3.5 m²): chi² with 3 degrees of freedom, P(> 16.3) = 0.001.
+        let painted: f64 = [0.5, 1.5, 2.5, 3.5].iter().sum();
+        let chi2: f64 = (0..4)
+            .map(|i| {
+                let t = 2 * i as u32;
+                let count = roots.iter().filter(|s| s.triangle == t).count() as f64;
+                let expect = n as f64 * f64::from(mesh.triangle_area(t as usize)) / painted;
+                (count - expect).powi(2) / expect
+            })
+            .sum();
+        assert!(chi2 < 16.3, "chi² = {chi2}");
+    }
+
+    #[test]
+    fn a_density_that_grows_nothing_is_refused_not_sampled_for_ever() {
+        let mesh = unequal();
+        let err = sample_roots(&mesh, 10, 1, &Region::All, Some(&Painted(Some(0.0))))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("only 0 of 10 roots") && err.contains("10000"),
+            "{err}"
+        );
+        let err = sample_roots(&mesh, 10, 1, &Region::All, Some(&Painted(Some(-1.0))))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("-1") && err.contains("≥ 0"), "{err}");
     }
 }

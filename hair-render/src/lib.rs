@@ -52,5 +52,5 @@ pub use cards::{build_cards, CardMesh, CardSettings};
 pub use children::{generate, generate_into, ChildCount, ChildMode, ChildSettings};
 pub use error::{RenderError, Result};
 pub use lod::{DisplayLod, Lod};
-pub use parents::{Parents, ScalpRoots};
+pub use parents::{Parents, ScalpRoots, ShapeFactors};
 pub use shape::{Clump, Curl, Roughness, Shape, Taper};

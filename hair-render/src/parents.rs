@@ -7,13 +7,16 @@
 //! sample evaluated on the mesh ([`Parents::with_scalp`]), the frame given by
 //! [`Parents::with_root_frames`], or a frame built from its first segment (z along the segment).
 //! Root UVs and colors come from the scalp (mesh UVs, optional per-vertex colors) through the
-//! parent's sample.
+//! parent's sample. Per parent, a host may give the spread radius of its children
+//! ([`Parents::with_spread_radii`]) and factors of their clump and curl
+//! ([`Parents::with_shape_factors`], e.g. painted maps sampled at the parents' roots).
 
 use hair_core::mesh::any_perpendicular;
 use hair_core::{MeshSample, RootFrame, TriMesh};
 use nalgebra::{Vector2, Vector3};
 
 use crate::error::{RenderError, Result};
+use crate::shape::Shape;
 
 /// The scalp the parents are rooted on, for root frames, UVs and colors.
 #[derive(Debug, Clone, Copy)]
@@ -34,6 +37,18 @@ pub struct Parents<'a> {
     root_frames: Option<&'a [RootFrame]>,
     scalp: Option<ScalpRoots<'a>>,
     spread: Option<&'a [f32]>,
+    shape_factors: ShapeFactors<'a>,
+}
+
+/// Per-parent factors of the children's shape (painted maps, issue 20): parent `p`'s children
+/// have clump factor `clump[p] × shape.clump.factor` and curl radius `curl[p] ×
+/// shape.curl.radius`. `None`: factor 1 for every parent.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ShapeFactors<'a> {
+    /// Factor of the clump factor per parent, in [0, 1].
+    pub clump: Option<&'a [f32]>,
+    /// Factor of the curl radius per parent, in [0, 1].
+    pub curl: Option<&'a [f32]>,
 }
 
 /// What one parent contributes besides its polyline: resolved root frame and attributes.
@@ -123,6 +138,7 @@ impl<'a> Parents<'a> {
             root_frames: None,
             scalp: None,
             spread: None,
+            shape_factors: ShapeFactors::default(),
         })
     }
 
@@ -180,6 +196,37 @@ impl<'a> Parents<'a> {
         }
         self.spread = Some(radii);
         Ok(self)
+    }
+
+    /// Per-parent factors of the children's clump factor and curl radius (each in [0, 1]; see
+    /// [`ShapeFactors`]). A factor of 1 leaves the children as without it, bit for bit; 0
+    /// removes that parent's clumping or curl.
+    pub fn with_shape_factors(mut self, factors: ShapeFactors<'a>) -> Result<Self> {
+        for (what, list) in [("clump", factors.clump), ("curl", factors.curl)] {
+            let Some(list) = list else { continue };
+            self.check_len(&format!("{what} factors"), list.len())?;
+            if let Some(p) = list.iter().position(|f| !(0.0..=1.0).contains(f)) {
+                return Err(RenderError::Parent {
+                    parent: p,
+                    message: format!("{what} factor {}; give a factor in [0, 1]", list[p]),
+                });
+            }
+        }
+        self.shape_factors = factors;
+        Ok(self)
+    }
+
+    /// The shape of parent `p`'s children: `shape` with its clump factor and curl radius
+    /// scaled by `p`'s factors.
+    pub(crate) fn shape(&self, p: usize, shape: &Shape) -> Shape {
+        let mut out = *shape;
+        if let Some(f) = self.shape_factors.clump {
+            out.clump.factor *= f[p];
+        }
+        if let Some(f) = self.shape_factors.curl {
+            out.curl.radius *= f[p];
+        }
+        out
     }
 
     /// Number of parents.
@@ -281,6 +328,50 @@ mod tests {
         let nan = vec![Vector3::zeros(), Vector3::new(f32::NAN, 0.0, 1.0)];
         let err = Parents::new(&nan, &[0, 2]).unwrap_err().to_string();
         assert!(err.contains("non-finite"), "{err}");
+    }
+
+    #[test]
+    fn shape_factors_outside_zero_to_one_or_of_the_wrong_count_are_named() {
+        let pts = vec![
+            Vector3::zeros(),
+            Vector3::z(),
+            Vector3::x(),
+            Vector3::new(1.0, 0.0, 1.0),
+        ];
+        let parents = Parents::new(&pts, &[0, 2, 4]).unwrap();
+        let err = parents
+            .with_shape_factors(ShapeFactors {
+                clump: Some(&[1.0, 1.5]),
+                curl: None,
+            })
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("parent 1") && err.contains("clump factor 1.5"),
+            "{err}"
+        );
+        let err = parents
+            .with_shape_factors(ShapeFactors {
+                clump: None,
+                curl: Some(&[0.5]),
+            })
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("1 curl factors for 2 parents"), "{err}");
+        // Factors scale the setting's clump factor and curl radius per parent.
+        let p = parents
+            .with_shape_factors(ShapeFactors {
+                clump: Some(&[0.0, 0.5]),
+                curl: Some(&[1.0, 0.25]),
+            })
+            .unwrap();
+        let mut shape = Shape::default();
+        shape.clump.factor = 0.8;
+        shape.curl.radius = 0.004;
+        assert_eq!(p.shape(0, &shape).clump.factor, 0.0);
+        assert_eq!(p.shape(0, &shape).curl.radius, 0.004);
+        assert_eq!(p.shape(1, &shape).clump.factor, 0.4);
+        assert_eq!(p.shape(1, &shape).curl.radius, 0.001);
     }
 
     #[test]

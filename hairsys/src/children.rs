@@ -15,13 +15,14 @@ use hair_core::{Anchor, MeshSample, Scalp, StrandSet};
 use hair_render::export::usd::{self, Motion, MotionSample, UsdOptions};
 use hair_render::{
     generate, ChildBuffers, ChildCount, ChildMode, ChildSettings, DisplayLod, Lod, Parents,
-    ScalpRoots,
+    ScalpRoots, ShapeFactors,
 };
 use nalgebra::Vector3;
 
 use crate::budget::{Budget, BYTES_PER_CHILD_POINT};
 use crate::error::Error;
 use crate::scene::children::DEFAULT_NEIGHBOURS;
+use crate::scene::maps::ChildMapFactors;
 use crate::scene::{ScalpMesh, SceneFile, Simulation};
 
 /// Output format.
@@ -268,6 +269,7 @@ fn export_inner(
                 &positions,
                 &sim.scalp_at(time_code as f32),
                 colors.as_deref(),
+                &sim.child_maps,
                 &settings,
                 lod,
             )
@@ -430,13 +432,15 @@ pub(crate) fn scalp_colors(scene: &SceneFile) -> Result<Option<Vec<[f32; 3]>>, S
 }
 
 /// Children of `strands` at `positions` (m), rooted on `scalp` (mesh samples, root frames and
-/// the scalp's UVs; `colors`, one RGB per scalp vertex, colour the roots): the one generation
+/// the scalp's UVs; `colors`, one RGB per scalp vertex, colour the roots), each parent's clump
+/// and curl scaled by `maps` (the scene's `[maps.clump]` and `[maps.curl]`): the one generation
 /// behind the export from a cache and [`crate::Session::children`].
 pub(crate) fn children_of(
     strands: &StrandSet,
     positions: &[Vector3<f32>],
     scalp: &Scalp,
     colors: Option<&[[f32; 3]]>,
+    maps: &ChildMapFactors,
     settings: &ChildSettings,
     lod: Lod,
 ) -> Result<ChildBuffers, hair_render::RenderError> {
@@ -449,7 +453,12 @@ pub(crate) fn children_of(
             Anchor::Body(_) => None,
         })
         .collect();
-    let mut parents = Parents::new(positions, strands.offsets())?.with_root_frames(&roots)?;
+    let mut parents = Parents::new(positions, strands.offsets())?
+        .with_root_frames(&roots)?
+        .with_shape_factors(ShapeFactors {
+            clump: maps.clump.as_deref(),
+            curl: maps.curl.as_deref(),
+        })?;
     if let Some(mesh) = &scalp.mesh {
         parents = parents.with_scalp(ScalpRoots {
             mesh,

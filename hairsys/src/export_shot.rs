@@ -350,6 +350,7 @@ fn add_children(
             &s.positions,
             &sim.scalp_at(t as f32),
             colors.as_deref(),
+            &sim.child_maps,
             &settings,
             lod,
         )

@@ -17,7 +17,9 @@
 //! values per triangle, blended the same way, so a `faceVarying` or `uniform` primvar keeps
 //! each face's own values where a vertex is shared.
 //!
-//! Sampling costs O(1) per root and happens once, when a scene is built.
+//! Sampling costs O(1) per root and happens once, when a scene is built. A density map is used
+//! as a [`hair_groom::RootDensity`] ([`MapDensity`]): roots are drawn by rejection against its
+//! largest value (see [`hair_groom::sampling`]).
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -310,6 +312,21 @@ impl ScalpMap {
         }
     }
 
+    /// The least and largest value the map can take anywhere on the scalp: over the texture's
+    /// pixels (bilinear blends stay between them) or the vertex values.
+    pub fn bounds(&self) -> [f32; 2] {
+        let values = match &self.source {
+            MapSource::Vertex(values) => values.as_slice(),
+            MapSource::Texture { texture, .. } => texture.values.as_slice(),
+            MapSource::Corners(corners) => corners.as_flattened(),
+        };
+        values
+            .iter()
+            .fold([f32::INFINITY, f32::NEG_INFINITY], |[lo, hi], &v| {
+                [lo.min(v), hi.max(v)]
+            })
+    }
+
     /// The map at every sample of `samples` (one per hair; `what` names the hairs, e.g.
     /// "sim hair").
     pub fn at_roots(
@@ -323,6 +340,62 @@ impl ScalpMap {
             .enumerate()
             .map(|(i, s)| self.at(mesh, s, &format!("{what} {i}")))
             .collect()
+    }
+}
+
+/// A map as the density of roots on the scalp it was checked against ([`hair_groom::RootDensity`]):
+/// roots grow ∝ area × the map, relative to its largest value.
+pub struct MapDensity<'a> {
+    map: &'a ScalpMap,
+    mesh: &'a TriMesh,
+    max: f32,
+}
+
+impl<'a> MapDensity<'a> {
+    /// The density of `map` on `mesh` (the mesh the map was checked against). Errors name the
+    /// map: a negative value (naming the vertex, or the texture), or 0 everywhere (no hair would
+    /// grow).
+    pub fn new(map: &'a ScalpMap, mesh: &'a TriMesh) -> Result<Self, String> {
+        let what = format!("[maps.{}]", map.name);
+        let negative = match &map.source {
+            MapSource::Vertex(values) => values
+                .iter()
+                .position(|v| *v < 0.0)
+                .map(|i| (values[i], format!("vertex {i}"))),
+            MapSource::Corners(corners) => corners
+                .iter()
+                .position(|c| c.iter().any(|v| *v < 0.0))
+                .map(|t| {
+                    let v = corners[t].iter().copied().fold(f32::INFINITY, f32::min);
+                    (v, format!("a corner of triangle {t}"))
+                }),
+            // PNG values are in [0, 1].
+            MapSource::Texture { .. } => None,
+        };
+        if let Some((v, at)) = negative {
+            return Err(format!(
+                "{what} is {v} at {at}: a density is ≥ 0 (0 = no hair, the largest value = \
+                 the densest hair); paint values ≥ 0"
+            ));
+        }
+        let [_, max] = map.bounds();
+        if max.is_nan() || max <= 0.0 {
+            return Err(format!(
+                "{what} is 0 everywhere: no hair would grow; paint values > 0 where hair grows \
+                 (the count is spread over the painted area by its value) or remove the map"
+            ));
+        }
+        Ok(Self { map, mesh, max })
+    }
+}
+
+impl hair_groom::RootDensity for MapDensity<'_> {
+    fn at(&self, sample: &MeshSample) -> Result<f32, String> {
+        self.map.at(self.mesh, sample, "a candidate root")
+    }
+
+    fn max(&self) -> f32 {
+        self.max
     }
 }
 

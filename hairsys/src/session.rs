@@ -222,6 +222,11 @@ impl Session {
         })
     }
 
+    /// The scene's `[maps.clump]` and `[maps.curl]` per strand, for a session of a scene.
+    pub(crate) fn scene_child_maps(&self) -> Option<&crate::scene::maps::ChildMapFactors> {
+        self.animation.as_ref().map(|a| &a.sim.child_maps)
+    }
+
     /// A session of strands a host assembled itself: `strands` at rest on `scalp` (given at
     /// the solver's frame), stepped by `solver`, colliding with `colliders`. `rest_scalp` is
     /// the scalp mesh in its body space, needed for [`Session::set_scalp_vertices`];

@@ -10,11 +10,13 @@ use hair_render::{ChildBuffers, ChildSettings, Lod};
 
 use crate::children::children_of;
 use crate::error::{Error, Result};
+use crate::scene::maps::ChildMapFactors;
 use crate::Session;
 
 impl Session {
     /// Render children of the current frame with `settings` at level of detail `lod`; `colors`
-    /// (one RGB per scalp vertex, 0–1) colour the children's roots. Errors name the argument
+    /// (one RGB per scalp vertex, 0–1) colour the children's roots. A session of a scene with
+    /// `[maps.clump]` or `[maps.curl]` scales each parent's clump and curl by them. Errors name the argument
     /// (`children`, `colors`) and what is expected.
     pub fn children(
         &self,
@@ -41,11 +43,14 @@ impl Session {
             ));
         }
         let strands = self.strands();
+        let none = ChildMapFactors::default();
+        let maps = self.scene_child_maps().unwrap_or(&none);
         children_of(
             strands,
             &strands.positions,
             self.scalp(),
             colors,
+            maps,
             settings,
             lod,
         )

@@ -1,7 +1,10 @@
 //! Painted maps (issue 20): a map sampled at a root equals the map at the root's UV (texture)
 //! or the barycentric blend of its vertex values; map selections pick exactly the hair whose
-//! root value lies in range; a map whose values or UVs do not fit the scalp, or a selection
-//! that names no hair, is refused with the section and the fix.
+//! root value lies in range; a density map puts no root where it is 0, roots per area in
+//! proportion to it elsewhere, and the roots of no map when it is one value everywhere; clump
+//! and curl maps scale each parent's children's clump and curl displacement by the value at its
+//! root; a map whose values or UVs do not fit the scalp, a density that grows nothing, or a
+//! selection that names no hair, is refused with the section and the fix.
 
 use std::path::Path;
 
@@ -363,9 +366,12 @@ fn unused_and_unsupported_maps_are_refused_by_name() {
     assert!(e.contains("[maps.goal_weight] is used by nothing"), "{e}");
     let e = refused(
         dir.path(),
-        &hair_scene("[maps.density]\ntexture = \"m.png\"\n"),
+        &guided_scene("[maps.length]\ntexture = \"m.png\"\n"),
     );
-    assert!(e.contains("not supported yet"), "{e}");
+    assert!(
+        e.contains("[maps.length]") && e.contains("sim hairs"),
+        "{e}"
+    );
     let e = refused(
         dir.path(),
         &hair_scene("[maps.sim_weight]\ntexture = \"m.png\"\n"),
@@ -380,6 +386,301 @@ fn unused_and_unsupported_maps_are_refused_by_name() {
     );
     assert!(
         e.contains("missing.png") && e.contains("cannot open"),
+        "{e}"
+    );
+}
+
+/// The root UV of every scalp-rooted strand of `sim`.
+fn root_uvs(sim: &hairsys::scene::Simulation) -> Vec<Vector2<f32>> {
+    let mesh = sim.rest_mesh().unwrap();
+    sim.strands
+        .anchors()
+        .iter()
+        .filter_map(|a| match a {
+            Anchor::Surface(s) => Some(mesh.sample_uv(s).unwrap()),
+            Anchor::Body(_) => None,
+        })
+        .collect()
+}
+
+/// Generated hair and sim hairs from guides on the built-in head in one scene, with `extra`
+/// and `sim_hairs` (the `[sim_hairs]` root keys).
+fn grown_scene(sim_hairs: &str, extra: &str) -> String {
+    guided_scene(extra)
+        .replace(
+            "count = 400\nseed = 3\n",
+            &format!("{sim_hairs}\nseed = 3\n"),
+        )
+        .replace(
+            "[guides]",
+            "[hair]\ncount = 300\nlength = 0.1\nsegments = 4\nseed = 5\n\n[guides]",
+        )
+}
+
+#[test]
+fn a_density_map_of_one_value_grows_the_roots_of_no_map_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    write_png(&dir.path().join("flat.png"), 16, 16, |_, _| 0.6);
+    for sim_hairs in ["count = 400", "min_distance = 0.012"] {
+        let plain = load(dir.path(), &grown_scene(sim_hairs, "")).unwrap();
+        let mapped = load(
+            dir.path(),
+            &grown_scene(sim_hairs, "[maps.density]\ntexture = \"flat.png\"\n"),
+        )
+        .unwrap();
+        assert_eq!(plain.strands.len(), mapped.strands.len());
+        assert_eq!(
+            plain.strands.anchors(),
+            mapped.strands.anchors(),
+            "{sim_hairs}"
+        );
+        assert_eq!(
+            plain.strands.positions, mapped.strands.positions,
+            "{sim_hairs}"
+        );
+    }
+}
+
+#[test]
+fn a_density_map_painted_zero_on_half_the_scalp_grows_no_root_there() {
+    let dir = tempfile::tempdir().unwrap();
+    let width = 64;
+    write_png(&dir.path().join("half.png"), width, 8, |u, _| {
+        if u < 0.5 {
+            0.0
+        } else {
+            1.0
+        }
+    });
+    // Bilinear sampling is 0 up to the centre of the last unpainted pixel column.
+    let unpainted = (width as f32 / 2.0 - 0.5) / width as f32;
+    for sim_hairs in ["count = 400", "min_distance = 0.012"] {
+        let sim = load(
+            dir.path(),
+            &grown_scene(sim_hairs, "[maps.density]\ntexture = \"half.png\"\n"),
+        )
+        .unwrap();
+        let uvs = root_uvs(&sim);
+        // The count stays the count: 300 [hair] strands, 400 sim hairs.
+        if sim_hairs.starts_with("count") {
+            assert_eq!(uvs.len(), 700);
+        }
+        let inside = uvs.iter().filter(|uv| uv.x <= unpainted).count();
+        assert_eq!(inside, 0, "{sim_hairs}: {inside} roots where the map is 0");
+        assert!(uvs.len() > 300, "{sim_hairs}: {} roots", uvs.len());
+    }
+}
+
+#[test]
+fn roots_per_area_follow_the_painted_density() {
+    let dir = tempfile::tempdir().unwrap();
+    // A quarter as dense on the u < 0.5 half (8-bit 64/255 is not 0.25: use the map's values).
+    write_png(&dir.path().join("d.png"), 64, 8, |u, _| {
+        if u < 0.5 {
+            0.25
+        } else {
+            1.0
+        }
+    });
+    let texture =
+        hairsys::maps::Texture::read_png(&dir.path().join("d.png"), hairsys::maps::Channel::R)
+            .unwrap();
+    let hair = |count: usize, seed: u64, map: &str| {
+        hair_scene(map)
+            .replace("count = 300", &format!("count = {count}"))
+            .replace("seed = 5", &format!("seed = {seed}"))
+    };
+    // The expected share of the u ≥ 0.5 half: area-weighted roots (no map, another seed)
+    // weighted by the map, ∫_A m dA / ∫ m dA.
+    let plain = root_uvs(&load(dir.path(), &hair(40_000, 9, "")).unwrap());
+    let m = |uv: &Vector2<f32>| f64::from(texture.sample(*uv).unwrap());
+    let total: f64 = plain.iter().map(m).sum();
+    let right: f64 = plain.iter().filter(|uv| uv.x >= 0.5).map(m).sum();
+    let expected = right / total;
+    let n = 4000;
+    let dense = root_uvs(
+        &load(
+            dir.path(),
+            &hair(n, 5, "[maps.density]\ntexture = \"d.png\"\n"),
+        )
+        .unwrap(),
+    );
+    assert_eq!(dense.len(), n);
+    let share = dense.iter().filter(|uv| uv.x >= 0.5).count() as f64 / n as f64;
+    // Binomial sd of the share ≈ 0.007 at n = 4000 (the expectation's own error is ~3× less).
+    assert!(
+        (share - expected).abs() < 0.03,
+        "share {share} of roots where the map is 1, expected {expected}"
+    );
+    // Without the map the same half holds a clearly smaller share.
+    let plain_share = plain.iter().filter(|uv| uv.x >= 0.5).count() as f64 / plain.len() as f64;
+    assert!(expected > plain_share + 0.15, "{expected} vs {plain_share}");
+}
+
+#[test]
+fn a_density_that_grows_nothing_or_is_negative_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    write_png(&dir.path().join("zero.png"), 4, 4, |_, _| 0.0);
+    let e = refused(
+        dir.path(),
+        &hair_scene("[maps.density]\ntexture = \"zero.png\"\n"),
+    );
+    assert!(
+        e.contains("[maps.density] is 0 everywhere") && e.contains("no hair would grow"),
+        "{e}"
+    );
+    // Painted only where the [hair] region does not reach: nothing can grow in the region.
+    write_png(&dir.path().join("half.png"), 64, 8, |u, _| {
+        if u < 0.5 {
+            0.0
+        } else {
+            1.0
+        }
+    });
+    let mesh = TriMesh::uv_sphere(0.1, 24, 12).unwrap();
+    write_obj(
+        &dir.path().join("scalp.obj"),
+        &mesh,
+        |p| [if p.z > 0.0 { -0.5 } else { 1.0 }, 0.0, 0.0],
+        true,
+    );
+    let e = refused(
+        dir.path(),
+        &obj_scene("[maps.density]\nvertex_colors = true\n"),
+    );
+    assert!(
+        e.contains("[maps.density] is -0.5 at vertex") && e.contains("≥ 0"),
+        "{e}"
+    );
+    let strands_only = "[scene]\nframes = [1, 4]\n\n[scalp.mesh]\nkind = \"builtin-head\"\n\n\
+        [[strands]]\npoints = [[0.0, 0.0, 0.0], [0.0, 0.0, -0.1]]\n\n\
+        [maps.density]\ntexture = \"half.png\"\n";
+    let e = refused(dir.path(), strands_only);
+    assert!(
+        e.contains("[maps.density]") && e.contains("has neither"),
+        "{e}"
+    );
+}
+
+/// The children of parent `p` in `c`: each child's points, flat.
+fn children_of(c: &hair_render::ChildBuffers, p: u32) -> Vec<Vec<f32>> {
+    let mut at = 0;
+    let mut out = Vec::new();
+    for (k, &n) in c.vertex_counts.iter().enumerate() {
+        let len = 3 * n as usize;
+        if c.parent[k] == p {
+            out.push(c.points[at..at + len].to_vec());
+        }
+        at += len;
+    }
+    out
+}
+
+#[test]
+fn clump_and_curl_maps_scale_each_parents_children_by_the_value_at_its_root() {
+    let dir = tempfile::tempdir().unwrap();
+    // Thirds of the UV square: 0, 0.4 (102/255 in 8 bits… 16 bits here), 1.
+    let band = |u: f32| {
+        if u < 1.0 / 3.0 {
+            0.0
+        } else if u < 2.0 / 3.0 {
+            0.4
+        } else {
+            1.0
+        }
+    };
+    write_png(&dir.path().join("c.png"), 96, 8, move |u, _| band(u));
+    let texture =
+        hairsys::maps::Texture::read_png(&dir.path().join("c.png"), hairsys::maps::Channel::R)
+            .unwrap();
+    let maps = "[maps.clump]\ntexture = \"c.png\"\n\n[maps.curl]\ntexture = \"c.png\"\n";
+    let painted = hairsys::Session::from_scene(&{
+        let path = dir.path().join("painted.toml");
+        std::fs::write(&path, hair_scene(maps)).unwrap();
+        SceneFile::load(&path).unwrap()
+    })
+    .unwrap();
+    let plain = hairsys::Session::from_scene(&{
+        let path = dir.path().join("plain.toml");
+        std::fs::write(&path, hair_scene("")).unwrap();
+        SceneFile::load(&path).unwrap()
+    })
+    .unwrap();
+    let mut settings = hair_render::ChildSettings {
+        count: hair_render::ChildCount::PerParent(4),
+        ..Default::default()
+    };
+    settings.shape.clump.factor = 0.8;
+    settings.shape.curl.radius = 0.004;
+    settings.shape.curl.frequency = 30.0;
+    let lod = hair_render::Lod::Render;
+    let mapped = painted.children(&settings, lod, None).unwrap();
+    let today = plain.children(&settings, lod, None).unwrap();
+    let mut bare = settings;
+    bare.shape.clump.factor = 0.0;
+    bare.shape.curl.radius = 0.0;
+    let none = plain.children(&bare, lod, None).unwrap();
+    let mesh = painted.scalp().mesh.clone().unwrap();
+    let mut seen = [0; 3];
+    for (p, anchor) in painted.strands().anchors().iter().enumerate() {
+        let Anchor::Surface(sample) = anchor else {
+            unreachable!()
+        };
+        let uv = mesh.sample_uv(sample).unwrap();
+        let m = texture.sample(uv).unwrap();
+        let p = p as u32;
+        let (got, one, zero) = (
+            children_of(&mapped, p),
+            children_of(&today, p),
+            children_of(&none, p),
+        );
+        if m == 0.0 {
+            // No clump and no curl displacement: the children of clump 0 and curl radius 0.
+            assert_eq!(got, zero, "parent {p} painted 0 at {uv:?}");
+            seen[0] += 1;
+        } else if m == 1.0 {
+            assert_eq!(got, one, "parent {p} painted 1 at {uv:?}");
+            seen[2] += 1;
+        } else if (m - 0.4).abs() < 1e-4 {
+            // Clump and curl displacement (from the unclumped, uncurled child) scale by m.
+            let mut largest = 0.0f32;
+            for ((g, o), z) in got.iter().zip(&one).zip(&zero) {
+                for i in 0..g.len() {
+                    let want = z[i] + m * (o[i] - z[i]);
+                    assert!(
+                        (g[i] - want).abs() < 2e-6,
+                        "parent {p} (m = {m}) coordinate {i}: {} vs {want}",
+                        g[i]
+                    );
+                    largest = largest.max((o[i] - z[i]).abs());
+                }
+            }
+            assert!(
+                largest > 1e-3,
+                "the settings displace children ({largest} m)"
+            );
+            seen[1] += 1;
+        }
+    }
+    assert!(seen.iter().all(|&n| n > 20), "parents per band {seen:?}");
+}
+
+#[test]
+fn clump_and_curl_factors_outside_zero_to_one_are_refused_naming_the_strand() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = TriMesh::uv_sphere(0.1, 24, 12).unwrap();
+    write_obj(
+        &dir.path().join("scalp.obj"),
+        &mesh,
+        |_| [0.5, 1.5, 0.0],
+        false,
+    );
+    let e = refused(
+        dir.path(),
+        &obj_scene("[maps.curl]\nvertex_colors = true\nchannel = \"g\"\n"),
+    );
+    assert!(
+        e.contains("[maps.curl] is 1.5 at strand 0") && e.contains("[0, 1]"),
         "{e}"
     );
 }

@@ -205,20 +205,12 @@ pub fn generate_into(
                 let root = parents.root(p);
                 path.build_frames(&root.frame);
                 let spread = parents.spread(p, settings.spread);
-                profile.build(&settings.shape, per_child[p]);
+                let shape = parents.shape(p, &settings.shape);
+                profile.build(&shape, per_child[p]);
                 for k in 0..job.children() {
                     let rng = ChildRng::new(seed, p as u32, k as u32);
                     let (pts, wid) = job.curve(k, &rng, &root);
-                    simple::grow_simple(
-                        path,
-                        profile,
-                        spread,
-                        &settings.shape,
-                        &rng,
-                        scratch,
-                        pts,
-                        wid,
-                    );
+                    simple::grow_simple(path, profile, spread, &shape, &rng, scratch, pts, wid);
                 }
             },
         ),
@@ -229,23 +221,15 @@ pub fn generate_into(
                 |(profile, scratch, blend), mut job| {
                     let p = job.parent;
                     let spread = parents.spread(p, settings.spread);
-                    profile.build(&settings.shape, interp.path(p).points.len());
+                    let shape = parents.shape(p, &settings.shape);
+                    profile.build(&shape, interp.path(p).points.len());
                     interp.prepare(p, blend);
                     for k in 0..job.children() {
                         let rng = ChildRng::new(seed, p as u32, k as u32);
                         let n = job.points_per_child;
                         let (pts, wid) = job.slices(k);
-                        let root = interp.grow(
-                            p,
-                            profile,
-                            spread,
-                            &settings.shape,
-                            &rng,
-                            scratch,
-                            blend,
-                            pts,
-                            wid,
-                        );
+                        let root =
+                            interp.grow(p, profile, spread, &shape, &rng, scratch, blend, pts, wid);
                         job.attributes(k, n, &rng, &root);
                     }
                 },

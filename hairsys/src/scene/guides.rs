@@ -307,15 +307,38 @@ pub fn build(
     let Some(sim) = sim else {
         return Err("[guides] needs a [sim_hairs] section: how many simulation hairs to interpolate from the guides".into());
     };
-    let roots = match (sim.count, sim.min_distance) {
-        (Some(count), None) => hair_groom::sample_area_weighted(mesh, count, sim.seed, &region(&sim.region)),
-        (None, Some(d)) => hair_groom::sample_poisson_disk(mesh, d, sim.seed, &region(&sim.region), None),
+    let density = maps.density(mesh)?;
+    let density = density.as_ref().map(|d| d as &dyn hair_groom::RootDensity);
+    let roots = match (sim.count, sim.min_distance, sim.max_guide_distance) {
+        (Some(count), None, Some(d)) => {
+            near_guides(mesh, &guides_list, &enabled, count, d, sim, density)?
+        }
+        (Some(count), None, None) => {
+            hair_groom::sample_roots(mesh, count, sim.seed, &region(&sim.region), density)
+                .map_err(|e| format!("[sim_hairs] {e}"))?
+        }
+        (None, Some(spacing), near) => {
+            let roots = hair_groom::sample_poisson_disk(
+                mesh,
+                spacing,
+                sim.seed,
+                &region(&sim.region),
+                density,
+            )
+            .map_err(|e| format!("[sim_hairs] {e}"))?;
+            match near {
+                None => roots,
+                Some(d) => {
+                    let near = guide_roots(mesh, &guides_list, &enabled, d)?;
+                    let grid = PointGrid::new(&near, d);
+                    roots
+                        .into_iter()
+                        .filter(|r| grid.any_within(&mesh.evaluate(r).origin))
+                        .collect()
+                }
+            }
+        }
         _ => return Err("[sim_hairs] give exactly one of `count` (area-weighted roots) or `min_distance` (Poisson disk, m)".into()),
-    }
-    .map_err(|e| format!("[sim_hairs] {e}"))?;
-    let roots = match sim.max_guide_distance {
-        None => roots,
-        Some(d) => near_guides(mesh, &guides_list, &enabled, roots, d, sim)?,
     };
     let points = sim
         .points
@@ -444,57 +467,65 @@ fn read_guides(
 
 /// Most area-weighted draws per wanted root when sim hairs must grow near the guides: a groom
 /// covering a thousandth of the region is still filled; a smaller one is refused by name.
-const MAX_DRAWS_PER_ROOT: usize = 1000;
+const MAX_DRAWS_PER_ROOT: usize = hair_groom::sampling::MAX_DRAWS_PER_ROOT;
 
-/// The roots of `roots` within `max_distance` (m) of an enabled guide root. With `count`, more
-/// area-weighted roots are drawn (the same sequence, extended) until `count` are near the guides.
-fn near_guides(
+/// The enabled guides' roots (m), with `max_distance` (the sim hairs' largest distance from
+/// one, m) checked: finite and > 0.
+fn guide_roots(
     mesh: &TriMesh,
     guides: &[Guide],
     enabled: &[bool],
-    roots: Vec<hair_core::MeshSample>,
     max_distance: f32,
-    sim: &SimHairsSection,
-) -> Result<Vec<hair_core::MeshSample>, String> {
+) -> Result<Vec<Vector3<f32>>, String> {
     if !(max_distance.is_finite() && max_distance > 0.0) {
         return Err(format!(
             "[sim_hairs] max_guide_distance = {max_distance}: use a finite distance > 0 m, e.g. 0.01"
         ));
     }
-    let guide_roots: Vec<Vector3<f32>> = guides
+    Ok(guides
         .iter()
         .zip(enabled)
         .filter(|(_, &e)| e)
         .map(|(g, _)| mesh.evaluate(&g.root).origin)
-        .collect();
+        .collect())
+}
+
+/// `count` roots within `max_distance` (m) of an enabled guide root: the area-weighted sequence
+/// (thinned by `density`), drawn until `count` are near the guides.
+fn near_guides(
+    mesh: &TriMesh,
+    guides: &[Guide],
+    enabled: &[bool],
+    count: usize,
+    max_distance: f32,
+    sim: &SimHairsSection,
+    density: Option<&dyn hair_groom::RootDensity>,
+) -> Result<Vec<hair_core::MeshSample>, String> {
+    let guide_roots = guide_roots(mesh, guides, enabled, max_distance)?;
     let grid = PointGrid::new(&guide_roots, max_distance);
-    let near = |r: &hair_core::MeshSample| grid.any_within(&mesh.evaluate(r).origin);
-    let Some(count) = sim.count else {
-        return Ok(roots.into_iter().filter(near).collect());
-    };
-    let mut kept: Vec<_> = Vec::with_capacity(count);
-    let mut drawn = 0;
-    let mut batch = roots;
-    loop {
-        drawn += batch.len();
-        kept.extend(batch.into_iter().filter(near).take(count - kept.len()));
-        if kept.len() == count {
-            return Ok(kept);
-        }
-        if drawn >= count.saturating_mul(MAX_DRAWS_PER_ROOT) {
-            return Err(format!(
-                "[sim_hairs] max_guide_distance = {max_distance} m: only {} of {count} roots found \
-                 near the guide roots in {drawn} draws; raise max_guide_distance or check that \
-                 the guides were snapped onto this scalp",
-                kept.len()
-            ));
-        }
-        // The area-weighted sequence is a prefix sequence: draw it longer, keep the new part.
-        let longer = (drawn * 2).min(count.saturating_mul(MAX_DRAWS_PER_ROOT));
-        let all = hair_groom::sample_area_weighted(mesh, longer, sim.seed, &region(&sim.region))
-            .map_err(|e| format!("[sim_hairs] {e}"))?;
-        batch = all[drawn..].to_vec();
+    let mut sampler = hair_groom::RootSampler::new(mesh, sim.seed, &region(&sim.region), density)
+        .map_err(|e| format!("[sim_hairs] {e}"))?;
+    let max_draws = count.saturating_mul(MAX_DRAWS_PER_ROOT);
+    let kept = sampler
+        .fill(count, max_draws, |r| {
+            grid.any_within(&mesh.evaluate(r).origin)
+        })
+        .map_err(|e| format!("[sim_hairs] {e}"))?;
+    if kept.len() < count {
+        return Err(format!(
+            "[sim_hairs] max_guide_distance = {max_distance} m: only {} of {count} roots found \
+             near the guide roots in {} draws; raise max_guide_distance or check that \
+             the guides were snapped onto this scalp{}",
+            kept.len(),
+            sampler.drawn(),
+            if density.is_some() {
+                " (and that [maps.density] is painted near them)"
+            } else {
+                ""
+            }
+        ));
     }
+    Ok(kept)
 }
 
 /// Points hashed into cubic cells of one search radius, to ask "is any within the radius?" by

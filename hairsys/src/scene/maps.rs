@@ -11,6 +11,12 @@
 //! vertex_colors = true        # the OBJ scalp's `v x y z r g b`
 //! channel = "g"
 //!
+//! [maps.density]              # more roots per area where brighter; [hair] count stays the count
+//! texture = "density.png"
+//!
+//! [maps.clump]                # × [children] clump per parent (curl: × curl_radius)
+//! texture = "clump.png"
+//!
 //! [maps.fringe]               # any other name: a map selections use
 //! texture = "fringe.png"      # [guides.hold_out] map = { name = "fringe", min = 0.5 }
 //!
@@ -27,23 +33,51 @@
 //! resampled to the same number of points, masses lumped again at the same mass per length;
 //! the resampled chords cut a curved groom's corners, so the polyline comes out up to ~1 %
 //! shorter than the fraction).
-//! The other uses issue 20 names — `density`, `clump`, `curl` — are not implemented and refused by name rather than ignored. Any other name must be
-//! used by a selection (`map = { name, min, max }` in `[guides.sim_weight]`, `[[guides.pin]]`,
-//! `[guides.hold_out]` or `[[regions]]`), so a misspelt purpose is an error, not a silent no-op.
+//!
+//! `density` spreads the roots of `[hair]` and `[sim_hairs]` over the scalp: roots grow with
+//! probability density ∝ area × the map, relative to its largest value, and the `count` stays
+//! the count (a map twice as bright in one place puts twice as many roots per area there; a map
+//! of 0 grows nothing; see [`hair_groom::sampling`] for the rejection sampler and why a map of
+//! one value everywhere gives the same roots as no map, bit for bit). With `min_distance`
+//! (Poisson disk) the map thins the candidates instead: the brightest places keep the spacing.
+//! Guides are not moved by it, and render children follow their parents, so they are as dense
+//! as the hair they grow around. A density of 0 everywhere, or a negative value, is an error.
+//!
+//! `clump` and `curl` scale each parent's render children: at a hair whose root the map paints
+//! `m ∈ [0, 1]`, its children's clump factor is `m × [children] clump` and their curl radius
+//! `m × [children] curl_radius` (so 1 is the setting, 0 none, and the displacement clumping or
+//! curl adds to a child scales linearly with `m`). Interpolated children take their home
+//! parent's factors. The factors are fixed when the scene is built, in the scene's strand order,
+//! and apply wherever the scene's children are made (`render-children`, shot export,
+//! [`crate::Session::children`]).
+//!
+//! Any other name must be used by a selection (`map = { name, min, max }` in
+//! `[guides.sim_weight]`, `[[guides.pin]]`, `[guides.hold_out]` or `[[regions]]`), so a
+//! misspelt purpose is an error, not a silent no-op. Length maps on sim hairs are refused: sim
+//! hairs are re-interpolated from the (animated) guides every frame, which would undo a trim
+//! made when the scene is built.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use hair_core::{Anchor, StrandInput, TriMesh};
+use hair_core::{Anchor, StrandInput, StrandSet, TriMesh};
 use serde::{Deserialize, Serialize};
 
-use crate::maps::{Channel, MapSource, ScalpMap, Texture};
+use crate::maps::{Channel, MapDensity, MapSource, ScalpMap, Texture};
 
-/// Map names with a purpose that hairsys applies.
-pub const APPLIED: [&str; 4] = ["goal", "sim_weight", "stiffness", "length"];
-
-/// Purposes issue 20 names that are not implemented yet (refused by name).
-pub const NOT_YET: [&str; 3] = ["density", "clump", "curl"];
+/// Map names with a purpose that hairsys applies, with that purpose in words.
+pub const APPLIED: [(&str, &str); 7] = [
+    ("goal", "scales goal weights"),
+    ("sim_weight", "scales each sim hair's sim weight"),
+    ("stiffness", "scales bending stiffness"),
+    (
+        "length",
+        "trims [hair] strands to a fraction of their length",
+    ),
+    ("density", "spreads the roots of [hair] and [sim_hairs]"),
+    ("clump", "scales the render children's clump"),
+    ("curl", "scales the render children's curl radius"),
+];
 
 /// `[maps.NAME]`: where one map's values come from. Give `texture`, `vertex_colors` or
 /// `primvar`.
@@ -95,6 +129,53 @@ impl MapSelection {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ScalpMaps {
     maps: BTreeMap<String, ScalpMap>,
+    /// Each map's source in words (file and channel), for reports.
+    sources: BTreeMap<String, String>,
+}
+
+/// Each strand's factors of its render children's clump factor and curl radius, from the
+/// `clump` and `curl` maps at its root (`None`: no such map, factor 1 everywhere).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ChildMapFactors {
+    /// Factor of `[children] clump` per strand, in [0, 1].
+    pub clump: Option<Vec<f32>>,
+    /// Factor of `[children] curl_radius` per strand, in [0, 1].
+    pub curl: Option<Vec<f32>>,
+}
+
+/// One map as `scene check` reports it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MapSummary {
+    /// The map's name (`[maps.NAME]`).
+    pub name: String,
+    /// Where its values come from, in words (texture file and channel, or vertex colours).
+    pub source: String,
+    /// What hairsys does with it, in words.
+    pub purpose: String,
+    /// Scalp-rooted strands of the run it was sampled at.
+    pub roots: usize,
+    /// Least and largest value at those roots (`None` when there are none).
+    pub range: Option<[f32; 2]>,
+}
+
+/// The purpose of a map named `name`, in words, if the name has one.
+fn purpose(name: &str) -> Option<&'static str> {
+    APPLIED.iter().find(|(n, _)| *n == name).map(|(_, p)| *p)
+}
+
+/// A map section's source in words.
+fn describe(section: &MapSection, channel: Channel) -> String {
+    let channel = match channel {
+        Channel::R => "r",
+        Channel::G => "g",
+        Channel::B => "b",
+        Channel::A => "a",
+    };
+    match (&section.texture, &section.primvar) {
+        (Some(file), _) => format!("texture {} (channel {channel})", file.display()),
+        (None, Some(name)) => format!("the USD scalp's primvars:{name}"),
+        (None, None) => format!("the scalp's vertex colours (channel {channel})"),
+    }
 }
 
 impl ScalpMaps {
@@ -119,20 +200,16 @@ impl ScalpMaps {
         let mut colors = Some(colors);
         let mut read_colors: Option<Option<Vec<[f32; 3]>>> = None;
         let mut maps = BTreeMap::new();
+        let mut sources = BTreeMap::new();
         for (name, s) in sections {
             let what = format!("[maps.{name}]");
-            if NOT_YET.contains(&name.as_str()) {
+            if purpose(name).is_none() && !used.contains(&name.as_str()) {
+                let names: Vec<&str> = APPLIED.iter().map(|(n, _)| *n).collect();
                 return Err(format!(
-                    "{what}: a painted {name} map is not supported yet (maps can scale goal \
-                     weights and bending stiffness, paint the sim weight and select hair for \
-                     pins, hold-outs and regions); remove the section"
-                ));
-            }
-            if !APPLIED.contains(&name.as_str()) && !used.contains(&name.as_str()) {
-                return Err(format!(
-                    "{what} is used by nothing: name it `goal`, `sim_weight` or `stiffness`, or \
-                     select hair with it (`map = {{ name = \"{name}\" }}` in \
-                     [guides.sim_weight], [[guides.pin]], [guides.hold_out] or [[regions]])"
+                    "{what} is used by nothing: name it after a purpose ({}), or select hair \
+                     with it (`map = {{ name = \"{name}\" }}` in [guides.sim_weight], \
+                     [[guides.pin]], [guides.hold_out] or [[regions]])",
+                    names.join(", ")
                 ));
             }
             let channel = match s.channel.as_deref() {
@@ -205,8 +282,86 @@ impl ScalpMaps {
                 }
             };
             maps.insert(name.clone(), ScalpMap::new(name, source, mesh)?);
+            sources.insert(name.clone(), describe(s, channel));
         }
-        Ok(Self { maps })
+        Ok(Self { maps, sources })
+    }
+
+    /// The `density` map as the density of roots on `mesh` (`None` without that map). Errors
+    /// name the map: a negative value, or 0 everywhere.
+    pub fn density<'a>(&'a self, mesh: &'a TriMesh) -> Result<Option<MapDensity<'a>>, String> {
+        self.get("density")
+            .map(|m| MapDensity::new(m, mesh))
+            .transpose()
+    }
+
+    /// Each strand's factors of its render children's clump and curl from the `clump` and
+    /// `curl` maps at its root on `mesh` (1 for a strand not rooted on the scalp; `None` for a
+    /// map the scene does not have). Errors name the map and the strand: a value outside
+    /// [0, 1].
+    pub fn child_factors(
+        &self,
+        strands: &StrandSet,
+        mesh: Option<&TriMesh>,
+    ) -> Result<ChildMapFactors, String> {
+        let factors = |name: &str| -> Result<Option<Vec<f32>>, String> {
+            let (Some(map), Some(mesh)) = (self.get(name), mesh) else {
+                return Ok(None);
+            };
+            let mut out = vec![1.0; strands.len()];
+            for (s, f) in out.iter_mut().enumerate() {
+                let Anchor::Surface(sample) = strands.anchors()[s] else {
+                    continue;
+                };
+                let v = map.at(mesh, &sample, &format!("strand {s}"))?;
+                if !(0.0..=1.0).contains(&v) {
+                    return Err(format!(
+                        "[maps.{name}] is {v} at strand {s}: a {name} factor is in [0, 1] (1 = \
+                         the [children] setting, 0 = no {name}); paint values in [0, 1]"
+                    ));
+                }
+                *f = v;
+            }
+            Ok(Some(out))
+        };
+        Ok(ChildMapFactors {
+            clump: factors("clump")?,
+            curl: factors("curl")?,
+        })
+    }
+
+    /// What each map is, where it comes from, what it does, and its values at the roots of
+    /// `strands` on `mesh` (the scalp-rooted ones), for `scene check`.
+    pub fn summaries(
+        &self,
+        strands: &StrandSet,
+        mesh: Option<&TriMesh>,
+    ) -> Result<Vec<MapSummary>, String> {
+        let mut out = Vec::with_capacity(self.maps.len());
+        for (name, map) in &self.maps {
+            let mut range: Option<[f32; 2]> = None;
+            let mut roots = 0;
+            if let Some(mesh) = mesh {
+                for (s, anchor) in strands.anchors().iter().enumerate() {
+                    let Anchor::Surface(sample) = anchor else {
+                        continue;
+                    };
+                    let v = map.at(mesh, sample, &format!("strand {s}"))?;
+                    roots += 1;
+                    range = Some(range.map_or([v, v], |[lo, hi]| [lo.min(v), hi.max(v)]));
+                }
+            }
+            out.push(MapSummary {
+                name: name.clone(),
+                source: self.sources.get(name).cloned().unwrap_or_default(),
+                purpose: purpose(name)
+                    .unwrap_or("selects hair (a `map = { name, min, max }` selection)")
+                    .to_string(),
+                roots,
+                range,
+            });
+        }
+        Ok(out)
     }
 
     /// The map named `name`.

@@ -787,8 +787,13 @@ impl SceneFile {
                     },
                 },
             };
-            let mut inputs =
-                hair_groom::generate(mesh, &opts).map_err(|e| err(format!("[hair] {e}")))?;
+            let density = maps.density(mesh).map_err(err)?;
+            let mut inputs = hair_groom::generate_with_density(
+                mesh,
+                &opts,
+                density.as_ref().map(|d| d as &dyn hair_groom::RootDensity),
+            )
+            .map_err(|e| err(format!("[hair] {e}")))?;
             if let Some(style) = &hair.style {
                 let opts = style.options(&s.physics.gravity(), hair.seed);
                 hair_groom::lay_over_scalp(&mut inputs, mesh, &opts)
@@ -872,6 +877,10 @@ impl SceneFile {
         let scales = regions
             .scales(&s.physics, strands.len())
             .map_err(|m| err(format!("[[regions]] {m}")))?;
+        let child_maps = maps
+            .child_factors(&strands, rest_mesh.as_ref())
+            .map_err(err)?;
+        let map_summaries = maps.summaries(&strands, rest_mesh.as_ref()).map_err(err)?;
         self.check_work_budget(&settings, &strands, &scales)?;
         let colliders = self.colliders()?;
         if let Some(c) = &s.contacts {
@@ -938,6 +947,8 @@ impl SceneFile {
                 .then(hair_core::Inextensibility::default),
             strips,
             regions,
+            child_maps,
+            maps: map_summaries,
         };
         let scalp = sim.scalp_at(first as f32);
         sim.strands
@@ -1097,6 +1108,16 @@ impl SceneFile {
                 "[maps.length] trims [hair] strands; sim hairs take their shapes from the \
                  (animated) guides, which it does not trim yet: remove the map or grow the hair \
                  with [hair]"
+                    .into(),
+            );
+        }
+        if sections.contains_key("density")
+            && self.scene.hair.is_none()
+            && self.scene.sim_hairs.is_none()
+        {
+            return Err(
+                "[maps.density] spreads the roots of [hair] and [sim_hairs], but the scene has \
+                 neither: grow hair with [hair] or [guides] + [sim_hairs], or remove the map"
                     .into(),
             );
         }
@@ -1316,6 +1337,11 @@ pub struct Simulation {
     pub guide_animation: Option<crate::animated_guides::GuideAnimation>,
     /// `[[regions]]` and `[maps.stiffness]` resolved to strands (empty: one material).
     pub regions: regions::Regions,
+    /// `[maps.clump]` and `[maps.curl]` at each strand's root: factors of its render children's
+    /// clump and curl.
+    pub child_maps: maps::ChildMapFactors,
+    /// The `[maps.NAME]` sections as built: source, purpose, values at the roots.
+    pub maps: Vec<maps::MapSummary>,
 }
 
 impl Simulation {

@@ -108,6 +108,8 @@ impl RegionParams {
 pub struct BuiltRegion {
     /// The region's name.
     pub name: String,
+    /// How it selects its hair (as the scene gives it).
+    pub selection: HairSelection,
     /// Its strands (indices into the run's strand set), increasing.
     pub strands: Vec<usize>,
     /// Its parameters.
@@ -173,6 +175,7 @@ impl Regions {
             let chosen = select(&r.select, &what, strands, roots, maps)?;
             regions.push(BuiltRegion {
                 name: r.name.clone(),
+                selection: r.select.clone(),
                 strands: (0..chosen.len()).filter(|&s| chosen[s]).collect(),
                 params: r.params,
             });
