@@ -346,6 +346,27 @@ impl ScalpLift {
         self.lift_points(anchor, rest, true)
     }
 
+    /// How far below its allowed height (the clearance, or the arc length from the root where
+    /// that is less) the lowest point of the root-local rest shape `rest`, rooted at `anchor`,
+    /// lies, m: 0 when every point is clear — as after a [`ScalpLift::lift`] that succeeded.
+    /// Strands anchored in body space give 0.
+    pub fn shortfall(&self, anchor: &Anchor, rest: &[Vector3<f32>]) -> f32 {
+        let Anchor::Surface(sample) = *anchor else {
+            return 0.0;
+        };
+        let frame = self.surface.mesh.evaluate(&sample);
+        let world: Vec<Vector3<f32>> = rest.iter().map(|p| frame.to_world(p)).collect();
+        let mut arc = 0.0f32;
+        let mut worst = 0.0f32;
+        for w in world.windows(2) {
+            arc += (w[1] - w[0]).norm();
+            let allowed = self.clearance.min(arc);
+            let (height, _) = self.surface.height_and_lift(&w[1], allowed);
+            worst = worst.max(allowed - height);
+        }
+        worst
+    }
+
     /// [`ScalpLift::lift`], skipping points known to be clear when `skip_clear` is set (always
     /// but in the test that holds the skip to the full walk).
     fn lift_points(&self, anchor: &Anchor, rest: &mut [Vector3<f32>], skip_clear: bool) -> usize {
@@ -402,6 +423,37 @@ impl ScalpLift {
         }
         lifted
     }
+}
+
+/// The strands of `strands` (indices, increasing) that a lift to `clearance` m
+/// ([`lift_out_of_scalp`]) could not clear: a point after the root lies more than `tolerance` m
+/// lower above `mesh` (the scalp at the rest pose the anchors refer to) than the lift allows it
+/// (the clearance, or the arc length from the root where that is less). Lifting pushes a point
+/// away from its nearest scalp point; in a gap narrower than twice the clearance — between
+/// Sintel's right ear and her head, where three blended wisps start — every push away from one
+/// wall is a push into the other, and the point stays low. A scalp collider of the clearance's
+/// reach (hair radius plus thickness) would start with that point inside and keep it there,
+/// pressed between the walls, for the whole run.
+pub fn strands_below_clearance(
+    strands: &[StrandInput],
+    mesh: &TriMesh,
+    clearance: f32,
+    tolerance: f32,
+) -> Result<Vec<usize>, GroomError> {
+    if !(tolerance.is_finite() && tolerance >= 0.0) {
+        return Err(parameter(
+            "tolerance",
+            tolerance,
+            "must be a finite depth ≥ 0 m",
+        ));
+    }
+    let lift = ScalpLift::new(mesh, clearance)?;
+    Ok(strands
+        .iter()
+        .enumerate()
+        .filter(|(_, strand)| lift.shortfall(&strand.anchor, &strand.rest) > tolerance)
+        .map(|(i, _)| i)
+        .collect())
 }
 
 /// The strands of `strands` (indices, increasing) whose rest shape passes through `mesh` (the
@@ -745,6 +797,102 @@ mod tests {
             clear_some |= lifted_full == 0;
         }
         assert!(lifted_some && clear_some);
+    }
+
+    /// The 12 outward-wound triangles of the box from `lo` to `hi` (m), its corners numbered
+    /// from `base`.
+    fn cuboid(lo: Vector3<f32>, hi: Vector3<f32>, base: u32) -> (Vec<Vector3<f32>>, Vec<[u32; 3]>) {
+        let corner = |i: u32| {
+            Vector3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            )
+        };
+        let quads = [
+            [0, 2, 3, 1], // −z
+            [4, 5, 7, 6], // +z
+            [0, 1, 5, 4], // −y
+            [2, 6, 7, 3], // +y
+            [0, 4, 6, 2], // −x
+            [1, 3, 7, 5], // +x
+        ];
+        let triangles = quads
+            .iter()
+            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+            .map(|t| t.map(|i| i + base))
+            .collect();
+        ((0..8).map(corner).collect(), triangles)
+    }
+
+    /// A strand rooted at `points[0]` on triangle `triangle` of `mesh`, through the world
+    /// `points` (m).
+    fn strand_through(mesh: &TriMesh, triangle: u32, points: &[Vector3<f32>]) -> StrandInput {
+        let [a, b, c] = mesh.corners(triangle as usize);
+        let (v0, v1, v2) = (b - a, c - a, points[0] - a);
+        let (d00, d01, d11) = (v0.dot(&v0), v0.dot(&v1), v1.dot(&v1));
+        let (d20, d21) = (v2.dot(&v0), v2.dot(&v1));
+        let det = d00 * d11 - d01 * d01;
+        let (w1, w2) = ((d11 * d20 - d01 * d21) / det, (d00 * d21 - d01 * d20) / det);
+        let sample = MeshSample {
+            triangle,
+            weights: [1.0 - w1 - w2, w1, w2],
+        };
+        assert!(sample.weights.iter().all(|&w| (0.0..=1.0).contains(&w)));
+        let frame = mesh.evaluate(&sample);
+        assert!((frame.to_world(&Vector3::zeros()) - points[0]).norm() < 1e-6);
+        let rest = points.iter().map(|p| frame.to_local(p)).collect();
+        StrandInput::uniform(Anchor::Surface(sample), rest, 1e-3, 1e-3, 0.0, 0.0)
+    }
+
+    /// Regression (issue 17): three of Sintel's wisps rooted above her right ear started in the
+    /// gap between ear and head, narrower than twice the clearance. Lifting pushed their first
+    /// point off one wall into the other, and the bust collider held it 0.7–1.1 mm inside for
+    /// the whole run. Here: a head (a box) with an ear (a thin slab) 2 mm beside it, and hair
+    /// combed over the head's edge down the side, once into the gap and once beside the ear.
+    /// With a 1.5 mm clearance no point in the gap can stand clear of both walls: that strand
+    /// is named, the one beside the ear is lifted clear and is not.
+    #[test]
+    fn a_wisp_in_the_ear_gap_is_left_out() {
+        let (mut positions, mut triangles) = cuboid(
+            Vector3::new(-0.1, -0.1, -0.1),
+            Vector3::new(0.0, 0.1, 0.1),
+            0,
+        );
+        let (ear, ear_triangles) = cuboid(
+            Vector3::new(0.002, -0.03, -0.05),
+            Vector3::new(0.004, 0.03, 0.0),
+            8,
+        );
+        positions.extend(ear);
+        triangles.extend(ear_triangles);
+        let mesh = TriMesh::new(positions, triangles).unwrap();
+        // The head's top (+z) is triangles 2 and 3; both roots lie in triangle 2 (x ≥ y/2 − 0.05).
+        let wisp = |y: f32| -> Vec<Vector3<f32>> {
+            let mut points = vec![
+                Vector3::new(-0.01, y, 0.1),
+                Vector3::new(-0.002, y, 0.1015),
+                Vector3::new(0.001, y, 0.095),
+            ];
+            points.extend((1..=12).map(|i| Vector3::new(0.001, y, 0.095 - 0.01 * i as f32)));
+            points
+        };
+        let mut strands = vec![
+            strand_through(&mesh, 2, &wisp(0.0)),
+            strand_through(&mesh, 2, &wisp(-0.06)),
+        ];
+        let clearance = 0.0015;
+        lift_out_of_scalp(&mut strands, &mesh, clearance).unwrap();
+        let lift = ScalpLift::new(&mesh, clearance).unwrap();
+        let in_gap = lift.shortfall(&strands[0].anchor, &strands[0].rest);
+        let beside = lift.shortfall(&strands[1].anchor, &strands[1].rest);
+        // The gap is 2 mm: a point in it lies at most 1 mm from one wall, 0.5 mm short.
+        assert!(in_gap >= 0.0005 - 1e-5, "in the gap: {in_gap} m short");
+        assert!(beside < 1e-5, "beside the ear: {beside} m short");
+        let low = strands_below_clearance(&strands, &mesh, clearance, 1e-4).unwrap();
+        assert_eq!(low, vec![0]);
+        let err = strands_below_clearance(&strands, &mesh, clearance, -1.0).unwrap_err();
+        assert!(err.to_string().contains("tolerance"), "{err}");
     }
 
     #[test]
