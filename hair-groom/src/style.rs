@@ -39,7 +39,9 @@ use parry3d::query::{PointQueryWithLocation, Ray, RayCast};
 use parry3d::shape::TrianglePointLocation;
 
 use crate::error::{parameter, GroomError};
+use crate::interpolate::SimHair;
 use crate::rng::{self, Purpose};
+use crate::snap::Guide;
 use hair_core::MeshSample;
 
 /// A part: hair on each side of a plane is combed away from it.
@@ -454,6 +456,51 @@ pub fn strands_below_clearance(
         .filter(|(_, strand)| lift.shortfall(&strand.anchor, &strand.rest) > tolerance)
         .map(|(i, _)| i)
         .collect())
+}
+
+/// The interpolated hairs of `hairs` (indices, increasing) that their blend turns by more than
+/// `max_turn_deg` degrees from their guides' shapes: the weighted mean, over the guides blended,
+/// of the angle between the guide's root normal and the hair's on `mesh` (the scalp both are
+/// rooted on). Interpolation carries each guide's shape by the smallest rotation taking its root
+/// normal onto the hair's ([`crate::interpolate`]), which follows a head's gentle curvature; where a
+/// hair is rooted on a surface that turns sharply away from its guides' — the rim of an ear, a
+/// guide rooted on the scalp just above it — a guide combed down the head is turned out into
+/// the air (a Sintel sim hair rooted on her right ear's rim, turned 82°, stood 4 cm out behind
+/// the ear).
+pub fn hairs_turned_off_their_guides(
+    hairs: &[SimHair],
+    guides: &[Guide],
+    mesh: &TriMesh,
+    max_turn_deg: f32,
+) -> Result<Vec<usize>, GroomError> {
+    if !(max_turn_deg.is_finite() && (0.0..=180.0).contains(&max_turn_deg)) {
+        return Err(parameter(
+            "max_turn_deg",
+            max_turn_deg,
+            "must be an angle in [0, 180] degrees",
+        ));
+    }
+    let normal = |sample: &MeshSample| mesh.evaluate(sample).rotation * Vector3::z();
+    let mut turned = Vec::new();
+    for (i, hair) in hairs.iter().enumerate() {
+        let n = normal(&hair.root);
+        let (mut sum, mut weights) = (0.0f32, 0.0f32);
+        for source in &hair.sources {
+            let guide = guides.get(source.guide).ok_or_else(|| {
+                parameter(
+                    "sources",
+                    source.guide,
+                    &format!("hair {i} names a guide beyond the {} given", guides.len()),
+                )
+            })?;
+            sum += source.weight * normal(&guide.root).angle(&n);
+            weights += source.weight;
+        }
+        if weights > 0.0 && (sum / weights).to_degrees() > max_turn_deg {
+            turned.push(i);
+        }
+    }
+    Ok(turned)
 }
 
 /// The strands of `strands` (indices, increasing) whose rest shape passes through `mesh` (the
@@ -893,6 +940,51 @@ mod tests {
         assert_eq!(low, vec![0]);
         let err = strands_below_clearance(&strands, &mesh, clearance, -1.0).unwrap_err();
         assert!(err.to_string().contains("tolerance"), "{err}");
+    }
+
+    /// Regression (issue 17): a Sintel sim hair rooted on her right ear's rim had its guide's
+    /// shape turned 82° out into the air. On a sphere the turn between two roots' normals is
+    /// the angle between the roots seen from the centre: hairs rooted more than 60° from their
+    /// one guide are named, nearer ones are not (the facets' smooth normals differ from the
+    /// sphere's by well under the 4° margin left either side of 60°).
+    #[test]
+    fn a_hair_turned_far_off_its_guide_is_named() {
+        use crate::{sample_area_weighted, GuideWeight, Region, SimHair};
+        let mesh = uv_sphere(0.1, 48, 24).unwrap();
+        let roots = sample_area_weighted(&mesh, 400, 3, &Region::All).unwrap();
+        let at = |s: &MeshSample| mesh.evaluate(s).to_world(&Vector3::zeros());
+        let guide = Guide {
+            root: roots[0],
+            rest: vec![Vector3::zeros(), Vector3::new(0.0, 0.0, 0.1)],
+        };
+        let hairs: Vec<SimHair> = roots[1..]
+            .iter()
+            .map(|&root| SimHair {
+                root,
+                rest: guide.rest.clone(),
+                sources: vec![GuideWeight {
+                    guide: 0,
+                    weight: 1.0,
+                }],
+            })
+            .collect();
+        let turned = hairs_turned_off_their_guides(&hairs, &[guide.clone()], &mesh, 60.0).unwrap();
+        let (mut far, mut near) = (0, 0);
+        for (i, hair) in hairs.iter().enumerate() {
+            let angle = at(&guide.root).angle(&at(&hair.root)).to_degrees();
+            if angle > 64.0 {
+                assert!(turned.contains(&i), "{angle}° not named");
+                far += 1;
+            } else if angle < 56.0 {
+                assert!(!turned.contains(&i), "{angle}° named");
+                near += 1;
+            }
+        }
+        assert!(far > 100 && near > 50, "{far} far, {near} near");
+        let err = hairs_turned_off_their_guides(&hairs, &[], &mesh, 60.0).unwrap_err();
+        assert!(err.to_string().contains("sources"), "{err}");
+        let err = hairs_turned_off_their_guides(&hairs, &[guide], &mesh, f32::NAN).unwrap_err();
+        assert!(err.to_string().contains("max_turn_deg"), "{err}");
     }
 
     #[test]

@@ -130,7 +130,9 @@ pub struct SimHairsSection {
     /// thin flap such as an ear) are left out: contacts act on points, so a flap between two
     /// points of a strand stays caught. So are sim hairs the lift cannot clear, which start in a
     /// gap of the scalp narrower than twice the clearance (between an ear and the head): a
-    /// collider would hold them inside. `scene check` says how many of each.
+    /// collider would hold them inside. And so are sim hairs whose root normal turns more than
+    /// 60° from their guides' (rooted on an ear's rim beside guides on the scalp): blending turns
+    /// the guides' shapes by that angle, out into the air. `scene check` says how many of each.
     #[serde(default)]
     pub clearance: Option<f32>,
     /// Guides blended per hair.
@@ -353,6 +355,11 @@ pub fn build(
         let tolerance = hair_core::QualityOptions::default().contact_tolerance;
         let low = hair_groom::strands_below_clearance(&inputs, mesh, clearance, tolerance)
             .map_err(|e| format!("[sim_hairs] {e}"))?;
+        // The most a blend may turn its guides' shapes (the angle between root normals) and
+        // still lay them along the head rather than out into the air: see
+        // `hair_groom::hairs_turned_off_their_guides`.
+        let turned = hair_groom::hairs_turned_off_their_guides(&hairs, &guides_list, mesh, 60.0)
+            .map_err(|e| format!("[sim_hairs] {e}"))?;
         let mut reasons = Vec::new();
         if !through.is_empty() {
             reasons.push(format!(
@@ -369,12 +376,27 @@ pub fn build(
                 low.len()
             ));
         }
+        let turned: Vec<usize> = turned
+            .into_iter()
+            .filter(|i| !through.contains(i) && !low.contains(i))
+            .collect();
+        if !turned.is_empty() {
+            reasons.push(format!(
+                "{} left out: rooted where the scalp turns more than 60° from their guides' \
+                 roots (e.g. on an ear's rim), their blended shape would stand off the head",
+                turned.len()
+            ));
+        }
         if !reasons.is_empty() {
             left_out = format!(" ({})", reasons.join("; "));
             // The hairs and their strand inputs stay in step: animated guides blend the
             // hairs kept, one per strand.
             let mut keep = vec![true; inputs.len()];
-            through.iter().chain(&low).for_each(|&i| keep[i] = false);
+            through
+                .iter()
+                .chain(&low)
+                .chain(&turned)
+                .for_each(|&i| keep[i] = false);
             let mut kept = keep.iter();
             inputs.retain(|_| kept.next() == Some(&true));
             let mut kept = keep.iter();
