@@ -462,11 +462,11 @@ pub fn strands_below_clearance(
 /// `max_turn_deg` degrees from their guides' shapes: the weighted mean, over the guides blended,
 /// of the angle between the guide's root normal and the hair's on `mesh` (the scalp both are
 /// rooted on). Interpolation carries each guide's shape by the smallest rotation taking its root
-/// normal onto the hair's ([`crate::interpolate`]), which follows a head's gentle curvature; where a
-/// hair is rooted on a surface that turns sharply away from its guides' — the rim of an ear, a
-/// guide rooted on the scalp just above it — a guide combed down the head is turned out into
-/// the air (a Sintel sim hair rooted on her right ear's rim, turned 82°, stood 4 cm out behind
-/// the ear).
+/// normal onto the hair's ([`crate::interpolate()`]), which follows a head's gentle curvature;
+/// where a hair is rooted on a surface that turns sharply away from its guides' — the rim of
+/// an ear, a guide rooted on the scalp just above it — a guide combed down the head is turned
+/// out into the air (a Sintel sim hair rooted on her right ear's rim, turned 82°, stood 4 cm
+/// out behind the ear).
 pub fn hairs_turned_off_their_guides(
     hairs: &[SimHair],
     guides: &[Guide],
@@ -914,7 +914,8 @@ mod tests {
         positions.extend(ear);
         triangles.extend(ear_triangles);
         let mesh = TriMesh::new(positions, triangles).unwrap();
-        // The head's top (+z) is triangles 2 and 3; both roots lie in triangle 2 (x ≥ y/2 − 0.05).
+        // The head's top (+z) is triangles 2 and 3; both roots lie in triangle 2
+        // (x ≥ y/2 − 0.05).
         let wisp = |y: f32| -> Vec<Vector3<f32>> {
             let mut points = vec![
                 Vector3::new(-0.01, y, 0.1),
@@ -968,7 +969,9 @@ mod tests {
                 }],
             })
             .collect();
-        let turned = hairs_turned_off_their_guides(&hairs, &[guide.clone()], &mesh, 60.0).unwrap();
+        let turned =
+            hairs_turned_off_their_guides(&hairs, std::slice::from_ref(&guide), &mesh, 60.0)
+                .unwrap();
         let (mut far, mut near) = (0, 0);
         for (i, hair) in hairs.iter().enumerate() {
             let angle = at(&guide.root).angle(&at(&hair.root)).to_degrees();
