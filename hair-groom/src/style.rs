@@ -458,20 +458,25 @@ pub fn strands_below_clearance(
         .collect())
 }
 
-/// The interpolated hairs of `hairs` (indices, increasing) that their blend turns by more than
-/// `max_turn_deg` degrees from their guides' shapes: the weighted mean, over the guides blended,
-/// of the angle between the guide's root normal and the hair's on `mesh` (the scalp both are
-/// rooted on). Interpolation carries each guide's shape by the smallest rotation taking its root
-/// normal onto the hair's ([`crate::interpolate()`]), which follows a head's gentle curvature;
-/// where a hair is rooted on a surface that turns sharply away from its guides' — the rim of
-/// an ear, a guide rooted on the scalp just above it — a guide combed down the head is turned
-/// out into the air (a Sintel sim hair rooted on her right ear's rim, turned 82°, stood 4 cm
-/// out behind the ear).
+/// The interpolated hairs of `hairs` (indices, increasing) that their blend turns sharply off
+/// their guides' shapes: by more than `max_turn_deg` degrees — the weighted mean, over the
+/// guides blended, of the angle between the guide's root normal and the hair's on `mesh` (the
+/// scalp both are rooted on) — over roots closer than a surface of radius `min_radius` m would
+/// need for that turn (the weighted mean root distance below `turn × min_radius`).
+///
+/// Interpolation carries each guide's shape by the smallest rotation taking its root normal onto
+/// the hair's ([`crate::interpolate()`]). Over a head's gentle curvature (radius ~0.1 m) that
+/// lays a guide's combed shape along the head at the hair's root, however far apart the roots
+/// are. Where the surface turns sharply between nearby roots — a hair on the rim of an ear, its
+/// guides rooted on the scalp just above it — a guide combed down the head is turned out into
+/// the air: a Sintel sim hair rooted on her right ear's rim, turned 82° from guides 6.5 mm away,
+/// stood 4 cm out behind the ear.
 pub fn hairs_turned_off_their_guides(
     hairs: &[SimHair],
     guides: &[Guide],
     mesh: &TriMesh,
     max_turn_deg: f32,
+    min_radius: f32,
 ) -> Result<Vec<usize>, GroomError> {
     if !(max_turn_deg.is_finite() && (0.0..=180.0).contains(&max_turn_deg)) {
         return Err(parameter(
@@ -480,11 +485,20 @@ pub fn hairs_turned_off_their_guides(
             "must be an angle in [0, 180] degrees",
         ));
     }
-    let normal = |sample: &MeshSample| mesh.evaluate(sample).rotation * Vector3::z();
+    if !(min_radius.is_finite() && min_radius > 0.0) {
+        return Err(parameter(
+            "min_radius",
+            min_radius,
+            "must be a finite radius > 0 m",
+        ));
+    }
+    let frame = |sample: &MeshSample| mesh.evaluate(sample);
     let mut turned = Vec::new();
     for (i, hair) in hairs.iter().enumerate() {
-        let n = normal(&hair.root);
-        let (mut sum, mut weights) = (0.0f32, 0.0f32);
+        let at = frame(&hair.root);
+        let n = at.rotation * Vector3::z();
+        let root = at.to_world(&Vector3::zeros());
+        let (mut angle, mut distance, mut weights) = (0.0f32, 0.0f32, 0.0f32);
         for source in &hair.sources {
             let guide = guides.get(source.guide).ok_or_else(|| {
                 parameter(
@@ -493,11 +507,16 @@ pub fn hairs_turned_off_their_guides(
                     &format!("hair {i} names a guide beyond the {} given", guides.len()),
                 )
             })?;
-            sum += source.weight * normal(&guide.root).angle(&n);
+            let g = frame(&guide.root);
+            angle += source.weight * (g.rotation * Vector3::z()).angle(&n);
+            distance += source.weight * (g.to_world(&Vector3::zeros()) - root).norm();
             weights += source.weight;
         }
-        if weights > 0.0 && (sum / weights).to_degrees() > max_turn_deg {
-            turned.push(i);
+        if weights > 0.0 {
+            let (angle, distance) = (angle / weights, distance / weights);
+            if angle.to_degrees() > max_turn_deg && distance < angle * min_radius {
+                turned.push(i);
+            }
         }
     }
     Ok(turned)
@@ -944,50 +963,58 @@ mod tests {
     }
 
     /// Regression (issue 17): a Sintel sim hair rooted on her right ear's rim had its guide's
-    /// shape turned 82° out into the air. On a sphere the turn between two roots' normals is
-    /// the angle between the roots seen from the centre: hairs rooted more than 60° from their
-    /// one guide are named, nearer ones are not (the facets' smooth normals differ from the
-    /// sphere's by well under the 4° margin left either side of 60°).
+    /// shape turned 82° out into the air. On a sphere of radius R the turn between two roots'
+    /// normals is the angle θ between the roots seen from the centre, over roots about R·θ
+    /// apart. On a 2 cm sphere (sharper than the 3 cm radius allowed) hairs rooted more than
+    /// 60° from their one guide are named and nearer ones are not (the facets' smooth normals
+    /// differ from the sphere's by well under the 4° margin left either side of 60°); on a
+    /// 10 cm sphere, a head's curvature, none is, however far.
     #[test]
-    fn a_hair_turned_far_off_its_guide_is_named() {
+    fn a_hair_turned_sharply_off_its_guide_is_named() {
         use crate::{sample_area_weighted, GuideWeight, Region, SimHair};
-        let mesh = uv_sphere(0.1, 48, 24).unwrap();
-        let roots = sample_area_weighted(&mesh, 400, 3, &Region::All).unwrap();
-        let at = |s: &MeshSample| mesh.evaluate(s).to_world(&Vector3::zeros());
-        let guide = Guide {
-            root: roots[0],
-            rest: vec![Vector3::zeros(), Vector3::new(0.0, 0.0, 0.1)],
-        };
-        let hairs: Vec<SimHair> = roots[1..]
-            .iter()
-            .map(|&root| SimHair {
-                root,
-                rest: guide.rest.clone(),
-                sources: vec![GuideWeight {
-                    guide: 0,
-                    weight: 1.0,
-                }],
-            })
-            .collect();
-        let turned =
-            hairs_turned_off_their_guides(&hairs, std::slice::from_ref(&guide), &mesh, 60.0)
-                .unwrap();
-        let (mut far, mut near) = (0, 0);
-        for (i, hair) in hairs.iter().enumerate() {
-            let angle = at(&guide.root).angle(&at(&hair.root)).to_degrees();
-            if angle > 64.0 {
-                assert!(turned.contains(&i), "{angle}° not named");
-                far += 1;
-            } else if angle < 56.0 {
-                assert!(!turned.contains(&i), "{angle}° named");
-                near += 1;
+        for (radius, sharp) in [(0.02, true), (0.1, false)] {
+            let mesh = uv_sphere(radius, 48, 24).unwrap();
+            let roots = sample_area_weighted(&mesh, 400, 3, &Region::All).unwrap();
+            let at = |s: &MeshSample| mesh.evaluate(s).to_world(&Vector3::zeros());
+            let guide = Guide {
+                root: roots[0],
+                rest: vec![Vector3::zeros(), Vector3::new(0.0, 0.0, 0.1)],
+            };
+            let hairs: Vec<SimHair> = roots[1..]
+                .iter()
+                .map(|&root| SimHair {
+                    root,
+                    rest: guide.rest.clone(),
+                    sources: vec![GuideWeight {
+                        guide: 0,
+                        weight: 1.0,
+                    }],
+                })
+                .collect();
+            let guides = std::slice::from_ref(&guide);
+            let turned = hairs_turned_off_their_guides(&hairs, guides, &mesh, 60.0, 0.03).unwrap();
+            let (mut far, mut near) = (0, 0);
+            for (i, hair) in hairs.iter().enumerate() {
+                let angle = at(&guide.root).angle(&at(&hair.root)).to_degrees();
+                if angle > 64.0 {
+                    assert_eq!(turned.contains(&i), sharp, "{angle}° on radius {radius}");
+                    far += 1;
+                } else if angle < 56.0 {
+                    assert!(!turned.contains(&i), "{angle}° named on radius {radius}");
+                    near += 1;
+                }
+            }
+            assert!(far > 100 && near > 50, "{far} far, {near} near");
+            let err = hairs_turned_off_their_guides(&hairs, &[], &mesh, 60.0, 0.03).unwrap_err();
+            assert!(err.to_string().contains("sources"), "{err}");
+            for (turn, min_radius, name) in
+                [(f32::NAN, 0.03, "max_turn_deg"), (60.0, 0.0, "min_radius")]
+            {
+                let err = hairs_turned_off_their_guides(&hairs, guides, &mesh, turn, min_radius)
+                    .unwrap_err();
+                assert!(err.to_string().contains(name), "{err}");
             }
         }
-        assert!(far > 100 && near > 50, "{far} far, {near} near");
-        let err = hairs_turned_off_their_guides(&hairs, &[], &mesh, 60.0).unwrap_err();
-        assert!(err.to_string().contains("sources"), "{err}");
-        let err = hairs_turned_off_their_guides(&hairs, &[guide], &mesh, f32::NAN).unwrap_err();
-        assert!(err.to_string().contains("max_turn_deg"), "{err}");
     }
 
     #[test]

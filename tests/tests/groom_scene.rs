@@ -68,7 +68,7 @@ fn a_sim_hair_on_her_right_ear_rim_does_not_stand_out_behind_it() {
     let sim = SceneFile::load(&path).unwrap().build().unwrap();
     let report = sim.guides_report.clone().expect("the scene has guides");
     assert!(
-        report.contains("left out: rooted where the scalp turns more than 60°"),
+        report.contains("left out: rooted where the scalp turns sharply"),
         "{report}"
     );
     let mesh = sim.scalp_at(sim.first_frame as f32).mesh.unwrap();

@@ -130,9 +130,10 @@ pub struct SimHairsSection {
     /// thin flap such as an ear) are left out: contacts act on points, so a flap between two
     /// points of a strand stays caught. So are sim hairs the lift cannot clear, which start in a
     /// gap of the scalp narrower than twice the clearance (between an ear and the head): a
-    /// collider would hold them inside. And so are sim hairs whose root normal turns more than
-    /// 60° from their guides' (rooted on an ear's rim beside guides on the scalp): blending turns
-    /// the guides' shapes by that angle, out into the air. `scene check` says how many of each.
+    /// collider would hold them inside. And so are sim hairs whose root normal turns sharply,
+    /// more than 60° from their guides' over less than a 3 cm radius of curvature (rooted on an
+    /// ear's rim beside guides on the scalp): blending turns the guides' shapes by that angle,
+    /// out into the air. `scene check` says how many of each.
     #[serde(default)]
     pub clearance: Option<f32>,
     /// Guides blended per hair.
@@ -355,11 +356,13 @@ pub fn build(
         let tolerance = hair_core::QualityOptions::default().contact_tolerance;
         let low = hair_groom::strands_below_clearance(&inputs, mesh, clearance, tolerance)
             .map_err(|e| format!("[sim_hairs] {e}"))?;
-        // The most a blend may turn its guides' shapes (the angle between root normals) and
-        // still lay them along the head rather than out into the air: see
+        // A blend turning its guides' shapes (the angle between root normals) by more than
+        // 60° over roots closer than a 3 cm radius of curvature needs — sharper than any skull,
+        // as at an ear's rim — turns them out into the air: see
         // `hair_groom::hairs_turned_off_their_guides`.
-        let turned = hair_groom::hairs_turned_off_their_guides(&hairs, &guides_list, mesh, 60.0)
-            .map_err(|e| format!("[sim_hairs] {e}"))?;
+        let turned =
+            hair_groom::hairs_turned_off_their_guides(&hairs, &guides_list, mesh, 60.0, 0.03)
+                .map_err(|e| format!("[sim_hairs] {e}"))?;
         let mut reasons = Vec::new();
         if !through.is_empty() {
             reasons.push(format!(
@@ -382,8 +385,9 @@ pub fn build(
             .collect();
         if !turned.is_empty() {
             reasons.push(format!(
-                "{} left out: rooted where the scalp turns more than 60° from their guides' \
-                 roots (e.g. on an ear's rim), their blended shape would stand off the head",
+                "{} left out: rooted where the scalp turns sharply, more than 60° from their \
+                 guides' roots nearby (e.g. on an ear's rim), their blended shape would stand \
+                 off the head",
                 turned.len()
             ));
         }
