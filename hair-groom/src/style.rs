@@ -39,7 +39,9 @@ use parry3d::query::{PointQueryWithLocation, Ray, RayCast};
 use parry3d::shape::TrianglePointLocation;
 
 use crate::error::{parameter, GroomError};
+use crate::interpolate::SimHair;
 use crate::rng::{self, Purpose};
+use crate::snap::Guide;
 use hair_core::MeshSample;
 
 /// A part: hair on each side of a plane is combed away from it.
@@ -346,6 +348,27 @@ impl ScalpLift {
         self.lift_points(anchor, rest, true, None)
     }
 
+    /// How far below its allowed height (the clearance, or the arc length from the root where
+    /// that is less) the lowest point of the root-local rest shape `rest`, rooted at `anchor`,
+    /// lies, m: 0 when every point is clear — as after a [`ScalpLift::lift`] that succeeded.
+    /// Strands anchored in body space give 0.
+    pub fn shortfall(&self, anchor: &Anchor, rest: &[Vector3<f32>]) -> f32 {
+        let Anchor::Surface(sample) = *anchor else {
+            return 0.0;
+        };
+        let frame = self.surface.mesh.evaluate(&sample);
+        let world: Vec<Vector3<f32>> = rest.iter().map(|p| frame.to_world(p)).collect();
+        let mut arc = 0.0f32;
+        let mut worst = 0.0f32;
+        for w in world.windows(2) {
+            arc += (w[1] - w[0]).norm();
+            let allowed = self.clearance.min(arc);
+            let (height, _) = self.surface.height_and_lift(&w[1], allowed);
+            worst = worst.max(allowed - height);
+        }
+        worst
+    }
+
     /// [`ScalpLift::lift`] for a strand lifted again and again as it is posed (animated
     /// guides, every frame): `memory` keeps, from the strand's last lift, where each point ended
     /// and a lower bound on its height there, and a point that has moved by less than that
@@ -458,6 +481,101 @@ impl ScalpLift {
 pub struct LiftMemory {
     points: Vec<Vector3<f32>>,
     heights: Vec<f32>,
+}
+
+/// The strands of `strands` (indices, increasing) that a lift to `clearance` m
+/// ([`lift_out_of_scalp`]) could not clear: a point after the root lies more than `tolerance` m
+/// lower above `mesh` (the scalp at the rest pose the anchors refer to) than the lift allows it
+/// (the clearance, or the arc length from the root where that is less). Lifting pushes a point
+/// away from its nearest scalp point; in a gap narrower than twice the clearance — between
+/// Sintel's right ear and her head, where three blended wisps start — every push away from one
+/// wall is a push into the other, and the point stays low. A scalp collider of the clearance's
+/// reach (hair radius plus thickness) would start with that point inside and keep it there,
+/// pressed between the walls, for the whole run.
+pub fn strands_below_clearance(
+    strands: &[StrandInput],
+    mesh: &TriMesh,
+    clearance: f32,
+    tolerance: f32,
+) -> Result<Vec<usize>, GroomError> {
+    if !(tolerance.is_finite() && tolerance >= 0.0) {
+        return Err(parameter(
+            "tolerance",
+            tolerance,
+            "must be a finite depth ≥ 0 m",
+        ));
+    }
+    let lift = ScalpLift::new(mesh, clearance)?;
+    Ok(strands
+        .iter()
+        .enumerate()
+        .filter(|(_, strand)| lift.shortfall(&strand.anchor, &strand.rest) > tolerance)
+        .map(|(i, _)| i)
+        .collect())
+}
+
+/// The interpolated hairs of `hairs` (indices, increasing) that their blend turns sharply off
+/// their guides' shapes: by more than `max_turn_deg` degrees — the weighted mean, over the
+/// guides blended, of the angle between the guide's root normal and the hair's on `mesh` (the
+/// scalp both are rooted on) — over roots closer than a surface of radius `min_radius` m would
+/// need for that turn (the weighted mean root distance below `turn × min_radius`).
+///
+/// Interpolation carries each guide's shape by the smallest rotation taking its root normal onto
+/// the hair's ([`crate::interpolate()`]). Over a head's gentle curvature (radius ~0.1 m) that
+/// lays a guide's combed shape along the head at the hair's root, however far apart the roots
+/// are. Where the surface turns sharply between nearby roots — a hair on the rim of an ear, its
+/// guides rooted on the scalp just above it — a guide combed down the head is turned out into
+/// the air: a Sintel sim hair rooted on her right ear's rim, turned 82° from guides 6.5 mm away,
+/// stood 4 cm out behind the ear.
+pub fn hairs_turned_off_their_guides(
+    hairs: &[SimHair],
+    guides: &[Guide],
+    mesh: &TriMesh,
+    max_turn_deg: f32,
+    min_radius: f32,
+) -> Result<Vec<usize>, GroomError> {
+    if !(max_turn_deg.is_finite() && (0.0..=180.0).contains(&max_turn_deg)) {
+        return Err(parameter(
+            "max_turn_deg",
+            max_turn_deg,
+            "must be an angle in [0, 180] degrees",
+        ));
+    }
+    if !(min_radius.is_finite() && min_radius > 0.0) {
+        return Err(parameter(
+            "min_radius",
+            min_radius,
+            "must be a finite radius > 0 m",
+        ));
+    }
+    let frame = |sample: &MeshSample| mesh.evaluate(sample);
+    let mut turned = Vec::new();
+    for (i, hair) in hairs.iter().enumerate() {
+        let at = frame(&hair.root);
+        let n = at.rotation * Vector3::z();
+        let root = at.to_world(&Vector3::zeros());
+        let (mut angle, mut distance, mut weights) = (0.0f32, 0.0f32, 0.0f32);
+        for source in &hair.sources {
+            let guide = guides.get(source.guide).ok_or_else(|| {
+                parameter(
+                    "sources",
+                    source.guide,
+                    &format!("hair {i} names a guide beyond the {} given", guides.len()),
+                )
+            })?;
+            let g = frame(&guide.root);
+            angle += source.weight * (g.rotation * Vector3::z()).angle(&n);
+            distance += source.weight * (g.to_world(&Vector3::zeros()) - root).norm();
+            weights += source.weight;
+        }
+        if weights > 0.0 {
+            let (angle, distance) = (angle / weights, distance / weights);
+            if angle.to_degrees() > max_turn_deg && distance < angle * min_radius {
+                turned.push(i);
+            }
+        }
+    }
+    Ok(turned)
 }
 
 /// The strands of `strands` (indices, increasing) whose rest shape passes through `mesh` (the
@@ -801,6 +919,158 @@ mod tests {
             clear_some |= lifted_full == 0;
         }
         assert!(lifted_some && clear_some);
+    }
+
+    /// The 12 outward-wound triangles of the box from `lo` to `hi` (m), its corners numbered
+    /// from `base`.
+    fn cuboid(lo: Vector3<f32>, hi: Vector3<f32>, base: u32) -> (Vec<Vector3<f32>>, Vec<[u32; 3]>) {
+        let corner = |i: u32| {
+            Vector3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            )
+        };
+        let quads = [
+            [0, 2, 3, 1], // −z
+            [4, 5, 7, 6], // +z
+            [0, 1, 5, 4], // −y
+            [2, 6, 7, 3], // +y
+            [0, 4, 6, 2], // −x
+            [1, 3, 7, 5], // +x
+        ];
+        let triangles = quads
+            .iter()
+            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+            .map(|t| t.map(|i| i + base))
+            .collect();
+        ((0..8).map(corner).collect(), triangles)
+    }
+
+    /// A strand rooted at `points[0]` on triangle `triangle` of `mesh`, through the world
+    /// `points` (m).
+    fn strand_through(mesh: &TriMesh, triangle: u32, points: &[Vector3<f32>]) -> StrandInput {
+        let [a, b, c] = mesh.corners(triangle as usize);
+        let (v0, v1, v2) = (b - a, c - a, points[0] - a);
+        let (d00, d01, d11) = (v0.dot(&v0), v0.dot(&v1), v1.dot(&v1));
+        let (d20, d21) = (v2.dot(&v0), v2.dot(&v1));
+        let det = d00 * d11 - d01 * d01;
+        let (w1, w2) = ((d11 * d20 - d01 * d21) / det, (d00 * d21 - d01 * d20) / det);
+        let sample = MeshSample {
+            triangle,
+            weights: [1.0 - w1 - w2, w1, w2],
+        };
+        assert!(sample.weights.iter().all(|&w| (0.0..=1.0).contains(&w)));
+        let frame = mesh.evaluate(&sample);
+        assert!((frame.to_world(&Vector3::zeros()) - points[0]).norm() < 1e-6);
+        let rest = points.iter().map(|p| frame.to_local(p)).collect();
+        StrandInput::uniform(Anchor::Surface(sample), rest, 1e-3, 1e-3, 0.0, 0.0)
+    }
+
+    /// Regression (issue 17): three of Sintel's wisps rooted above her right ear started in the
+    /// gap between ear and head, narrower than twice the clearance. Lifting pushed their first
+    /// point off one wall into the other, and the bust collider held it 0.7–1.1 mm inside for
+    /// the whole run. Here: a head (a box) with an ear (a thin slab) 2 mm beside it, and hair
+    /// combed over the head's edge down the side, once into the gap and once beside the ear.
+    /// With a 1.5 mm clearance no point in the gap can stand clear of both walls: that strand
+    /// is named, the one beside the ear is lifted clear and is not.
+    #[test]
+    fn a_wisp_in_the_ear_gap_is_left_out() {
+        let (mut positions, mut triangles) = cuboid(
+            Vector3::new(-0.1, -0.1, -0.1),
+            Vector3::new(0.0, 0.1, 0.1),
+            0,
+        );
+        let (ear, ear_triangles) = cuboid(
+            Vector3::new(0.002, -0.03, -0.05),
+            Vector3::new(0.004, 0.03, 0.0),
+            8,
+        );
+        positions.extend(ear);
+        triangles.extend(ear_triangles);
+        let mesh = TriMesh::new(positions, triangles).unwrap();
+        // The head's top (+z) is triangles 2 and 3; both roots lie in triangle 2
+        // (x ≥ y/2 − 0.05).
+        let wisp = |y: f32| -> Vec<Vector3<f32>> {
+            let mut points = vec![
+                Vector3::new(-0.01, y, 0.1),
+                Vector3::new(-0.002, y, 0.1015),
+                Vector3::new(0.001, y, 0.095),
+            ];
+            points.extend((1..=12).map(|i| Vector3::new(0.001, y, 0.095 - 0.01 * i as f32)));
+            points
+        };
+        let mut strands = vec![
+            strand_through(&mesh, 2, &wisp(0.0)),
+            strand_through(&mesh, 2, &wisp(-0.06)),
+        ];
+        let clearance = 0.0015;
+        lift_out_of_scalp(&mut strands, &mesh, clearance).unwrap();
+        let lift = ScalpLift::new(&mesh, clearance).unwrap();
+        let in_gap = lift.shortfall(&strands[0].anchor, &strands[0].rest);
+        let beside = lift.shortfall(&strands[1].anchor, &strands[1].rest);
+        // The gap is 2 mm: a point in it lies at most 1 mm from one wall, 0.5 mm short.
+        assert!(in_gap >= 0.0005 - 1e-5, "in the gap: {in_gap} m short");
+        assert!(beside < 1e-5, "beside the ear: {beside} m short");
+        let low = strands_below_clearance(&strands, &mesh, clearance, 1e-4).unwrap();
+        assert_eq!(low, vec![0]);
+        let err = strands_below_clearance(&strands, &mesh, clearance, -1.0).unwrap_err();
+        assert!(err.to_string().contains("tolerance"), "{err}");
+    }
+
+    /// Regression (issue 17): a Sintel sim hair rooted on her right ear's rim had its guide's
+    /// shape turned 82° out into the air. On a sphere of radius R the turn between two roots'
+    /// normals is the angle θ between the roots seen from the centre, over roots about R·θ
+    /// apart. On a 2 cm sphere (sharper than the 3 cm radius allowed) hairs rooted more than
+    /// 60° from their one guide are named and nearer ones are not (the facets' smooth normals
+    /// differ from the sphere's by well under the 4° margin left either side of 60°); on a
+    /// 10 cm sphere, a head's curvature, none is, however far.
+    #[test]
+    fn a_hair_turned_sharply_off_its_guide_is_named() {
+        use crate::{sample_area_weighted, GuideWeight, Region, SimHair};
+        for (radius, sharp) in [(0.02, true), (0.1, false)] {
+            let mesh = uv_sphere(radius, 48, 24).unwrap();
+            let roots = sample_area_weighted(&mesh, 400, 3, &Region::All).unwrap();
+            let at = |s: &MeshSample| mesh.evaluate(s).to_world(&Vector3::zeros());
+            let guide = Guide {
+                root: roots[0],
+                rest: vec![Vector3::zeros(), Vector3::new(0.0, 0.0, 0.1)],
+            };
+            let hairs: Vec<SimHair> = roots[1..]
+                .iter()
+                .map(|&root| SimHair {
+                    root,
+                    rest: guide.rest.clone(),
+                    sources: vec![GuideWeight {
+                        guide: 0,
+                        weight: 1.0,
+                    }],
+                })
+                .collect();
+            let guides = std::slice::from_ref(&guide);
+            let turned = hairs_turned_off_their_guides(&hairs, guides, &mesh, 60.0, 0.03).unwrap();
+            let (mut far, mut near) = (0, 0);
+            for (i, hair) in hairs.iter().enumerate() {
+                let angle = at(&guide.root).angle(&at(&hair.root)).to_degrees();
+                if angle > 64.0 {
+                    assert_eq!(turned.contains(&i), sharp, "{angle}° on radius {radius}");
+                    far += 1;
+                } else if angle < 56.0 {
+                    assert!(!turned.contains(&i), "{angle}° named on radius {radius}");
+                    near += 1;
+                }
+            }
+            assert!(far > 100 && near > 50, "{far} far, {near} near");
+            let err = hairs_turned_off_their_guides(&hairs, &[], &mesh, 60.0, 0.03).unwrap_err();
+            assert!(err.to_string().contains("sources"), "{err}");
+            for (turn, min_radius, name) in
+                [(f32::NAN, 0.03, "max_turn_deg"), (60.0, 0.0, "min_radius")]
+            {
+                let err = hairs_turned_off_their_guides(&hairs, guides, &mesh, turn, min_radius)
+                    .unwrap_err();
+                assert!(err.to_string().contains(name), "{err}");
+            }
+        }
     }
 
     #[test]

@@ -128,7 +128,12 @@ pub struct SimHairsSection {
     /// inside. The hair radius plus the collider's thickness starts it touching. Sim hairs whose
     /// lifted shape still passes through the scalp (blended between guides either side of a
     /// thin flap such as an ear) are left out: contacts act on points, so a flap between two
-    /// points of a strand stays caught. `scene check` says how many.
+    /// points of a strand stays caught. So are sim hairs the lift cannot clear, which start in a
+    /// gap of the scalp narrower than twice the clearance (between an ear and the head): a
+    /// collider would hold them inside. And so are sim hairs whose root normal turns sharply,
+    /// more than 60° from their guides' over less than a 3 cm radius of curvature (rooted on an
+    /// ear's rim beside guides on the scalp): blending turns the guides' shapes by that angle,
+    /// out into the air. `scene check` says how many of each.
     #[serde(default)]
     pub clearance: Option<f32>,
     /// Guides blended per hair.
@@ -369,16 +374,56 @@ pub fn build(
             .map_err(|e| format!("[sim_hairs] {e}"))?;
         let through = hair_groom::strands_through_scalp(&inputs, mesh)
             .map_err(|e| format!("[sim_hairs] {e}"))?;
+        // Hair the lift left lower than the quality report's contact tolerance below the
+        // clearance would start inside a scalp collider of that reach.
+        let tolerance = hair_core::QualityOptions::default().contact_tolerance;
+        let low = hair_groom::strands_below_clearance(&inputs, mesh, clearance, tolerance)
+            .map_err(|e| format!("[sim_hairs] {e}"))?;
+        // A blend turning its guides' shapes (the angle between root normals) by more than
+        // 60° over roots closer than a 3 cm radius of curvature needs — sharper than any skull,
+        // as at an ear's rim — turns them out into the air: see
+        // `hair_groom::hairs_turned_off_their_guides`.
+        let turned =
+            hair_groom::hairs_turned_off_their_guides(&hairs, &guides_list, mesh, 60.0, 0.03)
+                .map_err(|e| format!("[sim_hairs] {e}"))?;
+        let mut reasons = Vec::new();
         if !through.is_empty() {
-            left_out = format!(
-                " ({} left out: their blended shape passes through the scalp, e.g. between \
-                 guides either side of an ear)",
+            reasons.push(format!(
+                "{} left out: their blended shape passes through the scalp, e.g. between \
+                 guides either side of an ear",
                 through.len()
-            );
+            ));
+        }
+        let low: Vec<usize> = low.into_iter().filter(|i| !through.contains(i)).collect();
+        if !low.is_empty() {
+            reasons.push(format!(
+                "{} left out: they start in a gap of the scalp narrower than twice the \
+                 clearance, e.g. between ear and head, which no lift clears",
+                low.len()
+            ));
+        }
+        let turned: Vec<usize> = turned
+            .into_iter()
+            .filter(|i| !through.contains(i) && !low.contains(i))
+            .collect();
+        if !turned.is_empty() {
+            reasons.push(format!(
+                "{} left out: rooted where the scalp turns sharply, more than 60° from their \
+                 guides' roots nearby (e.g. on an ear's rim), their blended shape would stand \
+                 off the head",
+                turned.len()
+            ));
+        }
+        if !reasons.is_empty() {
+            left_out = format!(" ({})", reasons.join("; "));
             // The hairs and their strand inputs stay in step: animated guides blend the
             // hairs kept, one per strand.
             let mut keep = vec![true; inputs.len()];
-            through.iter().for_each(|&i| keep[i] = false);
+            through
+                .iter()
+                .chain(&low)
+                .chain(&turned)
+                .for_each(|&i| keep[i] = false);
             let mut kept = keep.iter();
             inputs.retain(|_| kept.next() == Some(&true));
             let mut kept = keep.iter();
