@@ -577,10 +577,12 @@ mod tests {
     }
 
     /// A group of one bent strand (the same in every lane) of `n` points at rest: 2 cm
-    /// segments turning by 0.3 rad each about alternating axes, root pinned, 1 g points, its
-    /// rest curvatures those of its shape, and its root frame (identity).
+    /// segments turning by 0.3 rad each about alternating axes, root pinned, 1 g points, the
+    /// step's stretch stiffness, its rest curvatures those of its shape, and its root frame
+    /// (identity).
     fn bent_strand(n: usize, c: &StepConstants) -> (Scratch<L>, XpbdScratch<L>, M3<L>) {
         let mut g = Scratch::<L>::default();
+        g.stretch_k = splat(c.stretch);
         let mut p = Vector3::new(0.0f32, 0.0, 0.0);
         let mut dir = Vector3::new(0.0f32, 0.0, 1.0);
         for i in 0..n {
