@@ -581,8 +581,10 @@ mod tests {
     /// step's stretch stiffness, its rest curvatures those of its shape, and its root frame
     /// (identity).
     fn bent_strand(n: usize, c: &StepConstants) -> (Scratch<L>, XpbdScratch<L>, M3<L>) {
-        let mut g = Scratch::<L>::default();
-        g.stretch_k = splat(c.stretch);
+        let mut g = Scratch::<L> {
+            stretch_k: splat(c.stretch),
+            ..Default::default()
+        };
         let mut p = Vector3::new(0.0f32, 0.0, 0.0);
         let mut dir = Vector3::new(0.0f32, 0.0, 1.0);
         for i in 0..n {
