@@ -83,6 +83,6 @@ pub use sampling::{
 pub use shapes::{builtin_head, uv_sphere};
 pub use snap::{guides_to_groom, snap_to_scalp, Guide, SnapOptions, Snapped};
 pub use style::{
-    hairs_turned_off_their_guides, lay_over_scalp, lift_out_of_scalp, strands_below_clearance,
-    strands_through_scalp, LiftMemory, Part, ScalpLift, StyleOptions,
+    hairs_turned_off_their_guides, lay_over_scalp, lift_out_of_scalp, strands_through_scalp,
+    LiftMemory, Part, ScalpLift, StyleOptions,
 };

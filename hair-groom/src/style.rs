@@ -284,11 +284,7 @@ pub fn lift_out_of_scalp(
     mesh: &TriMesh,
     clearance: f32,
 ) -> Result<usize, GroomError> {
-    let lift = ScalpLift::new(mesh, clearance)?;
-    Ok(strands
-        .iter_mut()
-        .map(|strand| lift.lift(&strand.anchor, &mut strand.rest))
-        .sum())
+    Ok(ScalpLift::new(mesh, clearance)?.lift_all(strands))
 }
 
 /// A scalp at rest made searchable once, to lift strands out of it to a clearance as often as
@@ -367,6 +363,65 @@ impl ScalpLift {
             worst = worst.max(allowed - height);
         }
         worst
+    }
+
+    /// [`ScalpLift::lift`] on every strand of `strands`; returns the number of points lifted.
+    pub fn lift_all(&self, strands: &mut [StrandInput]) -> usize {
+        strands
+            .iter_mut()
+            .map(|strand| self.lift(&strand.anchor, &mut strand.rest))
+            .sum()
+    }
+
+    /// The strands of `strands` (indices, increasing) whose rest shape passes through the
+    /// scalp: see [`strands_through_scalp`].
+    pub fn strands_through(&self, strands: &[StrandInput]) -> Vec<usize> {
+        let surface = &self.surface;
+        strands
+            .iter()
+            .enumerate()
+            .filter(|(_, strand)| {
+                let Anchor::Surface(sample) = strand.anchor else {
+                    return false;
+                };
+                let frame = surface.mesh.evaluate(&sample);
+                let world: Vec<Vector3<f32>> =
+                    strand.rest.iter().map(|p| frame.to_world(p)).collect();
+                world
+                    .windows(2)
+                    .skip(1)
+                    .any(|w| surface.crosses(&w[0], &w[1]))
+            })
+            .map(|(i, _)| i)
+            .collect()
+    }
+
+    /// The strands of `strands` (indices, increasing) that a lift could not clear: a point
+    /// after the root lies more than `tolerance` m lower than the lift allows it
+    /// ([`ScalpLift::shortfall`]). Lifting pushes a point away from its nearest scalp point; in
+    /// a gap narrower than twice the clearance — between Sintel's right ear and her head, where
+    /// three blended wisps start — every push away from one wall is a push into the other, and
+    /// the point stays low. A scalp collider of the clearance's reach (hair radius plus
+    /// thickness) would start with that point inside and keep it there, pressed between the
+    /// walls, for the whole run. Errors: a tolerance that is not a finite depth ≥ 0 m.
+    pub fn strands_below(
+        &self,
+        strands: &[StrandInput],
+        tolerance: f32,
+    ) -> Result<Vec<usize>, GroomError> {
+        if !(tolerance.is_finite() && tolerance >= 0.0) {
+            return Err(parameter(
+                "tolerance",
+                tolerance,
+                "must be a finite depth ≥ 0 m",
+            ));
+        }
+        Ok(strands
+            .iter()
+            .enumerate()
+            .filter(|(_, strand)| self.shortfall(&strand.anchor, &strand.rest) > tolerance)
+            .map(|(i, _)| i)
+            .collect())
     }
 
     /// [`ScalpLift::lift`] for a strand lifted again and again as it is posed (animated
@@ -483,37 +538,6 @@ pub struct LiftMemory {
     heights: Vec<f32>,
 }
 
-/// The strands of `strands` (indices, increasing) that a lift to `clearance` m
-/// ([`lift_out_of_scalp`]) could not clear: a point after the root lies more than `tolerance` m
-/// lower above `mesh` (the scalp at the rest pose the anchors refer to) than the lift allows it
-/// (the clearance, or the arc length from the root where that is less). Lifting pushes a point
-/// away from its nearest scalp point; in a gap narrower than twice the clearance — between
-/// Sintel's right ear and her head, where three blended wisps start — every push away from one
-/// wall is a push into the other, and the point stays low. A scalp collider of the clearance's
-/// reach (hair radius plus thickness) would start with that point inside and keep it there,
-/// pressed between the walls, for the whole run.
-pub fn strands_below_clearance(
-    strands: &[StrandInput],
-    mesh: &TriMesh,
-    clearance: f32,
-    tolerance: f32,
-) -> Result<Vec<usize>, GroomError> {
-    if !(tolerance.is_finite() && tolerance >= 0.0) {
-        return Err(parameter(
-            "tolerance",
-            tolerance,
-            "must be a finite depth ≥ 0 m",
-        ));
-    }
-    let lift = ScalpLift::new(mesh, clearance)?;
-    Ok(strands
-        .iter()
-        .enumerate()
-        .filter(|(_, strand)| lift.shortfall(&strand.anchor, &strand.rest) > tolerance)
-        .map(|(i, _)| i)
-        .collect())
-}
-
 /// The interpolated hairs of `hairs` (indices, increasing) that their blend turns sharply off
 /// their guides' shapes: by more than `max_turn_deg` degrees — the weighted mean, over the
 /// guides blended, of the angle between the guide's root normal and the hair's on `mesh` (the
@@ -548,24 +572,26 @@ pub fn hairs_turned_off_their_guides(
             "must be a finite radius > 0 m",
         ));
     }
-    let frame = |sample: &MeshSample| mesh.evaluate(sample);
+    // Each guide's root and normal, evaluated once for all the hairs blending it.
+    let root_and_normal = |sample: &MeshSample| {
+        let at = mesh.evaluate(sample);
+        (at.origin, at.rotation * Vector3::z())
+    };
+    let guide_roots: Vec<_> = guides.iter().map(|g| root_and_normal(&g.root)).collect();
     let mut turned = Vec::new();
     for (i, hair) in hairs.iter().enumerate() {
-        let at = frame(&hair.root);
-        let n = at.rotation * Vector3::z();
-        let root = at.to_world(&Vector3::zeros());
+        let (root, n) = root_and_normal(&hair.root);
         let (mut angle, mut distance, mut weights) = (0.0f32, 0.0f32, 0.0f32);
         for source in &hair.sources {
-            let guide = guides.get(source.guide).ok_or_else(|| {
+            let (g_root, g_normal) = guide_roots.get(source.guide).ok_or_else(|| {
                 parameter(
                     "sources",
                     source.guide,
                     &format!("hair {i} names a guide beyond the {} given", guides.len()),
                 )
             })?;
-            let g = frame(&guide.root);
-            angle += source.weight * (g.rotation * Vector3::z()).angle(&n);
-            distance += source.weight * (g.to_world(&Vector3::zeros()) - root).norm();
+            angle += source.weight * g_normal.angle(&n);
+            distance += source.weight * (g_root - root).norm();
             weights += source.weight;
         }
         if weights > 0.0 {
@@ -589,23 +615,7 @@ pub fn strands_through_scalp(
     strands: &[StrandInput],
     mesh: &TriMesh,
 ) -> Result<Vec<usize>, GroomError> {
-    let surface = Surface::new(mesh)?;
-    Ok(strands
-        .iter()
-        .enumerate()
-        .filter(|(_, strand)| {
-            let Anchor::Surface(sample) = strand.anchor else {
-                return false;
-            };
-            let frame = mesh.evaluate(&sample);
-            let world: Vec<Vector3<f32>> = strand.rest.iter().map(|p| frame.to_world(p)).collect();
-            world
-                .windows(2)
-                .skip(1)
-                .any(|w| surface.crosses(&w[0], &w[1]))
-        })
-        .map(|(i, _)| i)
-        .collect())
+    Ok(ScalpLift::new(mesh, 0.0)?.strands_through(strands))
 }
 
 /// One strand laid from its world points (root first) at layer height `height` (m).
@@ -1012,9 +1022,9 @@ mod tests {
         // The gap is 2 mm: a point in it lies at most 1 mm from one wall, 0.5 mm short.
         assert!(in_gap >= 0.0005 - 1e-5, "in the gap: {in_gap} m short");
         assert!(beside < 1e-5, "beside the ear: {beside} m short");
-        let low = strands_below_clearance(&strands, &mesh, clearance, 1e-4).unwrap();
+        let low = lift.strands_below(&strands, 1e-4).unwrap();
         assert_eq!(low, vec![0]);
-        let err = strands_below_clearance(&strands, &mesh, clearance, -1.0).unwrap_err();
+        let err = lift.strands_below(&strands, -1.0).unwrap_err();
         assert!(err.to_string().contains("tolerance"), "{err}");
     }
 

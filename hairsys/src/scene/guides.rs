@@ -370,14 +370,16 @@ pub fn build(
         .collect::<Vec<_>>();
     let mut left_out = String::new();
     if let Some(clearance) = sim.clearance {
-        hair_groom::lift_out_of_scalp(&mut inputs, mesh, clearance)
-            .map_err(|e| format!("[sim_hairs] {e}"))?;
-        let through = hair_groom::strands_through_scalp(&inputs, mesh)
-            .map_err(|e| format!("[sim_hairs] {e}"))?;
+        // One search tree of the scalp for the lift and both checks after it.
+        let lift =
+            hair_groom::ScalpLift::new(mesh, clearance).map_err(|e| format!("[sim_hairs] {e}"))?;
+        lift.lift_all(&mut inputs);
+        let through = lift.strands_through(&inputs);
         // Hair the lift left lower than the quality report's contact tolerance below the
         // clearance would start inside a scalp collider of that reach.
         let tolerance = hair_core::QualityOptions::default().contact_tolerance;
-        let low = hair_groom::strands_below_clearance(&inputs, mesh, clearance, tolerance)
+        let low = lift
+            .strands_below(&inputs, tolerance)
             .map_err(|e| format!("[sim_hairs] {e}"))?;
         // A blend turning its guides' shapes (the angle between root normals) by more than
         // 60° over roots closer than a 3 cm radius of curvature needs — sharper than any skull,
@@ -510,10 +512,6 @@ fn read_guides(
     .map_err(|e| e.to_string())
 }
 
-/// Most area-weighted draws per wanted root when sim hairs must grow near the guides: a groom
-/// covering a thousandth of the region is still filled; a smaller one is refused by name.
-const MAX_DRAWS_PER_ROOT: usize = hair_groom::sampling::MAX_DRAWS_PER_ROOT;
-
 /// The enabled guides' roots (m), with `max_distance` (the sim hairs' largest distance from
 /// one, m) checked: finite and > 0.
 fn guide_roots(
@@ -550,7 +548,8 @@ fn near_guides(
     let grid = PointGrid::new(&guide_roots, max_distance);
     let mut sampler = hair_groom::RootSampler::new(mesh, sim.seed, &region(&sim.region), density)
         .map_err(|e| format!("[sim_hairs] {e}"))?;
-    let max_draws = count.saturating_mul(MAX_DRAWS_PER_ROOT);
+    // A groom covering a thousandth of the region is still filled; a smaller one is refused.
+    let max_draws = count.saturating_mul(hair_groom::sampling::MAX_DRAWS_PER_ROOT);
     let kept = sampler
         .fill(count, max_draws, |r| {
             grid.any_within(&mesh.evaluate(r).origin)
