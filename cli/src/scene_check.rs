@@ -8,6 +8,7 @@
 use hair_core::{ColliderShape, Component, FieldKind, RodParams, StrandModel, Substeps};
 use hairsys::budget::{Budget, BYTES_PER_POINT};
 use hairsys::scene::guide_anim::HairSelection;
+use hairsys::scene::integrator::integrator_name;
 use hairsys::scene::maps::MapSummary;
 use hairsys::scene::regions::RegionParams;
 use hairsys::scene::{SceneCollider, Simulation};
@@ -30,6 +31,11 @@ pub struct SceneReport {
     pub model: &'static str,
     /// The rod's material (`[rod]`), when the model is the rod.
     pub rod: Option<RodParams>,
+    /// Time integrator of the mass-spring model, as the scene spells it (`None` for the rod and
+    /// the strips).
+    pub integrator: Option<&'static str>,
+    /// Why `[solver] integrator = "auto"` chose it (`None` when the scene named it).
+    pub integrator_reason: Option<String>,
     /// Collision steps per frame (`[solver] steps`).
     pub steps: u32,
     /// Force substeps per step the run will take.
@@ -138,6 +144,10 @@ pub fn report(scene: &str, sim: &Simulation, budget: Budget) -> Result<SceneRepo
         fps: sim.settings.fps,
         model: sim.model.name(),
         rod: (sim.model == StrandModel::Rod).then_some(sim.rod),
+        integrator: (sim.model == StrandModel::MassSpring)
+            .then(|| integrator_name(sim.integrator.integrator)),
+        integrator_reason: (sim.model == StrandModel::MassSpring && sim.integrator.auto)
+            .then(|| sim.integrator.reason()),
         steps,
         substeps,
         substeps_auto: matches!(sim.settings.substeps, Substeps::Auto),
@@ -248,6 +258,12 @@ impl std::fmt::Display for SceneReport {
                 self.model, rod.semi_major_axis, rod.axis_ratio, rod.youngs_modulus
             )?,
             None => writeln!(f, "  model: {}", self.model)?,
+        }
+        if let Some(integrator) = self.integrator {
+            match &self.integrator_reason {
+                Some(why) => writeln!(f, "  integrator: {integrator} (\"auto\": {why})")?,
+                None => writeln!(f, "  integrator: {integrator}")?,
+            }
         }
         writeln!(
             f,

@@ -68,6 +68,12 @@ pub struct RunSummary {
     pub dt_bound: f64,
     /// Strand model that ran: `"mass-spring"`, `"rod"` or `"strips"`.
     pub model: &'static str,
+    /// Time integrator of the mass-spring model, as the scene spells it (`None` for the rod and
+    /// the strips, which have their own schemes).
+    pub integrator: Option<&'static str>,
+    /// Why `[solver] integrator = "auto"` chose `integrator`, in words (`None` when the scene
+    /// named it).
+    pub integrator_reason: Option<String>,
     /// Compiled copy of the mass-spring kernel this CPU ran: `"avx2"` or `"baseline"` (same
     /// bits, see [`hair_core::kernel_instructions`]).
     pub kernel: &'static str,
@@ -157,6 +163,8 @@ pub fn simulate(
             ))
         })?;
     let steps = sim.settings.steps;
+    let mass_spring = sim.model == hair_core::StrandModel::MassSpring;
+    let integrator = sim.integrator.clone();
     let mut session = Session::from_simulation(sim, &opts.scene, scene_hash)?;
     if let Some((first, last)) = opts.frames {
         // The scene's build checked the work of the scene's own range; --frames replaces it.
@@ -269,6 +277,9 @@ pub fn simulate(
         dt: solver.dt(),
         dt_bound: solver.dt_bound(),
         model: solver.model().name(),
+        integrator: mass_spring
+            .then(|| crate::scene::integrator::integrator_name(integrator.integrator)),
+        integrator_reason: (mass_spring && integrator.auto).then(|| integrator.reason()),
         kernel: hair_core::kernel_instructions(opts.kernel),
         projection: totals.projection,
         components: components.names(),
@@ -357,6 +368,12 @@ impl std::fmt::Display for RunSummary {
             self.strands_ms_per_frame,
             self.cache_ms_per_frame
         )?;
+        if let Some(integrator) = self.integrator {
+            match &self.integrator_reason {
+                Some(why) => writeln!(f, "  integrator: {integrator} (\"auto\": {why})")?,
+                None => writeln!(f, "  integrator: {integrator}")?,
+            }
+        }
         writeln!(
             f,
             "  substeps: {} per step, dt = {:.3e} s (stability bound 2/ω = {:.3e} s)",

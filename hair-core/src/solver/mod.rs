@@ -749,7 +749,7 @@ impl Solver {
 
 /// Force substeps per collision step for `settings`: the fixed count, or `auto` from the
 /// stability bound (explicit-type integrators) or the accuracy limit (implicit Euler, XPBD).
-fn resolve_substeps(settings: &SolverSettings, bound: &StabilityBound) -> u32 {
+pub(crate) fn resolve_substeps(settings: &SolverSettings, bound: &StabilityBound) -> u32 {
     match settings.substeps {
         Substeps::Fixed(n) => n,
         Substeps::Auto => match settings.integrator {

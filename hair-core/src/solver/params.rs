@@ -163,7 +163,8 @@ pub enum Substeps {
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Integrator {
-    /// `v += dt·a(x, v); x += dt·v` — symplectic, the default.
+    /// `v += dt·a(x, v); x += dt·v` — symplectic, the default of [`SolverSettings`] (scene
+    /// files choose between it and [`Integrator::ImplicitEuler`] by cost unless they name one).
     SemiImplicitEuler,
     /// `x += dt·v; v += dt·a(x, v)` with the old velocity — the baseline that fails first.
     ExplicitEuler,
@@ -233,6 +234,14 @@ impl Default for SolverSettings {
 }
 
 impl SolverSettings {
+    /// Force substeps per collision step these settings take on strands whose stability bound
+    /// is `bound`: the fixed count, or what `"auto"` resolves to for the integrator (the
+    /// stability bound's count for the explicit-type integrators, the accuracy limit's for
+    /// implicit Euler and XPBD). The [`super::Solver`] built from them takes the same count.
+    pub fn resolved_substeps(&self, bound: &super::StabilityBound) -> u32 {
+        super::resolve_substeps(self, bound)
+    }
+
     /// Checks fps > 0, steps ≥ 1 and fixed substeps ≥ 1.
     pub fn validate(&self) -> Result<()> {
         check_positive("fps", self.fps)?;

@@ -240,7 +240,7 @@ pub fn plan(
     };
     let mut runs: Vec<(Method, Result<ProbeRun, Error>)> = vec![(springs, Ok(springs_run))];
     let scene_method = Method {
-        integrator: s.solver.integrator,
+        integrator: base.settings.integrator,
         substeps: match base.settings.substeps {
             Substeps::Auto => None,
             Substeps::Fixed(n) => Some(n),

@@ -25,7 +25,7 @@ use crate::{Error, Session};
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Method {
     /// The integrator.
-    #[serde(serialize_with = "integrator_name")]
+    #[serde(serialize_with = "serialize_integrator")]
     pub integrator: Integrator,
     /// Force substeps per collision step; `None` = the stability bound (`"auto"`).
     pub substeps: Option<u32>,
@@ -35,18 +35,8 @@ pub struct Method {
     pub segments: u32,
 }
 
-fn integrator_name<S: serde::Serializer>(i: &Integrator, s: S) -> Result<S::Ok, S::Error> {
-    s.serialize_str(integrator_word(*i))
-}
-
-/// The scene-file spelling of an integrator.
-pub fn integrator_word(i: Integrator) -> &'static str {
-    match i {
-        Integrator::SemiImplicitEuler => "semi-implicit-euler",
-        Integrator::ExplicitEuler => "explicit-euler",
-        Integrator::ImplicitEuler => "implicit-euler",
-        Integrator::Xpbd => "xpbd",
-    }
+fn serialize_integrator<S: serde::Serializer>(i: &Integrator, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(crate::scene::integrator::integrator_name(*i))
 }
 
 impl std::fmt::Display for Method {

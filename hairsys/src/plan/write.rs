@@ -6,8 +6,9 @@
 //! simple values `plan` writes (numbers, booleans, strings without `#`) are handled; the result
 //! is parsed again before it is returned.
 
-use crate::plan::probe::{integrator_word, same_material};
+use crate::plan::probe::same_material;
 use crate::plan::Candidate;
+use crate::scene::integrator::integrator_name;
 use crate::scene::SceneFile;
 use crate::Error;
 
@@ -29,7 +30,7 @@ pub fn chosen_scene(
         &text,
         "solver",
         "integrator",
-        &format!("\"{}\"", integrator_word(m.integrator)),
+        &format!("\"{}\"", integrator_name(m.integrator)),
     );
     text = set_key(
         &text,

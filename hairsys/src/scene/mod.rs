@@ -28,6 +28,7 @@ pub mod deforming;
 pub mod fields;
 pub mod guide_anim;
 pub mod guides;
+pub mod integrator;
 pub mod map_primvars;
 pub mod maps;
 pub mod motion;
@@ -41,6 +42,7 @@ pub use version::SCENE_VERSION;
 use deforming::{DeformingSource, MeshAnimation, ObjSequenceSection, UsdMeshSection};
 use fields::FieldSection;
 use guides::{GuidesSection, SimHairsSection};
+use integrator::{IntegratorChoice, ResolvedIntegrator};
 use motion::RigidMotion;
 
 /// The built-in default scene, fully commented (printed by `hairsys scene init`).
@@ -164,8 +166,10 @@ pub enum SubstepsValue {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SolverSection {
-    /// `"semi-implicit-euler"` (default), `"explicit-euler"`, `"implicit-euler"` or `"xpbd"`.
-    pub integrator: Integrator,
+    /// `"auto"` (default: the cheaper of semi-implicit and implicit Euler for the scene, see
+    /// [`integrator`]), `"semi-implicit-euler"`, `"implicit-euler"`, `"xpbd"` or
+    /// `"explicit-euler"`.
+    pub integrator: IntegratorChoice,
     /// Collision steps per frame.
     pub steps: u32,
     /// Force substeps per step: a count or `"auto"`.
@@ -194,7 +198,7 @@ pub struct SolverSection {
 impl Default for SolverSection {
     fn default() -> Self {
         Self {
-            integrator: Integrator::SemiImplicitEuler,
+            integrator: IntegratorChoice::Auto,
             steps: 1,
             substeps: SubstepsValue::Word("auto".into()),
             damping_iterations: 10,
@@ -637,22 +641,22 @@ impl SceneFile {
         Ok(())
     }
 
-    /// Refuses a run whose force substeps (explicit or resolved from `"auto"` by the stability
-    /// bound of `strands`) exceed [`crate::budget::MAX_SUBSTEPS`], or whose work (points ×
-    /// substeps × steps × frames) is over [`Self::budget`].
+    /// Refuses a run whose force substeps (explicit or resolved from `"auto"` for its
+    /// integrator, with the stability bound `bound` of its strands) exceed
+    /// [`crate::budget::MAX_SUBSTEPS`], or whose work (`points` × substeps × steps × frames) is
+    /// over [`Self::budget`].
     fn check_work_budget(
         &self,
         settings: &SolverSettings,
-        strands: &StrandSet,
-        scales: &[hair_core::StrandScales],
+        bound: &hair_core::StabilityBound,
+        points: usize,
     ) -> Result<(), SceneError> {
         use crate::budget::MAX_SUBSTEPS;
         let s = &self.scene;
         let substeps = match settings.substeps {
             Substeps::Fixed(n) => f64::from(n),
             Substeps::Auto => {
-                let bound = hair_core::StabilityBound::of_scaled(strands, &s.physics, scales);
-                let wanted = f64::from(bound.auto_substeps(settings.step_dt()));
+                let wanted = f64::from(settings.resolved_substeps(bound));
                 if wanted > f64::from(MAX_SUBSTEPS) {
                     return Err(self.error(format!(
                         "[solver] substeps = \"auto\" resolves to {wanted:.3e} force substeps per \
@@ -675,13 +679,12 @@ impl SceneFile {
         }
         let [first, last] = s.scene.frames;
         let frames = f64::from(last.saturating_sub(first));
-        let work = strands.point_count() as f64 * substeps * f64::from(settings.steps) * frames;
+        let work = points as f64 * substeps * f64::from(settings.steps) * frames;
         self.budget
             .check_work(
                 &format!(
-                    "the run ({} points × {substeps} substeps × [solver] steps = {} × {frames} \
-                     frames)",
-                    strands.point_count(),
+                    "the run ({points} points × {substeps} substeps × [solver] steps = {} × \
+                     {frames} frames)",
                     settings.steps
                 ),
                 work,
@@ -725,12 +728,16 @@ impl SceneFile {
                 )))
             }
         };
-        let settings = SolverSettings {
+        let mut settings = SolverSettings {
             fps: s.scene.fps,
             steps: s.solver.steps,
             substeps,
             damping_iterations: s.solver.damping_iterations,
-            integrator: s.solver.integrator,
+            // `"auto"` is resolved once the strands and their regions are built.
+            integrator: match s.solver.integrator {
+                IntegratorChoice::Named(i) => i,
+                IntegratorChoice::Auto => Integrator::SemiImplicitEuler,
+            },
             max_strain: s.solver.max_strain,
             // The kernel copy changes speed, not bits: a run option, not part of the scene.
             kernel: KernelChoice::Auto,
@@ -881,8 +888,23 @@ impl SceneFile {
             .child_factors(&strands, rest_mesh.as_ref())
             .map_err(err)?;
         let map_summaries = maps.summaries(&strands, rest_mesh.as_ref()).map_err(err)?;
-        self.check_work_budget(&settings, &strands, &scales)?;
         let colliders = self.colliders()?;
+        let contact = integrator::ContactLoad {
+            deforming: scalp_animation.is_some() && s.scalp.collider.is_some()
+                || colliders.iter().any(|c| c.animation.is_some()),
+            animated_guides: guided.as_ref().is_some_and(|g| g.animation.is_some()),
+            ..self.collider_motion(&colliders, &strands)
+        };
+        let bound = hair_core::StabilityBound::of_scaled(&strands, &s.physics, &scales);
+        let integrator = s.solver.integrator.resolve(
+            s.solver.model,
+            &settings,
+            &bound,
+            integrator::max_rest_turn(&strands),
+            &contact,
+        );
+        settings.integrator = integrator.integrator;
+        self.check_work_budget(&settings, &bound, strands.point_count())?;
         if let Some(c) = &s.contacts {
             c.validate().map_err(|e| err(format!("[contacts] {e}")))?;
         }
@@ -925,6 +947,7 @@ impl SceneFile {
         let mut sim = Simulation {
             strands,
             settings,
+            integrator,
             params: s.physics,
             first_frame: first,
             last_frame: last,
@@ -1034,6 +1057,50 @@ impl SceneFile {
     }
 
     /// Loads and checks the `[[colliders]]`.
+    /// The fastest surface speed of `colliders` over the shot and the distance one may move in
+    /// a substep (its thickness plus the thinnest hair radius of `strands`), for `"auto"`'s
+    /// contact condition ([`integrator`]).
+    fn collider_motion(
+        &self,
+        colliders: &[SceneCollider],
+        strands: &StrandSet,
+    ) -> integrator::ContactLoad {
+        let [first, last] = self.scene.scene.frames;
+        let fps = f64::from(self.scene.scene.fps);
+        let hair = strands
+            .radii()
+            .iter()
+            .copied()
+            .fold(f32::INFINITY, f32::min);
+        let mut load = integrator::ContactLoad {
+            margin: f64::INFINITY,
+            ..Default::default()
+        };
+        for c in colliders {
+            let radius = match &c.collider.shape {
+                ColliderShape::Sphere { radius } => f64::from(*radius),
+                ColliderShape::Capsule {
+                    half_height,
+                    radius,
+                } => f64::from(half_height + radius),
+                ColliderShape::Mesh(mesh) => mesh
+                    .positions()
+                    .iter()
+                    .map(|p| f64::from(p.norm()))
+                    .fold(0.0, f64::max),
+            };
+            let speed =
+                integrator::fastest_surface_speed(|f| c.motion.at(f), radius, first, last, fps);
+            if speed > 0.0 {
+                load.collider_speed = load.collider_speed.max(speed);
+                load.margin = load
+                    .margin
+                    .min(f64::from(c.collider.thickness + hair.max(0.0)));
+            }
+        }
+        load
+    }
+
     fn colliders(&self) -> Result<Vec<SceneCollider>, SceneError> {
         let mut out = Vec::new();
         for (i, c) in self.scene.colliders.iter().enumerate() {
@@ -1299,8 +1366,11 @@ impl SceneCollider {
 pub struct Simulation {
     /// Strands at rest at the first frame.
     pub strands: StrandSet,
-    /// Time stepping.
+    /// Time stepping (`integrator` resolved: see [`Self::integrator`]).
     pub settings: SolverSettings,
+    /// The integrator `settings` carries, whether `[solver] integrator = "auto"` chose it, and
+    /// the substep counts it compared.
+    pub integrator: ResolvedIntegrator,
     /// Physics parameters.
     pub params: HairParams,
     /// First frame (hair at rest).

@@ -5,6 +5,7 @@
 
 use std::time::{Duration, Instant};
 
+use hairsys::scene::integrator::IntegratorChoice;
 use hairsys::scene::{SceneFile, DEFAULT_SCENE};
 
 use hairsys::session::Session;
@@ -33,18 +34,19 @@ pub struct Run {
 /// The shipped default scene on `integrator` at `substeps` (a TOML value), with the
 /// inextensibility projection when `inextensible`.
 pub fn scene(integrator: &str, substeps: &str, inextensible: bool) -> SceneFile {
-    let mut text = DEFAULT_SCENE
-        .replace(
-            "integrator = \"semi-implicit-euler\"",
-            &format!("integrator = \"{integrator}\""),
-        )
-        .replace("substeps = \"auto\"", &format!("substeps = {substeps}"));
+    let mut text = DEFAULT_SCENE.replace("substeps = \"auto\"", &format!("substeps = {substeps}"));
     if inextensible {
         text = text.replace("# inextensibility = true", "inextensibility = true");
     }
-    SceneFile::parse(&text, "default (issue 22 measurement)", ".".into()).unwrap()
+    let mut file = SceneFile::parse(&text, "default (issue 22 measurement)", ".".into()).unwrap();
+    file.scene.solver.integrator = named(integrator);
+    file
 }
 
+/// The integrator spelled `word` in a scene file.
+fn named(word: &str) -> IntegratorChoice {
+    word.parse().unwrap()
+}
 /// Steps `scene` for [`FRAMES`] frames through a `Session`, timing each step.
 pub fn run(label: &str, scene: &SceneFile) -> Run {
     let mut session = Session::from_scene(scene).unwrap();
@@ -152,16 +154,13 @@ pub fn table(runs: &[Run], reference: &Run) {
 
 /// The parity scene with its head mesh as collider on `integrator` at `substeps`.
 pub fn parity(integrator: &str, substeps: &str) -> SceneFile {
-    let text = PARITY_COLLIDE
-        .replace(
-            "integrator = \"semi-implicit-euler\"",
-            &format!("integrator = \"{integrator}\""),
-        )
-        .replace("substeps = \"auto\"", &format!("substeps = {substeps}"));
-    SceneFile::parse(
+    let text = PARITY_COLLIDE.replace("substeps = \"auto\"", &format!("substeps = {substeps}"));
+    let mut file = SceneFile::parse(
         &text,
         "parity_collide (issue 22 measurement)",
         "scenes".into(),
     )
-    .unwrap()
+    .unwrap();
+    file.scene.solver.integrator = named(integrator);
+    file
 }

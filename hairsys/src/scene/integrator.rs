@@ -1,0 +1,569 @@
+//! `[solver] integrator`: a named time integrator, or `"auto"` (the default), which picks the
+//! cheaper of semi-implicit and implicit Euler for the scene's strands.
+//!
+//! # The rule
+//!
+//! Both integrators meet the same accuracy where `"auto"` uses them (issue 22's measure on the
+//! default scene, 24 frames, RMS against the inextensible reference at 512 substeps: semi-implicit
+//! Euler at its stability bound 0.33 mm, implicit Euler at its accuracy limit of 1/384 s 0.92 mm,
+//! both under the 1.5 mm target with p99 stretch under 1 %). What differs is the cost:
+//!
+//! - semi-implicit Euler needs the substeps its **stability bound** asks for
+//!   ([`hair_core::StabilityBound`]): few on long soft segments (the parity scene: 19 per frame),
+//!   many where short segments carry stiff springs (the default scene 165, the character 434);
+//! - implicit Euler needs the substeps its **accuracy limit** asks for (16 per frame at 24 fps),
+//!   whatever the stiffness, but each costs [`IMPLICIT_SUBSTEP_COST`] explicit substeps (a banded
+//!   solve per strand instead of a force sweep).
+//!
+//! So `"auto"` takes implicit Euler when the stability bound's substeps cost more than the
+//! accuracy limit's implicit ones, and semi-implicit Euler otherwise (ties go to semi-implicit
+//! Euler, the more accurate of the two per substep) — unless a rest joint of the groom turns by
+//! more than [`MAX_IMPLICIT_REST_TURN`]: implicit Euler's matrix takes bending's small-angle
+//! Hessian about a straight joint (`hair_core::solver` module `implicit`), which misjudges a
+//! sharply pre-bent joint's stiffness. Measured 2026-11-25 (first-frame joint turns, and point-
+//! frames turning past 90° over 48 frames at 16 implicit substeps): the default, wind, gust,
+//! collision and character grooms turn at most 27–32° per joint and fold nowhere; Sintel's has
+//! five joints of 29,090 at 71–83°, next to her roots, and exactly those folded into hairpins
+//! (29 point-frames, up to 150°; still 26 at 64 substeps), where semi-implicit Euler folds none. With a fixed substep count it takes
+//! semi-implicit Euler where that count is within the stability bound and implicit Euler where
+//! it is not (it is stable at any substep). Only the mass-spring model has a choice: the rod and
+//! the strips keep their own schemes.
+//!
+//! **Contacts.** Implicit Euler applies the contact response after each substep's solve, as the
+//! explicit kernel does, but at 16 substeps a frame instead of ~150 the springs pull a pushed-out
+//! point back towards its neighbours for a whole 2.6 ms substep before the next response. On the
+//! shipped default, wind and collision scenes that stays within the look bounds, but harder contact
+//! does not (measured 2026-11-25): a ball at 24 m/s through hanging hair left points 26.6 mm inside
+//! it at 16 implicit substeps and 0.45 mm at 64, none at 256 (semi-implicit Euler: none at its 96);
+//! a keyed gust swept into the head left 0.22 % of point-frames inside (semi-implicit 0.055 %); a
+//! shrugging deforming scalp left 4 point-frames 0.23 mm inside (semi-implicit none). So `"auto"`
+//! takes implicit Euler only where contact is gentle: no `[[colliders]]` surface moving more than
+//! its thickness plus the thinnest hair's radius in one implicit substep, no deforming collider
+//! (the scalp included) and no animated guides ([`ContactLoad`]). The rigid scalp collider does
+//! not count: the hair it carries is rooted on it and moves with it.
+//!
+//! The choice is made once, when the scene is built, from the strands at rest (per-region
+//! stiffness included), so a run and its resume take the same integrator.
+
+use std::fmt;
+
+use hair_core::{Integrator, SolverSettings, StabilityBound, StrandModel, StrandSet, Substeps};
+use serde::de::{Deserializer, Error as _};
+use serde::ser::Serializer;
+use serde::{Deserialize, Serialize};
+
+/// Strand-phase cost of one implicit Euler substep in semi-implicit Euler substeps on the same
+/// strands. Measured 2026-11-25 on this project's 2-core machine (`hairsys simulate --json`,
+/// `strands_ms_per_frame / substeps`, each scene run both ways): default scene 2.7, wind demo
+/// 3.4, gust 3.4, collision demo 3.1, character 3.2, parity 2.1; 2.8 on the default scene in
+/// session 6.
+pub const IMPLICIT_SUBSTEP_COST: f64 = 3.0;
+
+/// Largest turn of a rest joint (rad) for which `"auto"` takes implicit Euler: 45°, between the
+/// shipped grooms' 32° and Sintel's 71–83° (module docs), where the curvature measure
+/// `2 tan(θ/2)` departs from the angle by 5.5 %.
+pub const MAX_IMPLICIT_REST_TURN: f64 = std::f64::consts::FRAC_PI_4;
+
+/// What in a scene presses on its hair, for `"auto"`'s contact condition (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ContactLoad {
+    /// Fastest speed of any point of a `[[colliders]]` surface over the shot, m/s (0 without
+    /// moving colliders).
+    pub collider_speed: f64,
+    /// Smallest `thickness` of those colliders plus the thinnest hair's radius, m: how far a
+    /// collider may move in one implicit substep.
+    pub margin: f64,
+    /// A collider (the scalp's included) deforms.
+    pub deforming: bool,
+    /// The hair follows animated guides (`[[guides.pose]]`).
+    pub animated_guides: bool,
+}
+
+impl ContactLoad {
+    /// Why implicit Euler's contact response at a substep of `dt` (s) is not enough here, if it
+    /// is not.
+    fn too_hard(&self, dt: f64) -> Option<String> {
+        if self.deforming {
+            Some("a collider deforms".into())
+        } else if self.animated_guides {
+            Some("animated guides press the hair into its colliders".into())
+        } else if self.collider_speed * dt > self.margin {
+            Some(format!(
+                "a collider moves {:.1} mm in one implicit substep, more than its thickness plus \
+                 the hair radius ({:.1} mm)",
+                self.collider_speed * dt * 1e3,
+                self.margin * 1e3
+            ))
+        } else {
+            None
+        }
+    }
+}
+
+/// Fastest speed of a point within `radius` (m) of the origin of a body moving by `pose(t)` over
+/// frames `first..=last` (frame numbers), m/s: sampled at quarter frames, translation plus
+/// rotation angle times `radius` per sample interval.
+pub fn fastest_surface_speed(
+    pose: impl Fn(f32) -> nalgebra::Isometry3<f32>,
+    radius: f64,
+    first: u32,
+    last: u32,
+    fps: f64,
+) -> f64 {
+    const PER_FRAME: u32 = 4;
+    let interval = 1.0 / (fps * f64::from(PER_FRAME));
+    let samples = (last.saturating_sub(first)) * PER_FRAME;
+    (0..samples)
+        .map(|k| {
+            let t0 = first as f32 + k as f32 / PER_FRAME as f32;
+            let t1 = first as f32 + (k + 1) as f32 / PER_FRAME as f32;
+            let (a, b) = (pose(t0), pose(t1));
+            let moved = f64::from((b.translation.vector - a.translation.vector).norm());
+            let turned = f64::from(a.rotation.angle_to(&b.rotation));
+            (moved + turned * radius) / interval
+        })
+        .fold(0.0, f64::max)
+}
+
+/// `[solver] integrator`: `"auto"` or a named integrator.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum IntegratorChoice {
+    /// The cheaper of semi-implicit and implicit Euler for the scene (module docs).
+    #[default]
+    Auto,
+    /// This integrator, whatever it costs.
+    Named(Integrator),
+}
+
+/// The integrator a scene runs, and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ResolvedIntegrator {
+    /// The integrator the solver takes.
+    pub integrator: Integrator,
+    /// Whether `"auto"` chose it.
+    pub auto: bool,
+    /// Substeps per step semi-implicit Euler would take (the fixed count, or the stability
+    /// bound's for `"auto"` substeps, on the groom before sag-free initialisation, which can
+    /// move the bound by a fraction of a percent).
+    pub explicit_substeps: u32,
+    /// Substeps per step implicit Euler would take (the fixed count, or its accuracy limit's).
+    pub implicit_substeps: u32,
+    /// Largest turn of a rest joint over the strands, rad.
+    pub max_rest_turn: f64,
+    /// Why implicit Euler's contact response would not be enough, if it would not (only
+    /// computed for `"auto"` on the mass-spring model where the cost asks for implicit Euler).
+    pub hard_contact: Option<String>,
+}
+
+impl ResolvedIntegrator {
+    /// Why `"auto"` chose what it chose, in words (empty for a named integrator).
+    pub fn reason(&self) -> String {
+        if !self.auto {
+            return String::new();
+        }
+        let explicit = self.explicit_substeps;
+        let implicit = self.implicit_substeps;
+        if let Some(why) = &self.hard_contact {
+            return format!(
+                "{why}, which implicit Euler's contact response at its substep does not hold, so \
+                 semi-implicit Euler (about {explicit} substeps per step)"
+            );
+        }
+        if self.max_rest_turn > MAX_IMPLICIT_REST_TURN {
+            return format!(
+                "a rest joint turns {:.0}°, beyond the {:.0}° implicit Euler's bending matrix \
+                 holds, so semi-implicit Euler (about {explicit} substeps per step)",
+                self.max_rest_turn.to_degrees(),
+                MAX_IMPLICIT_REST_TURN.to_degrees()
+            );
+        }
+        match self.integrator {
+            Integrator::ImplicitEuler => format!(
+                "semi-implicit Euler would need about {explicit} substeps per step for \
+                 stability, more than {implicit} implicit substeps at {IMPLICIT_SUBSTEP_COST}× \
+                 the cost"
+            ),
+            _ => format!(
+                "about {explicit} semi-implicit substeps per step are stable and cost no more \
+                 than {implicit} implicit substeps at {IMPLICIT_SUBSTEP_COST}× the cost"
+            ),
+        }
+    }
+}
+
+impl IntegratorChoice {
+    /// The integrator for strands of `model` whose stability bound is `bound` and whose rest
+    /// joints turn by at most `max_rest_turn` (rad, see [`max_rest_turn`]), under the contact
+    /// load `contact`, stepped with `settings` (its `integrator` field is ignored; its substeps
+    /// are the scene's).
+    pub fn resolve(
+        self,
+        model: StrandModel,
+        settings: &SolverSettings,
+        bound: &StabilityBound,
+        max_rest_turn: f64,
+        contact: &ContactLoad,
+    ) -> ResolvedIntegrator {
+        let with = |integrator| {
+            SolverSettings {
+                integrator,
+                ..*settings
+            }
+            .resolved_substeps(bound)
+        };
+        let explicit_substeps = with(Integrator::SemiImplicitEuler);
+        let implicit_substeps = with(Integrator::ImplicitEuler);
+        let mut hard_contact = None;
+        let integrator = match self {
+            Self::Named(integrator) => integrator,
+            Self::Auto if model != StrandModel::MassSpring => Integrator::SemiImplicitEuler,
+            Self::Auto if max_rest_turn > MAX_IMPLICIT_REST_TURN => Integrator::SemiImplicitEuler,
+            Self::Auto => {
+                let implicit = match settings.substeps {
+                    Substeps::Auto => {
+                        f64::from(explicit_substeps)
+                            > IMPLICIT_SUBSTEP_COST * f64::from(implicit_substeps)
+                    }
+                    Substeps::Fixed(n) => n < bound.auto_substeps(settings.step_dt()),
+                };
+                let dt = settings.step_dt() / f64::from(implicit_substeps.max(1));
+                hard_contact = implicit.then(|| contact.too_hard(dt)).flatten();
+                if implicit && hard_contact.is_none() {
+                    Integrator::ImplicitEuler
+                } else {
+                    Integrator::SemiImplicitEuler
+                }
+            }
+        };
+        ResolvedIntegrator {
+            integrator,
+            auto: self == Self::Auto,
+            explicit_substeps,
+            implicit_substeps,
+            max_rest_turn,
+            hard_contact,
+        }
+    }
+}
+
+/// Largest angle between consecutive rest segments over `strands`, rad (0 for straight
+/// strands; degenerate segments are skipped).
+pub fn max_rest_turn(strands: &StrandSet) -> f64 {
+    let rest = strands.rest_local();
+    (0..strands.len())
+        .flat_map(|s| {
+            let points = &rest[strands.points(s)];
+            points.windows(3).filter_map(|w| {
+                let a = (w[1] - w[0]).cast::<f64>();
+                let b = (w[2] - w[1]).cast::<f64>();
+                let norms = a.norm() * b.norm();
+                (norms > 0.0).then(|| (a.dot(&b) / norms).clamp(-1.0, 1.0).acos())
+            })
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The scene-file spelling of `integrator`.
+pub fn integrator_name(integrator: Integrator) -> &'static str {
+    match integrator {
+        Integrator::SemiImplicitEuler => "semi-implicit-euler",
+        Integrator::ExplicitEuler => "explicit-euler",
+        Integrator::ImplicitEuler => "implicit-euler",
+        Integrator::Xpbd => "xpbd",
+    }
+}
+
+const NAMES: &str =
+    "\"auto\", \"semi-implicit-euler\", \"implicit-euler\", \"xpbd\" or \"explicit-euler\"";
+
+impl fmt::Display for IntegratorChoice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Auto => f.write_str("auto"),
+            Self::Named(i) => f.write_str(integrator_name(*i)),
+        }
+    }
+}
+
+impl Serialize for IntegratorChoice {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.collect_str(self)
+    }
+}
+
+impl std::str::FromStr for IntegratorChoice {
+    type Err = String;
+
+    /// Parses the scene-file spelling: `"auto"` or an integrator's name.
+    fn from_str(word: &str) -> Result<Self, String> {
+        if word == "auto" {
+            return Ok(Self::Auto);
+        }
+        [
+            Integrator::SemiImplicitEuler,
+            Integrator::ImplicitEuler,
+            Integrator::Xpbd,
+            Integrator::ExplicitEuler,
+        ]
+        .into_iter()
+        .find(|&i| integrator_name(i) == word)
+        .map(Self::Named)
+        .ok_or_else(|| format!("unknown integrator {word:?}: use {NAMES}"))
+    }
+}
+
+impl<'de> Deserialize<'de> for IntegratorChoice {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        String::deserialize(deserializer)?
+            .parse()
+            .map_err(D::Error::custom)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bound(dt_max: f64) -> StabilityBound {
+        StabilityBound {
+            omega: 2.0 / dt_max,
+            dt_max,
+            stiffness: 1.0,
+            min_mass: 1.0,
+        }
+    }
+
+    fn settings(substeps: Substeps) -> SolverSettings {
+        SolverSettings {
+            substeps,
+            ..SolverSettings::default()
+        }
+    }
+
+    /// At 24 fps implicit Euler's accuracy limit asks for 16 substeps, so `"auto"` changes over
+    /// where the stability bound asks for more than 48.
+    #[test]
+    fn auto_takes_implicit_euler_where_the_stability_bound_costs_more() {
+        let step = 1.0 / 24.0;
+        let s = settings(Substeps::Auto);
+        let stiff = IntegratorChoice::Auto.resolve(
+            StrandModel::MassSpring,
+            &s,
+            &bound(step / 165.0 / hair_core::solver::stability::AUTO_SAFETY),
+            0.5,
+            &ContactLoad::default(),
+        );
+        assert_eq!(stiff.integrator, Integrator::ImplicitEuler);
+        assert_eq!(
+            (stiff.explicit_substeps, stiff.implicit_substeps),
+            (165, 16)
+        );
+        let soft = IntegratorChoice::Auto.resolve(
+            StrandModel::MassSpring,
+            &s,
+            &bound(step / 40.0 / hair_core::solver::stability::AUTO_SAFETY),
+            0.5,
+            &ContactLoad::default(),
+        );
+        assert_eq!(soft.integrator, Integrator::SemiImplicitEuler);
+        assert_eq!(soft.explicit_substeps, 40);
+        // 48 explicit substeps cost exactly 16 implicit ones: semi-implicit Euler.
+        let tie = IntegratorChoice::Auto.resolve(
+            StrandModel::MassSpring,
+            &s,
+            &bound(step / 48.0 / hair_core::solver::stability::AUTO_SAFETY * 1.000001),
+            0.5,
+            &ContactLoad::default(),
+        );
+        assert_eq!(tie.explicit_substeps, 48);
+        assert_eq!(tie.integrator, Integrator::SemiImplicitEuler);
+    }
+
+    /// A sharply pre-bent joint keeps semi-implicit Euler however stiff the springs.
+    #[test]
+    fn auto_keeps_semi_implicit_euler_where_a_rest_joint_turns_sharply() {
+        let step = 1.0 / 24.0;
+        let b = bound(step / 2626.0 / hair_core::solver::stability::AUTO_SAFETY);
+        let s = settings(Substeps::Auto);
+        let at = |turn_deg: f64| {
+            IntegratorChoice::Auto.resolve(
+                StrandModel::MassSpring,
+                &s,
+                &b,
+                turn_deg.to_radians(),
+                &ContactLoad::default(),
+            )
+        };
+        assert_eq!(at(32.0).integrator, Integrator::ImplicitEuler);
+        let sharp = at(83.0);
+        assert_eq!(sharp.integrator, Integrator::SemiImplicitEuler);
+        assert!(sharp.reason().contains("83°"), "{}", sharp.reason());
+    }
+
+    #[test]
+    fn max_rest_turn_is_the_sharpest_joint() {
+        let mut strands = StrandSet::new();
+        let (s, c) = 70f32.to_radians().sin_cos();
+        let points = vec![
+            nalgebra::Vector3::new(0.0, 0.0, 0.0),
+            nalgebra::Vector3::new(0.0, 0.0, 0.01),
+            nalgebra::Vector3::new(0.0, 0.0, 0.02),
+            nalgebra::Vector3::new(0.01 * s, 0.0, 0.02 + 0.01 * c),
+        ];
+        let input = hair_core::StrandInput::uniform(
+            hair_core::Anchor::Body(hair_core::RootFrame::at(nalgebra::Vector3::zeros())),
+            points,
+            0.001,
+            0.0001,
+            0.0,
+            0.0,
+        );
+        strands.push(input).unwrap();
+        assert!((max_rest_turn(&strands).to_degrees() - 70.0).abs() < 1e-3);
+    }
+
+    /// Hard contact keeps semi-implicit Euler: a fast `[[colliders]]` surface, a deforming
+    /// collider, animated guides.
+    #[test]
+    fn auto_keeps_semi_implicit_euler_under_hard_contact() {
+        let step = 1.0 / 24.0;
+        let b = bound(step / 165.0 / hair_core::solver::stability::AUTO_SAFETY);
+        let s = settings(Substeps::Auto);
+        let at = |contact: ContactLoad| {
+            IntegratorChoice::Auto.resolve(StrandModel::MassSpring, &s, &b, 0.3, &contact)
+        };
+        let margin = 0.003;
+        // 16 substeps of 1/384 s: 1 m/s moves 2.6 mm, under the margin; 2 m/s 5.2 mm.
+        let slow = at(ContactLoad {
+            collider_speed: 1.0,
+            margin,
+            ..ContactLoad::default()
+        });
+        assert_eq!(slow.integrator, Integrator::ImplicitEuler);
+        assert!(slow.hard_contact.is_none());
+        for hard in [
+            ContactLoad {
+                collider_speed: 2.0,
+                margin,
+                ..ContactLoad::default()
+            },
+            ContactLoad {
+                deforming: true,
+                ..ContactLoad::default()
+            },
+            ContactLoad {
+                animated_guides: true,
+                ..ContactLoad::default()
+            },
+        ] {
+            let r = at(hard);
+            assert_eq!(r.integrator, Integrator::SemiImplicitEuler, "{hard:?}");
+            assert!(r.reason().contains("contact response"), "{}", r.reason());
+        }
+    }
+
+    #[test]
+    fn the_fastest_surface_point_of_a_turning_body() {
+        // 90° about z over frames 1–2 at 24 fps, linear: ω = (π/2)·24 rad/s; at 0.1 m from the
+        // axis, 0.1 ω m/s, plus nothing for the still translation.
+        let pose = |f: f32| {
+            let a = (f - 1.0).clamp(0.0, 1.0) * std::f32::consts::FRAC_PI_2;
+            nalgebra::Isometry3::rotation(nalgebra::Vector3::z() * a)
+        };
+        let v = fastest_surface_speed(pose, 0.1, 1, 3, 24.0);
+        let expected = 0.1 * std::f64::consts::FRAC_PI_2 * 24.0;
+        assert!(
+            (v - expected).abs() < 1e-4 * expected,
+            "{v} against {expected}"
+        );
+    }
+
+    #[test]
+    fn a_fixed_count_below_the_stability_bound_takes_implicit_euler() {
+        let step = 1.0 / 24.0;
+        let b = bound(step / 100.0 / hair_core::solver::stability::AUTO_SAFETY);
+        let below = IntegratorChoice::Auto.resolve(
+            StrandModel::MassSpring,
+            &settings(Substeps::Fixed(20)),
+            &b,
+            0.0,
+            &ContactLoad::default(),
+        );
+        assert_eq!(below.integrator, Integrator::ImplicitEuler);
+        let within = IntegratorChoice::Auto.resolve(
+            StrandModel::MassSpring,
+            &settings(Substeps::Fixed(200)),
+            &b,
+            0.0,
+            &ContactLoad::default(),
+        );
+        assert_eq!(within.integrator, Integrator::SemiImplicitEuler);
+        assert_eq!(
+            (within.explicit_substeps, within.implicit_substeps),
+            (200, 200)
+        );
+    }
+
+    #[test]
+    fn named_integrators_and_other_models_are_kept() {
+        let s = settings(Substeps::Auto);
+        let b = bound(1e-6);
+        let named = IntegratorChoice::Named(Integrator::Xpbd);
+        assert_eq!(
+            named
+                .resolve(
+                    StrandModel::MassSpring,
+                    &s,
+                    &b,
+                    3.0,
+                    &ContactLoad::default()
+                )
+                .integrator,
+            Integrator::Xpbd
+        );
+        assert!(
+            !named
+                .resolve(
+                    StrandModel::MassSpring,
+                    &s,
+                    &b,
+                    0.0,
+                    &ContactLoad::default()
+                )
+                .auto
+        );
+        assert_eq!(
+            IntegratorChoice::Auto
+                .resolve(StrandModel::Rod, &s, &b, 0.0, &ContactLoad::default())
+                .integrator,
+            Integrator::SemiImplicitEuler
+        );
+    }
+
+    #[test]
+    fn spellings_round_trip_and_unknown_ones_name_the_choices() {
+        #[derive(Deserialize, Serialize)]
+        struct S {
+            integrator: IntegratorChoice,
+        }
+        for word in [
+            "auto",
+            "semi-implicit-euler",
+            "implicit-euler",
+            "xpbd",
+            "explicit-euler",
+        ] {
+            let s: S = toml::from_str(&format!("integrator = {word:?}")).unwrap();
+            assert_eq!(s.integrator.to_string(), word);
+            assert_eq!(
+                toml::to_string(&s).unwrap().trim(),
+                format!("integrator = {word:?}")
+            );
+        }
+        let e = toml::from_str::<S>("integrator = \"rk4\"")
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("\"rk4\"") && e.contains("\"auto\""), "{e}");
+    }
+}

@@ -1,0 +1,63 @@
+//! `[solver] integrator = "auto"` on the shipped scenes: implicit Euler where the stability
+//! bound's explicit substeps cost more and contact is gentle (the default and wind scenes), and
+//! semi-implicit Euler for each measured reason elsewhere (`hairsys/src/scene/integrator.rs` and
+//! BENCHMARKS.md, session 10, give the measurements behind each rule). The built scene's solver
+//! takes the chosen integrator and its substeps.
+
+use std::path::PathBuf;
+
+use hair_core::Integrator;
+use hairsys::scene::SceneFile;
+
+fn build(name: &str) -> hairsys::scene::Simulation {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenes")
+        .join(name);
+    SceneFile::load(&path).unwrap().build().unwrap()
+}
+
+#[test]
+fn the_default_and_wind_scenes_run_implicit_euler_at_its_accuracy_limit() {
+    for name in ["default.toml", "wind_demo.toml"] {
+        let sim = build(name);
+        let chosen = &sim.integrator;
+        assert!(chosen.auto, "{name}");
+        assert_eq!(chosen.integrator, Integrator::ImplicitEuler, "{name}");
+        assert_eq!(sim.settings.integrator, Integrator::ImplicitEuler, "{name}");
+        assert!(chosen.explicit_substeps > 48, "{name}: {chosen:?}");
+        let solver = sim.strand_solver().unwrap();
+        assert_eq!(solver.substeps(), chosen.implicit_substeps, "{name}");
+        assert_eq!(chosen.implicit_substeps, 16, "{name}");
+    }
+    // The built-in default is the shipped default file.
+    let builtin = SceneFile::builtin_default().build().unwrap();
+    assert_eq!(builtin.settings.integrator, Integrator::ImplicitEuler);
+}
+
+#[test]
+fn hard_contact_and_cheap_explicit_steps_keep_semi_implicit_euler() {
+    for (name, why) in [
+        ("collision_demo.toml", "a collider moves"),
+        ("gust.toml", ""),
+        ("character.toml", "a collider deforms"),
+        ("parity.toml", ""),
+    ] {
+        let sim = build(name);
+        assert_eq!(
+            sim.settings.integrator,
+            Integrator::SemiImplicitEuler,
+            "{name}: {}",
+            sim.integrator.reason()
+        );
+        assert!(sim.integrator.reason().contains(why), "{name}");
+    }
+    // The gust names semi-implicit Euler itself; "auto" would keep it for its animated guides.
+    let mut gust = SceneFile::load(
+        &PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../scenes/gust.toml"),
+    )
+    .unwrap();
+    gust.scene.solver.integrator = "auto".parse().unwrap();
+    let sim = gust.build().unwrap();
+    assert_eq!(sim.settings.integrator, Integrator::SemiImplicitEuler);
+    assert!(sim.integrator.reason().contains("animated guides"));
+}
