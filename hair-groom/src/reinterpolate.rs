@@ -196,8 +196,10 @@ impl GuideBlend {
 
     /// Re-interpolates every hair from the guide shapes `shapes` (root-local, one per guide,
     /// checked by [`GuideBlend::check_pose`]) into `out` (`hairs · points` root-local points,
-    /// hair after hair). Returns the work done: the number of source-point blends (hair points
-    /// times sources, plus the guides' resampled points), which is linear in the points.
+    /// hair after hair), each trimmed to its painted fraction when the blend has them
+    /// ([`GuideBlend::with_length_fractions`]). Returns the work done: the number of
+    /// source-point blends (hair points times sources, plus the guides' resampled points, plus
+    /// the points of every trimmed hair), which is linear in the points.
     ///
     /// # Panics
     /// If `out` does not hold `hairs · points` points or `shapes` was not checked.

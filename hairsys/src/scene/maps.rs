@@ -490,6 +490,10 @@ pub(crate) fn trim_input(input: &mut StrandInput, fraction: f32) {
     }
     let n = input.rest.len();
     let length: f32 = input.rest.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    if length.is_nan() || length <= 0.0 {
+        // Nothing to cut; the strand set refuses a strand without length by name.
+        return;
+    }
     let per_length = input.mass.iter().sum::<f32>() / length;
     let mut trimmed = vec![nalgebra::Vector3::zeros(); n];
     hair_groom::trim_polyline(&input.rest, fraction, &mut trimmed);
