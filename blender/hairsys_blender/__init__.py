@@ -6,8 +6,8 @@ the cache path and the parameters, press Bake (progress in the status bar, Esc c
 the frames baked so far). With Playback on, the curves take the cache's positions whenever the
 frame changes. Every frame of a bake hands hairsys the evaluated surface (armature, shape keys,
 any modifier) in world space and the poses of the collider collection's meshes. Goal weights,
-stiffness and pins may be painted: each takes a surface vertex group or a curve attribute
-(`maps`).
+pins and per-strand factors of the bend and stretch stiffness, stretch damping and air drag may
+be painted: each takes a surface vertex group or a curve attribute (`maps`).
 """
 
 import bpy
@@ -79,6 +79,30 @@ class HairsysSettings(bpy.types.PropertyGroup):
                     "Bend Stiffness, 0 = none)")
     stiffness_name: StringProperty(
         name="Stiffness Name", default="stiffness",
+        description="Name of the curve attribute or surface vertex group holding the factors")
+    stretch_source: EnumProperty(
+        name="Stretch", default="NONE",
+        items=map_sources("Every strand has the panel's Stretch Stiffness"),
+        description="Where each strand's stretch stiffness factor comes from (≥ 0; 1 = the "
+                    "panel's Stretch Stiffness)")
+    stretch_name: StringProperty(
+        name="Stretch Name", default="stretch",
+        description="Name of the curve attribute or surface vertex group holding the factors")
+    damping_source: EnumProperty(
+        name="Damping", default="NONE",
+        items=map_sources("Every strand has hairsys's stretch damping"),
+        description="Where each strand's stretch damping factor comes from (≥ 0; 1 = hairsys's "
+                    "stretch damping, 0 = none)")
+    damping_name: StringProperty(
+        name="Damping Name", default="damping",
+        description="Name of the curve attribute or surface vertex group holding the factors")
+    drag_source: EnumProperty(
+        name="Drag", default="NONE",
+        items=map_sources("Every strand has the panel's Air Drag"),
+        description="Where each strand's air drag factor comes from (≥ 0; 1 = the panel's Air "
+                    "Drag, 0 = none)")
+    drag_name: StringProperty(
+        name="Drag Name", default="drag",
         description="Name of the curve attribute or surface vertex group holding the factors")
     pin_source: EnumProperty(
         name="Pin", default="NONE",

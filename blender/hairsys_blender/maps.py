@@ -6,7 +6,18 @@ turned into the per-strand and per-point values `hairsys.Session.from_groom` tak
 | goal      | `weight_source`, `weight_name`      | `goal_weights` (P,): value clipped to 0-1  |
 | stiffness | `stiffness_source`, `stiffness_name`| `strand_scales={"bend": (C,)}`: the value  |
 |           |                                     | multiplies Bend Stiffness (≥ 0)            |
+| stretch   | `stretch_source`, `stretch_name`    | `strand_scales={"stretch": (C,)}`: × the   |
+|           |                                     | Stretch Stiffness (≥ 0)                    |
+| damping   | `damping_source`, `damping_name`    | `strand_scales={"damping": (C,)}`: × the   |
+|           |                                     | stretch damping (≥ 0)                      |
+| drag      | `drag_source`, `drag_name`          | `strand_scales={"drag": (C,)}`: × Air Drag |
+|           |                                     | (≥ 0)                                      |
 | pin       | `pin_source`, `pin_name`            | `pinned` (P,): points whose value ≥ 0.5    |
+
+The four factors are per strand (a point attribute gives its root point's value) and go into one
+`strand_scales` dict; a strand without a painted factor keeps 1 (the panel's setting). Blender
+keeps vertex group weights in 0-1, so a factor above 1 (stiffer, more drag) needs a curve
+attribute.
 
 Sources:
 - ATTRIBUTE: a float attribute of the curves. On the point domain it gives each point its own
@@ -31,8 +42,20 @@ import numpy as np
 PURPOSES = (
     ("goal", "weight_source", "weight_name", "Goal Weights"),
     ("stiffness", "stiffness_source", "stiffness_name", "Stiffness"),
+    ("stretch", "stretch_source", "stretch_name", "Stretch"),
+    ("damping", "damping_source", "damping_name", "Damping"),
+    ("drag", "drag_source", "drag_name", "Drag"),
     ("pin", "pin_source", "pin_name", "Pin"),
 )
+
+#: Per-strand factor purposes: the `strand_scales` key each fills and the panel setting it
+#: multiplies (named in errors).
+FACTORS = {
+    "stiffness": ("bend", "Bend Stiffness"),
+    "stretch": ("stretch", "Stretch Stiffness"),
+    "damping": ("damping", "stretch damping"),
+    "drag": ("drag", "Air Drag"),
+}
 
 
 def root_triangles(verts, tris, roots):
@@ -144,12 +167,14 @@ def strand_maps(hair_obj, settings, verts, tris, points, counts):
         try:
             if purpose == "goal":
                 out["goal_weights"] = np.clip(sampler.per_point(source, name), 0.0, 1.0)
-            elif purpose == "stiffness":
-                bend = sampler.per_curve(source, name)
-                if not np.all(np.isfinite(bend)) or bend.min() < 0.0:
-                    raise ValueError(f"{name!r} has a value below 0 or not finite; a stiffness "
-                                     "factor is ≥ 0 (1 = the panel's Bend Stiffness)")
-                out["strand_scales"] = {"bend": bend}
+            elif purpose in FACTORS:
+                key, setting = FACTORS[purpose]
+                factor = sampler.per_curve(source, name)
+                if not np.all(np.isfinite(factor)) or factor.min() < 0.0:
+                    raise ValueError(f"{name!r} has a value below 0 or not finite; a "
+                                     f"{label.lower()} factor is ≥ 0 (1 = the panel's "
+                                     f"{setting}, 0 = none)")
+                out.setdefault("strand_scales", {})[key] = factor
             else:
                 out["pinned"] = sampler.per_point(source, name) >= 0.5
         except ValueError as e:

@@ -1,7 +1,7 @@
 """The add-on's painted maps, headless: a surface vertex group is sampled at each root by the
 barycentric weights of its surface triangle (not the nearest vertex), and a painted vertex group
-or curve attribute changes exactly the painted strands' behaviour (pin, stiffness), leaving the
-others bit for bit as without the map."""
+or curve attribute changes exactly the painted strands' behaviour (pin, bend and stretch
+stiffness, stretch damping, air drag), leaving the others bit for bit as without the map."""
 
 import numpy as np
 import pytest
@@ -225,3 +225,70 @@ primvar = "trim"
     lengths = np.array([np.linalg.norm(np.diff(pos[a:b], axis=0), axis=1).sum()
                         for a, b in zip(off[:-1], off[1:])])
     np.testing.assert_allclose(lengths, length * weight(roots[:, 0], roots[:, 1]), rtol=1e-4)
+
+
+def lengths(pos, counts):
+    """Each curve's polyline length (C,)."""
+    ends = np.cumsum(counts)
+    return np.array([np.linalg.norm(np.diff(pos[a - n:a], axis=0), axis=1).sum()
+                     for a, n in zip(ends, counts)])
+
+
+@pytest.mark.parametrize("purpose,source,factor", [
+    ("stretch", "VERTEX_GROUP", 0.02),
+    ("damping", "VERTEX_GROUP", 0.0),
+    ("drag", "ATTRIBUTE", 20.0),  # vertex group weights are 0-1: a factor above 1 is an attribute
+])
+def test_a_painted_factor_changes_exactly_the_painted_strands(addon, tmp_path, purpose, source,
+                                                              factor):
+    """Stretch stiffness, stretch damping and air drag × the painted value: strands painted 1
+    (y > 0) move exactly as without the map; the others by the physics of their factor. Softer
+    stretch springs (× 0.02) let the sagging strands stretch; 20× the air drag slows their fall;
+    without stretch damping their springs ring, so they move otherwise than damped ones."""
+    hair, body, rest, counts, root_y = wall(tmp_path)
+    hair.hairsys.stretch_stiffness = 40.0
+    ones = root_y > 0
+    bake(hair, tmp_path / "plain.mcap")
+    plain_frames = read_mcap(tmp_path / "plain.mcap")
+    plain = plain_frames[FRAMES]
+    if source == "VERTEX_GROUP":
+        paint(body, purpose, lambda y: 1.0 if y > 0.05 else factor)
+    else:
+        attr = hair.data.attributes.new(purpose, "FLOAT", "CURVE")
+        attr.data.foreach_set("value", np.where(ones, 1.0, factor).astype(np.float32))
+    setattr(hair.hairsys, f"{purpose}_source", source)
+    bake(hair, tmp_path / "mapped.mcap")
+    mapped_frames = read_mcap(tmp_path / "mapped.mcap")
+    mapped = mapped_frames[FRAMES]
+    point_ones = np.repeat(ones, counts)
+    for frame in range(1, FRAMES + 1):
+        assert np.array_equal(mapped_frames[frame][point_ones], plain_frames[frame][point_ones])
+    painted = ~ones
+    tips = np.cumsum(counts) - 1
+    drop = lambda pos: rest[tips, 2] - pos[tips, 2]
+    if purpose == "stretch":
+        stretched = lengths(mapped, counts)[painted] / lengths(plain, counts)[painted]
+        assert np.all(stretched > 1.01), f"softened strands' lengths × {stretched}"
+    elif purpose == "drag":
+        # One frame after release the tips still fall from rest: free fall would drop
+        # g t²/2 = 8.5 mm, at 40/s of drag g/k (t - (1 - exp(-k t))/k) = 5.2 mm.
+        early_plain, early_mapped = drop(plain_frames[2]), drop(mapped_frames[2])
+        assert np.all(early_mapped[painted] < 0.8 * early_plain[painted]), (
+            f"dragged tips dropped {early_mapped[painted]} m, freely {early_plain[painted]} m")
+    else:
+        moved = np.abs(mapped[np.repeat(painted, counts)] - plain[np.repeat(painted, counts)])
+        assert moved.max() > 1e-6, "undamped strands moved as damped ones"
+
+
+@pytest.mark.parametrize("purpose,label", [("stretch", "Stretch"), ("damping", "Damping"),
+                                           ("drag", "Drag")])
+def test_a_negative_factor_attribute_is_refused_naming_the_purpose(addon, tmp_path, purpose,
+                                                                   label):
+    import bpy
+
+    hair, body, rest, counts, root_y = wall(tmp_path)
+    attr = hair.data.attributes.new(purpose, "FLOAT", "CURVE")
+    attr.data.foreach_set("value", np.full(len(counts), -1.0, dtype=np.float32))
+    setattr(hair.hairsys, f"{purpose}_source", "ATTRIBUTE")
+    with pytest.raises(RuntimeError, match=f"{label}: '{purpose}' has a value below 0"):
+        bpy.ops.hairsys.bake()

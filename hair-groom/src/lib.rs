@@ -61,6 +61,7 @@ pub mod shapes;
 pub mod snap;
 pub mod style;
 mod surface_distance;
+pub mod trim;
 
 pub use error::{FarRoot, FileLocation, GroomError};
 pub use formats::hair::{read_hair, write_hair};
@@ -86,3 +87,4 @@ pub use style::{
     hairs_turned_off_their_guides, lay_over_scalp, lift_out_of_scalp, strands_through_scalp,
     LiftMemory, Part, ScalpLift, StyleOptions,
 };
+pub use trim::{check_length_fractions, trim_polyline};

@@ -24,6 +24,7 @@ use crate::error::{parameter, GroomError};
 use crate::groom::polyline_length;
 use crate::interpolate::{resample, SimHair};
 use crate::snap::Guide;
+use crate::trim::trim_polyline;
 
 /// One guide's share in a hair, with its transport into the hair's root frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -52,6 +53,8 @@ pub struct GuideBlend {
     guide_points: Vec<usize>,
     /// Points per simulation hair.
     points: usize,
+    /// Per hair: the fraction (0, 1] of its blended length it is trimmed to (`None`: untrimmed).
+    fractions: Option<Vec<f32>>,
 }
 
 impl GuideBlend {
@@ -113,7 +116,38 @@ impl GuideBlend {
             recipes,
             guide_points: guides.iter().map(|g| g.rest.len()).collect(),
             points,
+            fractions: None,
         })
+    }
+
+    /// The same blend with every hair trimmed to its painted fraction of its length (one per
+    /// hair, each in (0, 1]; see the module docs). Errors: a count that is not the hairs', a
+    /// fraction outside (0, 1] (naming the hair).
+    pub fn with_length_fractions(mut self, fractions: Vec<f32>) -> Result<Self, GroomError> {
+        if fractions.len() != self.recipes.len() {
+            return Err(parameter(
+                "fractions",
+                fractions.len(),
+                &format!(
+                    "give one length fraction per sim hair ({})",
+                    self.recipes.len()
+                ),
+            ));
+        }
+        if let Err((h, f)) = crate::trim::check_length_fractions(&fractions) {
+            return Err(parameter(
+                "fractions",
+                f,
+                &format!("sim hair {h}'s length fraction must be in (0, 1]"),
+            ));
+        }
+        self.fractions = Some(fractions);
+        Ok(self)
+    }
+
+    /// Per hair: the fraction of its length it is trimmed to (`None`: untrimmed).
+    pub fn length_fractions(&self) -> Option<&[f32]> {
+        self.fractions.as_deref()
     }
 
     /// Number of simulation hairs.
@@ -162,8 +196,10 @@ impl GuideBlend {
 
     /// Re-interpolates every hair from the guide shapes `shapes` (root-local, one per guide,
     /// checked by [`GuideBlend::check_pose`]) into `out` (`hairs · points` root-local points,
-    /// hair after hair). Returns the work done: the number of source-point blends (hair points
-    /// times sources, plus the guides' resampled points), which is linear in the points.
+    /// hair after hair), each trimmed to its painted fraction when the blend has them
+    /// ([`GuideBlend::with_length_fractions`]). Returns the work done: the number of
+    /// source-point blends (hair points times sources, plus the guides' resampled points, plus
+    /// the points of every trimmed hair), which is linear in the points.
     ///
     /// # Panics
     /// If `out` does not hold `hairs · points` points or `shapes` was not checked.
@@ -182,44 +218,60 @@ impl GuideBlend {
             .collect();
         work += (shapes.len() * n) as u64;
         let mut acc = vec![Vector3::<f64>::zeros(); n];
-        for (recipe, hair) in self.recipes.iter().zip(out.chunks_exact_mut(n)) {
-            let first = recipe.sources[0];
-            let (shape, _) = &resampled[first.guide as usize];
-            if recipe.exact_copy {
-                hair.copy_from_slice(shape);
-                work += n as u64;
-                continue;
-            }
-            if recipe.sources.len() == 1 {
-                for (o, p) in hair.iter_mut().zip(shape) {
-                    *o = first.turn * p;
-                }
-                work += n as u64;
-                continue;
-            }
-            acc.iter_mut().for_each(|a| *a = Vector3::zeros());
-            let mut target = 0.0f64;
-            for s in &recipe.sources {
-                let (shape, len) = &resampled[s.guide as usize];
-                for (a, p) in acc.iter_mut().zip(shape) {
-                    *a += (s.turn * p).cast::<f64>() * s.weight;
-                }
-                target += s.weight * len;
+        let mut untrimmed = vec![Vector3::zeros(); if self.fractions.is_some() { n } else { 0 }];
+        for (h, (recipe, hair)) in self.recipes.iter().zip(out.chunks_exact_mut(n)).enumerate() {
+            work += blend_one(recipe, &resampled, &mut acc, hair);
+            if let Some(f) = self.fractions.as_ref().map(|f| f[h]).filter(|&f| f < 1.0) {
+                untrimmed.copy_from_slice(hair);
+                trim_polyline(&untrimmed, f, hair);
                 work += n as u64;
             }
-            for (o, a) in hair.iter_mut().zip(&acc) {
-                *o = a.cast::<f32>();
-            }
-            let length = polyline_length(hair);
-            let scale = if length > 0.0 {
-                (target / length) as f32
-            } else {
-                1.0
-            };
-            hair.iter_mut().for_each(|p| *p *= scale);
         }
         work
     }
+}
+
+/// Blends one hair from the `resampled` guides (shape and length) into `hair` by `recipe`
+/// (`acc`: scratch of the hair's point count); returns the source-point blends done.
+fn blend_one(
+    recipe: &Recipe,
+    resampled: &[(Vec<Vector3<f32>>, f64)],
+    acc: &mut [Vector3<f64>],
+    hair: &mut [Vector3<f32>],
+) -> u64 {
+    let n = hair.len() as u64;
+    let first = recipe.sources[0];
+    let (shape, _) = &resampled[first.guide as usize];
+    if recipe.exact_copy {
+        hair.copy_from_slice(shape);
+        return n;
+    }
+    if recipe.sources.len() == 1 {
+        for (o, p) in hair.iter_mut().zip(shape) {
+            *o = first.turn * p;
+        }
+        return n;
+    }
+    acc.iter_mut().for_each(|a| *a = Vector3::zeros());
+    let mut target = 0.0f64;
+    for s in &recipe.sources {
+        let (shape, len) = &resampled[s.guide as usize];
+        for (a, p) in acc.iter_mut().zip(shape) {
+            *a += (s.turn * p).cast::<f64>() * s.weight;
+        }
+        target += s.weight * len;
+    }
+    for (o, a) in hair.iter_mut().zip(acc.iter()) {
+        *o = a.cast::<f32>();
+    }
+    let length = polyline_length(hair);
+    let scale = if length > 0.0 {
+        (target / length) as f32
+    } else {
+        1.0
+    };
+    hair.iter_mut().for_each(|p| *p *= scale);
+    n * recipe.sources.len() as u64
 }
 
 #[cfg(test)]
@@ -330,5 +382,59 @@ mod tests {
         shapes.pop();
         let e = blend.check_pose(&shapes, "pose.obj").unwrap_err();
         assert!(e.contains("29 guides"), "{e}");
+    }
+
+    #[test]
+    fn painted_fractions_trim_each_blended_hair_to_its_fraction() {
+        let (mesh, guides, hairs) = setup(60);
+        let fractions: Vec<f32> = (0..60).map(|h| 0.25 + 0.75 * h as f32 / 59.0).collect();
+        let plain = GuideBlend::new(&mesh, &guides, &hairs, 8).unwrap();
+        let trimmed = plain
+            .clone()
+            .with_length_fractions(fractions.clone())
+            .unwrap();
+        let shapes: Vec<_> = guides.iter().map(|g| g.rest.clone()).collect();
+        let (mut a, mut b) = (
+            vec![Vector3::zeros(); 60 * 8],
+            vec![Vector3::zeros(); 60 * 8],
+        );
+        plain.apply(&shapes, &mut a);
+        trimmed.apply(&shapes, &mut b);
+        let mut want = [Vector3::zeros(); 8];
+        for (h, &f) in fractions.iter().enumerate() {
+            let at = h * 8..(h + 1) * 8;
+            if f < 1.0 {
+                trim_polyline(&a[at.clone()], f, &mut want);
+            } else {
+                // The full length: the blend as it is, not resampled.
+                want.copy_from_slice(&a[at.clone()]);
+            }
+            assert_eq!(&b[at.clone()], &want[..], "hair {h}");
+            // The guides here are gently curved: the chords lose well under 1 %.
+            let ratio = polyline_length(&b[at.clone()]) / polyline_length(&a[at]);
+            assert!(
+                (f64::from(f) * 0.99..=f64::from(f) + 1e-6).contains(&ratio),
+                "hair {h}: {ratio} for {f}"
+            );
+        }
+    }
+
+    #[test]
+    fn fractions_of_the_wrong_count_or_outside_zero_to_one_are_refused() {
+        let (mesh, guides, hairs) = setup(10);
+        let blend = GuideBlend::new(&mesh, &guides, &hairs, 8).unwrap();
+        let e = blend
+            .clone()
+            .with_length_fractions(vec![0.5; 9])
+            .unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("one length fraction per sim hair (10)"),
+            "{e}"
+        );
+        let mut f = vec![0.5; 10];
+        f[4] = 0.0;
+        let e = blend.with_length_fractions(f).unwrap_err();
+        assert!(e.to_string().contains("sim hair 4"), "{e}");
     }
 }

@@ -264,6 +264,12 @@ impl GuideAnimation {
         self.groom.len()
     }
 
+    /// The fixed weights that re-interpolate the sim hairs from a pose (trimmed to their painted
+    /// lengths when the scene has a `[maps.length]`).
+    pub fn blend(&self) -> &GuideBlend {
+        &self.blend
+    }
+
     /// Point count of each guide (a pose gives exactly these).
     pub fn guide_points(&self) -> &[usize] {
         self.blend.guide_points()

@@ -366,14 +366,6 @@ fn unused_and_unsupported_maps_are_refused_by_name() {
     assert!(e.contains("[maps.goal_weight] is used by nothing"), "{e}");
     let e = refused(
         dir.path(),
-        &guided_scene("[maps.length]\ntexture = \"m.png\"\n"),
-    );
-    assert!(
-        e.contains("[maps.length]") && e.contains("sim hairs"),
-        "{e}"
-    );
-    let e = refused(
-        dir.path(),
         &hair_scene("[maps.sim_weight]\ntexture = \"m.png\"\n"),
     );
     assert!(

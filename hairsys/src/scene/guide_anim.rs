@@ -166,7 +166,9 @@ impl<'a> AnimationKeys<'a> {
 pub type PoseReader<'a> = dyn Fn(&Path, Option<f64>) -> Result<Vec<Vec<Vector3<f32>>>, String> + 'a;
 
 /// Everything animated guides need, built: pins and hold-outs are set on `inputs` (the sim
-/// hairs, before they join the strand set); the returned animation drives the rest.
+/// hairs, before they join the strand set, already trimmed to `fractions`, their painted
+/// lengths, if any); the returned animation drives the rest, re-blending each hair trimmed to
+/// its fraction.
 #[allow(clippy::too_many_arguments)]
 pub fn build(
     keys: &AnimationKeys,
@@ -175,12 +177,18 @@ pub fn build(
     hairs: &[SimHair],
     inputs: &mut [StrandInput],
     points: usize,
+    fractions: Option<Vec<f32>>,
     max_snap_distance: f32,
     maps: &ScalpMaps,
     read: &PoseReader,
 ) -> Result<GuideAnimation, String> {
-    let blend =
+    let mut blend =
         GuideBlend::new(mesh, guides, hairs, points).map_err(|e| format!("[sim_hairs] {e}"))?;
+    if let Some(fractions) = fractions {
+        blend = blend
+            .with_length_fractions(fractions)
+            .map_err(|e| format!("[maps.length] {e}"))?;
+    }
     let frames: Vec<RootFrame> = guides.iter().map(|g| mesh.evaluate(&g.root)).collect();
     let groom: Vec<Vec<Vector3<f32>>> = guides.iter().map(|g| g.rest.clone()).collect();
     let mut poses = Vec::with_capacity(keys.poses.len());

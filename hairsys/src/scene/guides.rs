@@ -432,6 +432,14 @@ pub fn build(
             hairs.retain(|_| kept.next() == Some(&true));
         }
     }
+    // `[maps.length]`: each sim hair cut to its painted fraction, as built here and as every
+    // pose re-blends it (the blend trims by the same fractions).
+    let fractions = maps.length_fractions(mesh, hairs.iter().map(|h| &h.root), "sim hair")?;
+    if let Some(fractions) = &fractions {
+        for (input, &f) in inputs.iter_mut().zip(fractions) {
+            crate::scene::maps::trim_input(input, f);
+        }
+    }
     let keys = guides.animation_keys();
     // Built for every guided scene (cheap: the weights are kept, nothing runs per frame without
     // keys), so a host can pose the guides of any guided scene.
@@ -446,6 +454,7 @@ pub fn build(
             &hairs,
             &mut inputs,
             points,
+            fractions,
             guides.max_snap_distance,
             maps,
             &read,

@@ -17,8 +17,26 @@
 //! channel = "g"
 //! ```
 //!
-//! The primvar is read at the time code of the scene's first frame (its default value when it
-//! has no time samples) by [`hair_groom::UsdMeshSource::primvar`], which follows USD's
+//! **Time samples.** A map is read once, when the scene is built, at the time code of the
+//! scene's first frame (its default value when it has no time samples; USD holds the first or
+//! last sample outside them and interpolates between them). What a time-sampled primvar means
+//! depends on the map's purpose:
+//!
+//! - `density`, `length`, `clump`, `curl` and maps that select hair (pins, hold-out, regions,
+//!   the `[guides.sim_weight]` selection) shape the groom: where hair grows, how long it is, its
+//!   children, which hair a setting applies to. The groom is built once, so they take the
+//!   first frame's values and the later samples are not used (a primvar keyed over a shot grows
+//!   the hair of its first frame).
+//! - `goal`, `stiffness` and `sim_weight` are dynamics an animator would expect to follow the
+//!   keys over a shot. The solver takes each strand's goal weights and stiffness when it is
+//!   built (varying them per frame would mean rebuilding its per-strand lanes every frame), so
+//!   a primvar of one of these whose samples differ is **refused**, naming the primvar, the
+//!   prim, the file, its sample times and the frame rule, with the ways hairsys does animate
+//!   them (`Session::params_mut` for the goal and bend stiffness, `[[regions]]` with
+//!   `Session::set_region_params`, `[guides.sim_weight]` keys and
+//!   `Session::set_strand_sim_weights`). Samples that are all equal are read as one value.
+//!
+//! The primvar is read by [`hair_groom::UsdMeshSource::primvar`], which follows USD's
 //! interpolations (`constant`, `uniform`, `vertex`, `varying`, `faceVarying`, indexed or not)
 //! to one value at each corner of each scalp triangle; each root then takes the blend of its
 //! triangle's three corner values by its barycentric weights ([`crate::maps`]). Only a USD
@@ -29,11 +47,33 @@ use crate::maps::Channel;
 
 use super::{ScalpMesh, SceneFile};
 
+/// Map purposes that would vary over a shot, so a time-sampled primvar of one is refused
+/// rather than read at the first frame only, each with the ways hairsys does animate it.
+const FOLLOWS_THE_SHOT: [(&str, &str); 3] = [
+    (
+        "goal",
+        "animate the goal springs' strength instead (a host sets \
+         Session::params_mut().goal_stiffness each frame)",
+    ),
+    (
+        "stiffness",
+        "animate the stiffness instead ([[regions]] with Session::set_region_params each \
+         frame, or Session::params_mut().bend_stiffness)",
+    ),
+    (
+        "sim_weight",
+        "key [guides.sim_weight] instead, or set each hair's factor every frame with \
+         Session::set_strand_sim_weights",
+    ),
+];
+
 /// The primvar `name` (its `channel` if given) of the scene's USD scalp at the scene's first
-/// frame, as values at the corners of every scalp triangle (see the module docs). Errors name
-/// the scalp file, the prim, the primvar and the fix.
+/// frame, as values at the corners of every scalp triangle, for the map `[maps.MAP]` (see the
+/// module docs: a time-sampled primvar whose values change is refused for a map that would
+/// follow the shot). Errors name the scalp file, the prim, the primvar and the fix.
 pub fn scalp_primvar(
     scene: &SceneFile,
+    map: &str,
     name: &str,
     channel: Option<Channel>,
 ) -> Result<Vec<[f32; 3]>, String> {
@@ -69,9 +109,36 @@ pub fn scalp_primvar(
         Channel::B => 2,
         Channel::A => 3,
     });
-    let time = section.time_code(f64::from(scene.scene.scene.frames[0]));
-    source
-        .primvar(name, component, time)
-        .map(|corners| corners.values)
-        .map_err(|e| e.to_string())
+    let first_frame = scene.scene.scene.frames[0];
+    let time = section.time_code(f64::from(first_frame));
+    let read = |t: f64| {
+        source
+            .primvar(name, component, t)
+            .map(|corners| corners.values)
+            .map_err(|e| e.to_string())
+    };
+    let values = read(time)?;
+    if let Some((_, instead)) = FOLLOWS_THE_SHOT.iter().find(|(m, _)| *m == map) {
+        let times = source
+            .primvar_sample_times(name)
+            .map_err(|e| e.to_string())?;
+        for &t in times.iter().skip(usize::from(times.len() == 1)) {
+            if read(t)? != values {
+                let name = name.strip_prefix("primvars:").unwrap_or(name);
+                return Err(format!(
+                    "primvars:{name} of prim {} in {} has {} time samples (time codes {} to {}) \
+                     whose values change (at time code {t}, from those at the first frame's \
+                     time code {time}); a {map} map is read once, at the scene's first frame \
+                     (frame {first_frame}), because the solver takes it when the scene is \
+                     built: author one value (a default, or the same at every sample), or {instead}",
+                    source.prim(),
+                    path.display(),
+                    times.len(),
+                    times[0],
+                    times[times.len() - 1],
+                ));
+            }
+        }
+    }
+    Ok(values)
 }

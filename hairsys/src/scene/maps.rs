@@ -28,11 +28,14 @@
 //! the scalp (`[hair]` and `[sim_hairs]`) by the map at its root; `sim_weight` multiplies each
 //! sim hair's factor of the `[guides.sim_weight]` curve (needs that curve); `stiffness`
 //! multiplies each scalp-rooted hair's bending stiffness by the map at its root (see
-//! [`crate::scene::regions`]); `length` trims each `[hair]` strand to the map's fraction of its
-//! length, keeping its groomed shape from the root (the curve is cut at that arc length and
-//! resampled to the same number of points, masses lumped again at the same mass per length;
-//! the resampled chords cut a curved groom's corners, so the polyline comes out up to ~1 %
-//! shorter than the fraction).
+//! [`crate::scene::regions`]); `length` trims each `[hair]` and `[sim_hairs]` strand to the map's
+//! fraction (0, 1] of its length, keeping its groomed shape from the root (the curve is cut at
+//! that arc length and resampled to the same number of points, masses lumped again at the same
+//! mass per length; the resampled chords cut a curved groom's corners, so the polyline comes out
+//! up to ~1 % shorter than the fraction: [`hair_groom::trim`]). A sim hair keeps its fraction
+//! when animated guides re-pose it: each frame's blend is trimmed the same way before the pose
+//! is applied ([`hair_groom::GuideBlend::with_length_fractions`]), so goal targets, pins,
+//! hold-out and sim weight follow the trimmed hair.
 //!
 //! `density` spreads the roots of `[hair]` and `[sim_hairs]` over the scalp: roots grow with
 //! probability density ∝ area × the map, relative to its largest value, and the `count` stays
@@ -53,14 +56,12 @@
 //!
 //! Any other name must be used by a selection (`map = { name, min, max }` in
 //! `[guides.sim_weight]`, `[[guides.pin]]`, `[guides.hold_out]` or `[[regions]]`), so a
-//! misspelt purpose is an error, not a silent no-op. Length maps on sim hairs are refused: sim
-//! hairs are re-interpolated from the (animated) guides every frame, which would undo a trim
-//! made when the scene is built.
+//! misspelt purpose is an error, not a silent no-op.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use hair_core::{Anchor, StrandInput, StrandSet, TriMesh};
+use hair_core::{Anchor, MeshSample, StrandInput, StrandSet, TriMesh};
 use serde::{Deserialize, Serialize};
 
 use crate::maps::{Channel, MapDensity, MapSource, ScalpMap, Texture};
@@ -72,7 +73,7 @@ pub const APPLIED: [(&str, &str); 7] = [
     ("stiffness", "scales bending stiffness"),
     (
         "length",
-        "trims [hair] strands to a fraction of their length",
+        "trims [hair] and [sim_hairs] strands to a fraction of their length",
     ),
     ("density", "spreads the roots of [hair] and [sim_hairs]"),
     ("clump", "scales the render children's clump"),
@@ -185,8 +186,9 @@ impl ScalpMaps {
     }
 
     /// Reads every `[maps.NAME]` section: textures relative to `base_dir`, vertex colours from
-    /// `colors` (the OBJ scalp's, `None` for another scalp), primvars from `primvar` (name and
-    /// channel, if one is given, to per-triangle corner values of the scalp), each checked
+    /// `colors` (the OBJ scalp's, `None` for another scalp), primvars from `primvar` (the map's
+    /// name, the primvar's name and the channel, if one is given, to per-triangle corner values
+    /// of the scalp), each checked
     /// against `mesh`. `used` are the names selections use. Errors name the section, the file
     /// and the fix.
     pub fn load(
@@ -194,7 +196,7 @@ impl ScalpMaps {
         base_dir: &Path,
         mesh: &TriMesh,
         colors: impl FnOnce() -> Result<Option<Vec<[f32; 3]>>, String>,
-        primvar: impl Fn(&str, Option<Channel>) -> Result<Vec<[f32; 3]>, String>,
+        primvar: impl Fn(&str, &str, Option<Channel>) -> Result<Vec<[f32; 3]>, String>,
         used: &[&str],
     ) -> Result<Self, String> {
         let mut colors = Some(colors);
@@ -202,6 +204,7 @@ impl ScalpMaps {
         let mut maps = BTreeMap::new();
         let mut sources = BTreeMap::new();
         for (name, s) in sections {
+            let map_name = name.as_str();
             let what = format!("[maps.{name}]");
             if purpose(name).is_none() && !used.contains(&name.as_str()) {
                 let names: Vec<&str> = APPLIED.iter().map(|(n, _)| *n).collect();
@@ -245,7 +248,7 @@ impl ScalpMaps {
                     }
                     let given = s.channel.is_some().then_some(channel);
                     MapSource::Corners(
-                        primvar(name, given)
+                        primvar(map_name, name, given)
                             .map_err(|e| format!("{what} primvar = \"{name}\": {e}"))?,
                     )
                 }
@@ -387,6 +390,25 @@ impl ScalpMaps {
         })
     }
 
+    /// The `length` map's fraction at each root of `roots` on `mesh` (`None` without that
+    /// map). `what` names the hairs in errors: a fraction outside (0, 1].
+    pub fn length_fractions<'a>(
+        &self,
+        mesh: &TriMesh,
+        roots: impl IntoIterator<Item = &'a MeshSample>,
+        what: &str,
+    ) -> Result<Option<Vec<f32>>, String> {
+        let Some(map) = self.get("length") else {
+            return Ok(None);
+        };
+        roots
+            .into_iter()
+            .enumerate()
+            .map(|(i, sample)| length_fraction(map, mesh, sample, &format!("{what} {i}")))
+            .collect::<Result<Vec<_>, _>>()
+            .map(Some)
+    }
+
     /// Trims every surface-rooted strand in `inputs` to the `length` map's fraction (0, 1] of
     /// its length at its root (nothing without that map): the rest curve is cut at that arc
     /// length from the root and resampled to the same number of points (uniform in arc length),
@@ -405,16 +427,10 @@ impl ScalpMaps {
             let Anchor::Surface(sample) = input.anchor else {
                 continue;
             };
-            let f = map.at(mesh, &sample, &format!("{what} {i}"))?;
-            if !(f > 0.0 && f <= 1.0) {
-                return Err(format!(
-                    "[maps.length] is {f} at {what} {i}: a length fraction is in (0, 1] (1 = the \
-                     full length); paint values above 0 where hair grows"
-                ));
-            }
-            if f < 1.0 {
-                trim(input, f);
-            }
+            trim_input(
+                input,
+                length_fraction(map, mesh, &sample, &format!("{what} {i}"))?,
+            );
         }
         Ok(())
     }
@@ -447,31 +463,40 @@ impl ScalpMaps {
     }
 }
 
-/// Cuts `input`'s rest curve at `fraction` of its arc length and resamples it to the same point
-/// count, uniform in arc length; masses lumped again at its mass per length (kg/m).
-fn trim(input: &mut StrandInput, fraction: f32) {
-    let rest = &input.rest;
-    let n = rest.len();
-    let mut arc = Vec::with_capacity(n);
-    arc.push(0.0f32);
-    for w in rest.windows(2) {
-        arc.push(arc[arc.len() - 1] + (w[1] - w[0]).norm());
+/// The length map `map`'s fraction at the root `sample` of `hair` (named in the error), checked
+/// to lie in (0, 1].
+fn length_fraction(
+    map: &ScalpMap,
+    mesh: &TriMesh,
+    sample: &MeshSample,
+    hair: &str,
+) -> Result<f32, String> {
+    let f = map.at(mesh, sample, hair)?;
+    if !(f > 0.0 && f <= 1.0) {
+        return Err(format!(
+            "[maps.length] is {f} at {hair}: a length fraction is in (0, 1] (1 = the full \
+             length, 0.5 = half); paint values above 0 where hair grows, at most 1 (white)"
+        ));
     }
-    let length = arc[n - 1];
+    Ok(f)
+}
+
+/// Cuts `input`'s rest curve at `fraction` of its arc length and resamples it to the same point
+/// count, uniform in arc length ([`hair_groom::trim_polyline`]); masses lumped again at its mass
+/// per length (kg/m). A fraction of 1 (or more) leaves the strand as it is, bit for bit.
+pub(crate) fn trim_input(input: &mut StrandInput, fraction: f32) {
+    if fraction >= 1.0 {
+        return;
+    }
+    let n = input.rest.len();
+    let length: f32 = input.rest.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    if length.is_nan() || length <= 0.0 {
+        // Nothing to cut; the strand set refuses a strand without length by name.
+        return;
+    }
     let per_length = input.mass.iter().sum::<f32>() / length;
-    let target = fraction * length;
-    let mut j = 0;
-    let trimmed: Vec<_> = (0..n)
-        .map(|k| {
-            let t = target * k as f32 / (n - 1) as f32;
-            while j + 2 < n && arc[j + 1] < t {
-                j += 1;
-            }
-            let span = arc[j + 1] - arc[j];
-            let a = if span > 0.0 { (t - arc[j]) / span } else { 0.0 };
-            rest[j] + (rest[j + 1] - rest[j]) * a.clamp(0.0, 1.0)
-        })
-        .collect();
+    let mut trimmed = vec![nalgebra::Vector3::zeros(); n];
+    hair_groom::trim_polyline(&input.rest, fraction, &mut trimmed);
     let mut mass = vec![0.0; n];
     for k in 1..n {
         let half = 0.5 * per_length * (trimmed[k] - trimmed[k - 1]).norm();

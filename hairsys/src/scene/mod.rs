@@ -1170,14 +1170,6 @@ impl SceneFile {
                     .into(),
             );
         };
-        if sections.contains_key("length") && self.scene.guides.is_some() {
-            return Err(
-                "[maps.length] trims [hair] strands; sim hairs take their shapes from the \
-                 (animated) guides, which it does not trim yet: remove the map or grow the hair \
-                 with [hair]"
-                    .into(),
-            );
-        }
         if sections.contains_key("density")
             && self.scene.hair.is_none()
             && self.scene.sim_hairs.is_none()
@@ -1212,7 +1204,7 @@ impl SceneFile {
             &self.base_dir,
             mesh,
             || crate::children::scalp_colors(self),
-            |name, channel| map_primvars::scalp_primvar(self, name, channel),
+            |map, name, channel| map_primvars::scalp_primvar(self, map, name, channel),
             &used,
         )
     }

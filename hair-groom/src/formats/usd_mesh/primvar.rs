@@ -99,6 +99,33 @@ impl UsdMeshSource {
         })
     }
 
+    /// The time codes at which the primvar `name` (or its `:indices`) has time samples, sorted
+    /// and without repeats; empty when it has none (a default value only). A primvar not on
+    /// the prim has none. Errors name the file, the prim and the primvar.
+    pub fn primvar_sample_times(&self, name: &str) -> Result<Vec<f64>, GroomError> {
+        let name = name.strip_prefix("primvars:").unwrap_or(name);
+        let attr = format!("primvars:{name}");
+        super::super::usd::guarded(&self.path, || {
+            let prim = self.stage.prim(self.prim.as_str());
+            let mut times = Vec::new();
+            for a in [attr.clone(), format!("{attr}:indices")] {
+                times.extend(prim.attribute(&a).time_sample_times().map_err(|e| {
+                    bad(
+                        &self.path,
+                        FileLocation::File,
+                        format!(
+                            "prim {} {a}: cannot read its time samples: {e:#}",
+                            self.prim
+                        ),
+                    )
+                })?);
+            }
+            times.sort_by(f64::total_cmp);
+            times.dedup();
+            Ok(times)
+        })
+    }
+
     fn read_primvar(
         &self,
         attr: &str,
