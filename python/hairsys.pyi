@@ -140,6 +140,9 @@ class Session:
         first_frame: int = 1,
         steps: int = 1,
         substeps: int | Literal["auto"] = "auto",
+        integrator: Literal[
+            "semi-implicit-euler", "implicit-euler", "xpbd", "explicit-euler"
+        ] = "semi-implicit-euler",
         damping_iterations: int = 10,
         gravity: tuple[float, float, float] = (0.0, 0.0, -9.81),
         stretch_stiffness: float = ...,
@@ -180,6 +183,9 @@ class Session:
         render width). scalp_collider makes the scalp collide with its hair (thickness m,
         friction). colliders: see ColliderSpec; their ids are 0, 1, … in order, the scalp
         collider after them. hair_hair_friction (0–1) switches voxel hair–hair friction on.
+        integrator: the mass-spring time integrator (implicit-euler takes 16 substeps per frame
+        at 24 fps with substeps "auto" and is stable at any step; a scene file's "auto" choice
+        between the two is not offered here, where the host drives the colliders).
         Raises ArgumentError naming the bad argument.
         """
     def step(

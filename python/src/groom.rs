@@ -3,6 +3,7 @@
 
 use hair_core::{Collider, ColliderShape, HairHairSettings, StrandScales, Substeps, TriMesh};
 use hairsys::groom_input::{GroomArrays, GroomOptions, SimHairs};
+use hairsys::scene::integrator::IntegratorChoice;
 use hairsys::scene::ScalpCollider;
 use nalgebra::{Isometry3, Vector3};
 use pyo3::prelude::*;
@@ -144,6 +145,7 @@ const KEYS: &[&str] = &[
     "first_frame",
     "steps",
     "substeps",
+    "integrator",
     "damping_iterations",
     "gravity",
     "stretch_stiffness",
@@ -231,6 +233,20 @@ pub fn groom_options(
                 Ok(w) if w == "auto" => Substeps::Auto,
                 _ => return Err(argument("substeps", "give \"auto\" or a whole number ≥ 1")),
             },
+        };
+    }
+    if let Some(v) = value::<String>(options, "integrator")? {
+        o.settings.integrator = match v.parse::<IntegratorChoice>() {
+            Ok(IntegratorChoice::Named(i)) => i,
+            Ok(IntegratorChoice::Auto) => {
+                return Err(argument(
+                    "integrator",
+                    "\"auto\" chooses from a scene file's colliders and guides, which a host \
+                     drives frame by frame here; name one: \"semi-implicit-euler\", \
+                     \"implicit-euler\", \"xpbd\" or \"explicit-euler\"",
+                ))
+            }
+            Err(e) => return Err(argument("integrator", &e)),
         };
     }
     if let Some(v) = value(options, "damping_iterations")? {

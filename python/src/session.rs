@@ -200,7 +200,7 @@ impl PySession {
     /// `hairsys.pyi`): scalp_uvs, goal_weights (P,), pinned (P,) bool, strand_scales (dict
     /// of (C,) factors: stretch, bend, goal, damping, drag), sim_hairs (None: simulate the curves
     /// themselves, in order; an int: interpolate that many hairs from the curves as guides),
-    /// k, points, seed, fps, first_frame, steps, substeps, damping_iterations, gravity,
+    /// k, points, seed, fps, first_frame, steps, substeps, integrator, damping_iterations, gravity,
     /// stretch_stiffness, bend_stiffness, goal_stiffness, stretch_damping, air_drag,
     /// mass_per_length, radius, goal_root, goal_tip, max_snap_distance, scalp_collider,
     /// scalp_thickness, scalp_friction, colliders (list of dicts), hair_hair_friction,

@@ -52,10 +52,9 @@ fn hard_contact_and_cheap_explicit_steps_keep_semi_implicit_euler() {
         assert!(sim.integrator.reason().contains(why), "{name}");
     }
     // The gust names semi-implicit Euler itself; "auto" would keep it for its animated guides.
-    let mut gust = SceneFile::load(
-        &PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../scenes/gust.toml"),
-    )
-    .unwrap();
+    let mut gust =
+        SceneFile::load(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../scenes/gust.toml"))
+            .unwrap();
     gust.scene.solver.integrator = "auto".parse().unwrap();
     let sim = gust.build().unwrap();
     assert_eq!(sim.settings.integrator, Integrator::SemiImplicitEuler);
