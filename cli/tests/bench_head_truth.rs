@@ -33,7 +33,10 @@ fn check(quick: bool) {
         c.space_change,
         smallest
     );
-    assert_eq!(c.space_factor, 2, "the truth resolves the wisp on twice the segments");
+    assert_eq!(
+        c.space_factor, 2,
+        "the truth resolves the wisp on twice the segments"
+    );
     assert!(
         c.time_change < 0.1 * smallest,
         "halving the truth's substep moved it {} m against {smallest} m",

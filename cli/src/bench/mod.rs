@@ -42,8 +42,8 @@ use cases::Case;
 use hairsys::scene::SceneError;
 use methods::{MassSpring, Method};
 use metrics::{blown_up, errors, Cost, Errors, Trace};
-use stability::{Grid, MethodMap};
 use plan_points::PlanPoint;
+use stability::{Grid, MethodMap};
 use truth::{Convergence, Truth};
 
 /// The rod truth runs at (at least) this many times the finest substep count charted.

@@ -147,4 +147,3 @@ pub fn measure(
 pub fn applies(case: &Case) -> bool {
     case.name == "head" && case.sim.model == StrandModel::MassSpring
 }
-

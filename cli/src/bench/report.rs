@@ -376,7 +376,8 @@ fn plan_table(s: &mut String, r: &BenchReport) {
             sci(p.plan_error_rms),
             opt(p.truth_error),
             opt(p.truth_tip_error),
-            p.ms_per_frame.map_or("—".to_string(), |m| format!("{m:.3}")),
+            p.ms_per_frame
+                .map_or("—".to_string(), |m| format!("{m:.3}")),
             p.plan_seconds,
             p.note
         );

@@ -208,7 +208,10 @@ mod tests {
         let mut out = Twist::default();
         quasistatic(&frames, &rest, &s, &mut out);
         for (j, th) in out.theta.iter().enumerate() {
-            assert!((th - 0.01 * (j + 1) as f64).abs() < 1e-15, "segment {j}: {th}");
+            assert!(
+                (th - 0.01 * (j + 1) as f64).abs() < 1e-15,
+                "segment {j}: {th}"
+            );
         }
     }
 
