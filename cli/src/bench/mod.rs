@@ -83,6 +83,14 @@ pub enum BenchError {
         /// Which run failed, and why.
         message: String,
     },
+    /// `hairsys plan` failed on a case's scene.
+    #[error("bench: hairsys plan on case {case} failed: {message}")]
+    Plan {
+        /// Case name.
+        case: String,
+        /// The tolerance and the plan's error.
+        message: String,
+    },
     /// The output could not be written.
     #[error("cannot write {path}: {message}; check the --out directory is writable")]
     Write {

@@ -77,9 +77,9 @@ pub fn measure(
     for tolerance in TOLERANCES {
         let mut opts = PlanOptions::new(tolerance);
         opts.frames = Some((case.sim.first_frame, case.sim.last_frame));
-        let planned = plan(&file, &opts, &mut |_| {}).map_err(|e| BenchError::Truth {
+        let planned = plan(&file, &opts, &mut |_| {}).map_err(|e| BenchError::Plan {
             case: case.name.into(),
-            message: format!("hairsys plan at {} mm: {e}", tolerance * 1e3),
+            message: format!("at a tolerance of {} mm: {e}", tolerance * 1e3),
         })?;
         let mut point = PlanPoint {
             case: case.name.into(),
