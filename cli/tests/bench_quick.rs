@@ -1,7 +1,7 @@
 //! `hairsys bench --quick` through the real binary: it finishes, and writes both charts as PNG
 //! files and a table with a row for every case and method (the rod's projection iteration
-//! counts and the strips included), the strips' cost per represented hair and the rod's
-//! tip-moment table.
+//! counts and the strips included), the strips' cost per represented hair, the rod's
+//! tip-moment table and where `hairsys plan` lands on the head case.
 
 mod common;
 
@@ -144,4 +144,16 @@ fn bench_quick_writes_pngs_and_a_table_row_per_case_and_method() {
         }
     }
     assert!(table.contains("## Stability"), "no stability table");
+    // Where `hairsys plan` lands on the head case: one point per tolerance, each choice run
+    // against the head truth, the two choices different.
+    let plan = json["plan"].as_array().unwrap();
+    assert_eq!(plan.len(), 2, "{plan:?}");
+    for p in plan {
+        assert_eq!(p["case"], "head");
+        assert!(p["truth_error"].as_f64().is_some_and(|e| e > 0.0), "{p}");
+        assert!(p["ms_per_frame"].as_f64().is_some_and(|c| c > 0.0), "{p}");
+        assert!(p["plan_error"].as_f64().unwrap() <= p["tolerance"].as_f64().unwrap());
+    }
+    assert_ne!(plan[0]["chosen"], plan[1]["chosen"], "{plan:?}");
+    assert!(table.contains("## Where `hairsys plan` lands"));
 }

@@ -98,8 +98,17 @@ pub fn pareto(r: &BenchReport, path: &Path) -> Result<(), BenchError> {
         let title = format!("{case}: against {truth}");
         let runs: Vec<_> = r.runs.iter().filter(|x| &x.case == case).collect();
         let stable = || runs.iter().filter_map(|x| x.stable().map(|s| (x, s)));
-        let xr = log_range(stable().map(|(_, (c, _))| c.ms_per_frame));
-        let yr = log_range(stable().map(|(_, (_, er))| er.position_rms));
+        let plans = || r.plan.iter().filter(|p| &p.case == case);
+        let xr = log_range(
+            stable()
+                .map(|(_, (c, _))| c.ms_per_frame)
+                .chain(plans().filter_map(|p| p.ms_per_frame)),
+        );
+        let yr = log_range(
+            stable()
+                .map(|(_, (_, er))| er.position_rms)
+                .chain(plans().filter_map(|p| p.truth_error)),
+        );
         let mut chart = ChartBuilder::on(panel)
             .caption(&title, ("sans-serif", 20))
             .margin(12)
@@ -139,6 +148,7 @@ pub fn pareto(r: &BenchReport, path: &Path) -> Result<(), BenchError> {
                 .draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))
                 .map_err(|x| e(format!("{x:?}")))?;
         }
+        plan_markers(r, case, &mut chart, &e)?;
         for (x, (c, er)) in stable().filter(|(x, _)| x.auto) {
             let p = (c.ms_per_frame, er.position_rms);
             chart
@@ -165,6 +175,38 @@ pub fn pareto(r: &BenchReport, path: &Path) -> Result<(), BenchError> {
     }
     root.present().map_err(|x| e(format!("{x:?}")))
 }
+
+/// Marks where `hairsys plan` lands on `case`'s panel: each measured choice as a diamond at
+/// its cost and its error against the truth, labelled with the tolerance.
+fn plan_markers<'a, DB: DrawingBackend + 'a>(
+    r: &BenchReport,
+    case: &str,
+    chart: &mut ChartContext<'a, DB, LogCartesian>,
+    e: &impl Fn(String) -> BenchError,
+) -> Result<(), BenchError> {
+    let violet = RGBColor(106, 27, 154);
+    let points = r.plan.iter().filter(|p| p.case == case);
+    for (i, p) in points.enumerate() {
+        let (Some(cost), Some(error)) = (p.ms_per_frame, p.truth_error) else {
+            continue;
+        };
+        // Alternate the labels above and below: the choices may land close together.
+        let offset = if i % 2 == 0 { (12, -26) } else { (12, 10) };
+        chart
+            .draw_series([EmptyElement::at((cost, error))
+                + Polygon::new(vec![(0, -9), (9, 0), (0, 9), (-9, 0)], violet.filled())
+                + Text::new(
+                    format!("plan, {:.0} mm", p.tolerance * 1e3),
+                    offset,
+                    ("sans-serif", 16).into_font().color(&violet),
+                )])
+            .map_err(|x| e(format!("{x:?}")))?;
+    }
+    Ok(())
+}
+
+/// The chart type of a pareto panel: log cost against log error.
+type LogCartesian = Cartesian2d<LogCoord<f64>, LogCoord<f64>>;
 
 /// The rod's tip-moment case: error against the analytic arc (over L) against the cost of
 /// relaxing it (ms per simulated second), one series per projection iteration limit.

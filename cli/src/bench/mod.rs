@@ -25,6 +25,7 @@ pub mod charts;
 pub mod methods;
 pub mod metrics;
 pub mod physical;
+pub mod plan_points;
 pub mod report;
 pub mod stability;
 pub mod tip_moment;
@@ -41,8 +42,9 @@ use cases::Case;
 use hairsys::scene::SceneError;
 use methods::{MassSpring, Method};
 use metrics::{blown_up, errors, Cost, Errors, Trace};
+use plan_points::PlanPoint;
 use stability::{Grid, MethodMap};
-use truth::Convergence;
+use truth::{Convergence, Truth};
 
 /// The rod truth runs at (at least) this many times the finest substep count charted.
 pub const REFERENCE_FACTOR: u32 = 8;
@@ -79,6 +81,14 @@ pub enum BenchError {
         /// Case name.
         case: String,
         /// Which run failed, and why.
+        message: String,
+    },
+    /// `hairsys plan` failed on a case's scene.
+    #[error("bench: hairsys plan on case {case} failed: {message}")]
+    Plan {
+        /// Case name.
+        case: String,
+        /// The tolerance and the plan's error.
         message: String,
     },
     /// The output could not be written.
@@ -164,6 +174,9 @@ pub struct BenchReport {
     pub runs: Vec<Run>,
     /// Each case's truth and its convergence.
     pub truths: Vec<Convergence>,
+    /// Where `hairsys plan` lands on the head case for two tolerances, measured against the
+    /// truth ([`plan_points`]).
+    pub plan: Vec<PlanPoint>,
     /// Methods left out of cases they cannot run.
     pub not_run: Vec<NotRun>,
     /// The rod's cantilever under a tip moment against the analytic arc.
@@ -204,12 +217,13 @@ fn outcome(result: Result<Trace, HairError>) -> Result<Result<Trace, String>, Ha
 }
 
 /// Runs every method on `case` against its truth: the ladder, and `auto` for the default.
+/// Returns the runs and the truth, its convergence completed with the smallest error charted.
 pub fn bench_case(
     case: &Case,
     methods: &[Box<dyn Method>],
     ladder: &[u32],
     progress: &Progress,
-) -> Result<(Vec<Run>, Convergence), BenchError> {
+) -> Result<(Vec<Run>, Truth), BenchError> {
     let methods: Vec<&dyn Method> = methods
         .iter()
         .map(|m| m.as_ref())
@@ -284,7 +298,8 @@ pub fn bench_case(
     if MassSpring::DEFAULT.cannot_run(case).is_none() {
         record(&MassSpring::DEFAULT, None)?;
     }
-    let mut convergence = truth.convergence;
+    let mut truth = truth;
+    let convergence = &mut truth.convergence;
     convergence.smallest_error = runs
         .iter()
         .filter(|r| !r.auto)
@@ -295,7 +310,7 @@ pub fn bench_case(
         convergence.converged = convergence.time_change < convergence.smallest_error
             && convergence.space_change < convergence.smallest_error;
     }
-    Ok((runs, convergence))
+    Ok((runs, truth))
 }
 
 /// Runs the whole bench and writes its charts and tables into `opts.out`.
@@ -333,14 +348,29 @@ pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
         total += runnable * ladder.len()
             + 1
             + usize::from(MassSpring::DEFAULT.cannot_run(case).is_none());
+        if plan_points::applies(case) {
+            total += plan_points::TOLERANCES.len();
+        }
     }
     let progress = Progress::new(total as u64, opts.quiet, opts.json, "bench");
     let mut runs = Vec::new();
     let mut truths = Vec::new();
+    let mut plan = Vec::new();
     for case in &cases {
-        let (r, c) = bench_case(case, &methods, &ladder, &progress)?;
+        let (r, truth) = bench_case(case, &methods, &ladder, &progress)?;
+        if plan_points::applies(case) {
+            plan.extend(plan_points::measure(case, opts.quick, &truth, || {
+                progress.tick(&Event {
+                    event: "plan",
+                    case: case.name,
+                    method: "hairsys plan",
+                    substeps: 0,
+                    status: "done",
+                })
+            })?);
+        }
         runs.extend(r);
-        truths.push(c);
+        truths.push(truth.convergence);
     }
     let tip_moment = tip_moment::bench(opts.quick, || {
         progress.tick(&Event {
@@ -381,6 +411,7 @@ pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
             .collect(),
         runs,
         truths,
+        plan,
         not_run,
         tip_moment,
         stability_stiffness: grid.stiffness.clone(),

@@ -155,8 +155,8 @@ pub fn markdown(r: &BenchReport, grid: &Grid) -> String {
         s,
         "\n## Truths\n\nEvery method is measured against one **truth** per case: the analytic \
          answer where there is one, otherwise seed 002's rod with {} projection iterations on the \
-         case's strands, every segment cut in two on the cantilever and left whole on the head \
-         cases (`cli/src/bench/truth.rs`), at (at least) \
+         case's strands refined on smooth curves through their points, twice on the cantilever and \
+         the head and left whole on the head strips (`cli/src/bench/truth.rs`), at (at least) \
          {REFERENCE_FACTOR}× the finest substep count charted and within half its stability \
          bound. It counts as **converged** when halving its substep (time) and halving its \
          segments again (space) each change it (position RMS at the case's points) by less than \
@@ -289,6 +289,7 @@ pub fn markdown(r: &BenchReport, grid: &Grid) -> String {
             .unwrap_or(("none".into(), String::new()));
         let _ = writeln!(s, "| {case} | {a_n} | {a_e} | {f_n} | {f_e} |");
     }
+    plan_table(&mut s, r);
     strips_table(&mut s, r);
     tip_moment_table(&mut s, r);
     let _ = writeln!(
@@ -336,6 +337,51 @@ pub fn markdown(r: &BenchReport, grid: &Grid) -> String {
         }
     }
     s
+}
+
+/// Where `hairsys plan` lands on the head case: its choice for each tolerance, its own error
+/// and the truth's.
+fn plan_table(s: &mut String, r: &BenchReport) {
+    if r.plan.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "\n## Where `hairsys plan` lands\n\n`hairsys::plan` on the head case's scene over its \
+         whole frame range, for each tolerance: the plan measures its candidates against its own \
+         reference (the inextensible mass-spring model at twice the bound's substeps, on probe \
+         patches of the groom) and picks the cheapest within the tolerance; the bench runs that \
+         choice on the whole case against the case's truth (the converged rod). The chart marks \
+         each choice on the head panel (diamond, labelled with the tolerance).\n"
+    );
+    let _ = writeln!(
+        s,
+        "| case | tolerance (mm) | chosen | bench method | substeps/frame | plan's error (m, worst frame) | plan's error (m, RMS) | error vs truth (m) | tip error vs truth (m) | ms/frame | plan CPU (s) | note |"
+    );
+    let _ = writeln!(
+        s,
+        "|---|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---|"
+    );
+    let opt = |x: Option<f64>| x.map_or("—".to_string(), sci);
+    for p in &r.plan {
+        let _ = writeln!(
+            s,
+            "| {} | {:.1} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2} | {} |",
+            p.case,
+            p.tolerance * 1e3,
+            p.chosen.as_deref().unwrap_or("none"),
+            p.method.as_deref().unwrap_or("—"),
+            p.substeps,
+            sci(p.plan_error),
+            sci(p.plan_error_rms),
+            opt(p.truth_error),
+            opt(p.truth_tip_error),
+            p.ms_per_frame
+                .map_or("—".to_string(), |m| format!("{m:.3}")),
+            p.plan_seconds,
+            p.note
+        );
+    }
 }
 
 /// Cost per represented hair of the strips against the mass-spring model on the head cases.

@@ -4,10 +4,28 @@
 //!   trajectory, the hanging chain's rest shape (the discrete catenary).
 //! - Elsewhere it is a **converged inextensible elastic rod** of the same hair: seed 002's
 //!   discrete rod ([`hair_core::RodSolver`], 20 projection iterations) on the case's strands
-//!   subdivided [`Case::truth_subdivision`] times (every segment cut in equal parts, so the rest
-//!   polyline, masses per length and material are the case's: 2 on the cantilever, 1 on the
-//!   head cases, where finer runs cost minutes), at [`super::REFERENCE_FACTOR`] × the finest
-//!   substep count charted (or more, to stay within half its stability bound).
+//!   refined [`Case::truth_subdivision`] times (2 on the cantilever and the head, 1 on the
+//!   head strips), at [`super::REFERENCE_FACTOR`] × the finest substep count charted (or more,
+//!   to stay within half its stability bound).
+//!
+//! **Refinement on a smooth curve** ([`smooth_rest`]): the new points lie on the C¹ Hermite
+//! curve through the case's points, so a refined strand is a finer discretisation of one smooth
+//! rest curve. Cutting each segment into straight parts instead keeps the case's kinks: the
+//! whole rest curvature stays at the old points, twice as sharp at every refinement (a different
+//! rest shape each time, not a finer one). The case's points are every `factor`-th refined
+//! point, so the two are compared at the same material points.
+//!
+//! **The head (issue 19).** Its truth was first run on the groom's 16 segments and did not
+//! converge: halving the substep moved it by the same 2.4 mm (quick size) from 256 to 4096
+//! substeps per frame, and a 10⁻⁷ m nudge of the start grew to 2.5 mm. The cause was the rod's
+//! quasistatic twist, which turned a round section's material frame onto the plane the strand
+//! bends in, so the styled groom's rest curvature turned with it, set by round-off wherever a
+//! node straightened (the straight, unstyled groom converged at first order). A round section
+//! now keeps its rest twist (`hair_core::rod::twist`), and the truth converges at first order
+//! in the step. The groom's 16 segments still do not resolve the physical wisp in this turn
+//! (32 segments move it 2.3 mm, quick size), so the head truth runs on 32, checked against 64.
+//! At 64 a wisp's 2 mm collision radius would put the new points of the first segment inside
+//! the scalp at rest, where the strand leaves it: those collide as points ([`subdivide`]).
 //!
 //! **Why the rod.** Of the models in hair-core it is the only one whose energy is that of an
 //! elastic rod (Kirchhoff: bending and twist of a material frame, Bergou et al. 2008) with
@@ -86,9 +104,54 @@ pub struct Convergence {
     pub converged: bool,
 }
 
-/// `strands` with every segment cut into `factor` equal parts: the same rest polyline, point
-/// masses lumped from `mass_per_length` (kg/m), the pins of the original points kept, radii and
-/// goal weights of the segment's start. Positions are reset to rest by the caller.
+/// `rest` (a polyline, m) refined `factor` times on the C¹ cubic Hermite curve through its
+/// points: the old points are every `factor`-th new one, the tangent at an interior point
+/// bisects its two segments (the discrete curve's own tangent there), at the root it is the
+/// first segment's direction (the direction the root frame clamps), at the tip the last
+/// segment's, each scaled by the segment's length. Each segment's turn is thus spread over its
+/// length instead of sitting at its ends: the refined strand is a finer discretisation of one
+/// smooth curve, not the same kinked polyline with straight nodes added (which concentrates
+/// the whole rest curvature at the old points, a different rest shape at every refinement).
+pub fn smooth_rest(rest: &[Vector3<f32>], factor: usize) -> Vec<Vector3<f32>> {
+    let p: Vec<Vector3<f64>> = rest.iter().map(|v| v.cast()).collect();
+    let n = p.len() - 1;
+    let dir = |j: usize| (p[j + 1] - p[j]).normalize();
+    let tangent: Vec<Vector3<f64>> = (0..=n)
+        .map(|i| match i {
+            0 => dir(0),
+            i if i == n => dir(n - 1),
+            i => {
+                let t = dir(i - 1) + dir(i);
+                if t.norm() > 1e-12 {
+                    t.normalize()
+                } else {
+                    dir(i)
+                }
+            }
+        })
+        .collect();
+    let mut out = Vec::with_capacity(n * factor + 1);
+    for j in 0..n {
+        let l = (p[j + 1] - p[j]).norm();
+        let (m0, m1) = (tangent[j] * l, tangent[j + 1] * l);
+        for k in 0..factor {
+            let t = k as f64 / factor as f64;
+            let (t2, t3) = (t * t, t * t * t);
+            let x = p[j] * (2.0 * t3 - 3.0 * t2 + 1.0)
+                + m0 * (t3 - 2.0 * t2 + t)
+                + p[j + 1] * (3.0 * t2 - 2.0 * t3)
+                + m1 * (t3 - t2);
+            out.push(x.cast());
+        }
+    }
+    out.push(rest[n]);
+    out
+}
+
+/// `strands` refined `factor` times on smooth curves through their rest points
+/// ([`smooth_rest`]; the old points are every `factor`-th new one): point masses lumped from
+/// `mass_per_length` (kg/m), the pins of the original points kept, radii and goal weights of
+/// the segment's start. Positions are reset to rest by the caller.
 pub fn subdivide(
     strands: &StrandSet,
     factor: usize,
@@ -100,16 +163,9 @@ pub fn subdivide(
         let rest = &strands.rest_local()[pts.clone()];
         let inv = &strands.inverse_masses()[pts.clone()];
         let radii = &strands.radii()[pts.clone()];
-        let mut fine = Vec::with_capacity((rest.len() - 1) * factor + 1);
-        for w in rest.windows(2) {
-            for k in 0..factor {
-                fine.push(w[0] + (w[1] - w[0]) * (k as f32 / factor as f32));
-            }
-        }
-        fine.extend(rest.last().copied());
         let mut input = StrandInput::uniform(
             strands.anchors()[s],
-            fine,
+            smooth_rest(rest, factor),
             mass_per_length,
             radii[0],
             0.0,
@@ -119,6 +175,13 @@ pub fn subdivide(
             input.pinned[i * factor] = w == 0.0;
             input.radius[i * factor] = radii[i];
         }
+        // The new points of the first segment lie where the strand leaves the scalp: a wisp's
+        // collision radius there would put them inside the collider at rest (the strand's first
+        // point is on the scalp), an infeasible contact. The case has no point there; these
+        // collide as points.
+        for r in input.radius.iter_mut().take(factor).skip(1) {
+            *r = 0.0;
+        }
         out.push(input)?;
     }
     Ok(out)
@@ -126,7 +189,7 @@ pub fn subdivide(
 
 /// Every `factor`-th point of each strand of `fine` (laid out as `coarse_offsets` subdivided
 /// `factor` times).
-fn coarsen(fine: &[Vector3<f32>], coarse_offsets: &[u32], factor: usize) -> Vec<Vector3<f32>> {
+pub fn coarsen(fine: &[Vector3<f32>], coarse_offsets: &[u32], factor: usize) -> Vec<Vector3<f32>> {
     let mut out = Vec::with_capacity(*coarse_offsets.last().unwrap_or(&0) as usize);
     let mut start = 0usize;
     for w in coarse_offsets.windows(2) {
@@ -139,7 +202,7 @@ fn coarsen(fine: &[Vector3<f32>], coarse_offsets: &[u32], factor: usize) -> Vec<
 
 /// `case` with its strands subdivided `factor` times (no head solid: the truth's penetration is
 /// not measured).
-fn refined(case: &Case, factor: usize) -> Result<Case, HairError> {
+pub fn refined(case: &Case, factor: usize) -> Result<Case, HairError> {
     let mut sim = case.sim.clone();
     if factor > 1 {
         sim.strands = subdivide(&case.sim.strands, factor, case.mass_per_length)?;

@@ -21,7 +21,8 @@
 //!   follicle holds it) but not in twist.
 //! - **Quasistatic twist** ([`twist`]): before every substep, root to tip, each segment's twist
 //!   minimises its bending over the minor axis (a closed form), choosing among `θ`, `θ ± π` the
-//!   one of least elastic energy. Twist is not a dynamic variable.
+//!   one of least elastic energy. A round section has no major axis: it keeps its rest twist.
+//!   Twist is not a dynamic variable.
 //! - **Step** ([`strand`]): explicit (symplectic Euler) integration of bending forces, gravity
 //!   and air drag with a short substep, then **projection** ([`project`]) to the nearest state, in
 //!   the kinetic-energy metric, that keeps every segment at its rest length, the root (and any

@@ -21,6 +21,8 @@
 //! segment's share of bending at both its nodes) is taken, and the sweep moves on to the next
 //! segment.
 //!
+//! A round section (`rod.axis_ratio = 1`) has no major axis: its twist stays at the rest twist.
+//!
 //! Limit: the twist energy only chooses between candidates; it does not resist a turn of the
 //! major axis along the strand, as the seed's model intends (hair twists freely to bend over
 //! its major axis).
@@ -60,10 +62,23 @@ pub fn quasistatic(frames: &EdgeFrames, rest: &TwistRest, stiffness: &Stiffness,
     out.theta.clear();
     out.axes.clear();
     let pi = std::f64::consts::PI;
+    // A round section has no major axis to align: its bending energy does not depend on the
+    // twist but through the rest curvature, which is fixed in the material frame. Aligning an
+    // axis with the current bending plane would turn a curved rest shape's curvature towards
+    // whatever plane the strand happens to bend in, and at a node that straightens or reverses
+    // that plane is set by round-off: the rest shape would jump by a step-dependent amount. A
+    // round strand therefore keeps its rest twist (no twisting).
+    let round = stiffness.major == stiffness.minor;
     let mut prev = 0.0;
     for j in 0..n {
         let reference = prev + rest.twist[j];
         let (u, v) = (&frames.u[j], &frames.v[j]);
+        if round {
+            out.theta.push(reference);
+            out.axes.push(material(u, v, reference));
+            prev = reference;
+            continue;
+        }
         // Nodes of segment j: j (side b) and j + 1 (side a), if it bends.
         let nodes = [(j, true), (j + 1, false)];
         let (mut re, mut im, mut weight) = (0.0, 0.0, 0.0);
@@ -152,6 +167,53 @@ pub fn minor_axis_bending(frames: &EdgeFrames, twist: &Twist) -> f64 {
 mod tests {
     use super::super::frames::Ghost;
     use super::*;
+
+    #[test]
+    fn round_section_keeps_its_rest_twist_however_it_bends() {
+        // A round strand curled in the x–y plane at rest (rest curvature about z), bent now in
+        // the x–z plane: aligning an axis with the new bending plane would turn the rest curl
+        // with it. Its twist must stay at the accumulated rest twist.
+        let x: Vec<V3> = (0..8)
+            .map(|i| {
+                let a = 0.2 * i as f64;
+                V3::new(a.sin(), 0.0, 1.0 - a.cos())
+            })
+            .collect();
+        let ghost = Ghost {
+            t: V3::x(),
+            u: V3::y(),
+            length: 0.2,
+        };
+        let mut frames = EdgeFrames::default();
+        frames.update(&x, &ghost);
+        let bend = vec![
+            NodeRest {
+                a: [0.0, 0.2],
+                b: [0.0, 0.2],
+            };
+            7
+        ];
+        let twist = vec![0.01; 7];
+        let voronoi = vec![0.1; 7];
+        let rest = TwistRest {
+            bend: &bend,
+            twist: &twist,
+            voronoi: &voronoi,
+        };
+        let s = Stiffness {
+            major: 2.0,
+            minor: 2.0,
+            twist: 1.0,
+        };
+        let mut out = Twist::default();
+        quasistatic(&frames, &rest, &s, &mut out);
+        for (j, th) in out.theta.iter().enumerate() {
+            assert!(
+                (th - 0.01 * (j + 1) as f64).abs() < 1e-15,
+                "segment {j}: {th}"
+            );
+        }
+    }
 
     #[test]
     fn a_planar_bend_turns_the_major_axis_onto_the_bending_axis() {
