@@ -332,3 +332,112 @@ pub fn stability_map(r: &BenchReport, grid: &Grid, path: &Path) -> Result<(), Be
     }
     root.present().map_err(|x| e(format!("{x:?}")))
 }
+
+/// The segments axis ([`super::segments`]): position error against segments per strand, log–log,
+/// one panel per case, one series per method at its automatic substeps; the dashed line is the
+/// truth's own change when its segments are doubled (errors below it are not resolved by the
+/// truth).
+pub fn segments(r: &BenchReport, path: &Path) -> Result<(), BenchError> {
+    font();
+    let e = err(path);
+    let mut cases: Vec<&str> = Vec::new();
+    let mut methods: Vec<&str> = Vec::new();
+    for run in &r.segments {
+        if !cases.contains(&run.case.as_str()) {
+            cases.push(&run.case);
+        }
+        if !methods.contains(&run.method.as_str()) {
+            methods.push(&run.method);
+        }
+    }
+    let columns = cases.len().max(1);
+    let root = BitMapBackend::new(path, (800 * columns as u32, 700)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| e(format!("{x:?}")))?;
+    let panels = root.split_evenly((1, columns));
+    for (case, panel) in cases.iter().zip(&panels) {
+        let runs: Vec<_> = r.segments.iter().filter(|x| x.case == *case).collect();
+        let points = |m: &str| -> Vec<(f64, f64)> {
+            runs.iter()
+                .filter(|x| x.method == m)
+                .filter_map(|x| match &x.outcome {
+                    super::Outcome::Stable { errors, .. } if errors.position_rms > 0.0 => {
+                        Some((x.segments as f64, errors.position_rms))
+                    }
+                    _ => None,
+                })
+                .collect()
+        };
+        let floor = r
+            .truths
+            .iter()
+            .find(|t| t.case == *case)
+            .map_or(0.0, |t| t.space_change);
+        let xr = log_range(runs.iter().map(|x| x.segments as f64));
+        let yr = log_range(
+            methods
+                .iter()
+                .flat_map(|m| points(m))
+                .map(|(_, y)| y)
+                .chain((floor > 0.0).then_some(floor)),
+        );
+        let mut chart = ChartBuilder::on(panel)
+            .caption(
+                format!("{case}: error against segments per strand (auto substeps)"),
+                ("sans-serif", 20),
+            )
+            .margin(12)
+            .x_label_area_size(45)
+            .y_label_area_size(75)
+            .build_cartesian_2d(xr.clone().log_scale(), yr.log_scale())
+            .map_err(|x| e(format!("{x:?}")))?;
+        chart
+            .configure_mesh()
+            .x_desc("segments per strand")
+            .y_desc("position RMS error vs the truth (m)")
+            .x_labels(6)
+            .y_labels(8)
+            .x_label_formatter(&|v| format!("{v:.0}"))
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .label_style(("sans-serif", 14))
+            .draw()
+            .map_err(|x| e(format!("{x:?}")))?;
+        for (i, m) in methods.iter().enumerate() {
+            let pts = points(m);
+            if pts.is_empty() {
+                continue;
+            }
+            let color = COLORS[i % COLORS.len()];
+            chart
+                .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))
+                .map_err(|x| e(format!("{x:?}")))?
+                .label(*m)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(3))
+                });
+            chart
+                .draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))
+                .map_err(|x| e(format!("{x:?}")))?;
+        }
+        if floor > 0.0 {
+            chart
+                .draw_series(DashedLineSeries::new(
+                    [(xr.start, floor), (xr.end, floor)],
+                    6,
+                    4,
+                    BLACK.stroke_width(1),
+                ))
+                .map_err(|x| e(format!("{x:?}")))?
+                .label("truth: change with segments doubled")
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::LowerLeft)
+            .label_font(("sans-serif", 12))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(|x| e(format!("{x:?}")))?;
+    }
+    root.present().map_err(|x| e(format!("{x:?}")))
+}

@@ -22,10 +22,13 @@
 pub mod analytic;
 pub mod cases;
 pub mod charts;
+pub mod curly;
+pub mod drape;
 pub mod methods;
 pub mod metrics;
 pub mod physical;
 pub mod report;
+pub mod segments;
 pub mod stability;
 pub mod tip_moment;
 pub mod truth;
@@ -42,7 +45,7 @@ use hairsys::scene::SceneError;
 use methods::{MassSpring, Method};
 use metrics::{blown_up, errors, Cost, Errors, Trace};
 use stability::{Grid, MethodMap};
-use truth::Convergence;
+use truth::{Convergence, Truth};
 
 /// The rod truth runs at (at least) this many times the finest substep count charted.
 pub const REFERENCE_FACTOR: u32 = 8;
@@ -164,6 +167,9 @@ pub struct BenchReport {
     pub runs: Vec<Run>,
     /// Each case's truth and its convergence.
     pub truths: Vec<Convergence>,
+    /// The segments axis: methods at their automatic substeps over segment counts, on the
+    /// cases that can be re-segmented ([`segments`]).
+    pub segments: Vec<segments::SegmentRun>,
     /// Methods left out of cases they cannot run.
     pub not_run: Vec<NotRun>,
     /// The rod's cantilever under a tip moment against the analytic arc.
@@ -203,13 +209,38 @@ fn outcome(result: Result<Trace, HairError>) -> Result<Result<Trace, String>, Ha
     }
 }
 
+/// Runs `m` on `case` at `substeps` (`None`: auto): its trace and its cost, or why it blew up.
+/// Short runs are timed again, keeping the fastest: one run of a tiny case is mostly timer
+/// noise.
+pub fn timed_run(
+    m: &dyn Method,
+    case: &Case,
+    substeps: Option<u32>,
+) -> Result<Result<(Trace, Cost), String>, HairError> {
+    let trace = match outcome(m.run(case, substeps))? {
+        Ok(trace) => trace,
+        Err(message) => return Ok(Err(message)),
+    };
+    let mut cost = trace.cost;
+    let mut spent = cost.ms_per_frame * case.frames() as f64;
+    while spent < MIN_TIMED_MS {
+        let again = m.run(case, substeps)?.cost;
+        spent += again.ms_per_frame * case.frames() as f64;
+        if again.ms_per_frame < cost.ms_per_frame {
+            cost = again;
+        }
+    }
+    Ok(Ok((trace, cost)))
+}
+
 /// Runs every method on `case` against its truth: the ladder, and `auto` for the default.
+/// Returns the runs and the truth, its convergence filled in.
 pub fn bench_case(
     case: &Case,
     methods: &[Box<dyn Method>],
     ladder: &[u32],
     progress: &Progress,
-) -> Result<(Vec<Run>, Convergence), BenchError> {
+) -> Result<(Vec<Run>, Truth), BenchError> {
     let methods: Vec<&dyn Method> = methods
         .iter()
         .map(|m| m.as_ref())
@@ -217,7 +248,7 @@ pub fn bench_case(
         .collect();
     let finest = *ladder.last().unwrap_or(&1);
     let step_dt = 1.0 / case.sim.settings.fps as f64;
-    let truth = truth::truth(case, finest * REFERENCE_FACTOR).map_err(|e| BenchError::Truth {
+    let mut truth = truth::truth(case, finest * REFERENCE_FACTOR).map_err(|e| BenchError::Truth {
         case: case.name.into(),
         message: e,
     })?;
@@ -230,29 +261,15 @@ pub fn bench_case(
     });
     let mut runs = Vec::new();
     let mut record = |m: &dyn Method, substeps: Option<u32>| -> Result<(), BenchError> {
-        let result = outcome(m.run(case, substeps))?;
-        let (n, outcome) = match result {
-            Ok(trace) => {
-                // Short runs are timed again, keeping the fastest: one run of a tiny case is
-                // mostly timer noise.
-                let mut cost = trace.cost;
-                let mut spent = cost.ms_per_frame * case.frames() as f64;
-                while spent < MIN_TIMED_MS {
-                    let again = m.run(case, substeps)?.cost;
-                    spent += again.ms_per_frame * case.frames() as f64;
-                    if again.ms_per_frame < cost.ms_per_frame {
-                        cost = again;
-                    }
-                }
-                (
-                    trace.substeps,
-                    Outcome::Stable {
-                        cost,
-                        errors: errors(case, &trace, &truth),
-                        projection: trace.projection,
-                    },
-                )
-            }
+        let (n, outcome) = match timed_run(m, case, substeps)? {
+            Ok((trace, cost)) => (
+                trace.substeps,
+                Outcome::Stable {
+                    cost,
+                    errors: errors(case, &trace, &truth),
+                    projection: trace.projection,
+                },
+            ),
             Err(message) => (substeps.unwrap_or(0), Outcome::Unstable { message }),
         };
         progress.tick(&Event {
@@ -284,7 +301,7 @@ pub fn bench_case(
     if MassSpring::DEFAULT.cannot_run(case).is_none() {
         record(&MassSpring::DEFAULT, None)?;
     }
-    let mut convergence = truth.convergence;
+    let convergence = &mut truth.convergence;
     convergence.smallest_error = runs
         .iter()
         .filter(|r| !r.auto)
@@ -295,7 +312,7 @@ pub fn bench_case(
         convergence.converged = convergence.time_change < convergence.smallest_error
             && convergence.space_change < convergence.smallest_error;
     }
-    Ok((runs, convergence))
+    Ok((runs, truth))
 }
 
 /// Runs the whole bench and writes its charts and tables into `opts.out`.
@@ -332,15 +349,24 @@ pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
             .count();
         total += runnable * ladder.len()
             + 1
-            + usize::from(MassSpring::DEFAULT.cannot_run(case).is_none());
+            + usize::from(MassSpring::DEFAULT.cannot_run(case).is_none())
+            + segments::planned(case, &methods, opts.quick);
     }
     let progress = Progress::new(total as u64, opts.quiet, opts.json, "bench");
     let mut runs = Vec::new();
     let mut truths = Vec::new();
+    let mut segment_runs = Vec::new();
     for case in &cases {
-        let (r, c) = bench_case(case, &methods, &ladder, &progress)?;
+        let (r, truth) = bench_case(case, &methods, &ladder, &progress)?;
         runs.extend(r);
-        truths.push(c);
+        segment_runs.extend(segments::bench(
+            case,
+            &truth,
+            &methods,
+            opts.quick,
+            &progress,
+        )?);
+        truths.push(truth.convergence);
     }
     let tip_moment = tip_moment::bench(opts.quick, || {
         progress.tick(&Event {
@@ -381,6 +407,7 @@ pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
             .collect(),
         runs,
         truths,
+        segments: segment_runs,
         not_run,
         tip_moment,
         stability_stiffness: grid.stiffness.clone(),
