@@ -4,12 +4,12 @@
 //! the rod keeps its curl, and on the segments axis the rod's error against the truth falls as
 //! its segments double.
 
+use hairsys::accuracy;
 use hairsys_cli::bench::cases::{self, Case};
 use hairsys_cli::bench::methods::{MassSpring, Method, Rod};
 use hairsys_cli::bench::segments;
 use hairsys_cli::bench::{bench_case, drape, ladder, Outcome, REFERENCE_FACTOR};
 use hairsys_cli::progress::Progress;
-use hairsys::accuracy;
 
 /// The quick bench's finest substep count, as `hairsys bench --quick` charts it.
 fn quick_finest() -> u32 {
@@ -101,7 +101,10 @@ fn drape_rests_on_the_sphere() {
         .filter(|p| p.z > 0.0 && (p.norm() - r - hair).abs() < 1e-5)
         .count();
     println!("final shape: {last:?}");
-    assert!(resting >= 3, "{resting} nodes rest on the upper half-sphere");
+    assert!(
+        resting >= 3,
+        "{resting} nodes rest on the upper half-sphere"
+    );
     let hanging: Vec<_> = last.iter().filter(|p| p.z < -0.05).collect();
     assert!(hanging.len() >= 6, "{} nodes hang below", hanging.len());
     for p in hanging {
@@ -119,11 +122,16 @@ fn curly_curl_kept_is_measured_and_the_rod_keeps_the_curl() {
     let rod = Rod { iterations: 8 };
     let run = rod.run(&case, Some(256)).unwrap();
     let e = hairsys_cli::bench::metrics::errors(&case, &run, &truth);
-    let kept = e.curl_kept.expect("the curly truth is curved: curl kept is computed");
+    let kept = e
+        .curl_kept
+        .expect("the curly truth is curved: curl kept is computed");
     println!("rod, 8 iterations, 256 substeps: {e:?}");
     // The rod's bending holds the curvature of the coil (its pitch is what it gives away, see
     // `curly_truth_is_converged_in_space`): within 10 % of the truth's, and of the rest helix's.
-    assert!((kept - 1.0).abs() < 0.1, "the rod keeps {kept} of the truth's curl");
+    assert!(
+        (kept - 1.0).abs() < 0.1,
+        "the rod keeps {kept} of the truth's curl"
+    );
     let offsets = case.sim.strands.offsets();
     let rest = accuracy::mean_curvature(&case.sim.strands.positions, offsets);
     let end = accuracy::mean_curvature(run.samples.last().unwrap(), offsets);
@@ -159,10 +167,7 @@ fn rod_error_falls_as_its_segments_double() {
             })
             .collect();
         println!("{}: rod error by segments {errors:?}", case.name);
-        assert_eq!(
-            errors.iter().map(|e| e.0).collect::<Vec<_>>(),
-            [4, 8, 16]
-        );
+        assert_eq!(errors.iter().map(|e| e.0).collect::<Vec<_>>(), [4, 8, 16]);
         for w in errors.windows(2) {
             assert!(
                 w[1].1 < 0.7 * w[0].1,

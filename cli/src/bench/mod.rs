@@ -248,10 +248,11 @@ pub fn bench_case(
         .collect();
     let finest = *ladder.last().unwrap_or(&1);
     let step_dt = 1.0 / case.sim.settings.fps as f64;
-    let mut truth = truth::truth(case, finest * REFERENCE_FACTOR).map_err(|e| BenchError::Truth {
-        case: case.name.into(),
-        message: e,
-    })?;
+    let mut truth =
+        truth::truth(case, finest * REFERENCE_FACTOR).map_err(|e| BenchError::Truth {
+            case: case.name.into(),
+            message: e,
+        })?;
     progress.tick(&Event {
         event: "truth",
         case: case.name,
@@ -360,11 +361,7 @@ pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
         let (r, truth) = bench_case(case, &methods, &ladder, &progress)?;
         runs.extend(r);
         segment_runs.extend(segments::bench(
-            case,
-            &truth,
-            &methods,
-            opts.quick,
-            &progress,
+            case, &truth, &methods, opts.quick, &progress,
         )?);
         truths.push(truth.convergence);
     }

@@ -469,7 +469,11 @@ fn segments_table(s: &mut String, r: &BenchReport) {
                 sci(t.space_change)
             );
             if t.penetration > 0.0 || case == "drape" {
-                let _ = write!(s, "; its deepest point inside the sphere {} m", sci(t.penetration));
+                let _ = write!(
+                    s,
+                    "; its deepest point inside the sphere {} m",
+                    sci(t.penetration)
+                );
             }
             let _ = write!(s, ")");
         }
@@ -496,7 +500,8 @@ fn segments_table(s: &mut String, r: &BenchReport) {
                                 let _ = write!(cell, " · curl {c:.2}");
                             }
                             if case == "drape" {
-                                let _ = write!(cell, " · in {}", sci(errors.max_penetration as f64));
+                                let _ =
+                                    write!(cell, " · in {}", sci(errors.max_penetration as f64));
                             }
                             cell
                         }
