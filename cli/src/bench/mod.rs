@@ -12,12 +12,16 @@
 //! × substeps per method and draws the predicted bound `dt < 2/ω` on it (for the rod, whose
 //! stretching is a constraint, the rows set its bending to the same frequency).
 //!
+//! **Segments per strand** ([`segments`]) is an axis of its own: the cases that can be built at
+//! any segment count (cantilever, curly, drape) run every method at 4 … 64 segments at its own
+//! `auto` substeps, against the same truth at common arc-length points.
+//!
 //! Beside the cases, [`tip_moment`] measures the rod's cantilever under a tip moment against
 //! the elastica ([`analytic::elastica_tip`]), at a small and a large deflection.
 //!
 //! Output ([`report`], [`charts`]): `pareto.png` (error against cost, log–log, one panel per
-//! case, one series per method), `stability_map.png`, `bench.md` (the tables) and `bench.json`
-//! (every number) in the output directory.
+//! case, one series per method), `stability_map.png`, `segments.png` (error against segments per
+//! strand), `bench.md` (the tables) and `bench.json` (every number) in the output directory.
 
 pub mod analytic;
 pub mod cases;

@@ -1,5 +1,5 @@
 //! The bench's files: `bench.md` (the tables, with what "converged" means), `bench.json` (every
-//! number) and, through [`super::charts`], `pareto.png` and `stability_map.png`.
+//! number) and, through [`super::charts`], `pareto.png`, `stability_map.png` and `segments.png`.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -162,8 +162,9 @@ pub fn markdown(r: &BenchReport, grid: &Grid) -> String {
         s,
         "\n## Truths\n\nEvery method is measured against one **truth** per case: the analytic \
          answer where there is one, otherwise seed 002's rod with {} projection iterations on the \
-         case's strands, every segment cut in two on the cantilever and left whole on the head \
-         cases (`cli/src/bench/truth.rs`), at (at least) \
+         case's strands, at twice the segments on the cantilever, curly and drape cases (the same \
+         hair built finer) and with its segments whole on the head cases \
+         (`cli/src/bench/truth.rs`), at (at least) \
          {REFERENCE_FACTOR}× the finest substep count charted and within half its stability \
          bound. It counts as **converged** when halving its substep (time) and halving its \
          segments again (space) each change it (position RMS at the case's points) by less than \

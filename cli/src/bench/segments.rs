@@ -76,7 +76,7 @@ pub fn counts(case: &Case, quick: bool) -> Vec<usize> {
         .collect()
 }
 
-/// How many runs [`bench`] makes on `case` (for the progress bar).
+/// How many runs [`bench()`] makes on `case` (for the progress bar).
 pub fn planned(case: &Case, methods: &[Box<dyn Method>], quick: bool) -> usize {
     let runnable = methods
         .iter()
