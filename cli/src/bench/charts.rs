@@ -342,7 +342,8 @@ const ROD_COLORS: [RGBColor; 4] = [
     RGBColor(255, 120, 120),
 ];
 
-/// Colour of each method on the segments chart: reds for the rod, [`COLORS`] for the rest.
+/// Colour of each method on the segments chart: reds for the rod, [`COLORS`] but its red for the
+/// rest.
 fn segment_colors(methods: &[&str]) -> Vec<RGBColor> {
     let (mut rods, mut others) = (0, 0);
     methods
@@ -353,7 +354,7 @@ fn segment_colors(methods: &[&str]) -> Vec<RGBColor> {
                 ROD_COLORS[(rods - 1) % ROD_COLORS.len()]
             } else {
                 others += 1;
-                COLORS[(others - 1) % COLORS.len()]
+                COLORS[1 + (others - 1) % (COLORS.len() - 1)]
             }
         })
         .collect()
@@ -407,7 +408,10 @@ pub fn segments(r: &BenchReport, path: &Path) -> Result<(), BenchError> {
             .iter()
             .find(|t| t.case == *case)
             .map_or(0.0, |t| t.space_change);
-        let xr = log_range(runs.iter().map(|x| x.segments as f64));
+        let mut counts: Vec<usize> = runs.iter().map(|x| x.segments).collect();
+        counts.sort_unstable();
+        counts.dedup();
+        let xr = log_range(counts.iter().map(|&n| n as f64));
         let yr = log_range(
             methods
                 .iter()
@@ -423,13 +427,18 @@ pub fn segments(r: &BenchReport, path: &Path) -> Result<(), BenchError> {
             .margin(12)
             .x_label_area_size(45)
             .y_label_area_size(75)
-            .build_cartesian_2d(xr.clone().log_scale(), yr.log_scale())
+            .build_cartesian_2d(
+                xr.clone()
+                    .log_scale()
+                    .with_key_points(counts.iter().map(|&n| n as f64).collect()),
+                yr.log_scale(),
+            )
             .map_err(|x| e(format!("{x:?}")))?;
         chart
             .configure_mesh()
             .x_desc("segments per strand")
             .y_desc("position RMS error vs the truth (m)")
-            .x_labels(12)
+            .x_labels(counts.len())
             .y_labels(8)
             .x_label_formatter(&|v| format!("{v:.0}"))
             .y_label_formatter(&|v| format!("{v:.0e}"))
@@ -469,12 +478,16 @@ pub fn segments(r: &BenchReport, path: &Path) -> Result<(), BenchError> {
         )]);
     for (i, (label, color, dashed)) in entries.enumerate() {
         let (x, y) = (20 + column_width * (i % 4) as i32, 12 + 24 * (i / 4) as i32);
-        let line = if dashed {
-            PathElement::new(vec![(x, y + 8), (x + 8, y + 8)], color.stroke_width(2))
+        let pieces: &[(i32, i32)] = if dashed {
+            &[(0, 6), (11, 17), (22, 28)]
         } else {
-            PathElement::new(vec![(x, y + 8), (x + 28, y + 8)], color.stroke_width(3))
+            &[(0, 28)]
         };
-        bottom.draw(&line).map_err(|x| e(format!("{x:?}")))?;
+        for &(a, b) in pieces {
+            let line =
+                PathElement::new(vec![(x + a, y + 8), (x + b, y + 8)], color.stroke_width(3));
+            bottom.draw(&line).map_err(|x| e(format!("{x:?}")))?;
+        }
         bottom
             .draw(&Text::new(label, (x + 36, y), ("sans-serif", 15)))
             .map_err(|x| e(format!("{x:?}")))?;
