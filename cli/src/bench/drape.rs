@@ -28,6 +28,8 @@ use super::cases::{case, every, of_hair, parse, Case, Resegment};
 use super::physical::{Hair, RADIUS};
 use super::truth::TruthKind;
 
+/// The case's name (the report shows penetration for it).
+pub const NAME: &str = "drape";
 /// Length of the hair, m.
 pub const LENGTH: f64 = 0.25;
 /// Radius of the sphere, m (centred at the origin).
@@ -91,11 +93,11 @@ friction = 0.0
         Hair::ONE.mass_per_length(),
         points.join(", ")
     );
-    let mut sim = parse("drape", &text)?;
+    let mut sim = parse(NAME, &text)?;
     let physical = of_hair(&mut sim, Hair::ONE, true);
     let samples = every(sim.first_frame, sim.last_frame, 6);
     let mut case = case(
-        "drape",
+        NAME,
         "drape: a 25 cm hair in 16 segments, root held 1 mm above a 5 cm sphere, released \
          horizontally, falls and drapes over it (frictionless), 2 s; truth: the converged rod \
          with the same sphere",

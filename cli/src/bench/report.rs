@@ -469,7 +469,7 @@ fn segments_table(s: &mut String, r: &BenchReport) {
                 t.space_factor,
                 sci(t.space_change)
             );
-            if t.penetration > 0.0 || case == "drape" {
+            if t.penetration > 0.0 || case == super::drape::NAME {
                 let _ = write!(
                     s,
                     "; its deepest point inside the sphere {} m",
@@ -500,7 +500,7 @@ fn segments_table(s: &mut String, r: &BenchReport) {
                             if let Some(c) = errors.curl_kept {
                                 let _ = write!(cell, " · curl {c:.2}");
                             }
-                            if case == "drape" {
+                            if case == super::drape::NAME {
                                 let _ =
                                     write!(cell, " · in {}", sci(errors.max_penetration as f64));
                             }
