@@ -1,7 +1,8 @@
-//! `hairsys bench --quick` through the real binary: it finishes, and writes both charts as PNG
+//! `hairsys bench --quick` through the real binary: it finishes, and writes its charts as PNG
 //! files and a table with a row for every case and method (the rod's projection iteration
 //! counts and the strips included), the strips' cost per represented hair, the rod's
-//! tip-moment table and where `hairsys plan` lands on the head case.
+//! tip-moment table, where `hairsys plan` lands on the head case, the curl kept on the curly
+//! case and the segments axis.
 
 mod common;
 
@@ -19,7 +20,7 @@ fn bench_quick_writes_pngs_and_a_table_row_per_case_and_method() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(out.stdout.is_empty(), "--quiet printed something");
-    for png in ["pareto.png", "stability_map.png"] {
+    for png in ["pareto.png", "stability_map.png", "segments.png"] {
         let bytes = std::fs::read(dir.join("out").join(png)).unwrap();
         assert!(bytes.starts_with(PNG_SIGNATURE), "{png} is not a PNG");
         assert!(bytes.len() > 10_000, "{png} is nearly empty");
@@ -49,7 +50,15 @@ fn bench_quick_writes_pngs_and_a_table_row_per_case_and_method() {
         "rod, 8 projection iterations",
     ];
     let ladder = 9; // 1, 2, 4 … 256 substeps per frame
-    let cases = ["pendulum", "chain", "chain-rest", "cantilever", "head"];
+    let cases = [
+        "pendulum",
+        "chain",
+        "chain-rest",
+        "cantilever",
+        "curly",
+        "drape",
+        "head",
+    ];
     for case in cases {
         for m in methods {
             let rows = runs_section
@@ -156,4 +165,25 @@ fn bench_quick_writes_pngs_and_a_table_row_per_case_and_method() {
     }
     assert_ne!(plan[0]["chosen"], plan[1]["chosen"], "{plan:?}");
     assert!(table.contains("## Where `hairsys plan` lands"));
+    // The curly truth is curved: every stable run on it has its curl kept, a number.
+    for run in runs
+        .iter()
+        .filter(|r| r["status"] == "stable" && r["case"] == "curly")
+    {
+        assert!(run["errors"]["curl_kept"].as_f64().is_some(), "{run}");
+    }
+    // The segments axis: every method that runs them on the three re-segmentable cases at 4, 8
+    // and 16 segments, and a table section for it.
+    let segments = json["segments"].as_array().unwrap();
+    for case in ["cantilever", "curly", "drape"] {
+        for n in [4, 8, 16] {
+            let rows = segments
+                .iter()
+                .filter(|r| r["case"] == case && r["segments"] == n)
+                .count();
+            assert_eq!(rows, methods.len(), "{case} at {n} segments");
+        }
+    }
+    assert_eq!(segments.len(), 3 * 3 * methods.len());
+    assert!(table.contains("## Segments per strand"));
 }

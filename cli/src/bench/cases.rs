@@ -13,6 +13,12 @@
 //! - **cantilever**: a 5 cm hair in 10 segments held horizontally at its root and released under
 //!   gravity (load parameter `μ g L³ / EI` ≈ 1: a large deflection), air drag 5/s, 2 s; truth:
 //!   the converged rod;
+//! - **curly**: a 15 cm hair coiled as a helix (radius 1 cm, 2.2 turns) in 16 segments, root
+//!   held, released under gravity, air drag 5/s, 2 s: a case that needs twist
+//!   ([`super::curly`]); truth: the converged rod;
+//! - **drape**: a 25 cm hair in 16 segments whose root is held just above a fixed 5 cm sphere,
+//!   released horizontally: it falls and drapes over the sphere (frictionless), 2 s: a case that
+//!   needs collision ([`super::drape`]); truth: the converged rod with the same sphere;
 //! - **head**: the built-in default scene's groom (64 strands, 16 with `quick`) with the head
 //!   turned 80° and back within half a second, the scalp colliding with its hair
 //!   (frictionless: the rod's contacts are); truth: the converged rod;
@@ -20,9 +26,9 @@
 //!   strands are the simulated strands); truth: the converged rod on the same edge strands.
 //!
 //! Every hair case takes its material from one physical hair ([`super::physical`]): a strand of
-//! `n` hairs (1 for the chain and cantilever, the default scene's 1 g/m wisp is 151) has `n`
-//! times one hair's mass, stretch and bending rigidity, mapped to each model's parameters as
-//! that module documents. The mass-spring springs of a case are **soft** (the default scene's
+//! `n` hairs (1 for the chain, cantilever, curly and drape cases; the default scene's 1 g/m wisp
+//! is 151) has `n` times one hair's mass, stretch and bending rigidity, mapped to each model's
+//! parameters as that module documents. The mass-spring springs of a case are **soft** (the default scene's
 //! stiffness as a fraction of its physical `EA/l`, [`super::physical::soft_fraction`]); the
 //! methods that run the physical `EA/l` instead take [`Case::physical_stretch`].
 //!
@@ -47,6 +53,8 @@ use hairsys::scene::strips::StripsSection;
 use hairsys::scene::{ScalpCollider, SceneError, SceneFile, Simulation};
 
 use super::analytic;
+pub use super::curly::curly;
+pub use super::drape::{drape, Ball};
 use super::physical::{soft_fraction, Hair};
 use super::truth::TruthKind;
 
@@ -76,6 +84,23 @@ pub struct Case {
     /// The physical stretch stiffness `EA/l` of its springs, N/m (for a pendulum's link, a
     /// link 100× stiffer than the case's springs).
     pub physical_stretch: f32,
+    /// How to build the same physical strand at another segment count (cases on the segments
+    /// axis, [`super::segments`]; their rod truth is built this way too instead of cutting the
+    /// case's segments). `None`: the case's strands are a fixed discretisation.
+    pub resegment: Option<Resegment>,
+    /// A fixed sphere the hair collides with, for the penetration measure (drape case).
+    pub ball: Option<Ball>,
+}
+
+/// A case that can be built at any segment count: the same physical hair (length, mass per
+/// length, material, shape) sampled with `segments` equal segments per strand.
+#[derive(Clone, Copy)]
+pub struct Resegment {
+    /// Segments per strand of the case as charted (the truth's count is this times
+    /// [`Case::truth_subdivision`]).
+    pub segments: usize,
+    /// Builds the case with the given segments per strand.
+    pub build: fn(usize) -> Result<Case, SceneError>,
 }
 
 impl Case {
@@ -138,16 +163,18 @@ pub fn all(quick: bool) -> Result<Vec<Case>, SceneError> {
         hanging_chain()?,
         chain_at_rest()?,
         cantilever()?,
+        curly()?,
+        drape()?,
         head_turn(quick)?,
         head_strips(quick)?,
     ])
 }
 
-fn parse(name: &str, text: &str) -> Result<Simulation, SceneError> {
+pub(super) fn parse(name: &str, text: &str) -> Result<Simulation, SceneError> {
     SceneFile::parse(text, &format!("<bench case {name}>"), PathBuf::new())?.build()
 }
 
-fn every(first: u32, last: u32, stride: u32) -> Vec<u32> {
+pub(super) fn every(first: u32, last: u32, stride: u32) -> Vec<u32> {
     (first + stride..=last).step_by(stride as usize).collect()
 }
 
@@ -186,7 +213,7 @@ fn mean_segment(sim: &Simulation) -> f64 {
 
 /// Makes `sim` of `hair`: bending `EI/l̄³`, soft springs, the rod's material; returns the
 /// physical stretch stiffness `EA/l̄`, N/m.
-fn of_hair(sim: &mut Simulation, hair: Hair, bending: bool) -> f32 {
+pub(super) fn of_hair(sim: &mut Simulation, hair: Hair, bending: bool) -> f32 {
     let l = mean_segment(sim);
     sim.params.bend_stiffness = if bending {
         hair.bend_stiffness(l) as f32
@@ -199,7 +226,7 @@ fn of_hair(sim: &mut Simulation, hair: Hair, bending: bool) -> f32 {
     physical as f32
 }
 
-fn case(
+pub(super) fn case(
     name: &'static str,
     title: &'static str,
     sim: Simulation,
@@ -224,6 +251,8 @@ fn case(
         mass_per_length: mass_per_length(&sim),
         physical_stretch,
         head,
+        resegment: None,
+        ball: None,
         sim,
     }
 }
@@ -350,10 +379,17 @@ pub fn chain_at_rest() -> Result<Case, SceneError> {
     ))
 }
 
+/// Segments of the cantilever case as charted.
+const CANTILEVER_SEGMENTS: usize = 10;
+
 /// A 5 cm hair in 10 segments held horizontally by its root frame and released under gravity,
 /// air drag 5/s; 2 s.
 pub fn cantilever() -> Result<Case, SceneError> {
-    let n = 10;
+    cantilever_at(CANTILEVER_SEGMENTS)
+}
+
+/// The cantilever of [`cantilever`] in `n` segments.
+pub fn cantilever_at(n: usize) -> Result<Case, SceneError> {
     let length = 0.05;
     let points: Vec<String> = (0..=n)
         .map(|i| format!("[{:.6}, 0.0, 0.0]", length * i as f64 / n as f64))
@@ -377,7 +413,7 @@ points = [{}]
     let mut sim = parse("cantilever", &text)?;
     let physical = of_hair(&mut sim, Hair::ONE, true);
     let samples = every(sim.first_frame, sim.last_frame, 6);
-    Ok(case(
+    let mut case = case(
         "cantilever",
         "cantilever: a 5 cm hair in 10 segments released horizontally under gravity, 2 s; \
          truth: the converged rod",
@@ -386,7 +422,12 @@ points = [{}]
         None,
         TruthKind::Rod,
         physical,
-    ))
+    );
+    case.resegment = Some(Resegment {
+        segments: CANTILEVER_SEGMENTS,
+        build: cantilever_at,
+    });
+    Ok(case)
 }
 
 /// The default scene's groom (its hair made of 151 physical hairs per strand, its solver

@@ -374,3 +374,165 @@ pub fn stability_map(r: &BenchReport, grid: &Grid, path: &Path) -> Result<(), Be
     }
     root.present().map_err(|x| e(format!("{x:?}")))
 }
+
+/// Shades of red for the rod's iteration limits on the segments chart (they overlap: one hue
+/// for the model), in the order the methods come.
+const ROD_COLORS: [RGBColor; 4] = [
+    RGBColor(90, 0, 0),
+    RGBColor(150, 0, 0),
+    RGBColor(210, 40, 40),
+    RGBColor(255, 120, 120),
+];
+
+/// Colour of each method on the segments chart: reds for the rod, [`COLORS`] but its red for the
+/// rest.
+fn segment_colors(methods: &[&str]) -> Vec<RGBColor> {
+    let (mut rods, mut others) = (0, 0);
+    methods
+        .iter()
+        .map(|m| {
+            if m.starts_with("rod") {
+                rods += 1;
+                ROD_COLORS[(rods - 1) % ROD_COLORS.len()]
+            } else {
+                others += 1;
+                COLORS[1 + (others - 1) % (COLORS.len() - 1)]
+            }
+        })
+        .collect()
+}
+
+/// The segments axis ([`super::segments`]): position error against segments per strand, log–log,
+/// one panel per case, one series per method at its automatic substeps (methods with no stable
+/// run are left out; the table lists them); the dashed line is the truth's own change when its
+/// segments are doubled (errors below it are not resolved by the truth). One legend below the
+/// panels.
+pub fn segments(r: &BenchReport, path: &Path) -> Result<(), BenchError> {
+    font();
+    let e = err(path);
+    fn stable(x: &super::segments::SegmentRun) -> bool {
+        matches!(&x.outcome, super::Outcome::Stable { errors, .. } if errors.position_rms > 0.0)
+    }
+    let mut cases: Vec<&str> = Vec::new();
+    let mut methods: Vec<&str> = Vec::new();
+    for run in r.segments.iter().filter(|x| stable(x)) {
+        if !cases.contains(&run.case.as_str()) {
+            cases.push(&run.case);
+        }
+        if !methods.contains(&run.method.as_str()) {
+            methods.push(&run.method);
+        }
+    }
+    let colors = segment_colors(&methods);
+    let columns = cases.len().max(1);
+    let legend_rows = methods.len().div_ceil(4) + 1;
+    let legend_height = 24 * legend_rows as u32 + 16;
+    let root =
+        BitMapBackend::new(path, (800 * columns as u32, 640 + legend_height)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| e(format!("{x:?}")))?;
+    let (top, bottom) = root.split_vertically(640);
+    let panels = top.split_evenly((1, columns));
+    for (case, panel) in cases.iter().zip(&panels) {
+        let runs: Vec<_> = r.segments.iter().filter(|x| x.case == *case).collect();
+        let points = |m: &str| -> Vec<(f64, f64)> {
+            runs.iter()
+                .filter(|x| x.method == m && stable(x))
+                .filter_map(|x| match &x.outcome {
+                    super::Outcome::Stable { errors, .. } => {
+                        Some((x.segments as f64, errors.position_rms))
+                    }
+                    super::Outcome::Unstable { .. } => None,
+                })
+                .collect()
+        };
+        let floor = r
+            .truths
+            .iter()
+            .find(|t| t.case == *case)
+            .map_or(0.0, |t| t.space_change);
+        let mut counts: Vec<usize> = runs.iter().map(|x| x.segments).collect();
+        counts.sort_unstable();
+        counts.dedup();
+        let xr = log_range(counts.iter().map(|&n| n as f64));
+        let yr = log_range(
+            methods
+                .iter()
+                .flat_map(|m| points(m))
+                .map(|(_, y)| y)
+                .chain((floor > 0.0).then_some(floor)),
+        );
+        let mut chart = ChartBuilder::on(panel)
+            .caption(
+                format!("{case}: error against segments per strand (auto substeps)"),
+                ("sans-serif", 20),
+            )
+            .margin(12)
+            .x_label_area_size(45)
+            .y_label_area_size(75)
+            .build_cartesian_2d(
+                xr.clone()
+                    .log_scale()
+                    .with_key_points(counts.iter().map(|&n| n as f64).collect()),
+                yr.log_scale(),
+            )
+            .map_err(|x| e(format!("{x:?}")))?;
+        chart
+            .configure_mesh()
+            .x_desc("segments per strand")
+            .y_desc("position RMS error vs the truth (m)")
+            .x_labels(counts.len())
+            .y_labels(8)
+            .x_label_formatter(&|v| format!("{v:.0}"))
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .label_style(("sans-serif", 14))
+            .draw()
+            .map_err(|x| e(format!("{x:?}")))?;
+        for (m, &color) in methods.iter().zip(&colors) {
+            let pts = points(m);
+            chart
+                .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))
+                .map_err(|x| e(format!("{x:?}")))?;
+            chart
+                .draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))
+                .map_err(|x| e(format!("{x:?}")))?;
+        }
+        if floor > 0.0 {
+            chart
+                .draw_series(DashedLineSeries::new(
+                    [(xr.start, floor), (xr.end, floor)],
+                    6,
+                    4,
+                    BLACK.stroke_width(1),
+                ))
+                .map_err(|x| e(format!("{x:?}")))?;
+        }
+    }
+    // The legend: four columns of methods, then the truth's line.
+    let column_width = 800 * columns as i32 / 4;
+    let entries = methods
+        .iter()
+        .zip(&colors)
+        .map(|(m, c)| (m.to_string(), *c, false))
+        .chain([(
+            "truth: its change when its segments are doubled".to_string(),
+            BLACK,
+            true,
+        )]);
+    for (i, (label, color, dashed)) in entries.enumerate() {
+        let (x, y) = (20 + column_width * (i % 4) as i32, 12 + 24 * (i / 4) as i32);
+        let pieces: &[(i32, i32)] = if dashed {
+            &[(0, 6), (11, 17), (22, 28)]
+        } else {
+            &[(0, 28)]
+        };
+        for &(a, b) in pieces {
+            let line =
+                PathElement::new(vec![(x + a, y + 8), (x + b, y + 8)], color.stroke_width(3));
+            bottom.draw(&line).map_err(|x| e(format!("{x:?}")))?;
+        }
+        bottom
+            .draw(&Text::new(label, (x + 36, y), ("sans-serif", 15)))
+            .map_err(|x| e(format!("{x:?}")))?;
+    }
+    root.present().map_err(|x| e(format!("{x:?}")))
+}

@@ -8,7 +8,8 @@
 //! - **max stretch**: largest `len/rest − 1` of any segment at the end of any frame;
 //! - **energy drift**: `(E(T) − E_true(T)) / Σ m g L` where the truth has an energy (the
 //!   pendulum's is conserved; the rod truth's is its solver's);
-//! - **max penetration**: deepest free point centre inside the closed scalp at any frame end, m;
+//! - **max penetration**: deepest free point centre inside the closed scalp at any frame end, m
+//!   (head cases), or inside the sphere (drape case, [`super::drape::Ball`]);
 //! - **cost**: wall-clock ms per frame of the solver alone, and point-substeps per second.
 //!
 //! Shape drift at rest is the position error of the chain-rest case.
@@ -45,7 +46,8 @@ pub struct Trace {
     pub max_stretch: f32,
     /// Total mechanical energy at the last frame, J.
     pub energy_end: f64,
-    /// Deepest free point inside the head at any frame end, m (0 without a head).
+    /// Deepest free point inside the head, or point inside the drape's sphere, at any frame
+    /// end, m (0 without either).
     pub max_penetration: f32,
     /// Substeps per frame the solver used.
     pub substeps: u32,
@@ -90,6 +92,9 @@ pub fn drive_model(case: &Case, mut solver: StrandSolver) -> Result<Trace, HairE
                 &strands.positions,
                 strands.inverse_masses(),
             ));
+        }
+        if let Some(ball) = &case.ball {
+            max_penetration = max_penetration.max(ball.max_depth(&strands.positions));
         }
         if case.samples.contains(&frame) {
             samples.push(strands.positions.clone());

@@ -12,21 +12,28 @@
 //! × substeps per method and draws the predicted bound `dt < 2/ω` on it (for the rod, whose
 //! stretching is a constraint, the rows set its bending to the same frequency).
 //!
+//! **Segments per strand** ([`segments`]) is an axis of its own: the cases that can be built at
+//! any segment count (cantilever, curly, drape) run every method at 4 … 64 segments at its own
+//! `auto` substeps, against the same truth at common arc-length points.
+//!
 //! Beside the cases, [`tip_moment`] measures the rod's cantilever under a tip moment against
 //! the elastica ([`analytic::elastica_tip`]), at a small and a large deflection.
 //!
 //! Output ([`report`], [`charts`]): `pareto.png` (error against cost, log–log, one panel per
-//! case, one series per method), `stability_map.png`, `bench.md` (the tables) and `bench.json`
-//! (every number) in the output directory.
+//! case, one series per method), `stability_map.png`, `segments.png` (error against segments per
+//! strand), `bench.md` (the tables) and `bench.json` (every number) in the output directory.
 
 pub mod analytic;
 pub mod cases;
 pub mod charts;
+pub mod curly;
+pub mod drape;
 pub mod methods;
 pub mod metrics;
 pub mod physical;
 pub mod plan_points;
 pub mod report;
+pub mod segments;
 pub mod stability;
 pub mod tip_moment;
 pub mod truth;
@@ -177,6 +184,9 @@ pub struct BenchReport {
     /// Where `hairsys plan` lands on the head case for two tolerances, measured against the
     /// truth ([`plan_points`]).
     pub plan: Vec<PlanPoint>,
+    /// The segments axis: methods at their automatic substeps over segment counts, on the
+    /// cases that can be re-segmented ([`segments`]).
+    pub segments: Vec<segments::SegmentRun>,
     /// Methods left out of cases they cannot run.
     pub not_run: Vec<NotRun>,
     /// The rod's cantilever under a tip moment against the analytic arc.
@@ -216,6 +226,30 @@ fn outcome(result: Result<Trace, HairError>) -> Result<Result<Trace, String>, Ha
     }
 }
 
+/// Runs `m` on `case` at `substeps` (`None`: auto): its trace and its cost, or why it blew up.
+/// Short runs are timed again, keeping the fastest: one run of a tiny case is mostly timer
+/// noise.
+pub fn timed_run(
+    m: &dyn Method,
+    case: &Case,
+    substeps: Option<u32>,
+) -> Result<Result<(Trace, Cost), String>, HairError> {
+    let trace = match outcome(m.run(case, substeps))? {
+        Ok(trace) => trace,
+        Err(message) => return Ok(Err(message)),
+    };
+    let mut cost = trace.cost;
+    let mut spent = cost.ms_per_frame * case.frames() as f64;
+    while spent < MIN_TIMED_MS {
+        let again = m.run(case, substeps)?.cost;
+        spent += again.ms_per_frame * case.frames() as f64;
+        if again.ms_per_frame < cost.ms_per_frame {
+            cost = again;
+        }
+    }
+    Ok(Ok((trace, cost)))
+}
+
 /// Runs every method on `case` against its truth: the ladder, and `auto` for the default.
 /// Returns the runs and the truth, its convergence completed with the smallest error charted.
 pub fn bench_case(
@@ -231,10 +265,11 @@ pub fn bench_case(
         .collect();
     let finest = *ladder.last().unwrap_or(&1);
     let step_dt = 1.0 / case.sim.settings.fps as f64;
-    let truth = truth::truth(case, finest * REFERENCE_FACTOR).map_err(|e| BenchError::Truth {
-        case: case.name.into(),
-        message: e,
-    })?;
+    let mut truth =
+        truth::truth(case, finest * REFERENCE_FACTOR).map_err(|e| BenchError::Truth {
+            case: case.name.into(),
+            message: e,
+        })?;
     progress.tick(&Event {
         event: "truth",
         case: case.name,
@@ -244,29 +279,15 @@ pub fn bench_case(
     });
     let mut runs = Vec::new();
     let mut record = |m: &dyn Method, substeps: Option<u32>| -> Result<(), BenchError> {
-        let result = outcome(m.run(case, substeps))?;
-        let (n, outcome) = match result {
-            Ok(trace) => {
-                // Short runs are timed again, keeping the fastest: one run of a tiny case is
-                // mostly timer noise.
-                let mut cost = trace.cost;
-                let mut spent = cost.ms_per_frame * case.frames() as f64;
-                while spent < MIN_TIMED_MS {
-                    let again = m.run(case, substeps)?.cost;
-                    spent += again.ms_per_frame * case.frames() as f64;
-                    if again.ms_per_frame < cost.ms_per_frame {
-                        cost = again;
-                    }
-                }
-                (
-                    trace.substeps,
-                    Outcome::Stable {
-                        cost,
-                        errors: errors(case, &trace, &truth),
-                        projection: trace.projection,
-                    },
-                )
-            }
+        let (n, outcome) = match timed_run(m, case, substeps)? {
+            Ok((trace, cost)) => (
+                trace.substeps,
+                Outcome::Stable {
+                    cost,
+                    errors: errors(case, &trace, &truth),
+                    projection: trace.projection,
+                },
+            ),
             Err(message) => (substeps.unwrap_or(0), Outcome::Unstable { message }),
         };
         progress.tick(&Event {
@@ -298,7 +319,6 @@ pub fn bench_case(
     if MassSpring::DEFAULT.cannot_run(case).is_none() {
         record(&MassSpring::DEFAULT, None)?;
     }
-    let mut truth = truth;
     let convergence = &mut truth.convergence;
     convergence.smallest_error = runs
         .iter()
@@ -347,7 +367,8 @@ pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
             .count();
         total += runnable * ladder.len()
             + 1
-            + usize::from(MassSpring::DEFAULT.cannot_run(case).is_none());
+            + usize::from(MassSpring::DEFAULT.cannot_run(case).is_none())
+            + segments::planned(case, &methods, opts.quick);
         if plan_points::applies(case) {
             total += plan_points::TOLERANCES.len();
         }
@@ -356,6 +377,7 @@ pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
     let mut runs = Vec::new();
     let mut truths = Vec::new();
     let mut plan = Vec::new();
+    let mut segment_runs = Vec::new();
     for case in &cases {
         let (r, truth) = bench_case(case, &methods, &ladder, &progress)?;
         if plan_points::applies(case) {
@@ -370,6 +392,9 @@ pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
             })?);
         }
         runs.extend(r);
+        segment_runs.extend(segments::bench(
+            case, &truth, &methods, opts.quick, &progress,
+        )?);
         truths.push(truth.convergence);
     }
     let tip_moment = tip_moment::bench(opts.quick, || {
@@ -412,6 +437,7 @@ pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
         runs,
         truths,
         plan,
+        segments: segment_runs,
         not_run,
         tip_moment,
         stability_stiffness: grid.stiffness.clone(),

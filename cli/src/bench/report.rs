@@ -1,5 +1,5 @@
 //! The bench's files: `bench.md` (the tables, with what "converged" means), `bench.json` (every
-//! number) and, through [`super::charts`], `pareto.png` and `stability_map.png`.
+//! number) and, through [`super::charts`], `pareto.png`, `stability_map.png` and `segments.png`.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -62,7 +62,13 @@ fn projection_note(p: &ProjectionReport) -> String {
 }
 
 /// File names written into the output directory.
-pub const FILES: [&str; 4] = ["pareto.png", "stability_map.png", "bench.md", "bench.json"];
+pub const FILES: [&str; 5] = [
+    "pareto.png",
+    "stability_map.png",
+    "bench.md",
+    "bench.json",
+    "segments.png",
+];
 
 fn write(path: &Path, text: &str) -> Result<(), BenchError> {
     std::fs::write(path, text).map_err(|e| BenchError::Write {
@@ -84,6 +90,7 @@ pub fn write_all(report: &BenchReport, grid: &Grid, out: &Path) -> Result<(), Be
     create_dir(out)?;
     charts::pareto(report, &out.join(FILES[0]))?;
     charts::stability_map(report, grid, &out.join(FILES[1]))?;
+    charts::segments(report, &out.join(FILES[4]))?;
     write(&out.join(FILES[2]), &markdown(report, grid))?;
     let json = serde_json::to_string_pretty(report).map_err(|e| BenchError::Write {
         path: out.join(FILES[3]),
@@ -155,8 +162,9 @@ pub fn markdown(r: &BenchReport, grid: &Grid) -> String {
         s,
         "\n## Truths\n\nEvery method is measured against one **truth** per case: the analytic \
          answer where there is one, otherwise seed 002's rod with {} projection iterations on the \
-         case's strands refined on smooth curves through their points, twice on the cantilever and \
-         the head and left whole on the head strips (`cli/src/bench/truth.rs`), at (at least) \
+         case's strands at twice the segments on the cantilever, curly and drape cases (the same \
+         hair built finer) and on the head (refined on smooth curves through its points), with \
+         its segments whole on the head strips (`cli/src/bench/truth.rs`), at (at least) \
          {REFERENCE_FACTOR}× the finest substep count charted and within half its stability \
          bound. It counts as **converged** when halving its substep (time) and halving its \
          segments again (space) each change it (position RMS at the case's points) by less than \
@@ -292,6 +300,7 @@ pub fn markdown(r: &BenchReport, grid: &Grid) -> String {
     plan_table(&mut s, r);
     strips_table(&mut s, r);
     tip_moment_table(&mut s, r);
+    segments_table(&mut s, r);
     let _ = writeln!(
         s,
         "\n## Stability\n\nProbe: 16 segments of 1 cm, 10 mg per point, no bending, released \
@@ -461,5 +470,93 @@ fn tip_moment_table(s: &mut String, r: &BenchReport) {
             t.us_per_substep,
             t.status
         );
+    }
+}
+
+/// The segments axis: per case, one row per method, one column per segment count.
+fn segments_table(s: &mut String, r: &BenchReport) {
+    if r.segments.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "\n## Segments per strand\n\n![error against segments](segments.png)\n\nThe same \
+         physical hair cut into 4 … 64 segments, every method at its own `auto` substeps, \
+         against the case's truth at the case's points (equal fractions of the rest arc length; \
+         see `cli/src/bench/segments.rs`). Each cell: position RMS error (m), ms/frame and \
+         substeps/frame chosen; on the curly case the curl kept, on the drape the deepest point \
+         inside the sphere (m). Counts finer than the truth's \
+         own segments cannot show errors below the truth's change with its segments doubled \
+         (Truths table).\n"
+    );
+    let mut cases: Vec<&str> = Vec::new();
+    for run in &r.segments {
+        if !cases.contains(&run.case.as_str()) {
+            cases.push(&run.case);
+        }
+    }
+    for case in cases {
+        let runs: Vec<_> = r.segments.iter().filter(|x| x.case == case).collect();
+        let mut counts: Vec<usize> = runs.iter().map(|x| x.segments).collect();
+        counts.sort_unstable();
+        counts.dedup();
+        let mut methods: Vec<&str> = Vec::new();
+        for run in &runs {
+            if !methods.contains(&run.method.as_str()) {
+                methods.push(&run.method);
+            }
+        }
+        let truth = r.truths.iter().find(|t| t.case == case);
+        let _ = write!(s, "\n**{case}**");
+        if let Some(t) = truth {
+            let _ = write!(
+                s,
+                " (truth: {} segments per case segment; its change with segments doubled {} m",
+                t.space_factor,
+                sci(t.space_change)
+            );
+            if t.penetration > 0.0 || case == super::drape::NAME {
+                let _ = write!(
+                    s,
+                    "; its deepest point inside the sphere {} m",
+                    sci(t.penetration)
+                );
+            }
+            let _ = write!(s, ")");
+        }
+        let _ = writeln!(s, "\n");
+        let header: Vec<String> = counts.iter().map(|n| format!("{n} segments")).collect();
+        let _ = writeln!(s, "| method | {} |", header.join(" | "));
+        let _ = writeln!(s, "|---|{}", "---|".repeat(counts.len()));
+        for m in methods {
+            let cells: Vec<String> = counts
+                .iter()
+                .map(|&n| {
+                    let Some(run) = runs.iter().find(|x| x.method == m && x.segments == n) else {
+                        return String::new();
+                    };
+                    match &run.outcome {
+                        Outcome::Stable { cost, errors, .. } => {
+                            let mut cell = format!(
+                                "{} · {:.3} ms · {}",
+                                sci(errors.position_rms),
+                                cost.ms_per_frame,
+                                run.substeps
+                            );
+                            if let Some(c) = errors.curl_kept {
+                                let _ = write!(cell, " · curl {c:.2}");
+                            }
+                            if case == super::drape::NAME {
+                                let _ =
+                                    write!(cell, " · in {}", sci(errors.max_penetration as f64));
+                            }
+                            cell
+                        }
+                        Outcome::Unstable { .. } => "unstable".into(),
+                    }
+                })
+                .collect();
+            let _ = writeln!(s, "| {m} | {} |", cells.join(" | "));
+        }
     }
 }

@@ -134,6 +134,8 @@ points = [{}]
         mass_per_length: 0.0,
         // The row's stiffness is the probe's physical one too: the rows vary it.
         physical_stretch: k as f32,
+        resegment: None,
+        ball: None,
         sim,
     })
 }

@@ -4,9 +4,12 @@
 //!   trajectory, the hanging chain's rest shape (the discrete catenary).
 //! - Elsewhere it is a **converged inextensible elastic rod** of the same hair: seed 002's
 //!   discrete rod ([`hair_core::RodSolver`], 20 projection iterations) on the case's strands
-//!   refined [`Case::truth_subdivision`] times (2 on the cantilever and the head, 1 on the
-//!   head strips), at [`super::REFERENCE_FACTOR`] × the finest substep count charted (or more,
-//!   to stay within half its stability bound).
+//!   refined [`Case::truth_subdivision`] times (2 on the cantilever, the curly, the drape and
+//!   the head cases, 1 on the head strips), at [`super::REFERENCE_FACTOR`] × the finest substep
+//!   count charted (or more, to stay within half its stability bound). Cases that can be built
+//!   at any segment count ([`Case::resegment`]: cantilever, curly, drape) are built again at
+//!   that many times the segments (the curly helix sampled finer, not its 16-gon cut finer);
+//!   the others are refined on a smooth curve through their points.
 //!
 //! **Refinement on a smooth curve** ([`smooth_rest`]): the new points lie on the C¹ Hermite
 //! curve through the case's points, so a refined strand is a finer discretisation of one smooth
@@ -102,6 +105,9 @@ pub struct Convergence {
     pub smallest_error: f64,
     /// Both changes below the smallest error (always for an analytic truth).
     pub converged: bool,
+    /// Deepest point of the truth inside the case's sphere at any frame end, m (drape case; 0
+    /// elsewhere).
+    pub penetration: f64,
 }
 
 /// `rest` (a polyline, m) refined `factor` times on the C¹ cubic Hermite curve through its
@@ -200,12 +206,20 @@ pub fn coarsen(fine: &[Vector3<f32>], coarse_offsets: &[u32], factor: usize) -> 
     out
 }
 
-/// `case` with its strands subdivided `factor` times (no head solid: the truth's penetration is
-/// not measured).
-pub fn refined(case: &Case, factor: usize) -> Result<Case, HairError> {
+/// `case` with its strands subdivided `factor` times, or built again at `factor` times its
+/// segments where it can be ([`Case::resegment`]). No head solid: the truth's penetration of the
+/// head is not measured (the drape's sphere is analytic and kept).
+fn refined(case: &Case, factor: usize) -> Result<Case, String> {
     let mut sim = case.sim.clone();
-    if factor > 1 {
-        sim.strands = subdivide(&case.sim.strands, factor, case.mass_per_length)?;
+    if let (Some(r), true) = (case.resegment, factor > 1) {
+        // The same physical strand sampled finer (a helix stays a helix, not the polygon of
+        // the case's points cut finer).
+        sim = (r.build)(r.segments * factor)
+            .map_err(|e| e.to_string())?
+            .sim;
+    } else if factor > 1 {
+        sim.strands = subdivide(&case.sim.strands, factor, case.mass_per_length)
+            .map_err(|e| e.to_string())?;
         sim.strands
             .reset_to_rest(&sim.scalp_at(sim.first_frame as f32));
     }
@@ -221,12 +235,14 @@ pub fn refined(case: &Case, factor: usize) -> Result<Case, HairError> {
         truth_subdivision: case.truth_subdivision,
         mass_per_length: case.mass_per_length,
         physical_stretch: case.physical_stretch,
+        resegment: case.resegment,
+        ball: case.ball,
     })
 }
 
 /// Runs the rod truth of `case` at `factor` subdivisions and `substeps`, at the case's points.
 fn rod_run(case: &Case, factor: usize, substeps: u32) -> Result<(Trace, Samples), String> {
-    let fine = refined(case, factor).map_err(|e| e.to_string())?;
+    let fine = refined(case, factor)?;
     let trace = Rod::REFERENCE.run(&fine, Some(substeps)).map_err(|e| {
         format!("the rod at {factor}× the segments, {substeps} substeps/frame: {e}")
     })?;
@@ -258,7 +274,7 @@ pub fn truth(case: &Case, min_substeps: u32) -> Result<Truth, String> {
         TruthKind::Rod => {
             let step = 1.0 / case.sim.settings.fps as f64;
             let factor = case.truth_subdivision.max(1);
-            let fine = refined(case, factor).map_err(|e| e.to_string())?;
+            let fine = refined(case, factor)?;
             let bound = Rod::REFERENCE.bound(&fine).map_err(|e| e.to_string())?;
             let needed = (step / (BOUND_FRACTION * bound)).ceil() as u32;
             let n = min_substeps.max(needed).next_power_of_two();
@@ -267,7 +283,7 @@ pub fn truth(case: &Case, min_substeps: u32) -> Result<Truth, String> {
             // Twice the subdivision needs up to four times the substeps to keep the same
             // fraction of its (bending) bound.
             let finer_bound = Rod::REFERENCE
-                .bound(&refined(case, 2 * factor).map_err(|e| e.to_string())?)
+                .bound(&refined(case, 2 * factor)?)
                 .map_err(|e| e.to_string())?;
             let finer_n =
                 n.max(((step / (BOUND_FRACTION * finer_bound)).ceil() as u32).next_power_of_two());
@@ -289,6 +305,7 @@ pub fn truth(case: &Case, min_substeps: u32) -> Result<Truth, String> {
                     space_change,
                     smallest_error: f64::INFINITY,
                     converged: false,
+                    penetration: trace.max_penetration as f64,
                 },
             })
         }
@@ -305,6 +322,7 @@ fn analytic_convergence(case: &Case, what: &str) -> Convergence {
         space_change: 0.0,
         smallest_error: f64::INFINITY,
         converged: true,
+        penetration: 0.0,
     }
 }
 
