@@ -391,42 +391,88 @@ pub fn cantilever() -> Result<Case, SceneError> {
 /// The cantilever of [`cantilever`] in `n` segments.
 pub fn cantilever_at(n: usize) -> Result<Case, SceneError> {
     let length = 0.05;
-    let points: Vec<String> = (0..=n)
-        .map(|i| format!("[{:.6}, 0.0, 0.0]", length * i as f64 / n as f64))
+    let points: Vec<[f64; 3]> = (0..=n)
+        .map(|i| [length * i as f64 / n as f64, 0.0, 0.0])
         .collect();
+    one_hair(
+        OneHair {
+            name: "cantilever",
+            title: "cantilever: a 5 cm hair in 10 segments released horizontally under gravity, \
+                    2 s; truth: the converged rod",
+            air_drag: 5.0,
+            radius: None,
+            extra: String::new(),
+        },
+        &points,
+        Resegment {
+            segments: CANTILEVER_SEGMENTS,
+            build: cantilever_at,
+        },
+    )
+}
+
+/// What sets one single-hair case apart from another (see [`one_hair`]).
+pub(super) struct OneHair {
+    /// Case name.
+    pub name: &'static str,
+    /// What it is, in words.
+    pub title: &'static str,
+    /// Air drag, 1/s.
+    pub air_drag: f64,
+    /// Hair radius, m (`None`: the scene default).
+    pub radius: Option<f64>,
+    /// Scene text appended after the strand (its colliders).
+    pub extra: String,
+}
+
+/// One physical hair ([`Hair::ONE`], bending on) through `points` (m), its root frame held,
+/// released under gravity over 2 s (frames 0–48 at 24 fps, stretch damping 50/s), compared with
+/// the converged rod every 6 frames and buildable at any segment count (`resegment`): the
+/// cantilever, curly and drape cases.
+pub(super) fn one_hair(
+    hair: OneHair,
+    points: &[[f64; 3]],
+    resegment: Resegment,
+) -> Result<Case, SceneError> {
+    let points: Vec<String> = points
+        .iter()
+        .map(|p| format!("[{:.9}, {:.9}, {:.9}]", p[0], p[1], p[2]))
+        .collect();
+    let radius = hair
+        .radius
+        .map_or(String::new(), |r| format!("radius = {r}\n"));
     let text = format!(
         r#"
 [scene]
-name = "bench cantilever"
+name = "bench {}"
 fps = 24.0
 frames = [0, 48]
 [physics]
 stretch_damping = 50.0
-air_drag = 5.0
+air_drag = {}
 [[strands]]
 mass_per_length = {}
-points = [{}]
-"#,
+{radius}points = [{}]
+{}"#,
+        hair.name,
+        hair.air_drag,
         Hair::ONE.mass_per_length(),
-        points.join(", ")
+        points.join(", "),
+        hair.extra
     );
-    let mut sim = parse("cantilever", &text)?;
+    let mut sim = parse(hair.name, &text)?;
     let physical = of_hair(&mut sim, Hair::ONE, true);
     let samples = every(sim.first_frame, sim.last_frame, 6);
     let mut case = case(
-        "cantilever",
-        "cantilever: a 5 cm hair in 10 segments released horizontally under gravity, 2 s; \
-         truth: the converged rod",
+        hair.name,
+        hair.title,
         sim,
         samples,
         None,
         TruthKind::Rod,
         physical,
     );
-    case.resegment = Some(Resegment {
-        segments: CANTILEVER_SEGMENTS,
-        build: cantilever_at,
-    });
+    case.resegment = Some(resegment);
     Ok(case)
 }
 

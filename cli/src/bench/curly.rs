@@ -23,9 +23,8 @@ use std::f64::consts::TAU;
 
 use hairsys::scene::SceneError;
 
-use super::cases::{case, every, of_hair, parse, Case, Resegment};
-use super::physical::{Hair, RADIUS};
-use super::truth::TruthKind;
+use super::cases::{one_hair, Case, OneHair, Resegment};
+use super::physical::RADIUS;
 
 /// Length of the hair, m.
 pub const LENGTH: f64 = 0.15;
@@ -63,47 +62,23 @@ pub fn curly() -> Result<Case, SceneError> {
 
 /// The curly hair (module docs) with `n` segments.
 pub fn curly_at(n: usize) -> Result<Case, SceneError> {
-    let points: Vec<String> = (0..=n)
-        .map(|i| {
-            let p = helix_point(i, n);
-            format!("[{:.9}, {:.9}, {:.9}]", p[0], p[1], p[2])
-        })
-        .collect();
-    let text = format!(
-        r#"
-[scene]
-name = "bench curly"
-fps = 24.0
-frames = [0, 48]
-[physics]
-stretch_damping = 50.0
-air_drag = 5.0
-[[strands]]
-mass_per_length = {}
-radius = {RADIUS}
-points = [{}]
-"#,
-        Hair::ONE.mass_per_length(),
-        points.join(", ")
-    );
-    let mut sim = parse("curly", &text)?;
-    let physical = of_hair(&mut sim, Hair::ONE, true);
-    let samples = every(sim.first_frame, sim.last_frame, 6);
-    let mut case = case(
-        "curly",
-        "curly: a 15 cm hair coiled as a helix (radius 1 cm, pitch 2.5 cm, 2.2 turns) in 16 \
-         segments, root held, released under gravity, 2 s; truth: the converged rod",
-        sim,
-        samples,
-        None,
-        TruthKind::Rod,
-        physical,
-    );
-    case.resegment = Some(Resegment {
-        segments: SEGMENTS,
-        build: curly_at,
-    });
-    Ok(case)
+    let points: Vec<[f64; 3]> = (0..=n).map(|i| helix_point(i, n)).collect();
+    one_hair(
+        OneHair {
+            name: "curly",
+            title: "curly: a 15 cm hair coiled as a helix (radius 1 cm, pitch 2.5 cm, 2.2 turns) \
+                    in 16 segments, root held, released under gravity, 2 s; truth: the \
+                    converged rod",
+            air_drag: 5.0,
+            radius: Some(RADIUS),
+            extra: String::new(),
+        },
+        &points,
+        Resegment {
+            segments: SEGMENTS,
+            build: curly_at,
+        },
+    )
 }
 
 #[cfg(test)]

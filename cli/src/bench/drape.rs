@@ -24,9 +24,8 @@ use nalgebra::Vector3;
 
 use hairsys::scene::SceneError;
 
-use super::cases::{case, every, of_hair, parse, Case, Resegment};
-use super::physical::{Hair, RADIUS};
-use super::truth::TruthKind;
+use super::cases::{one_hair, Case, OneHair, Resegment};
+use super::physical::RADIUS;
 
 /// The case's name (the report shows penetration for it).
 pub const NAME: &str = "drape";
@@ -68,52 +67,31 @@ pub fn drape() -> Result<Case, SceneError> {
 /// The drape (module docs) with `n` segments.
 pub fn drape_at(n: usize) -> Result<Case, SceneError> {
     let top = SPHERE_RADIUS + ROOT_GAP;
-    let points: Vec<String> = (0..=n)
-        .map(|i| format!("[{:.9}, 0.0, {top:.9}]", LENGTH * i as f64 / n as f64))
+    let points: Vec<[f64; 3]> = (0..=n)
+        .map(|i| [LENGTH * i as f64 / n as f64, 0.0, top])
         .collect();
-    let text = format!(
-        r#"
-[scene]
-name = "bench drape"
-fps = 24.0
-frames = [0, 48]
-[physics]
-stretch_damping = 50.0
-air_drag = 10.0
-[[strands]]
-mass_per_length = {}
-radius = {RADIUS}
-points = [{}]
-[[colliders]]
-name = "ball"
-shape = {{ kind = "sphere", radius = {SPHERE_RADIUS} }}
-thickness = 0.0
-friction = 0.0
-"#,
-        Hair::ONE.mass_per_length(),
-        points.join(", ")
-    );
-    let mut sim = parse(NAME, &text)?;
-    let physical = of_hair(&mut sim, Hair::ONE, true);
-    let samples = every(sim.first_frame, sim.last_frame, 6);
-    let mut case = case(
-        NAME,
-        "drape: a 25 cm hair in 16 segments, root held 1 mm above a 5 cm sphere, released \
-         horizontally, falls and drapes over it (frictionless), 2 s; truth: the converged rod \
-         with the same sphere",
-        sim,
-        samples,
-        None,
-        TruthKind::Rod,
-        physical,
-    );
+    let mut case = one_hair(
+        OneHair {
+            name: NAME,
+            title: "drape: a 25 cm hair in 16 segments, root held 1 mm above a 5 cm sphere, \
+                    released horizontally, falls and drapes over it (frictionless), 2 s; truth: \
+                    the converged rod with the same sphere",
+            air_drag: 10.0,
+            radius: Some(RADIUS),
+            extra: format!(
+                "[[colliders]]\nname = \"ball\"\nshape = {{ kind = \"sphere\", radius = \
+                 {SPHERE_RADIUS} }}\nthickness = 0.0\nfriction = 0.0\n"
+            ),
+        },
+        &points,
+        Resegment {
+            segments: SEGMENTS,
+            build: drape_at,
+        },
+    )?;
     case.ball = Some(Ball {
         centre: Vector3::zeros(),
         radius: SPHERE_RADIUS as f32,
-    });
-    case.resegment = Some(Resegment {
-        segments: SEGMENTS,
-        build: drape_at,
     });
     Ok(case)
 }
