@@ -44,6 +44,25 @@ pub enum ColliderShape {
     Mesh(TriMesh),
 }
 
+impl ColliderShape {
+    /// Largest distance of a point of the shape from the body origin, m: how far a turn of the
+    /// body can carry its surface per radian.
+    pub fn bounding_radius(&self) -> f32 {
+        match self {
+            Self::Sphere { radius } => *radius,
+            Self::Capsule {
+                half_height,
+                radius,
+            } => half_height + radius,
+            Self::Mesh(mesh) => mesh
+                .positions()
+                .iter()
+                .map(|v| v.norm())
+                .fold(0.0f32, f32::max),
+        }
+    }
+}
+
 /// A collider before it is placed in a [`super::Colliders`] set.
 #[derive(Debug, Clone)]
 pub struct Collider {

@@ -24,10 +24,11 @@
 //! frames turning past 90° over 48 frames at 16 implicit substeps): the default, wind, gust,
 //! collision and character grooms turn at most 27–32° per joint and fold nowhere; Sintel's has
 //! five joints of 29,090 at 71–83°, next to her roots, and exactly those folded into hairpins
-//! (29 point-frames, up to 150°; still 26 at 64 substeps), where semi-implicit Euler folds none. With a fixed substep count it takes
-//! semi-implicit Euler where that count is within the stability bound and implicit Euler where
-//! it is not (it is stable at any substep). Only the mass-spring model has a choice: the rod and
-//! the strips keep their own schemes.
+//! (29 point-frames, up to 150°; still 26 at 64 substeps), where semi-implicit Euler folds none.
+//!
+//! With a fixed substep count it takes semi-implicit Euler where that count is within the
+//! stability bound and implicit Euler where it is not (it is stable at any substep). Only the
+//! mass-spring model has a choice: the rod and the strips keep their own schemes.
 //!
 //! **Contacts.** Implicit Euler applies the contact response after each substep's solve, as the
 //! explicit kernel does, but at 16 substeps a frame instead of ~150 the springs pull a pushed-out
@@ -150,40 +151,50 @@ pub struct ResolvedIntegrator {
     pub implicit_substeps: u32,
     /// Largest turn of a rest joint over the strands, rad.
     pub max_rest_turn: f64,
-    /// Why implicit Euler's contact response would not be enough, if it would not (only
-    /// computed for `"auto"` on the mass-spring model where the cost asks for implicit Euler).
-    pub hard_contact: Option<String>,
+    /// The rule that decided.
+    pub rule: Rule,
+}
+
+/// Which of `"auto"`'s rules (module docs) decided an integrator.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Rule {
+    /// The scene named the integrator.
+    Named,
+    /// The rod or the strips: the integrator is not used.
+    OtherModel,
+    /// The cost comparison alone.
+    Cost,
+    /// The cost asked for implicit Euler, but a rest joint turns more than
+    /// [`MAX_IMPLICIT_REST_TURN`].
+    SharpJoint,
+    /// The cost asked for implicit Euler, but contact is too hard for it (why, in words).
+    HardContact(String),
 }
 
 impl ResolvedIntegrator {
     /// Why `"auto"` chose what it chose, in words (empty for a named integrator).
     pub fn reason(&self) -> String {
-        if !self.auto {
-            return String::new();
-        }
         let explicit = self.explicit_substeps;
         let implicit = self.implicit_substeps;
-        if let Some(why) = &self.hard_contact {
-            return format!(
-                "{why}, which implicit Euler's contact response at its substep does not hold, so \
-                 semi-implicit Euler (about {explicit} substeps per step)"
-            );
-        }
-        if self.max_rest_turn > MAX_IMPLICIT_REST_TURN {
-            return format!(
+        let fallback = format!("so semi-implicit Euler (about {explicit} substeps per step)");
+        match &self.rule {
+            Rule::Named | Rule::OtherModel => String::new(),
+            Rule::HardContact(why) => format!(
+                "{why}, which implicit Euler's contact response at its substep does not hold, \
+                 {fallback}"
+            ),
+            Rule::SharpJoint => format!(
                 "a rest joint turns {:.0}°, beyond the {:.0}° implicit Euler's bending matrix \
-                 holds, so semi-implicit Euler (about {explicit} substeps per step)",
+                 holds, {fallback}",
                 self.max_rest_turn.to_degrees(),
                 MAX_IMPLICIT_REST_TURN.to_degrees()
-            );
-        }
-        match self.integrator {
-            Integrator::ImplicitEuler => format!(
+            ),
+            Rule::Cost if self.integrator == Integrator::ImplicitEuler => format!(
                 "semi-implicit Euler would need about {explicit} substeps per step for \
                  stability, more than {implicit} implicit substeps at {IMPLICIT_SUBSTEP_COST}× \
                  the cost"
             ),
-            _ => format!(
+            Rule::Cost => format!(
                 "about {explicit} semi-implicit substeps per step are stable and cost no more \
                  than {implicit} implicit substeps at {IMPLICIT_SUBSTEP_COST}× the cost"
             ),
@@ -213,27 +224,25 @@ impl IntegratorChoice {
         };
         let explicit_substeps = with(Integrator::SemiImplicitEuler);
         let implicit_substeps = with(Integrator::ImplicitEuler);
-        let mut hard_contact = None;
+        // Implicit Euler is the cheaper (or, at a fixed count, the only stable) of the two.
+        let cheaper = match settings.substeps {
+            Substeps::Auto => {
+                f64::from(explicit_substeps) > IMPLICIT_SUBSTEP_COST * f64::from(implicit_substeps)
+            }
+            Substeps::Fixed(n) => n < bound.auto_substeps(settings.step_dt()),
+        };
+        let dt = settings.step_dt() / f64::from(implicit_substeps.max(1));
+        let rule = match self {
+            Self::Named(_) => Rule::Named,
+            Self::Auto if model != StrandModel::MassSpring => Rule::OtherModel,
+            Self::Auto if !cheaper => Rule::Cost,
+            Self::Auto if max_rest_turn > MAX_IMPLICIT_REST_TURN => Rule::SharpJoint,
+            Self::Auto => contact.too_hard(dt).map_or(Rule::Cost, Rule::HardContact),
+        };
         let integrator = match self {
             Self::Named(integrator) => integrator,
-            Self::Auto if model != StrandModel::MassSpring => Integrator::SemiImplicitEuler,
-            Self::Auto if max_rest_turn > MAX_IMPLICIT_REST_TURN => Integrator::SemiImplicitEuler,
-            Self::Auto => {
-                let implicit = match settings.substeps {
-                    Substeps::Auto => {
-                        f64::from(explicit_substeps)
-                            > IMPLICIT_SUBSTEP_COST * f64::from(implicit_substeps)
-                    }
-                    Substeps::Fixed(n) => n < bound.auto_substeps(settings.step_dt()),
-                };
-                let dt = settings.step_dt() / f64::from(implicit_substeps.max(1));
-                hard_contact = implicit.then(|| contact.too_hard(dt)).flatten();
-                if implicit && hard_contact.is_none() {
-                    Integrator::ImplicitEuler
-                } else {
-                    Integrator::SemiImplicitEuler
-                }
-            }
+            Self::Auto if cheaper && rule == Rule::Cost => Integrator::ImplicitEuler,
+            Self::Auto => Integrator::SemiImplicitEuler,
         };
         ResolvedIntegrator {
             integrator,
@@ -241,7 +250,7 @@ impl IntegratorChoice {
             explicit_substeps,
             implicit_substeps,
             max_rest_turn,
-            hard_contact,
+            rule,
         }
     }
 }
@@ -440,7 +449,7 @@ mod tests {
             ..ContactLoad::default()
         });
         assert_eq!(slow.integrator, Integrator::ImplicitEuler);
-        assert!(slow.hard_contact.is_none());
+        assert_eq!(slow.rule, Rule::Cost);
         for hard in [
             ContactLoad {
                 collider_speed: 2.0,

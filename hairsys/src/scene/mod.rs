@@ -1056,7 +1056,6 @@ impl SceneFile {
             .map_err(|m| self.error(m))
     }
 
-    /// Loads and checks the `[[colliders]]`.
     /// The fastest surface speed of `colliders` over the shot and the distance one may move in
     /// a substep (its thickness plus the thinnest hair radius of `strands`), for `"auto"`'s
     /// contact condition ([`integrator`]).
@@ -1077,18 +1076,7 @@ impl SceneFile {
             ..Default::default()
         };
         for c in colliders {
-            let radius = match &c.collider.shape {
-                ColliderShape::Sphere { radius } => f64::from(*radius),
-                ColliderShape::Capsule {
-                    half_height,
-                    radius,
-                } => f64::from(half_height + radius),
-                ColliderShape::Mesh(mesh) => mesh
-                    .positions()
-                    .iter()
-                    .map(|p| f64::from(p.norm()))
-                    .fold(0.0, f64::max),
-            };
+            let radius = f64::from(c.collider.shape.bounding_radius());
             let speed =
                 integrator::fastest_surface_speed(|f| c.motion.at(f), radius, first, last, fps);
             if speed > 0.0 {
@@ -1101,6 +1089,7 @@ impl SceneFile {
         load
     }
 
+    /// Loads and checks the `[[colliders]]`.
     fn colliders(&self) -> Result<Vec<SceneCollider>, SceneError> {
         let mut out = Vec::new();
         for (i, c) in self.scene.colliders.iter().enumerate() {
