@@ -422,6 +422,7 @@ impl GuideAnimation {
         let mut work = self.blend.apply(pose, blended);
         let mut posed = base.rest.clone();
         let mut moved = vec![false; posed.len() / n];
+        let mut along = Vec::with_capacity(n);
         for (h, shape) in posed.chunks_exact_mut(n).enumerate() {
             let at = h * n..(h + 1) * n;
             let (built, groom, now) = (
@@ -433,7 +434,7 @@ impl GuideAnimation {
                 continue;
             }
             moved[h] = true;
-            keep_lengths(shape, built, groom, now);
+            keep_lengths(shape, built, groom, now, &mut along);
         }
         if let Some(pose_lift) = &self.lift {
             let anchors = &strands.anchors()[range.clone()];
@@ -527,13 +528,23 @@ impl GuideAnimation {
 /// `shape` (a copy of `built`) moved by the change from `groom` to `now` (its interpolated
 /// guides then and now) and re-walked from the root with each segment at its built length and
 /// the moved segment's direction (the built one where the moved segment vanishes).
+///
+/// The change is taken between points at the same fraction of arc length along `groom` and
+/// `now` (`along` holds `now` resampled so), not between points of the same index: the blend
+/// of swept guides spaces its points unevenly (averaged tip directions shorten the tip
+/// segments, the rescale to the mean guide length stretches the root ones: 42 mm at the root to
+/// 14 mm at the tip against 25 mm built on one gust hair), and re-walking those index-matched
+/// directions at the built lengths bent the posed hair more than its guides (that hair's tip
+/// ended 8 cm below the blend's).
 fn keep_lengths(
     shape: &mut [Vector3<f32>],
     built: &[Vector3<f32>],
     groom: &[Vector3<f32>],
     now: &[Vector3<f32>],
+    along: &mut Vec<Vector3<f32>>,
 ) {
-    let moved = |j: usize| built[j] + (now[j] - groom[j]);
+    resample_like(now, groom, along);
+    let moved = |j: usize| built[j] + (along[j] - groom[j]);
     shape[0] = moved(0);
     for j in 1..shape.len() {
         let length = (built[j] - built[j - 1]).norm();
@@ -545,6 +556,44 @@ fn keep_lengths(
             built[j] - built[j - 1]
         };
         shape[j] = shape[j - 1] + step;
+    }
+}
+
+/// `curve` resampled into `out` at the fractions of arc length of `like`'s points (same point
+/// count): the root and the tip stay, and a curve spaced like `like` comes back unchanged. A
+/// curve or a `like` of zero length is copied as it is.
+fn resample_like(curve: &[Vector3<f32>], like: &[Vector3<f32>], out: &mut Vec<Vector3<f32>>) {
+    out.clear();
+    let length = |c: &[Vector3<f32>]| -> f32 { c.windows(2).map(|w| (w[1] - w[0]).norm()).sum() };
+    let (total, total_like) = (length(curve), length(like));
+    if !(total > 0.0 && total_like > 0.0) || curve.len() != like.len() {
+        out.extend_from_slice(curve);
+        return;
+    }
+    let last = curve.len() - 1;
+    let (mut segment, mut start) = (0usize, 0.0f32);
+    let mut reached = 0.0f32;
+    for j in 0..=last {
+        if j > 0 {
+            reached += (like[j] - like[j - 1]).norm();
+        }
+        if j == last {
+            out.push(curve[last]);
+            break;
+        }
+        let s = reached / total_like * total;
+        // Advance to the segment of `curve` holding arc length `s`.
+        while segment < last - 1 && start + (curve[segment + 1] - curve[segment]).norm() < s {
+            start += (curve[segment + 1] - curve[segment]).norm();
+            segment += 1;
+        }
+        let l = (curve[segment + 1] - curve[segment]).norm();
+        let t = if l > 0.0 {
+            ((s - start) / l).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        out.push(curve[segment].lerp(&curve[segment + 1], t));
     }
 }
 
@@ -603,6 +652,80 @@ mod tests {
         let e = WeightCurve::new(Interpolation::Ease, vec![(1.0, 0.0), (11.0, 1.0)]);
         assert!(e.at(1.5) < 0.05 * 0.5);
         assert_eq!(WeightCurve::default().at(3.0), 0.0);
+    }
+
+    /// The regression: a guide blend bent into a quarter circle but with its points spaced
+    /// unevenly (long segments at the root, short at the tip, as a blend of swept guides
+    /// spaces them) poses a straight hair onto that quarter circle. Index-matched re-walking at
+    /// the hair's even lengths put its points off the arc by centimetres.
+    #[test]
+    fn a_posed_hair_follows_its_blend_by_arc_length_not_by_point_index() {
+        let n = 8;
+        let (radius, length) = (0.1f32, 0.1 * std::f32::consts::FRAC_PI_2);
+        // Straight up the z axis, evenly spaced: the hair as built, and its blend at groom time.
+        let built: Vec<_> = (0..=n)
+            .map(|i| Vector3::new(0.0, 0.0, length * i as f32 / n as f32))
+            .collect();
+        // The pose: the same length bent over a quarter circle about (r, 0, 0), its points at
+        // uneven angles (the first segments cover more of the arc than the last).
+        let arc =
+            |angle: f32| Vector3::new(radius * (1.0 - angle.cos()), 0.0, radius * angle.sin());
+        let now: Vec<_> = (0..=n)
+            .map(|i| {
+                let u = i as f32 / n as f32;
+                arc(std::f32::consts::FRAC_PI_2 * (2.0 * u - u * u))
+            })
+            .collect();
+        let mut shape = built.clone();
+        let mut along = Vec::new();
+        keep_lengths(&mut shape, &built, &built, &now, &mut along);
+        // Every posed point lies on the arc within the sag of the blend's coarsest chord,
+        // r (1 − cos(Δθ/2)) with Δθ its first segment's 2/8 − 1/64 of the quarter turn (the
+        // pose can be no truer than the polygon it is given), with 5 % for the re-walk.
+        let first = std::f32::consts::FRAC_PI_2 * (2.0 / n as f32 - 1.0 / (n * n) as f32);
+        let sag = 1.05 * radius * (1.0 - (first / 2.0).cos());
+        let centre = Vector3::new(radius, 0.0, 0.0);
+        for (j, p) in shape.iter().enumerate() {
+            let off = ((p - centre).norm() - radius).abs();
+            assert!(
+                off <= sag + 1e-5,
+                "point {j} is {off} m off the arc (sag {sag})"
+            );
+            if j > 0 {
+                let l = (shape[j] - shape[j - 1]).norm();
+                assert!((l - length / n as f32).abs() < 1e-6, "segment {j}: {l}");
+            }
+        }
+        // Index-matched (the old walk): a centimetre off the arc.
+        let mut old = built.clone();
+        keep_lengths(&mut old, &built, &built, &built, &mut along);
+        let moved = |j: usize| built[j] + (now[j] - built[j]);
+        old[0] = moved(0);
+        for j in 1..=n {
+            let d = moved(j) - moved(j - 1);
+            old[j] = old[j - 1] + d * ((built[j] - built[j - 1]).norm() / d.norm());
+        }
+        let worst = old
+            .iter()
+            .map(|p| ((p - centre).norm() - radius).abs())
+            .fold(0.0, f32::max);
+        assert!(worst > 5e-3, "{worst}");
+    }
+
+    #[test]
+    fn resampling_keeps_ends_and_an_evenly_spaced_curve() {
+        let curve: Vec<_> = (0..6)
+            .map(|i| Vector3::new(0.02 * i as f32, 0.01 * (i * i) as f32, 0.0))
+            .collect();
+        let mut out = Vec::new();
+        resample_like(&curve, &curve, &mut out);
+        for (a, b) in out.iter().zip(&curve) {
+            assert!((a - b).norm() < 1e-6);
+        }
+        let even: Vec<_> = (0..6).map(|i| Vector3::new(i as f32, 0.0, 0.0)).collect();
+        resample_like(&curve, &even, &mut out);
+        assert_eq!(out[0], curve[0]);
+        assert_eq!(out[5], curve[5]);
     }
 
     #[test]
