@@ -19,6 +19,7 @@
 
 use hair_core::TriMesh;
 use nalgebra::{UnitQuaternion, Vector3};
+use rayon::prelude::*;
 
 use crate::error::{parameter, GroomError};
 use crate::groom::polyline_length;
@@ -217,16 +218,31 @@ impl GuideBlend {
             })
             .collect();
         work += (shapes.len() * n) as u64;
-        let mut acc = vec![Vector3::<f64>::zeros(); n];
-        let mut untrimmed = vec![Vector3::zeros(); if self.fractions.is_some() { n } else { 0 }];
-        for (h, (recipe, hair)) in self.recipes.iter().zip(out.chunks_exact_mut(n)).enumerate() {
-            work += blend_one(recipe, &resampled, &mut acc, hair);
-            if let Some(f) = self.fractions.as_ref().map(|f| f[h]).filter(|&f| f < 1.0) {
-                untrimmed.copy_from_slice(hair);
-                trim_polyline(&untrimmed, f, hair);
-                work += n as u64;
-            }
-        }
+        // Hairs are independent: blended in parallel, each with its own scratch (the same bits
+        // whatever the thread count).
+        let fractions = self.fractions.as_deref();
+        let scratch = || {
+            let trimmed = if fractions.is_some() { n } else { 0 };
+            (
+                vec![Vector3::<f64>::zeros(); n],
+                vec![Vector3::zeros(); trimmed],
+            )
+        };
+        work += self
+            .recipes
+            .par_iter()
+            .zip(out.par_chunks_exact_mut(n))
+            .enumerate()
+            .map_init(scratch, |(acc, untrimmed), (h, (recipe, hair))| {
+                let mut work = blend_one(recipe, &resampled, acc, hair);
+                if let Some(f) = fractions.map(|f| f[h]).filter(|&f| f < 1.0) {
+                    untrimmed.copy_from_slice(hair);
+                    trim_polyline(untrimmed, f, hair);
+                    work += n as u64;
+                }
+                work
+            })
+            .sum::<u64>();
         work
     }
 }

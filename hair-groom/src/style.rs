@@ -35,6 +35,7 @@
 use hair_core::{Anchor, StrandInput, TriMesh};
 use nalgebra::{Unit, UnitQuaternion, Vector3};
 use parry3d::math::Vector;
+use parry3d::query::PointProjection;
 use parry3d::query::{PointQueryWithLocation, Ray, RayCast};
 use parry3d::shape::TrianglePointLocation;
 
@@ -141,6 +142,10 @@ impl StyleOptions {
     }
 }
 
+/// A nearest scalp point, m, the smooth normal there and the normal that tells the side (see
+/// [`Surface::nearest_with_face`]).
+type Nearest = (Vector3<f32>, Vector3<f32>, Vector3<f32>);
+
 /// The scalp as a searchable surface: nearest point and its smooth normal.
 #[derive(Debug, Clone)]
 struct Surface {
@@ -178,10 +183,35 @@ impl Surface {
     /// and dragged onto the rim (a hook at the tip of 3 of Sintel's sim hairs that came within
     /// 23 mm of her ear). The smooth normal there lies between the faces meeting at the
     /// feature, like the angle-weighted pseudo-normal (Bærentzen and Aanæs 2005) it stands for.
-    fn nearest_with_face(&self, p: &Vector3<f32>) -> (Vector3<f32>, Vector3<f32>, Vector3<f32>) {
+    fn nearest_with_face(&self, p: &Vector3<f32>) -> Nearest {
         let (proj, (triangle, location)) = self
             .query
             .project_local_point_and_get_location(Vector::new(p.x, p.y, p.z), false);
+        self.describe(&proj, triangle, &location)
+    }
+
+    /// [`Surface::nearest_with_face`] if the scalp comes within `reach` m of `p`, else `None`.
+    /// The search skips every part of the tree farther than `reach`, so asking whether a point
+    /// a few millimetres off the scalp is clear of a clearance costs a fraction of a full search.
+    fn nearest_within(&self, p: &Vector3<f32>, reach: f32) -> Option<Nearest> {
+        let (proj, (triangle, location)) = self
+            .query
+            .project_local_point_and_get_location_with_max_dist(
+                Vector::new(p.x, p.y, p.z),
+                false,
+                reach,
+            )?;
+        Some(self.describe(&proj, triangle, &location))
+    }
+
+    /// The nearest point `proj` found on `triangle` at `location`, with its smooth normal and
+    /// the normal that tells the side (see [`Surface::nearest_with_face`]).
+    fn describe(
+        &self,
+        proj: &PointProjection,
+        triangle: u32,
+        location: &TrianglePointLocation,
+    ) -> Nearest {
         let w = location
             .barycentric_coordinates()
             .unwrap_or([1.0, 0.0, 0.0])
@@ -211,18 +241,34 @@ impl Surface {
     /// point at `height` above the scalp nearest `p`: along `p`'s offset from the surface when
     /// `p` is outside, along the triangle's normal otherwise.
     fn height_and_lift(&self, p: &Vector3<f32>, height: f32) -> (f32, Vector3<f32>) {
-        let (c, _, face) = self.nearest_with_face(p);
-        let offset = p - c;
-        let distance = offset.norm();
-        let outside = offset.dot(&face) >= 0.0;
-        let signed = if outside { distance } else { -distance };
-        let direction = if outside && distance > 1e-7 {
-            offset / distance
-        } else {
-            face
-        };
-        (signed, c + direction * height)
+        lift_from(p, self.nearest_with_face(p), height)
     }
+
+    /// [`Surface::height_and_lift`] if the scalp comes within `reach` m of `p`
+    /// ([`Surface::nearest_within`]), else `None`.
+    fn height_and_lift_within(
+        &self,
+        p: &Vector3<f32>,
+        height: f32,
+        reach: f32,
+    ) -> Option<(f32, Vector3<f32>)> {
+        Some(lift_from(p, self.nearest_within(p, reach)?, height))
+    }
+}
+
+/// Signed height of `p` over its nearest scalp point `(c, _, face)` and the point at `height`
+/// above the scalp nearest `p` (see [`Surface::height_and_lift`]).
+fn lift_from(p: &Vector3<f32>, (c, _, face): Nearest, height: f32) -> (f32, Vector3<f32>) {
+    let offset = p - c;
+    let distance = offset.norm();
+    let outside = offset.dot(&face) >= 0.0;
+    let signed = if outside { distance } else { -distance };
+    let direction = if outside && distance > 1e-7 {
+        offset / distance
+    } else {
+        face
+    };
+    (signed, c + direction * height)
 }
 
 /// Lays every surface-rooted strand of `strands` over `mesh` (the scalp at the rest pose the
@@ -431,7 +477,11 @@ impl ScalpLift {
     /// to a surface changes by at most the distance moved). Between frames of a pose hair moves
     /// millimetres, so hair lying on the head is looked up only where it comes near the
     /// clearance. Lifts exactly as [`ScalpLift::lift`] (the bound only skips look-ups that
-    /// would find the point clear); a memory of another point count starts afresh.
+    /// would find the point clear); a memory of another point count starts afresh. A point the
+    /// memory cannot clear but that was outside at its last lift and has moved less than the
+    /// clearance since is asked only whether the scalp comes within the clearance of it (a
+    /// search bounded to that reach; it cannot have crossed into the scalp unseen), and is
+    /// looked up in full only when it does.
     pub fn lift_remembering(
         &self,
         anchor: &Anchor,
@@ -485,13 +535,36 @@ impl ScalpLift {
                 continue;
             }
             clear_by = 0.0;
+            // A point that was outside the scalp at its last lift and has moved less than
+            // `allowed` since cannot be inside now (the scalp point its move crossed would lie
+            // within `allowed` of it): if no scalp comes within `allowed` of it, it is clear,
+            // and a search bounded to that reach says so at a fraction of a full search's cost.
+            let outside_before = memory
+                .as_deref()
+                .is_some_and(|m| m.heights[j] > 0.0 && (world[j] - m.points[j]).norm() < allowed);
+            let mut first = None;
+            if skip_clear && outside_before {
+                match surface.height_and_lift_within(&world[j], allowed, allowed) {
+                    Some(found) => first = Some(found),
+                    None => {
+                        clear_by = allowed;
+                        if let Some(m) = memory.as_deref_mut() {
+                            (m.points[j], m.heights[j]) = (world[j], allowed);
+                        }
+                        continue;
+                    }
+                }
+            }
             let mut moved_any = false;
             // The height found at the point's present position (none once it has moved since).
             let mut known = f32::NEG_INFINITY;
             // Re-aiming at the lifted point keeps the segment's length, which can leave the
             // point short of it on a curved scalp: a few rounds converge.
             for _ in 0..16 {
-                let (height, target) = surface.height_and_lift(&world[j], allowed);
+                let (height, target) = match first.take() {
+                    Some(found) => found,
+                    None => surface.height_and_lift(&world[j], allowed),
+                };
                 known = height;
                 if height >= allowed - 1e-6 || length == 0.0 {
                     if !moved_any {

@@ -420,22 +420,29 @@ impl GuideAnimation {
         let PoseScratch { blended, lift } = scratch;
         blended.resize(base.interpolated.len(), Vector3::zeros());
         let mut work = self.blend.apply(pose, blended);
+        // Hairs are independent here and below: each pass runs over them in parallel (the
+        // same bits whatever the thread count).
         let mut posed = base.rest.clone();
-        let mut moved = vec![false; posed.len() / n];
-        let mut along = Vec::with_capacity(n);
-        for (h, shape) in posed.chunks_exact_mut(n).enumerate() {
-            let at = h * n..(h + 1) * n;
-            let (built, groom, now) = (
-                &base.rest[at.clone()],
-                &base.interpolated[at.clone()],
-                &blended[at],
-            );
-            if groom == now {
-                continue;
-            }
-            moved[h] = true;
-            keep_lengths(shape, built, groom, now, &mut along);
-        }
+        let moved: Vec<bool> = posed
+            .par_chunks_exact_mut(n)
+            .enumerate()
+            .map_init(
+                || Vec::with_capacity(n),
+                |along, (h, shape)| {
+                    let at = h * n..(h + 1) * n;
+                    let (built, groom, now) = (
+                        &base.rest[at.clone()],
+                        &base.interpolated[at.clone()],
+                        &blended[at],
+                    );
+                    if groom == now {
+                        return false;
+                    }
+                    keep_lengths(shape, built, groom, now, along);
+                    true
+                },
+            )
+            .collect();
         if let Some(pose_lift) = &self.lift {
             let anchors = &strands.anchors()[range.clone()];
             if lift.len() != moved.len() {
@@ -448,17 +455,21 @@ impl GuideAnimation {
         }
         strands.rest_local_mut()[p0..p0 + posed.len()].copy_from_slice(&posed);
         let bend = &mut strands.bend_rest_mut()[s0..s0 + range.len() * (n - 1)];
-        for (h, shape) in posed.chunks_exact(n).enumerate() {
-            let seg = h * (n - 1)..(h + 1) * (n - 1);
-            let now = rest_directions(shape);
-            for ((out, (built, groom)), d) in bend[seg.clone()]
-                .iter_mut()
-                .zip(base.bend[seg.clone()].iter().zip(&base.directions[seg]))
-                .zip(&now)
-            {
-                *out = turned(built, groom, d);
-            }
-        }
+        // (A hair of one point has no segment to turn; chunks of 0 would not be defined.)
+        bend.par_chunks_exact_mut((n - 1).max(1))
+            .zip(posed.par_chunks_exact(n))
+            .enumerate()
+            .for_each(|(h, (bend, shape))| {
+                let seg = h * (n - 1)..(h + 1) * (n - 1);
+                let now = rest_directions(shape);
+                for ((out, (built, groom)), d) in bend
+                    .iter_mut()
+                    .zip(base.bend[seg.clone()].iter().zip(&base.directions[seg]))
+                    .zip(&now)
+                {
+                    *out = turned(built, groom, d);
+                }
+            });
         work += 2 * posed.len() as u64;
         work
     }

@@ -515,8 +515,9 @@ fn share_of_a_frame(lift: bool) -> f64 {
 
 /// The cost of animated guides against a default-scene frame (issue 20: at most 5 %), held
 /// without `pose_clearance`; with it (lifting posed hair out of the head, a nearest-point query
-/// per posed point near the scalp per frame, spread over the threads) the share is printed:
-/// it is over the budget (5.9–6.0 % on 2026-11-25 at load 3.5; BENCHMARKS.md).
+/// per posed point near the scalp per frame, spread over the threads) the share is printed
+/// (4.95–5.37 % on 2026-11-27 at load 3.5–4, 5.65–6.16 % before that day's bounded search;
+/// BENCHMARKS.md).
 /// `cargo test --release -p hairsys --test animated_guides -- --ignored --nocapture`
 #[test]
 #[ignore = "timing; run in release (command above)"]
