@@ -50,14 +50,10 @@ fn curly_truth_is_converged_in_time() {
     assert!(c.time_change < 0.1 * c.smallest_error, "{c:?}");
 }
 
-/// The brief's requirement, failing today: the rod's twist is geometric and exerts no torque
-/// (`hair_core::rod::twist`, "Limit"), so a round hair coiled as a helix can trade its pitch for
-/// torsion at no elastic cost: gravity pulls the coil open along a zero-energy family of shapes,
-/// and where it ends depends on the discretisation (measured: 32 → 64 segments moves the truth
-/// by 2.6 cm RMS). Passes once the rod's twist resists with `G J`.
+/// The rod's twist is elastic (`hair_core::rod::twist`): `G J` resists a coil trading its pitch
+/// for torsion, so the curly truth has one answer, which finer segments approach. (With the
+/// seed's geometric twist, which exerted no torque, 32 → 64 segments moved it 2.6 cm RMS.)
 #[test]
-#[ignore = "fails: the rod's twist exerts no torque, so the curly truth does not converge in \
-            space (cargo test -p hairsys-cli --test bench_cases -- --ignored)"]
 fn curly_truth_is_converged_in_space() {
     let case = cases::curly().unwrap();
     let c = truth_of(&case);

@@ -207,6 +207,9 @@ pub struct RodSolver {
     frame: u32,
     /// Contact detection's memory per strand (see [`collide::Clearance`]).
     clearance: Vec<Vec<collide::Clearance>>,
+    /// Twist angles per strand and segment at the last substep's start, rad (state: the next
+    /// substep's relaxation starts from them).
+    theta: Vec<Vec<f64>>,
     /// The colliders that memory belongs to (their shapes' addresses and versions: a deformed
     /// mesh invalidates it).
     clearance_key: Vec<usize>,
@@ -218,6 +221,8 @@ struct StrandOutcome {
     projection: ProjectionReport,
     contacts: u64,
     failure: Option<String>,
+    /// The twist at the last substep's start (empty on failure).
+    theta: Vec<f64>,
 }
 
 impl RodSolver {
@@ -279,13 +284,14 @@ impl RodSolver {
             params,
             rod,
             stiffness,
-            strands: rods,
             roots: strands.root_frames(scalp),
             substeps,
             dt_max,
             frame: start_frame,
             clearance: vec![Vec::new(); strands.len()],
             clearance_key: Vec::new(),
+            theta: rods.iter().map(|r| r.rest_twist().to_vec()).collect(),
+            strands: rods,
         })
     }
 
@@ -334,13 +340,16 @@ impl RodSolver {
         &self.roots
     }
 
+    /// Twist angles of strand `s`'s segments (rad, against their reference frames) at the last
+    /// substep's start.
+    pub fn twist(&self, s: usize) -> &[f64] {
+        &self.theta[s]
+    }
+
     /// Mechanical energy of `strands` with the roots of the current state, J: kinetic and
-    /// gravity of free points, and the rod's bending energy ([`Energy::bend`]) for the
-    /// quasistatic twist of the current shape. Summed strand by strand in index order.
-    ///
-    /// Twist energy is left out: the seed's twist is chosen geometrically (least minor-axis
-    /// bending), not by minimising energy, so it exerts no force and the dynamics does not
-    /// conserve it; [`RodStrand::energies`] reports it separately.
+    /// gravity of free points, and the rod's bending ([`Energy::bend`]) and twist
+    /// ([`Energy::twist`]) energy at the quasistatic twist of the current shape (relaxed from the
+    /// last substep's). Summed strand by strand in index order.
     pub fn energy(&self, strands: &StrandSet) -> Energy {
         let g: V3 = self.params.gravity().cast();
         let mut e = Energy::default();
@@ -361,8 +370,11 @@ impl RodSolver {
                 e.gravity -= m * g.dot(xi);
             }
             let root = Root::of(&self.roots[s]);
-            rod.update_twist(&x, &root, &self.stiffness, &mut ws);
-            e.bend += rod.energies(&x, &root, &self.stiffness, &mut ws).0;
+            ws.twist.theta.clone_from(&self.theta[s]);
+            rod.update_twist(&x, &root, &self.stiffness, &[], &mut ws);
+            let (bend, twist) = rod.energies(&x, &root, &self.stiffness, &mut ws);
+            e.bend += bend;
+            e.twist += twist;
         }
         e
     }
@@ -488,6 +500,7 @@ impl RodSolver {
                 let mut state = RodState {
                     x: xs.iter().map(|p| p.cast()).collect(),
                     v: vs.iter().map(|p| p.cast()).collect(),
+                    theta: this.theta[s].clone(),
                     clearance: std::mem::take(memory),
                 };
                 let mut out = StrandOutcome {
@@ -512,6 +525,7 @@ impl RodSolver {
                         tolerance: this.rod.projection_tolerance as f64,
                         colliders: colliders.map(|c| (c, b)),
                         external: None,
+                        torque: None,
                     };
                     let o = rod.substep(&mut state, &input, ws);
                     let p = &mut out.projection;
@@ -555,10 +569,16 @@ impl RodSolver {
                     *dst = src.cast();
                 }
                 out.projection.max_strain = max_strain(xs, rod.rest_lengths());
+                out.theta = state.theta;
                 out
             })
             .collect();
         self.clearance = clearance;
+        for (theta, o) in self.theta.iter_mut().zip(&outcomes) {
+            if o.failure.is_none() {
+                theta.clone_from(&o.theta);
+            }
+        }
         let mut projection = ProjectionReport {
             tolerance: self.rod.projection_tolerance as f64,
             ..Default::default()
