@@ -215,9 +215,10 @@ pub fn relax(
         // Newton step on the exact Hessian; where it is not positive definite, on the twist
         // part plus the bending's curvature taken positive (positive definite: the root is
         // clamped), no longer than LONGEST_STEP.
-        let exact = newton_step(twist, rest, stiffness, false);
-        if !exact {
-            newton_step(twist, rest, stiffness, true);
+        let failed = newton_step(twist, rest, stiffness, false).err();
+        if failed.is_some() {
+            // Positive definite: the twist part is, with the root clamped.
+            let _ = newton_step(twist, rest, stiffness, true);
         }
         let mut largest = twist.step.iter().fold(0.0f64, |a, d| a.max(d.abs()));
         if !largest.is_finite() {
@@ -229,13 +230,24 @@ pub fn relax(
             largest = LONGEST_STEP;
         }
         if largest < TOLERANCE {
-            for (th, d) in twist.theta.iter_mut().zip(&twist.step) {
-                *th += d;
+            // A stationary point. Where the exact Hessian has a clearly negative pivot it is a
+            // saddle or a maximum (an elliptical strand bent exactly over its stiff axis):
+            // leave it downhill along the negative curvature; otherwise it is the minimum.
+            match failed {
+                Some((j, pivot)) if pivot < -1e-9 * hessian_scale(twist, rest, stiffness, j) => {
+                    negative_curvature(twist, rest, stiffness, j);
+                    largest = LONGEST_STEP;
+                }
+                _ => {
+                    for (th, d) in twist.theta.iter_mut().zip(&twist.step) {
+                        *th += d;
+                    }
+                    out.converged = true;
+                    break;
+                }
             }
-            out.converged = true;
-            break;
         }
-        let trusted = exact && largest <= TRUSTED_STEP;
+        let trusted = failed.is_none() && largest <= TRUSTED_STEP;
         let slack = 1e-12 * energy.abs();
         let mut fraction = 1.0;
         let mut accepted = false;
@@ -329,9 +341,15 @@ fn evaluate(
 }
 
 /// Solves `H step = −grad` for the tridiagonal Hessian (twist part plus `bend_h`, or with
-/// `modified` its positive part) by an `L D Lᵀ` factorisation; false if a pivot is not
-/// positive (the step is then not to be used).
-fn newton_step(twist: &mut Twist, rest: &TwistRest, s: &Stiffness, modified: bool) -> bool {
+/// `modified` the bending's curvature taken positive) by an `L D Lᵀ` factorisation. The exact
+/// Hessian fails at the first pivot `j` that is not positive: `Err((j, pivot))`, the pivots
+/// before it kept (see [`negative_curvature`]), the step not to be used.
+fn newton_step(
+    twist: &mut Twist,
+    rest: &TwistRest,
+    s: &Stiffness,
+    modified: bool,
+) -> Result<(), (usize, f64)> {
     let n = twist.theta.len();
     let w = |i: usize| {
         if i < n {
@@ -364,7 +382,7 @@ fn newton_step(twist: &mut Twist, rest: &TwistRest, s: &Stiffness, modified: boo
         };
         if !(pivot > floor) {
             if !modified {
-                return false;
+                return Err((j, pivot));
             }
             twist.pivot[j] = floor.max(f64::MIN_POSITIVE);
         } else {
@@ -383,7 +401,30 @@ fn newton_step(twist: &mut Twist, rest: &TwistRest, s: &Stiffness, modified: boo
         }
         twist.step[j] = x;
     }
-    true
+    Ok(())
+}
+
+/// Size of the Hessian's diagonal at segment `j`, J/rad² (what a pivot is small against).
+fn hessian_scale(twist: &Twist, rest: &TwistRest, s: &Stiffness, j: usize) -> f64 {
+    let w = |i: usize| rest.voronoi.get(i).map_or(0.0, |l| s.twist / l);
+    w(j) + if j + 1 < twist.theta.len() { w(j + 1) } else { 0.0 } + twist.bend_h[j].abs()
+}
+
+/// A direction of negative curvature of the exact Hessian whose factorisation failed at pivot
+/// `j` (its `zᵀ H z` is that pivot): `Lᵀ z = e_j`, into `twist.step`, downhill (`grad·z ≤ 0`)
+/// and scaled to a largest angle of [`LONGEST_STEP`].
+fn negative_curvature(twist: &mut Twist, rest: &TwistRest, s: &Stiffness, j: usize) {
+    let step = &mut twist.step;
+    step.iter_mut().for_each(|z| *z = 0.0);
+    step[j] = 1.0;
+    for k in (0..j).rev() {
+        // Lᵀ_{k,k+1} = −w_{k+1} / d_k.
+        step[k] = s.twist / rest.voronoi[k + 1] / twist.pivot[k] * step[k + 1];
+    }
+    let slope: f64 = step.iter().zip(&twist.grad).map(|(z, g)| z * g).sum();
+    let largest = step.iter().fold(0.0f64, |a, z| a.max(z.abs()));
+    let scale = if slope > 0.0 { -1.0 } else { 1.0 } * LONGEST_STEP / largest;
+    step.iter_mut().for_each(|z| *z *= scale);
 }
 
 /// Twist energy (J) of `theta` against the rest twist: `Σ G J (θ_j − θ_{j−1} − m̄_j)² / (2 l̄_j)`
