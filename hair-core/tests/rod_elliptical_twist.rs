@@ -125,8 +125,14 @@ fn elliptical_strand_bent_sideways_twists_where_twisting_is_cheaper_than_bending
     let (soft_sag, minor, worst_axis) = ellipse(E / 1000.0);
     assert!(minor < MINOR, "bending over the minor axis: {minor}");
     assert!(worst_axis < AXIS, "major axes not horizontal: {worst_axis}");
-    assert!(soft_sag > SOFT * easy, "sag {soft_sag} against round E I₁ {easy}");
-    assert!(soft_sag > 2.0 * stiff, "sag {soft_sag} against round E I₂ {stiff}");
+    assert!(
+        soft_sag > SOFT * easy,
+        "sag {soft_sag} against round E I₁ {easy}"
+    );
+    assert!(
+        soft_sag > 2.0 * stiff,
+        "sag {soft_sag} against round E I₂ {stiff}"
+    );
 
     let (keratin_sag, _, _) = ellipse(1.5e9);
     assert!(

@@ -407,7 +407,11 @@ fn newton_step(
 /// Size of the Hessian's diagonal at segment `j`, J/rad² (what a pivot is small against).
 fn hessian_scale(twist: &Twist, rest: &TwistRest, s: &Stiffness, j: usize) -> f64 {
     let w = |i: usize| rest.voronoi.get(i).map_or(0.0, |l| s.twist / l);
-    w(j) + if j + 1 < twist.theta.len() { w(j + 1) } else { 0.0 } + twist.bend_h[j].abs()
+    w(j) + if j + 1 < twist.theta.len() {
+        w(j + 1)
+    } else {
+        0.0
+    } + twist.bend_h[j].abs()
 }
 
 /// A direction of negative curvature of the exact Hessian whose factorisation failed at pivot
