@@ -146,10 +146,11 @@ fn curly_curl_kept_is_measured_and_the_rod_keeps_the_curl() {
 fn rod_error_falls_as_its_segments_double() {
     // The spatial convergence of a model against the truth: the rod at its automatic substeps
     // at 4, 8 and 16 segments per strand (the truths are at 20 and 32).
-    // The curly truth is not converged in space (`curly_truth_is_converged_in_space`), so its
-    // axis says nothing about the rod's spatial convergence; the cantilever's and the drape's
-    // truths are.
-    for case in [cases::cantilever().unwrap(), cases::drape().unwrap()] {
+    for case in [
+        cases::cantilever().unwrap(),
+        cases::curly().unwrap(),
+        cases::drape().unwrap(),
+    ] {
         let truth = hairsys_cli::bench::truth::truth(&case, 512).unwrap();
         let methods: Vec<Box<dyn Method>> = vec![Box::new(Rod { iterations: 8 })];
         let quiet = Progress::new(0, true, false, "test");
