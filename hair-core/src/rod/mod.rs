@@ -14,25 +14,34 @@
 //!   frame (the cross-section's axes) as a scalar twist angle on it.
 //! - **Elliptical cross-section** ([`stiffness`]): bending stiffness `E I₁ = E π a b³/4` over the
 //!   major axis and `E I₂ = E π a³ b/4` over the minor axis (`a ≥ b`), twist stiffness `G J`.
-//! - **Bending** ([`forces`]): Bergou's discrete curvature binormal at each node, energy in the
-//!   material frames of both adjacent segments against the rest curvature, forces its gradient
-//!   with the material axes held fixed. Node 0 bends against a **ghost segment** fixed in the
-//!   root frame along the first segment's rest direction: the root is clamped in direction (as a
-//!   follicle holds it) but not in twist.
-//! - **Quasistatic twist** ([`twist`]): before every substep, root to tip, each segment's twist
-//!   minimises its bending over the minor axis (a closed form), choosing among `θ`, `θ ± π` the
-//!   one of least elastic energy. A round section has no major axis: it keeps its rest twist.
-//!   Twist is not a dynamic variable.
-//! - **Step** ([`strand`]): explicit (symplectic Euler) integration of bending forces, gravity
-//!   and air drag with a short substep, then **projection** ([`project`]) to the nearest state, in
-//!   the kinetic-energy metric, that keeps every segment at its rest length, the root (and any
-//!   pinned node, kinematic: zero inverse mass) on the moving head and the penetrating nodes on
-//!   the head's surface ([`collide`]); velocities are the projected displacement over the
-//!   substep.
+//! - **Bending and twist energy** ([`forces`]): Bergou's discrete curvature binormal at each
+//!   node, bending energy in the material frames of both adjacent segments against the rest
+//!   curvature, twist energy `G J (m − m̄)² / (2 l̄)` of the twist `m` between neighbouring
+//!   segments. Node 0 joins a **ghost segment** fixed in the root frame along the first
+//!   segment's rest direction, with twist 0: the root is clamped in direction and in twist (as a
+//!   follicle holds it; seed 002 left the twist free at the root). The tip is free.
+//! - **Quasistatic elastic twist** ([`twist`]; Bergou et al. 2008, §"quasistatic material
+//!   frame"): before every substep the twist angles minimise bending plus twist energy for the
+//!   current centreline (Newton on a tridiagonal Hessian, warm-started from the last substep's
+//!   angles, which are state: [`RodSolver::twist`]). An elliptical section twists to bend over
+//!   its major axis where that costs less than bending the stiff way against `G J` and the
+//!   clamped root (a twist-buckling criterion, not a rule); its rest shape bends over its major
+//!   axes.
+//! - **Forces** ([`forces`]): the gradient of bending plus twist energy at the quasistatic twist
+//!   (envelope theorem): the bending gradient with the material axes carried by time-parallel
+//!   transport, plus the twist's holonomy term `−Σ G J (m − m̄)/l̄ ∇m` (Bergou et al. 2010,
+//!   "Discrete Viscous Threads"), so twist pushes on the centreline: a coil cannot trade its
+//!   pitch for torsion for free.
+//! - **Step** ([`strand`]): explicit (symplectic Euler) integration of the elastic forces,
+//!   gravity and air drag with a short substep, then **projection** ([`project`]) to the
+//!   nearest state, in the kinetic-energy metric, that keeps every segment at its rest length,
+//!   the root (and any pinned node, kinematic: zero inverse mass) on the moving head and the
+//!   penetrating nodes on the head's surface ([`collide`]); velocities are the projected
+//!   displacement over the substep.
 //!
-//! Cost: roughly 20× the mass-spring kernel per point-substep (f64, frames and twist per
-//! substep, a banded solve per projection iteration, 1.5–2 iterations per substep in hair-like
-//! motion); `cargo bench -p hair-core --bench rod_step` measures it.
+//! Cost: roughly 20× the mass-spring kernel per point-substep (f64, frames and a twist
+//! relaxation per substep, a banded solve per projection iteration, 1.5–2 iterations per
+//! substep in hair-like motion); `cargo bench -p hair-core --bench rod_step` measures it.
 //!
 //! # Time stepping
 //! A frame is `steps × substeps` substeps (the same [`SolverSettings`] as the mass-spring
@@ -45,16 +54,18 @@
 //! # Limits (what is not modelled)
 //! - Goal springs, force fields, hair–hair interaction and the mass-spring stretch parameters are
 //!   not used; gravity and air drag are taken from [`HairParams`].
-//! - The bending force holds the material axes fixed over a substep; the twist's dependence on
-//!   the positions enters at the next substep. Where a segment's major axis lies along both of
-//!   its nodes' bending axes (any planar bend) that is the exact gradient and the bending energy
-//!   is conserved to first order in the substep; where it cannot (a curl moving out of its
-//!   plane) energy is conserved only approximately (a curled 24 cm strand released without air
-//!   drag gained up to 3 % of `m g L` within a second) and air drag is needed.
-//! - The twist is the seed's: free, chosen geometrically. Twist energy (`G J`) only picks among
-//!   the candidate angles; it exerts no force and is not conserved. A partly straightened curl
-//!   can therefore turn out of its plane at no cost and coil (the model's curls are unstable
-//!   out of plane, like real curly hair under gravity).
+//! - Twist has no inertia: it is at equilibrium with the centreline at every substep (a hair's
+//!   torsional waves are much faster than its bending waves). Where the minimum of the energy in
+//!   the twist jumps (an elliptical strand snapping between twisted branches, or twist-buckling
+//!   off a stiff-axis bend) the force jumps with it and energy is lost, not gained. Every Newton
+//!   step goes downhill; a relaxation that has not converged after 40 evaluations keeps the
+//!   angles it reached.
+//! - Explicit steps keep the elastic energy to first order in the substep: an undamped strand
+//!   oscillates about its energy without drifting up (a released 24 cm helix, round or
+//!   elliptical, never rose above its starting energy in 2 s: its highest was 0.002 % of
+//!   `m g L` below it);
+//!   the projection only removes kinetic energy. The stability bound counts bending only: twist
+//!   adds a force proportional to the twist itself, small in hair.
 //! - Contacts are positional constraints without friction (the node keeps its tangential
 //!   velocity) and only solid colliders are supported. They are detected every substep, so the
 //!   fast-motion settings of [`crate::ContactSettings`] (`tolerance`, `max_steps`,

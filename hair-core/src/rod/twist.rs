@@ -380,13 +380,13 @@ fn newton_step(
         } else {
             0.0
         };
-        if !(pivot > floor) {
-            if !modified {
-                return Err((j, pivot));
-            }
+        // NaN counts as not positive.
+        if pivot > floor {
+            twist.pivot[j] = pivot;
+        } else if modified {
             twist.pivot[j] = floor.max(f64::MIN_POSITIVE);
         } else {
-            twist.pivot[j] = pivot;
+            return Err((j, pivot));
         }
         twist.step[j] = y;
         prev_pivot = twist.pivot[j];
