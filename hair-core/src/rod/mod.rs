@@ -66,6 +66,11 @@
 //!   `m g L` below it);
 //!   the projection only removes kinetic energy. The stability bound counts bending only: twist
 //!   adds a force proportional to the twist itself, small in hair.
+//! - The twist angles are state ([`RodSolver::twist`], the relaxation's starting point) that a
+//!   cache does not store: a run resumed from a cache (`hairsys simulate --resume`) restarts them
+//!   from the rest twist. The relaxation finds the same minimum to round-off, so the resumed
+//!   frames agree closely but not bit for bit, and an elliptical strand that had twist-buckled
+//!   may settle on the other branch.
 //! - Contacts are positional constraints without friction (the node keeps its tangential
 //!   velocity) and only solid colliders are supported. They are detected every substep, so the
 //!   fast-motion settings of [`crate::ContactSettings`] (`tolerance`, `max_steps`,
