@@ -57,9 +57,8 @@
 //! - Twist has no inertia: it is at equilibrium with the centreline at every substep (a hair's
 //!   torsional waves are much faster than its bending waves). Where the minimum of the energy in
 //!   the twist jumps (an elliptical strand snapping between twisted branches, or twist-buckling
-//!   off a stiff-axis bend) the force jumps with it and energy is lost, not gained. Every Newton
-//!   step goes downhill; a relaxation that has not converged after 40 evaluations keeps the
-//!   angles it reached.
+//!   off a stiff-axis bend) the force jumps with it, to a lower minimum: energy is lost. A
+//!   relaxation that has not converged after 40 evaluations keeps the angles it reached.
 //! - Explicit steps keep the elastic energy to first order in the substep: an undamped strand
 //!   oscillates about its energy without drifting up (a released 24 cm helix, round or
 //!   elliptical, never rose above its starting energy in 2 s: its highest was 0.002 % of

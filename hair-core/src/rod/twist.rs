@@ -17,12 +17,12 @@
 //! the difference of its segments' angles; `m̄_i` the rest twist, `l̄_i` the node's share of the
 //! rest length). The bending of node `i` seen from segment `j` depends on `θ_j` alone, the twist
 //! couples neighbours, so the Hessian `∂²E/∂θ²` is tridiagonal and `∂E/∂θ = 0` is solved by
-//! Newton's method ([`relax`]), warm-started from the previous substep's angles: one to three
-//! iterations in hair-like motion. Where the Hessian is not positive definite (an elliptical
-//! section bent over its stiff axis sits on a maximum of its bending energy in `θ`) the step
-//! uses the twist part plus the bending's curvature taken positive, at most an eighth of a turn,
-//! and a backtracking
-//! line search on the energy keeps every step downhill.
+//! Newton's method ([`relax`]), warm-started from the previous substep's angles. Where the
+//! Hessian is not positive definite (an elliptical section bent over its stiff axis sits on a
+//! maximum of its bending energy in `θ`) the step uses the twist part plus the bending's
+//! curvature taken positive, at most an eighth of a turn, and a backtracking line search on the
+//! energy keeps such steps (and any exact step longer than 0.1 rad) downhill; a stationary point that is not a minimum (a strand bent
+//! exactly over its stiff axis: twist buckling) is left along a direction of negative curvature.
 //!
 //! **Boundary conditions.** The root is **clamped in twist**: the follicle holds the ghost
 //! segment's material frame (`θ_ghost = 0`), so node 0's twist is `θ_0` and its bending is
