@@ -50,14 +50,10 @@ fn curly_truth_is_converged_in_time() {
     assert!(c.time_change < 0.1 * c.smallest_error, "{c:?}");
 }
 
-/// The brief's requirement, failing today: the rod's twist is geometric and exerts no torque
-/// (`hair_core::rod::twist`, "Limit"), so a round hair coiled as a helix can trade its pitch for
-/// torsion at no elastic cost: gravity pulls the coil open along a zero-energy family of shapes,
-/// and where it ends depends on the discretisation (measured: 32 → 64 segments moves the truth
-/// by 2.6 cm RMS). Passes once the rod's twist resists with `G J`.
+/// The rod's twist is elastic (`hair_core::rod::twist`): `G J` resists a coil trading its pitch
+/// for torsion, so the curly truth has one answer, which finer segments approach. (With the
+/// seed's geometric twist, which exerted no torque, 32 → 64 segments moved it 2.6 cm RMS.)
 #[test]
-#[ignore = "fails: the rod's twist exerts no torque, so the curly truth does not converge in \
-            space (cargo test -p hairsys-cli --test bench_cases -- --ignored)"]
 fn curly_truth_is_converged_in_space() {
     let case = cases::curly().unwrap();
     let c = truth_of(&case);
@@ -150,10 +146,11 @@ fn curly_curl_kept_is_measured_and_the_rod_keeps_the_curl() {
 fn rod_error_falls_as_its_segments_double() {
     // The spatial convergence of a model against the truth: the rod at its automatic substeps
     // at 4, 8 and 16 segments per strand (the truths are at 20 and 32).
-    // The curly truth is not converged in space (`curly_truth_is_converged_in_space`), so its
-    // axis says nothing about the rod's spatial convergence; the cantilever's and the drape's
-    // truths are.
-    for case in [cases::cantilever().unwrap(), cases::drape().unwrap()] {
+    for case in [
+        cases::cantilever().unwrap(),
+        cases::curly().unwrap(),
+        cases::drape().unwrap(),
+    ] {
         let truth = hairsys_cli::bench::truth::truth(&case, 512).unwrap();
         let methods: Vec<Box<dyn Method>> = vec![Box::new(Rod { iterations: 8 })];
         let quiet = Progress::new(0, true, false, "test");

@@ -66,6 +66,7 @@ fn cantilever_under_tip_moment_follows_the_analytic_arc() {
             tolerance: 1e-10,
             colliders: None,
             external: Some(&external),
+            torque: None,
         };
         let out = rod.substep(&mut state, &input, &mut ws);
         assert!(out.projection.converged, "{out:?}");

@@ -162,6 +162,7 @@ pub fn run(iterations: u32, dt: f64, rotation: f64) -> TipMomentRun {
             tolerance: TOLERANCE,
             colliders: None,
             external: Some(&external),
+            torque: None,
         };
         let o = rod.substep(&mut state, &input, &mut ws);
         out.substeps = k + 1;

@@ -1,9 +1,10 @@
-//! Bending energy and forces of the discrete rod (Bergou et al. 2008), with the elliptical
-//! cross-section's two stiffnesses.
+//! Bending and twisting forces of the discrete rod (Bergou et al. 2008), with the elliptical
+//! cross-section's two bending stiffnesses.
 //!
 //! Node `i` (joining segment `i − 1`, or the ghost for `i = 0`, and segment `i`) stores bending
-//! energy measured in the material frame of each of its two segments and averaged (node 0 in
-//! segment 0's frame twice: the root fixes direction, not the cross-section's twist):
+//! energy measured in the material frame of each of its two segments and averaged (node 0 in the
+//! ghost's frame on the root side: the follicle clamps the root in direction and in twist, see
+//! [`super::twist`]):
 //!
 //! ```text
 //! E_i = 1/(4 l̄_i) Σ_{j ∈ {i−1, i}} [ E I₁ (κb_i·m1_j − κ̄1)² + E I₂ (κb_i·m2_j − κ̄2)² ]
@@ -13,12 +14,21 @@
 //! (half of each adjacent segment; node 0 only gets half of segment 0, so a uniform moment turns
 //! the first segment by half the angle of the others and the nodes lie on the exact arc). For a
 //! round section and a turn `φ` this is `E I (2 tan(φ/2))² / (2 l̄)`, the discrete
-//! `½ ∫ E I κ² ds`.
+//! `½ ∫ E I κ² ds`. The twist energy of node `i` is `G J (m_i − m̄_i)² / (2 l̄_i)`.
 //!
-//! Forces are `−∂E/∂x` with the material axes held fixed over the substep (the twist is
-//! quasistatic and recomputed before every substep, see [`super::twist`]); the derivative of
-//! `κb` is exact, so for a straight rest shape bending neither creates nor destroys energy to
-//! first order in the substep.
+//! Forces are `−dE/dx` at the quasistatic twist ([`super::twist::relax`]: `∂E/∂θ = 0`), which is
+//! the partial gradient with each segment's material frame carried by time-parallel transport
+//! (the envelope theorem, see [`super::twist`]):
+//! - **bending** ([`bending`]): the exact derivative of `κb`, with the axes held (their turn with
+//!   the tangent is along `t`, and `κb ⟂ t`);
+//! - **twisting** ([`twisting`]): the time-parallel frames' holonomy changes the twist,
+//!   `∂m_i/∂e_{i−1} = ∂m_i/∂e_i = κb_i / (2|e|)` (Bergou et al. 2010), so
+//!   `∇_{i−1} m_i = −κb_i/(2|e_{i−1}|)`, `∇_{i+1} m_i = κb_i/(2|e_i|)`, `∇_i m_i = −(both)` and the
+//!   force is `−Σ_i G J (m_i − m̄_i)/l̄_i ∇m_i`.
+//!
+//! Their sum is the gradient of the energy with the twist re-minimised (a unit test of
+//! [`super::strand`] checks it against finite differences), so an undamped strand conserves its
+//! energy up to the integrator's bounded oscillation, in or out of its plane.
 
 use super::frames::{EdgeFrames, Ghost, FOLD_CAP, V3};
 use super::stiffness::Stiffness;
@@ -50,11 +60,15 @@ pub fn side_energy(
 }
 
 /// The material axes of both sides of node `i`, from the axes per segment. Node 0 is measured
-/// in segment 0's frame on both sides: the root holds the strand's position and direction, not
-/// the twist of its cross-section (which is quasistatic and free).
+/// in the ghost's material frame (twist 0: the follicle holds it) on the root side.
 #[inline]
-pub fn node_axes(i: usize, axes: &[(V3, V3)]) -> [(V3, V3); 2] {
-    [axes[i.saturating_sub(1)], axes[i]]
+pub fn node_axes(i: usize, axes: &[(V3, V3)], ghost: &Ghost) -> [(V3, V3); 2] {
+    let a = if i == 0 {
+        (ghost.u, ghost.v())
+    } else {
+        axes[i - 1]
+    };
+    [a, axes[i]]
 }
 
 /// Adds the bending forces (N) of every node to `force` and returns the bending energy (J).
@@ -76,7 +90,7 @@ pub fn bending(
     for i in 0..n {
         let kb = frames.kb[i];
         let lbar = voronoi[i];
-        let sides = node_axes(i, axes);
+        let sides = node_axes(i, axes, ghost);
         let mut g = V3::zeros();
         for ((m1, m2), r) in sides.iter().zip([rest[i].a, rest[i].b]) {
             let d1 = kb.dot(m1) - r[0];
@@ -101,6 +115,40 @@ pub fn bending(
         }
         force[i] += d_eb;
         force[i + 1] -= d_eb;
+    }
+    energy
+}
+
+/// Adds the twisting forces (N) of every node to `force` and returns the twist energy (J):
+/// `theta` the twist angles per segment (rad, the quasistatic ones), `rest_twist` and `voronoi`
+/// per node (rad, m); the root's ghost has twist 0 and is fixed, so node 0's twist depends on
+/// segment 0 alone.
+pub fn twisting(
+    frames: &EdgeFrames,
+    theta: &[f64],
+    rest_twist: &[f64],
+    voronoi: &[f64],
+    stiffness: &Stiffness,
+    force: &mut [V3],
+) -> f64 {
+    let mut energy = 0.0;
+    let mut prev = 0.0;
+    for (i, &th) in theta.iter().enumerate() {
+        let d = th - prev - rest_twist[i];
+        prev = th;
+        let torque = stiffness.twist * d / voronoi[i];
+        energy += 0.5 * torque * d;
+        let kb = frames.kb[i];
+        // ∇_{i+1} m_i = κb/(2|e_i|) from segment i; −(it) at node i.
+        let g_next = kb * (0.5 / frames.length[i]);
+        force[i + 1] -= g_next * torque;
+        force[i] += g_next * torque;
+        if i > 0 {
+            // ∇_{i−1} m_i = −κb/(2|e_{i−1}|) from segment i − 1; −(it) at node i.
+            let g_prev = kb * (0.5 / frames.length[i - 1]);
+            force[i - 1] += g_prev * torque;
+            force[i] -= g_prev * torque;
+        }
     }
     energy
 }
@@ -167,7 +215,7 @@ mod tests {
         let per_segment: Vec<_> = (0..6)
             .map(|j| material(&frames.u[j], &frames.v[j], theta[j]))
             .collect();
-        let axes: Vec<_> = (0..6).map(|i| node_axes(i, &per_segment)).collect();
+        let axes: Vec<_> = (0..6).map(|i| node_axes(i, &per_segment, &ghost)).collect();
         let mut force = vec![V3::zeros(); 7];
         let e = bending(
             &x,

@@ -14,25 +14,34 @@
 //!   frame (the cross-section's axes) as a scalar twist angle on it.
 //! - **Elliptical cross-section** ([`stiffness`]): bending stiffness `E I₁ = E π a b³/4` over the
 //!   major axis and `E I₂ = E π a³ b/4` over the minor axis (`a ≥ b`), twist stiffness `G J`.
-//! - **Bending** ([`forces`]): Bergou's discrete curvature binormal at each node, energy in the
-//!   material frames of both adjacent segments against the rest curvature, forces its gradient
-//!   with the material axes held fixed. Node 0 bends against a **ghost segment** fixed in the
-//!   root frame along the first segment's rest direction: the root is clamped in direction (as a
-//!   follicle holds it) but not in twist.
-//! - **Quasistatic twist** ([`twist`]): before every substep, root to tip, each segment's twist
-//!   minimises its bending over the minor axis (a closed form), choosing among `θ`, `θ ± π` the
-//!   one of least elastic energy. A round section has no major axis: it keeps its rest twist.
-//!   Twist is not a dynamic variable.
-//! - **Step** ([`strand`]): explicit (symplectic Euler) integration of bending forces, gravity
-//!   and air drag with a short substep, then **projection** ([`project`]) to the nearest state, in
-//!   the kinetic-energy metric, that keeps every segment at its rest length, the root (and any
-//!   pinned node, kinematic: zero inverse mass) on the moving head and the penetrating nodes on
-//!   the head's surface ([`collide`]); velocities are the projected displacement over the
-//!   substep.
+//! - **Bending and twist energy** ([`forces`]): Bergou's discrete curvature binormal at each
+//!   node, bending energy in the material frames of both adjacent segments against the rest
+//!   curvature, twist energy `G J (m − m̄)² / (2 l̄)` of the twist `m` between neighbouring
+//!   segments. Node 0 joins a **ghost segment** fixed in the root frame along the first
+//!   segment's rest direction, with twist 0: the root is clamped in direction and in twist (as a
+//!   follicle holds it; seed 002 left the twist free at the root). The tip is free.
+//! - **Quasistatic elastic twist** ([`twist`]; Bergou et al. 2008, §"quasistatic material
+//!   frame"): before every substep the twist angles minimise bending plus twist energy for the
+//!   current centreline (Newton on a tridiagonal Hessian, warm-started from the last substep's
+//!   angles, which are state: [`RodSolver::twist`]). An elliptical section twists to bend over
+//!   its major axis where that costs less than bending the stiff way against `G J` and the
+//!   clamped root (a twist-buckling criterion, not a rule); its rest shape bends over its major
+//!   axes.
+//! - **Forces** ([`forces`]): the gradient of bending plus twist energy at the quasistatic twist
+//!   (envelope theorem): the bending gradient with the material axes carried by time-parallel
+//!   transport, plus the twist's holonomy term `−Σ G J (m − m̄)/l̄ ∇m` (Bergou et al. 2010,
+//!   "Discrete Viscous Threads"), so twist pushes on the centreline: a coil cannot trade its
+//!   pitch for torsion for free.
+//! - **Step** ([`strand`]): explicit (symplectic Euler) integration of the elastic forces,
+//!   gravity and air drag with a short substep, then **projection** ([`project`]) to the
+//!   nearest state, in the kinetic-energy metric, that keeps every segment at its rest length,
+//!   the root (and any pinned node, kinematic: zero inverse mass) on the moving head and the
+//!   penetrating nodes on the head's surface ([`collide`]); velocities are the projected
+//!   displacement over the substep.
 //!
-//! Cost: roughly 20× the mass-spring kernel per point-substep (f64, frames and twist per
-//! substep, a banded solve per projection iteration, 1.5–2 iterations per substep in hair-like
-//! motion); `cargo bench -p hair-core --bench rod_step` measures it.
+//! Cost: roughly 20× the mass-spring kernel per point-substep (f64, frames and a twist
+//! relaxation per substep, a banded solve per projection iteration, 1.5–2 iterations per
+//! substep in hair-like motion); `cargo bench -p hair-core --bench rod_step` measures it.
 //!
 //! # Time stepping
 //! A frame is `steps × substeps` substeps (the same [`SolverSettings`] as the mass-spring
@@ -45,16 +54,22 @@
 //! # Limits (what is not modelled)
 //! - Goal springs, force fields, hair–hair interaction and the mass-spring stretch parameters are
 //!   not used; gravity and air drag are taken from [`HairParams`].
-//! - The bending force holds the material axes fixed over a substep; the twist's dependence on
-//!   the positions enters at the next substep. Where a segment's major axis lies along both of
-//!   its nodes' bending axes (any planar bend) that is the exact gradient and the bending energy
-//!   is conserved to first order in the substep; where it cannot (a curl moving out of its
-//!   plane) energy is conserved only approximately (a curled 24 cm strand released without air
-//!   drag gained up to 3 % of `m g L` within a second) and air drag is needed.
-//! - The twist is the seed's: free, chosen geometrically. Twist energy (`G J`) only picks among
-//!   the candidate angles; it exerts no force and is not conserved. A partly straightened curl
-//!   can therefore turn out of its plane at no cost and coil (the model's curls are unstable
-//!   out of plane, like real curly hair under gravity).
+//! - Twist has no inertia: it is at equilibrium with the centreline at every substep (a hair's
+//!   torsional waves are much faster than its bending waves). Where the minimum of the energy in
+//!   the twist jumps (an elliptical strand snapping between twisted branches, or twist-buckling
+//!   off a stiff-axis bend) the force jumps with it, to a lower minimum: energy is lost. A
+//!   relaxation that has not converged after 40 evaluations keeps the angles it reached.
+//! - Explicit steps keep the elastic energy to first order in the substep: an undamped strand
+//!   oscillates about its energy without drifting up (a released 24 cm helix, round or
+//!   elliptical, never rose above its starting energy in 2 s: its highest was 0.002 % of
+//!   `m g L` below it);
+//!   the projection only removes kinetic energy. The stability bound counts bending only: twist
+//!   adds a force proportional to the twist itself, small in hair.
+//! - The twist angles are state ([`RodSolver::twist`], the relaxation's starting point) that a
+//!   cache does not store: a run resumed from a cache (`hairsys simulate --resume`) restarts them
+//!   from the rest twist. The relaxation finds the same minimum to round-off, so the resumed
+//!   frames agree closely but not bit for bit, and an elliptical strand that had twist-buckled
+//!   may settle on the other branch.
 //! - Contacts are positional constraints without friction (the node keeps its tangential
 //!   velocity) and only solid colliders are supported. They are detected every substep, so the
 //!   fast-motion settings of [`crate::ContactSettings`] (`tolerance`, `max_steps`,
@@ -207,6 +222,9 @@ pub struct RodSolver {
     frame: u32,
     /// Contact detection's memory per strand (see [`collide::Clearance`]).
     clearance: Vec<Vec<collide::Clearance>>,
+    /// Twist angles per strand and segment at the last substep's start, rad (state: the next
+    /// substep's relaxation starts from them).
+    theta: Vec<Vec<f64>>,
     /// The colliders that memory belongs to (their shapes' addresses and versions: a deformed
     /// mesh invalidates it).
     clearance_key: Vec<usize>,
@@ -218,6 +236,8 @@ struct StrandOutcome {
     projection: ProjectionReport,
     contacts: u64,
     failure: Option<String>,
+    /// The twist at the last substep's start (empty on failure).
+    theta: Vec<f64>,
 }
 
 impl RodSolver {
@@ -279,13 +299,14 @@ impl RodSolver {
             params,
             rod,
             stiffness,
-            strands: rods,
             roots: strands.root_frames(scalp),
             substeps,
             dt_max,
             frame: start_frame,
             clearance: vec![Vec::new(); strands.len()],
             clearance_key: Vec::new(),
+            theta: rods.iter().map(|r| r.rest_twist().to_vec()).collect(),
+            strands: rods,
         })
     }
 
@@ -334,13 +355,16 @@ impl RodSolver {
         &self.roots
     }
 
+    /// Twist angles of strand `s`'s segments (rad, against their reference frames) at the last
+    /// substep's start.
+    pub fn twist(&self, s: usize) -> &[f64] {
+        &self.theta[s]
+    }
+
     /// Mechanical energy of `strands` with the roots of the current state, J: kinetic and
-    /// gravity of free points, and the rod's bending energy ([`Energy::bend`]) for the
-    /// quasistatic twist of the current shape. Summed strand by strand in index order.
-    ///
-    /// Twist energy is left out: the seed's twist is chosen geometrically (least minor-axis
-    /// bending), not by minimising energy, so it exerts no force and the dynamics does not
-    /// conserve it; [`RodStrand::energies`] reports it separately.
+    /// gravity of free points, and the rod's bending ([`Energy::bend`]) and twist
+    /// ([`Energy::twist`]) energy at the quasistatic twist of the current shape (relaxed from the
+    /// last substep's). Summed strand by strand in index order.
     pub fn energy(&self, strands: &StrandSet) -> Energy {
         let g: V3 = self.params.gravity().cast();
         let mut e = Energy::default();
@@ -361,8 +385,11 @@ impl RodSolver {
                 e.gravity -= m * g.dot(xi);
             }
             let root = Root::of(&self.roots[s]);
-            rod.update_twist(&x, &root, &self.stiffness, &mut ws);
-            e.bend += rod.energies(&x, &root, &self.stiffness, &mut ws).0;
+            ws.twist.theta.clone_from(&self.theta[s]);
+            rod.update_twist(&x, &root, &self.stiffness, &[], &mut ws);
+            let (bend, twist) = rod.energies(&x, &root, &self.stiffness, &mut ws);
+            e.bend += bend;
+            e.twist += twist;
         }
         e
     }
@@ -488,6 +515,7 @@ impl RodSolver {
                 let mut state = RodState {
                     x: xs.iter().map(|p| p.cast()).collect(),
                     v: vs.iter().map(|p| p.cast()).collect(),
+                    theta: this.theta[s].clone(),
                     clearance: std::mem::take(memory),
                 };
                 let mut out = StrandOutcome {
@@ -512,6 +540,7 @@ impl RodSolver {
                         tolerance: this.rod.projection_tolerance as f64,
                         colliders: colliders.map(|c| (c, b)),
                         external: None,
+                        torque: None,
                     };
                     let o = rod.substep(&mut state, &input, ws);
                     let p = &mut out.projection;
@@ -555,10 +584,16 @@ impl RodSolver {
                     *dst = src.cast();
                 }
                 out.projection.max_strain = max_strain(xs, rod.rest_lengths());
+                out.theta = state.theta;
                 out
             })
             .collect();
         self.clearance = clearance;
+        for (theta, o) in self.theta.iter_mut().zip(&outcomes) {
+            if o.failure.is_none() {
+                theta.clone_from(&o.theta);
+            }
+        }
         let mut projection = ProjectionReport {
             tolerance: self.rod.projection_tolerance as f64,
             ..Default::default()

@@ -1,5 +1,6 @@
 //! One strand of the rod model: its rest data ([`RodStrand`]) and one substep of it
-//! ([`RodStrand::substep`]): quasistatic twist, explicit step of the elastic forces and gravity,
+//! ([`RodStrand::substep`]): quasistatic elastic twist, explicit step of the bending and twisting
+//! forces and gravity,
 //! projection onto inextensibility, root coupling and head contacts, velocities from the
 //! projected positions.
 
@@ -7,10 +8,10 @@ use nalgebra::{UnitQuaternion, Vector3};
 
 use super::collide::{penetrating, Clearance};
 use super::forces::{self, NodeRest};
-use super::frames::{transport, EdgeFrames, Ghost, V3};
+use super::frames::{material, transport, EdgeFrames, Ghost, V3};
 use super::project::{self, Contact, Projection};
 use super::stiffness::Stiffness;
-use super::twist::{self, Twist, TwistRest};
+use super::twist::{self, Relaxation, Twist, TwistRest};
 use crate::contacts::Colliders;
 use crate::mesh::RootFrame;
 
@@ -50,20 +51,24 @@ pub struct RodStrand {
     voronoi: Vec<f64>,
     bend: Vec<NodeRest>,
     twist: Vec<f64>,
+    rest_theta: Vec<f64>,
     ghost_t: V3,
     ghost_u: V3,
     inv_mass: Vec<f64>,
     radius: Vec<f32>,
 }
 
-/// Positions (m) and velocities (m/s) of one strand's nodes, world, f64, and what contact
-/// detection remembers of them.
+/// Positions (m) and velocities (m/s) of one strand's nodes, world, f64, the twist of its
+/// segments and what contact detection remembers of them.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct RodState {
     /// Node positions, m.
     pub x: Vec<V3>,
     /// Node velocities, m/s.
     pub v: Vec<V3>,
+    /// Twist angle per segment (rad, against its reference frame) at the last substep's start:
+    /// the next relaxation starts from it (empty: from the rest twist).
+    pub theta: Vec<f64>,
     /// Clearance per node and collider (see [`Clearance`]); empty until contacts are detected.
     pub clearance: Vec<Clearance>,
 }
@@ -75,7 +80,8 @@ pub struct Workspace {
     pub frames: EdgeFrames,
     /// Twist per segment.
     pub twist: Twist,
-    force: Vec<V3>,
+    /// Elastic forces per node, N (of the last [`RodStrand::energies`]).
+    pub force: Vec<V3>,
     x_old: Vec<V3>,
     contacts: Vec<Contact>,
     project: project::Scratch,
@@ -104,6 +110,8 @@ pub struct Substep<'a> {
     pub colliders: Option<(&'a Colliders, f32)>,
     /// Extra forces per node, N (tests apply moments with them), or none.
     pub external: Option<&'a [V3]>,
+    /// Twisting moments about each segment's axis, N·m (tests twist the tip with them), or none.
+    pub torque: Option<&'a [f64]>,
 }
 
 /// What one substep did.
@@ -117,6 +125,8 @@ pub struct SubstepOutcome {
     pub iterations: u32,
     /// Contact constraints in force at the end.
     pub contacts: usize,
+    /// The twist's relaxation at the substep's start.
+    pub twist: Relaxation,
 }
 
 impl RodStrand {
@@ -163,27 +173,31 @@ impl RodStrand {
             voronoi,
             bend: vec![NodeRest::default(); n],
             twist: vec![0.0; n],
+            rest_theta: Vec::with_capacity(n),
             ghost_t,
             ghost_u,
             inv_mass: inv_mass.iter().map(|&w| w as f64).collect(),
             radius: radius.to_vec(),
         };
-        // Rest twist: the quasistatic twist of the rest shape against a straight, untwisted rest.
+        // The rest shape's material frame: the reference frame for a round section, the major
+        // axes on the rest bending axes for an elliptical one (see twist::rest_angles).
         let ghost = strand.ghost(&Root {
             origin: V3::zeros(),
             rotation: UnitQuaternion::identity(),
         });
         let mut frames = EdgeFrames::default();
         frames.update(&strand.rest_local, &ghost);
-        let mut rest_twist = Twist::default();
-        twist::quasistatic(&frames, &strand.twist_rest(), stiffness, &mut rest_twist);
+        twist::rest_angles(&frames, &strand.voronoi, stiffness, &mut strand.rest_theta);
         let mut prev = 0.0;
-        for (twist, &th) in strand.twist.iter_mut().zip(&rest_twist.theta) {
+        for (twist, &th) in strand.twist.iter_mut().zip(&strand.rest_theta) {
             *twist = th - prev;
             prev = th;
         }
+        let axes: Vec<(V3, V3)> = (0..n)
+            .map(|j| material(&frames.u[j], &frames.v[j], strand.rest_theta[j]))
+            .collect();
         for i in 0..n {
-            let [(a1, a2), (b1, b2)] = forces::node_axes(i, &rest_twist.axes);
+            let [(a1, a2), (b1, b2)] = forces::node_axes(i, &axes, &ghost);
             let kb = frames.kb[i];
             strand.bend[i] = NodeRest {
                 a: [kb.dot(&a1), kb.dot(&a2)],
@@ -225,19 +239,45 @@ impl RodStrand {
         RodState {
             x: self.rest_local.iter().map(|p| root.to_world(p)).collect(),
             v: vec![V3::zeros(); self.nodes()],
+            theta: self.rest_theta.clone(),
             clearance: Vec::new(),
         }
     }
 
-    /// Updates the frames and the quasistatic twist of `ws` for positions `x` and root `root`.
-    pub fn update_twist(&self, x: &[V3], root: &Root, stiffness: &Stiffness, ws: &mut Workspace) {
-        let ghost = self.ghost(root);
-        ws.frames.update(x, &ghost);
-        twist::quasistatic(&ws.frames, &self.twist_rest(), stiffness, &mut ws.twist);
+    /// The rest shape's twist angle per segment, rad, against its reference frame.
+    pub fn rest_twist(&self) -> &[f64] {
+        &self.rest_theta
     }
 
-    /// Bending energy (J) and twist energy (J) of `x` with the twist of `ws` (call
-    /// [`RodStrand::update_twist`] first).
+    /// Updates the frames of `ws` for positions `x` and root `root`, and relaxes the twist of
+    /// `ws` (starting from `ws.twist.theta`, or from the rest twist if its length is not the
+    /// segment count) to the minimum of the elastic energy, with twisting moments `torque`
+    /// (N·m per segment, or empty).
+    pub fn update_twist(
+        &self,
+        x: &[V3],
+        root: &Root,
+        stiffness: &Stiffness,
+        torque: &[f64],
+        ws: &mut Workspace,
+    ) -> Relaxation {
+        let ghost = self.ghost(root);
+        ws.frames.update(x, &ghost);
+        if ws.twist.theta.len() != self.rest_theta.len() {
+            ws.twist.theta.clone_from(&self.rest_theta);
+        }
+        twist::relax(
+            &ws.frames,
+            &self.twist_rest(),
+            stiffness,
+            torque,
+            &mut ws.twist,
+        )
+    }
+
+    /// Bending energy (J) and twist energy (J) of `x` with the frames and twist of `ws` (call
+    /// [`RodStrand::update_twist`] first), and their forces (N, `−dE/dx` at that twist) into
+    /// `ws`'s force buffer ([`Workspace::force`]).
     pub fn energies(
         &self,
         x: &[V3],
@@ -258,16 +298,23 @@ impl RodStrand {
             stiffness,
             &mut ws.force,
         );
-        (
-            bend,
-            twist::energy(&ws.twist.theta, &self.twist_rest(), stiffness),
-        )
+        let twist = forces::twisting(
+            &ws.frames,
+            &ws.twist.theta,
+            &self.twist,
+            &self.voronoi,
+            stiffness,
+            &mut ws.force,
+        );
+        (bend, twist)
     }
 
     /// Largest bending over the minor axis relative to the largest bending, over the interior
     /// nodes, for the twist of `ws` (see [`twist::minor_axis_bending`]).
-    pub fn minor_axis_bending(&self, ws: &Workspace) -> f64 {
-        twist::minor_axis_bending(&ws.frames, &ws.twist)
+    /// `from` is the first node counted (nodes near the clamped root bend partly over the minor
+    /// axis where the twist cannot yet turn).
+    pub fn minor_axis_bending(&self, ws: &Workspace, from: usize) -> f64 {
+        twist::minor_axis_bending(&ws.frames, &ws.twist, from)
     }
 
     /// The material axes `(m1, m2)` of segment `j` for the twist of `ws`.
@@ -284,20 +331,20 @@ impl RodStrand {
     ) -> SubstepOutcome {
         let n = self.nodes();
         let dt = input.dt;
-        self.update_twist(&state.x, &input.root_start, input.stiffness, ws);
-        let ghost = self.ghost(&input.root_start);
-        ws.force.clear();
-        ws.force.resize(n, V3::zeros());
-        forces::bending(
+        if state.theta.len() == self.rest_theta.len() {
+            ws.twist.theta.clone_from(&state.theta);
+        } else {
+            ws.twist.theta.clone_from(&self.rest_theta);
+        }
+        let relaxation = self.update_twist(
             &state.x,
-            &ws.frames,
-            &ghost,
-            &ws.twist.axes,
-            &self.bend,
-            &self.voronoi,
+            &input.root_start,
             input.stiffness,
-            &mut ws.force,
+            input.torque.unwrap_or(&[]),
+            ws,
         );
+        state.theta.clone_from(&ws.twist.theta);
+        self.energies(&state.x, &input.root_start, input.stiffness, ws);
         if let Some(external) = input.external {
             for (f, e) in ws.force.iter_mut().zip(external) {
                 *f += e;
@@ -317,7 +364,10 @@ impl RodStrand {
             }
         }
         ws.contacts.clear();
-        let mut outcome = SubstepOutcome::default();
+        let mut outcome = SubstepOutcome {
+            twist: relaxation,
+            ..Default::default()
+        };
         for round in 0..CONTACT_ROUNDS {
             let added = match input.colliders {
                 Some((colliders, s)) => penetrating(
@@ -355,5 +405,96 @@ impl RodStrand {
             state.v[i] = (state.x[i] - ws.x_old[i]) / dt;
         }
         outcome
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Elastic energy (J) of `x` with the twist re-minimised from `theta`.
+    fn relaxed_energy(
+        rod: &RodStrand,
+        x: &[V3],
+        root: &Root,
+        s: &Stiffness,
+        theta: &[f64],
+        ws: &mut Workspace,
+    ) -> f64 {
+        ws.twist.theta = theta.to_vec();
+        let r = rod.update_twist(x, root, s, &[], ws);
+        assert!(r.converged, "{r:?}");
+        let (bend, twist) = rod.energies(x, root, s, ws);
+        bend + twist
+    }
+
+    #[test]
+    fn elastic_force_is_the_gradient_of_the_energy_with_the_twist_re_minimised() {
+        // A curled rest shape (a helix round root-local z), bent now out of its curl's plane
+        // and twisted: bending and twist both loaded. The force must be −dE/dx of the energy
+        // whose twist is minimised again at every perturbed shape, for an elliptical and a
+        // round section.
+        let n = 9;
+        let rest: Vec<Vector3<f32>> = (0..=n)
+            .map(|i| {
+                let a = 0.6 * i as f64;
+                Vector3::new(
+                    (0.03 * (1.0 - a.cos())) as f32,
+                    (0.03 * a.sin()) as f32,
+                    (0.012 * i as f64) as f32,
+                )
+            })
+            .collect();
+        let root = Root {
+            origin: V3::new(0.1, -0.2, 0.3),
+            rotation: UnitQuaternion::from_euler_angles(0.3, -0.5, 0.9),
+        };
+        for s in [
+            Stiffness {
+                major: 1e-4,
+                minor: 2.5e-4,
+                twist: 0.7e-4,
+            },
+            Stiffness::isotropic(1e-4, 0.77e-4),
+        ] {
+            let rod = RodStrand::new(&rest, &vec![1.0; n + 1], &vec![1e-3; n + 1], &s).unwrap();
+            let mut x = rod.rest_state(&root).x;
+            for (i, p) in x.iter_mut().enumerate().skip(1) {
+                let f = i as f64;
+                *p += V3::new(
+                    0.004 * (1.3 * f).sin(),
+                    -0.006 * (0.7 * f).cos(),
+                    0.005 * f.sqrt(),
+                ) * (f / n as f64);
+            }
+            let mut ws = Workspace::default();
+            let theta0 = rod.rest_twist().to_vec();
+            let e0 = relaxed_energy(&rod, &x, &root, &s, &theta0, &mut ws);
+            let theta = ws.twist.theta.clone();
+            let (bend, twist) = rod.energies(&x, &root, &s, &mut ws);
+            let force = ws.force.clone();
+            assert!((bend + twist - e0).abs() < 1e-15);
+            assert!(
+                twist > 0.01 * bend,
+                "twist {twist} J, bend {bend} J: the test must load twist"
+            );
+            let scale = force.iter().skip(1).fold(0.0f64, |a, f| a.max(f.norm()));
+            let h = 1e-7;
+            for k in 1..=n {
+                for c in 0..3 {
+                    let (mut xp, mut xm) = (x.clone(), x.clone());
+                    xp[k][c] += h;
+                    xm[k][c] -= h;
+                    let fd = -(relaxed_energy(&rod, &xp, &root, &s, &theta, &mut ws)
+                        - relaxed_energy(&rod, &xm, &root, &s, &theta, &mut ws))
+                        / (2.0 * h);
+                    assert!(
+                        (fd - force[k][c]).abs() < 1e-6 * scale,
+                        "{s:?} node {k} axis {c}: finite difference {fd}, force {} (largest {scale})",
+                        force[k][c]
+                    );
+                }
+            }
+        }
     }
 }

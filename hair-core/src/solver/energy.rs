@@ -23,12 +23,14 @@ pub struct Energy {
     pub goal: f64,
     /// −m g·x of free points (zero at the origin).
     pub gravity: f64,
+    /// `Σ G J (m − m̄)² / (2 l̄)` of the rod model's twist (zero for the other models).
+    pub twist: f64,
 }
 
 impl Energy {
     /// Sum of all kinds, J.
     pub fn total(&self) -> f64 {
-        self.kinetic + self.stretch + self.bend + self.goal + self.gravity
+        self.kinetic + self.stretch + self.bend + self.goal + self.gravity + self.twist
     }
 
     fn add(&mut self, o: &Energy) {
@@ -37,6 +39,7 @@ impl Energy {
         self.bend += o.bend;
         self.goal += o.goal;
         self.gravity += o.gravity;
+        self.twist += o.twist;
     }
 }
 
