@@ -4,8 +4,10 @@
 //! complete chunk are recovered from it ([`hair_cache::recover()`]); the run's state at the last
 //! recovered frame is its positions and velocities (stored exactly, as f32) plus the scalp at that
 //! frame, which the scene gives again. The solver restarts there, so the resumed cache's frames
-//! are bit-identical to those of an uninterrupted run. A `.partial` written from a different scene
-//! (scene hash) or another frame range is refused.
+//! are bit-identical to those of an uninterrupted run — except with the rod model
+//! (`model = "rod"`), whose twist angles are solver state the cache does not carry: they restart
+//! from the rest twist, and the resumed frames match to round-off (see `hair_core::rod`). A
+//! `.partial` written from a different scene (scene hash) or another frame range is refused.
 
 use std::path::Path;
 
