@@ -539,11 +539,12 @@ impl ScalpLift {
             // `allowed` since cannot be inside now (the scalp point its move crossed would lie
             // within `allowed` of it): if no scalp comes within `allowed` of it, it is clear,
             // and a search bounded to that reach says so at a fraction of a full search's cost.
-            let outside_before = memory
-                .as_deref()
-                .is_some_and(|m| m.heights[j] > 0.0 && (world[j] - m.points[j]).norm() < allowed);
+            let outside_before = skip_clear
+                && memory.as_deref().is_some_and(|m| {
+                    m.heights[j] > 0.0 && (world[j] - m.points[j]).norm() < allowed
+                });
             let mut first = None;
-            if skip_clear && outside_before {
+            if outside_before {
                 match surface.height_and_lift_within(&world[j], allowed, allowed) {
                     Some(found) => first = Some(found),
                     None => {

@@ -456,17 +456,14 @@ impl GuideAnimation {
         strands.rest_local_mut()[p0..p0 + posed.len()].copy_from_slice(&posed);
         let bend = &mut strands.bend_rest_mut()[s0..s0 + range.len() * (n - 1)];
         // (A hair of one point has no segment to turn; chunks of 0 would not be defined.)
-        bend.par_chunks_exact_mut((n - 1).max(1))
+        let segments = (n - 1).max(1);
+        bend.par_chunks_exact_mut(segments)
+            .zip(base.bend.par_chunks_exact(segments))
+            .zip(base.directions.par_chunks_exact(segments))
             .zip(posed.par_chunks_exact(n))
-            .enumerate()
-            .for_each(|(h, (bend, shape))| {
-                let seg = h * (n - 1)..(h + 1) * (n - 1);
+            .for_each(|(((bend, built), groom), shape)| {
                 let now = rest_directions(shape);
-                for ((out, (built, groom)), d) in bend
-                    .iter_mut()
-                    .zip(base.bend[seg.clone()].iter().zip(&base.directions[seg]))
-                    .zip(&now)
-                {
+                for (((out, built), groom), d) in bend.iter_mut().zip(built).zip(groom).zip(&now) {
                     *out = turned(built, groom, d);
                 }
             });

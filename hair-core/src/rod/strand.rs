@@ -331,11 +331,9 @@ impl RodStrand {
     ) -> SubstepOutcome {
         let n = self.nodes();
         let dt = input.dt;
-        if state.theta.len() == self.rest_theta.len() {
-            ws.twist.theta.clone_from(&state.theta);
-        } else {
-            ws.twist.theta.clone_from(&self.rest_theta);
-        }
+        // The relaxation starts from the state's twist (update_twist falls back on the rest
+        // twist while the state has none).
+        ws.twist.theta.clone_from(&state.theta);
         let relaxation = self.update_twist(
             &state.x,
             &input.root_start,

@@ -431,18 +431,6 @@ fn negative_curvature(twist: &mut Twist, rest: &TwistRest, s: &Stiffness, j: usi
     step.iter_mut().for_each(|z| *z *= scale);
 }
 
-/// Twist energy (J) of `theta` against the rest twist: `Σ G J (θ_j − θ_{j−1} − m̄_j)² / (2 l̄_j)`
-/// with `θ_{−1} = 0` (the clamped root).
-pub fn energy(theta: &[f64], rest: &TwistRest, stiffness: &Stiffness) -> f64 {
-    let mut prev = 0.0;
-    let mut e = 0.0;
-    for (j, &th) in theta.iter().enumerate() {
-        e += stiffness.twist * (th - prev - rest.twist[j]).powi(2) / (2.0 * rest.voronoi[j]);
-        prev = th;
-    }
-    e
-}
-
 /// Largest bending over the minor axis relative to the bending over the major axis, over the
 /// interior nodes `from..segments`: `max |κb·m2| / max |κb|` on both sides of each node (0 for
 /// a straight strand). Near 0 when every segment bends over its major axis.
