@@ -4,12 +4,13 @@
 //! substeps is timed, with stretch + bend + goal + gravity + drag, with and without the damping
 //! sub-loop (10 Jacobi iterations), with the sub-loop and the inextensibility projection, and
 //! with the sub-loop and a 1 % strain limit (soft springs that the limit holds), at 48 fps so dt
-//! is half the stability bound. Run: `cargo bench -p hair-core --bench strand_step`.
+//! is half the stability bound; and implicit Euler (`solver::implicit`) with the same strain
+//! limit and substep, whose cost per substep is what its larger usable step must repay. Run: `cargo bench -p hair-core --bench strand_step`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use hair_core::{
-    Anchor, HairParams, Inextensibility, RootFrame, Scalp, Solver, SolverSettings, StrandInput,
-    StrandSet, Substeps,
+    Anchor, HairParams, Inextensibility, Integrator, RootFrame, Scalp, Solver, SolverSettings,
+    StrandInput, StrandSet, Substeps,
 };
 use nalgebra::Vector3;
 
@@ -48,18 +49,28 @@ fn bench(c: &mut Criterion) {
         (base.point_count() as u64) * SUBSTEPS as u64,
     ));
     group.sample_size(20);
-    for (name, iterations, projection, max_strain) in [
-        ("no damping", 0, false, None),
-        ("damping 10 Jacobi", 10, false, None),
+    let explicit = Integrator::SemiImplicitEuler;
+    for (name, integrator, iterations, projection, max_strain) in [
+        ("no damping", explicit, 0, false, None),
+        ("damping 10 Jacobi", explicit, 10, false, None),
         (
             "damping 10 Jacobi + inextensibility projection",
+            explicit,
             10,
             true,
             None,
         ),
         (
             "damping 10 Jacobi + strain limit 1 %",
+            explicit,
             10,
+            false,
+            Some(0.01),
+        ),
+        (
+            "implicit Euler + strain limit 1 %",
+            Integrator::ImplicitEuler,
+            0,
             false,
             Some(0.01),
         ),
@@ -73,6 +84,7 @@ fn bench(c: &mut Criterion) {
         let settings = SolverSettings {
             substeps: Substeps::Fixed(SUBSTEPS),
             damping_iterations: iterations,
+            integrator,
             fps: 48.0,
             max_strain,
             ..SolverSettings::default()

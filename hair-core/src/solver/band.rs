@@ -1,36 +1,50 @@
-//! A symmetric positive definite banded system `A y = b` solved directly by band Cholesky, one
-//! strand per SIMD lane: the one banded solver of the strand integrators.
+//! A symmetric positive definite banded system `A y = b` solved directly by a band `L D Lᵀ`
+//! factorisation, one strand per SIMD lane: the one banded solver of the strand integrators.
 //!
 //! Both implicit integrators reduce a strand's step to a banded system, because a strand is a
 //! chain and its forces or constraints couple only points a few apart: implicit Euler
 //! ([`super::implicit`]) solves a block-pentadiagonal system in the velocity change (3×3 blocks,
 //! half-width 8), XPBD ([`super::xpbd`]) one in the constraint multipliers (bending and stretch,
-//! 4×4 blocks, half-width 11). Dense Cholesky would cost `O(n³)`; keeping the factor inside the
-//! band costs `3n · W²/2` multiply–adds for `W − 1` the half-width (Golub and Van Loan, *Matrix
-//! Computations*, §4.3.5), linear in the strand's length, and each operation advances the eight
-//! strands of a group at once like the rest of the kernel.
+//! 4×4 blocks, half-width 11). Dense elimination would cost `O(n³)`; keeping the factor inside
+//! the band costs `n · W²/2` multiply–adds for `W − 1` the half-width (Golub and Van Loan,
+//! *Matrix Computations*, §4.3.5), linear in the strand's length, and each operation advances
+//! the eight strands of a group at once like the rest of the kernel.
+//!
+//! # Why right-looking `L D Lᵀ`
+//!
+//! Each lane is one strand, so there is no parallelism across strands left for the CPU to find:
+//! what limits the factorisation is the longest chain of dependent operations, not their count.
+//! A row-by-row (left-looking) Cholesky computes each entry of a row from the one before it
+//! through a dot product, and takes a square root and a division per row: about 200 cycles of
+//! latency per row of a half-width-8 band, most of the implicit substep. Eliminating column by
+//! column instead (right-looking), the `W(W − 1)/2` updates of the trailing window are
+//! independent of one another, and the chain from one pivot to the next is one division, one
+//! multiplication and one multiply–subtract; `L D Lᵀ` (unit `L`) needs no square root. The
+//! substitutions are ordered the same way: each solved unknown is subtracted from the rows below
+//! it at once (forward), and each row's dot product adds its newest term last (back).
 //!
 //! Storage: row `r` holds `W` entries, entry `d` is `A(r, r − d)` (the lower band, diagonal
-//! first), overwritten by the factor `L(r, r − d)` with `A = L Lᵀ`.
+//! first), overwritten by `L(r, r − d)` below the diagonal and `D(r)` on it, with `A = L D Lᵀ`.
 //!
-//! A row whose pivot falls below `10⁻⁶` of its diagonal (a matrix singular in f32 round-off, as
+//! A pivot that falls below `10⁻⁶` of its row's diagonal (a matrix singular in f32 round-off, as
 //! a straight joint's curvature constraint is along its own tangent when the joint is very stiff
-//! for the step) takes that floor as its pivot: the solve stays finite, and the solution is
-//! that of a matrix changed by less than the round-off already in it.
+//! for the step) takes that floor: the solve stays finite, and the solution is that of a matrix
+//! changed by less than the round-off already in it.
 
 use super::lanes::{splat, Lane};
 
-/// The band Cholesky factor of a symmetric positive definite matrix whose entries vanish more
+/// The band `L D Lᵀ` factor of a symmetric positive definite matrix whose entries vanish more
 /// than `W − 1` rows off the diagonal, per lane.
 #[derive(Default)]
-pub(crate) struct BandCholesky<L: Lane, const W: usize> {
-    /// Row `r`: entry `d` is `A(r, r − d)`, after [`Self::factor`] `L(r, r − d)`.
+pub(crate) struct BandLdlt<L: Lane, const W: usize> {
+    /// Row `r`: entry `d` is `A(r, r − d)`; after [`Self::factor`], `L(r, r − d)` for `d > 0`
+    /// and `D(r)` for `d = 0`.
     rows: Vec<[L; W]>,
-    /// `1 / L(r, r)` per row, after [`Self::factor`].
+    /// The matrix's diagonal, then `1 / D(r)` per row after [`Self::factor`].
     inv_pivot: Vec<L>,
 }
 
-impl<L: Lane, const W: usize> BandCholesky<L, W> {
+impl<L: Lane, const W: usize> BandLdlt<L, W> {
     /// Sets the matrix to zero with `rows` rows.
     #[inline(always)]
     pub fn reset(&mut self, rows: usize) {
@@ -47,30 +61,25 @@ impl<L: Lane, const W: usize> BandCholesky<L, W> {
         &mut self.rows[r]
     }
 
-    /// Factors the matrix in place, `A = L Lᵀ` (module docs).
+    /// Factors the matrix in place, `A = L D Lᵀ` (module docs).
     #[inline(always)]
     pub fn factor(&mut self) {
-        let floor = splat::<L>(1e-6);
-        let one = splat::<L>(1.0);
-        for r in 0..self.rows.len() {
-            let reach = r.min(W - 1);
-            // L(r, c) = (A(r, c) − Σ_{c' < c} L(r, c') L(c, c')) / L(c, c), c = r − d.
-            for d in (1..=reach).rev() {
-                let c = r - d;
-                let mut acc = self.rows[r][d];
-                for m in d + 1..=reach {
-                    acc -= self.rows[r][m] * self.rows[c][m - d];
-                }
-                self.rows[r][d] = acc * self.inv_pivot[c];
-            }
-            let diagonal = self.rows[r][0];
-            let mut acc = diagonal;
-            for m in 1..=reach {
-                acc -= self.rows[r][m] * self.rows[r][m];
-            }
-            let pivot = acc.max(diagonal * floor).sqrt();
-            self.rows[r][0] = pivot;
-            self.inv_pivot[r] = one / pivot;
+        let rows = self.rows.len();
+        for (diagonal, row) in self.inv_pivot.iter_mut().zip(&self.rows) {
+            *diagonal = row[0];
+        }
+        // Columns with W − 1 rows below them: a window of constant size, so the updates unroll
+        // into independent operations without bounds checks.
+        let full = rows.saturating_sub(W - 1);
+        for c in 0..full {
+            let window: &mut [[L; W]; W] = (&mut self.rows[c..c + W])
+                .try_into()
+                .expect("the window holds W rows");
+            self.inv_pivot[c] = eliminate(window, self.inv_pivot[c]);
+        }
+        for c in full..rows {
+            let window = &mut self.rows[c..];
+            self.inv_pivot[c] = eliminate(window, self.inv_pivot[c]);
         }
     }
 
@@ -79,22 +88,64 @@ impl<L: Lane, const W: usize> BandCholesky<L, W> {
     pub fn solve(&self, b: &mut [L]) {
         let rows = self.rows.len();
         debug_assert_eq!(b.len(), rows);
-        // Forward (L z = b) and back (Lᵀ y = z) substitution.
-        for r in 0..rows {
-            let mut acc = b[r];
-            for m in 1..=r.min(W - 1) {
-                acc -= self.rows[r][m] * b[r - m];
+        let full = rows.saturating_sub(W - 1);
+        // Forward, L z = b: each solved z(c) leaves the rows below at once.
+        for c in 0..full {
+            let z = b[c];
+            let window: &[[L; W]; W] = (&self.rows[c..c + W]).try_into().expect("W rows");
+            let below: &mut [L; W] = (&mut b[c..c + W]).try_into().expect("W rows");
+            for i in 1..W {
+                below[i] -= window[i][i] * z;
             }
-            b[r] = acc * self.inv_pivot[r];
         }
-        for r in (0..rows).rev() {
-            let mut acc = b[r];
-            for m in 1..=(rows - 1 - r).min(W - 1) {
+        for c in full..rows {
+            let z = b[c];
+            for i in 1..rows - c {
+                b[c + i] -= self.rows[c + i][i] * z;
+            }
+        }
+        // D w = z, then back, Lᵀ y = w: the newest term y(r + 1) last in each row's sum.
+        for r in (full..rows).rev() {
+            let mut acc = b[r] * self.inv_pivot[r];
+            for m in (1..rows - r).rev() {
                 acc -= self.rows[r + m][m] * b[r + m];
             }
-            b[r] = acc * self.inv_pivot[r];
+            b[r] = acc;
+        }
+        for r in (0..full).rev() {
+            let window: &[[L; W]; W] = (&self.rows[r..r + W]).try_into().expect("W rows");
+            let below: &mut [L; W] = (&mut b[r..r + W]).try_into().expect("W rows");
+            let mut acc = below[0] * self.inv_pivot[r];
+            for m in (1..W).rev() {
+                acc -= window[m][m] * below[m];
+            }
+            below[0] = acc;
         }
     }
+}
+
+/// Eliminates the column of `window[0]`'s pivot from the rows below it in `window` (at most
+/// `W − 1`): `D(c)` from the updated diagonal (floored at `10⁻⁶` of the matrix's `diagonal`
+/// there), `L(c + i, c) = A(c + i, c) / D(c)` and `A(c + i, c + j) −= L(c + i, c) A(c + j, c)`.
+/// Returns `1 / D(c)`.
+#[inline(always)]
+fn eliminate<L: Lane, const W: usize>(window: &mut [[L; W]], diagonal: L) -> L {
+    let pivot = window[0][0].max(diagonal * splat(1e-6));
+    let inv = splat::<L>(1.0) / pivot;
+    window[0][0] = pivot;
+    // `A(c + i, c)` before scaling: the updates need the unscaled column.
+    let mut column = [L::default(); W];
+    for (i, row) in window.iter().enumerate().skip(1) {
+        column[i] = row[i];
+    }
+    for (i, row) in window.iter_mut().enumerate().skip(1) {
+        let l = column[i] * inv;
+        for j in 1..i + 1 {
+            row[i - j] -= l * column[j];
+        }
+        row[i] = l;
+    }
+    inv
 }
 
 #[cfg(test)]
@@ -103,7 +154,7 @@ mod tests {
     use super::*;
 
     /// A random symmetric positive definite matrix of half-width `W − 1`, solved by
-    /// [`BandCholesky`], satisfies `A y = b` (multiplied back densely).
+    /// [`BandLdlt`], satisfies `A y = b` (multiplied back densely).
     fn solves_random_band<const W: usize>(rows: usize) {
         let mut seed = 2468u32;
         let mut rand = || {
@@ -121,7 +172,7 @@ mod tests {
             // Diagonally dominant, so positive definite.
             dense[r][r] = 2.0 * W as f32 + rand();
         }
-        let mut band = BandCholesky::<Baseline, W>::default();
+        let mut band = BandLdlt::<Baseline, W>::default();
         band.reset(rows);
         for r in 0..rows {
             for d in 0..=r.min(W - 1) {
@@ -152,7 +203,7 @@ mod tests {
     /// A matrix singular along one direction (rank-deficient by round-off) gives a finite solve.
     #[test]
     fn singular_matrix_gives_a_finite_solution() {
-        let mut band = BandCholesky::<Baseline, 2>::default();
+        let mut band = BandLdlt::<Baseline, 2>::default();
         band.reset(2);
         // [[1, 1], [1, 1]]: the second pivot is 0.
         band.row_mut(0)[0] = splat(1.0);

@@ -55,7 +55,7 @@
 //!
 //! The matrix is symmetric positive definite (masses plus positive semi-definite stiffness and
 //! damping), block-pentadiagonal with 3×3 blocks, i.e. a scalar band of half-width 8 over the
-//! `3n` velocity components. It is factored by band Cholesky ([`super::band`], shared with the
+//! `3n` velocity components. It is factored as band `L D Lᵀ` ([`super::band`], shared with the
 //! XPBD solve) in `≈ 3n · 8²/2` multiply–adds, eight strands per SIMD instruction like the
 //! explicit kernel, and solved for `Δv` (not `v'`, so rounding is relative to the change).
 //!
@@ -67,7 +67,7 @@
 //! `1 − (ωh)²/2`): 10 % per period for a 1 s swing at 192 substeps per second, 5 % at 384.
 //! The pendulum test in `tests/tests/implicit_euler.rs` measures it against this formula.
 
-use super::band::BandCholesky;
+use super::band::BandLdlt;
 use super::dispatch::avx2_copy;
 use super::kernel::{
     elastic_forces, finish_substep, kinematic_velocity, Scratch, StepConstants, StrandView,
@@ -160,19 +160,6 @@ impl<L: Lane> Sym3<L> {
             z: self.xz * v.x + self.yz * v.y + self.zz * v.z,
         }
     }
-
-    /// Entry `(a, b)`.
-    #[inline(always)]
-    fn get(&self, a: usize, b: usize) -> L {
-        match (a.min(b), a.max(b)) {
-            (0, 0) => self.xx,
-            (1, 1) => self.yy,
-            (2, 2) => self.zz,
-            (0, 1) => self.xy,
-            (0, 2) => self.xz,
-            _ => self.yz,
-        }
-    }
 }
 
 /// Per-thread buffers of the implicit substep, refitted to each group.
@@ -192,8 +179,8 @@ pub(crate) struct ImplicitScratch<L: Lane> {
     skip: Vec<Sym3<L>>,
     /// Right-hand side per point, then `Δv` of kinematic points.
     rhs: Vec<V3<L>>,
-    /// The matrix `M + h D + h² K` as a scalar band, then its Cholesky factor.
-    band: BandCholesky<L, BAND_WIDTH>,
+    /// The matrix `M + h D + h² K` as a scalar band, then its `L D Lᵀ` factor.
+    band: BandLdlt<L, BAND_WIDTH>,
     /// The right-hand side, then the solution, per scalar row.
     sol: Vec<L>,
 }
@@ -391,28 +378,25 @@ fn assemble<L: Lane>(g: &Scratch<L>, s: &mut ImplicitScratch<L>, c: &StepConstan
     }
 }
 
-/// Solves the assembled system for `Δv` into `s.sol` (3 rows per point) by band Cholesky.
+/// Solves the assembled system for `Δv` into `s.sol` (3 rows per point) by band `L D Lᵀ`.
 #[inline(always)]
 fn solve<L: Lane>(s: &mut ImplicitScratch<L>) {
     let n = s.diag.len();
     let rows = 3 * n;
     s.band.reset(rows);
     s.sol.resize(rows, L::default());
+    let zero = L::default();
     for i in 0..n {
-        for a in 0..3 {
-            let row = s.band.row_mut(3 * i + a);
-            for b in 0..=a {
-                row[a - b] = s.diag[i].get(a, b);
-            }
-            for b in 0..3 {
-                if i >= 1 {
-                    row[3 + a - b] = s.next[i - 1].get(a, b);
-                }
-                if i >= 2 {
-                    row[6 + a - b] = s.skip[i - 2].get(a, b);
-                }
-            }
-        }
+        // Row 3i + a, entry d is A(3i + a, 3i + a − d): the diagonal block's lower triangle at
+        // d = a − b, block (i, i − 1) at 3 + a − b, block (i, i − 2) at 6 + a − b (both
+        // symmetric, so equal to `next[i − 1]` and `skip[i − 2]`).
+        let (d, q, w) = (&s.diag[i], i.checked_sub(1), i.checked_sub(2));
+        let none = Sym3::default();
+        let e = q.map_or(&none, |q| &s.next[q]);
+        let k = w.map_or(&none, |w| &s.skip[w]);
+        *s.band.row_mut(3 * i) = [d.xx, e.xz, e.xy, e.xx, k.xz, k.xy, k.xx, zero, zero];
+        *s.band.row_mut(3 * i + 1) = [d.yy, d.xy, e.yz, e.yy, e.xy, k.yz, k.yy, k.xy, zero];
+        *s.band.row_mut(3 * i + 2) = [d.zz, d.yz, d.xz, e.zz, e.yz, e.xz, k.zz, k.yz, k.xz];
         s.sol[3 * i] = s.rhs[i].x;
         s.sol[3 * i + 1] = s.rhs[i].y;
         s.sol[3 * i + 2] = s.rhs[i].z;

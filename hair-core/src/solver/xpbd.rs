@@ -36,7 +36,7 @@
 //!    `(G W Gᵀ + α/h²) Δλ = −C(p) − (α/h²) λ`, `λ += Δλ`, `p += W Gᵀ Δλ`, with `G` the
 //!    constraint gradients at the substep's **start** `x` (see "Accuracy and damping"). The
 //!    matrix is then the same in every iteration: it is assembled and factored once per
-//!    substep by band Cholesky ([`super::band`], the solver implicit Euler uses), and each
+//!    substep by band `L D Lᵀ` ([`super::band`], the solver implicit Euler uses), and each
 //!    iteration is a forward and back substitution. This is a chord (simplified Newton)
 //!    iteration: its fixed point is that of the compliant system, `C(p) = −α λ/h²` with
 //!    `p = p̃ + W Gᵀ λ`; its rate is how far the gradients turn within the substep, small at the
@@ -89,7 +89,7 @@
 //! constraint corrections are that small, and a swinging chain stopped converging as the step
 //! shrank (it drifted by centimetres).
 
-use super::band::BandCholesky;
+use super::band::BandLdlt;
 use super::damping::damp_segments;
 use super::dispatch::avx2_copy;
 use super::kernel::{
@@ -150,8 +150,8 @@ pub(crate) struct XpbdScratch<L: Lane> {
     lambda: Vec<L>,
     /// Per row: the right-hand side `−C − α̃ λ`, then the solution `Δλ`.
     rhs: Vec<L>,
-    /// The matrix `G W Gᵀ + α̃` of the substep, then its Cholesky factor.
-    band: BandCholesky<L, BAND_WIDTH>,
+    /// The matrix `G W Gᵀ + α̃` of the substep, then its `L D Lᵀ` factor.
+    band: BandLdlt<L, BAND_WIDTH>,
     /// Rest curvature `K_j` per joint in the previous segment's frame: (unused, u, w), 1
     /// (`rest_moment / joint_k`).
     rest_curvature: Vec<V3<L>>,
