@@ -13,8 +13,13 @@
 //! **Build, per step.**
 //! 1. Every point's base cell (the cell holding it) gives its *source* brick and its *spill* (the
 //!    axes along which its stencil leaves that brick); the pairs `(source key and spill, point)`
-//!    are sorted (a stable merge sort that runs through the last step's, nearly sorted, order),
-//!    so each source brick lists its points by spill, then in point order.
+//!    are put in order, so each source brick lists its points by spill, then in point order. When
+//!    the box of bricks over the span is small (at most [`DENSE_BRICKS_PER_POINT`] per point plus
+//!    [`DENSE_BRICKS_EXTRA`]; hair around a head: a few hundred occupied bricks in a box of about
+//!    a thousand) a counting pass does it in linear time: a histogram over every (brick of the
+//!    box, spill), its running sum, and one scatter in point order. A sparse grid whose box is
+//!    large (clumps far apart) sorts the pairs instead (a stable merge sort that runs through the
+//!    last step's, nearly sorted, order). The pairs are distinct, so both give the same order.
 //! 2. A point's 2 × 2 × 2 stencil reaches the next brick along an axis only from the last cell
 //!    layer of its source brick; the allocated bricks are the sources plus those neighbours
 //!    (sorted and deduplicated keys). Their storage is a `Vec` reused between steps.
@@ -45,6 +50,13 @@ const KEY_BITS: u32 = 16;
 
 /// Most grid nodes along one axis (bricks are keyed with 16 bits per axis): 262 m at 1 mm cells.
 pub const MAX_NODES_PER_AXIS: u64 = (BRICK as u64) << KEY_BITS;
+
+/// Bricks per point the box of bricks over the span may hold for the counting pass (see the
+/// module doc); larger boxes are sorted.
+const DENSE_BRICKS_PER_POINT: u64 = 4;
+
+/// Bricks the box may hold for the counting pass on top of [`DENSE_BRICKS_PER_POINT`] per point.
+const DENSE_BRICKS_EXTRA: u64 = 1 << 14;
 
 /// Empty cells kept around the hair's bounding box on every side.
 const MARGIN_CELLS: u64 = 1;
@@ -78,6 +90,9 @@ pub struct VoxelGrid {
     /// `(source brick key · 8 + spill, point index)`, sorted (see [`spill`]); kept between
     /// steps, where it is nearly sorted already.
     order: Vec<(u64, u32)>,
+    /// Scratch of the counting pass: the histogram over every (brick of the span's box, spill)
+    /// and its running sum.
+    bucket_start: Vec<u32>,
     /// Distinct source brick keys, sorted.
     sources: Vec<u64>,
     /// Where the points of source `s` with spill `m` start in `order`: entry `8·s + m` (one more
@@ -161,6 +176,43 @@ fn spill(c: [u32; 3]) -> u64 {
     (0..3).fold(0, |m, a| {
         m | (((c[a] as usize % BRICK == BRICK - 1) as u64) << a)
     })
+}
+
+/// The `order` key of a point in base cell `c`: its source brick's key times 8 plus its spill.
+fn pair_key(c: [u32; 3]) -> u64 {
+    (key(c.map(|c| c / BRICK as u32)) << 3) | spill(c)
+}
+
+/// Fills `order` with the pairs `(pair key, point)` of the points in base cells `cells`, in
+/// increasing order, by counting: `box_bricks` are the bricks per axis of the span's box, `start`
+/// a buffer for the histogram over every (brick, spill) of the box and its running sum. A brick's
+/// index in the box (x fastest) increases with its key (z highest), so counting by (box index,
+/// spill) and scattering in point order gives the sorted order.
+fn counting_order(
+    cells: &[([u32; 3], [f32; 3])],
+    box_bricks: [u64; 3],
+    start: &mut Vec<u32>,
+    order: &mut Vec<(u64, u32)>,
+) {
+    let [nx, ny, nz] = box_bricks.map(|b| b as usize);
+    let bucket = |c: [u32; 3]| {
+        let b = c.map(|c| (c / BRICK as u32) as usize);
+        (((b[2] * ny + b[1]) * nx + b[0]) << 3) | spill(c) as usize
+    };
+    start.clear();
+    start.resize(8 * nx * ny * nz + 1, 0);
+    for (c, _) in cells {
+        start[bucket(*c) + 1] += 1;
+    }
+    for b in 1..start.len() {
+        start[b] += start[b - 1];
+    }
+    order.resize(cells.len(), (0, 0));
+    for (i, (c, _)) in cells.iter().enumerate() {
+        let slot = &mut start[bucket(*c)];
+        order[*slot as usize] = (pair_key(*c), i as u32);
+        *slot += 1;
+    }
 }
 
 /// The key of brick `b` (coordinates below 2^16).
@@ -280,17 +332,26 @@ impl VoxelGrid {
             .collect_into_vec(&mut cells);
         let n = positions.len();
         let mut order = std::mem::take(&mut self.order);
-        if order.len() != n {
-            order.clear();
-            order.extend((0..n as u32).map(|i| (0, i)));
+        // Bricks per axis of the span's box: base cells lie below `dims − 1` and their stencils
+        // reach `dims − 1` (below 2^16 each, so the product fits).
+        let box_bricks = self.dims.map(|d| d.div_ceil(BRICK as u64));
+        if box_bricks.iter().product::<u64>()
+            <= DENSE_BRICKS_PER_POINT * n as u64 + DENSE_BRICKS_EXTRA
+        {
+            counting_order(&cells, box_bricks, &mut self.bucket_start, &mut order);
+        } else {
+            if order.len() != n {
+                order.clear();
+                order.extend((0..n as u32).map(|i| (0, i)));
+            }
+            order.par_iter_mut().for_each(|(k, i)| {
+                *k = pair_key(cells[*i as usize].0);
+            });
+            // The pairs are distinct, so the sorted order is unique whatever the thread count;
+            // the last step's order is nearly sorted for this one, which the merge sort runs
+            // through.
+            order.par_sort();
         }
-        order.par_iter_mut().for_each(|(k, i)| {
-            let c = cells[*i as usize].0;
-            *k = (key(c.map(|c| c / BRICK as u32)) << 3) | spill(c);
-        });
-        // The pairs are distinct, so the sorted order is unique whatever the thread count; the
-        // last step's order is nearly sorted for this one, which the merge sort runs through.
-        order.par_sort();
         // Sources, their points by spill, and the neighbours their points reach.
         self.sources.clear();
         self.source_start.clear();
