@@ -420,17 +420,15 @@ impl VoxelGrid {
         let this = &*self;
         nodes
             .par_chunks_mut(BRICK_NODES)
-            .zip(&self.bricks)
             .zip(&self.feeds)
-            .for_each(|((out, &brick), feeds)| this.gather(brick, feeds, out, input));
+            .for_each(|(out, feeds)| this.gather(feeds, out, input));
         self.nodes = nodes;
     }
 
     /// Sums into `out`, the nodes of `brick`, the contributions of the points whose stencil
     /// reaches it: source bricks `brick − d` for `d` in {0, 1}³ in a fixed order, the points of
     /// each source that spill along `d` by spill and then in point order.
-    fn gather(&self, brick: u64, feeds: &[u32; 8], out: &mut [[f32; CHANNELS]], p: &SplatInput) {
-        let b = unkey(brick);
+    fn gather(&self, feeds: &[u32; 8], out: &mut [[f32; CHANNELS]], p: &SplatInput) {
         for (along, &s) in feeds.iter().enumerate() {
             if s == NO_BRICK {
                 continue;
@@ -440,23 +438,34 @@ impl VoxelGrid {
                 let range = self.source_start[8 * s + m] as usize
                     ..self.source_start[8 * s + m + 1] as usize;
                 for &(_, i) in &self.order[range] {
-                    self.splat_point(i as usize, b, out, p);
+                    self.splat_point(i as usize, m, along, out, p);
                 }
             }
         }
     }
 
-    /// Adds point `i`'s stencil nodes that lie in brick `b` to `out`, the brick's nodes.
-    fn splat_point(&self, i: usize, b: [u32; 3], out: &mut [[f32; CHANNELS]], p: &SplatInput) {
+    /// Adds to `out` point `i`'s stencil nodes that lie in its source brick plus `along` (bit
+    /// `a`: +1 along axis `a`), the point's spill being `spill` (`along` within it). Along a
+    /// spilled axis the stencil's upper corners lie in the next brick and its lower ones in the
+    /// source; along any other axis both lie in the source: so corner `k` (bit `a`: upper along
+    /// axis `a`) lands in that brick exactly when `k & spill == along`.
+    fn splat_point(
+        &self,
+        i: usize,
+        spill: usize,
+        along: usize,
+        out: &mut [[f32; CHANNELS]],
+        p: &SplatInput,
+    ) {
         let (c, f) = self.cells[i];
         let m = p.masses[i];
         let mv = p.velocities[i] * m;
         let vol = p.volumes[i];
-        for (corner, w) in stencil(f) {
-            let n: [u32; 3] = std::array::from_fn(|a| c[a] + corner[a]);
-            if (0..3).any(|a| n[a] / BRICK as u32 != b[a]) {
+        for (k, (corner, w)) in stencil(f).enumerate() {
+            if k & spill != along {
                 continue;
             }
+            let n: [u32; 3] = std::array::from_fn(|a| c[a] + corner[a]);
             let o = &mut out[local(n)];
             o[0] += w * m;
             o[1] += w * mv.x;
@@ -494,7 +503,7 @@ impl VoxelGrid {
         // Most stencils lie in the base cell's brick: look it up once.
         let base = c.map(|c| c / BRICK as u32);
         let base_index = self.bricks.binary_search(&key(base)).ok();
-        self.sample_cell(c, f, target, |d| {
+        self.sample_cell::<true>(c, f, target, |d| {
             if d == 0 {
                 base_index
             } else {
@@ -507,17 +516,29 @@ impl VoxelGrid {
     /// [`Self::sample`] at point `i` of the last build, where the grid already knows the point's
     /// cell and bricks (no search).
     pub fn sample_point(&self, i: usize, target: f32) -> GridSample {
+        self.sample_linked::<true>(i, target)
+    }
+
+    /// The grid velocity (m/s) of [`Self::sample_point`] alone, without the density and its
+    /// gradient (the same bits; `None` where no mass was splatted).
+    pub fn velocity_at_point(&self, i: usize) -> Option<Vector3<f32>> {
+        self.sample_linked::<false>(i, 0.0).velocity
+    }
+
+    /// [`Self::sample_cell`] at point `i` of the last build through its source's links.
+    fn sample_linked<const DENSITY: bool>(&self, i: usize, target: f32) -> GridSample {
         let (c, f) = self.cells[i];
         let links = &self.links[self.point_source[i] as usize];
-        self.sample_cell(c, f, target, |d| {
+        self.sample_cell::<DENSITY>(c, f, target, |d| {
             let index = links[d];
             (index != NO_BRICK).then_some(index as usize)
         })
     }
 
     /// Samples cell `c` at position `f` in it; `find` gives the index in `bricks` of the brick
-    /// `d` (bit `a`: +1 along axis `a`) from the cell's own.
-    fn sample_cell(
+    /// `d` (bit `a`: +1 along axis `a`) from the cell's own. Without `DENSITY` only the velocity
+    /// is computed (density and gradient left zero).
+    fn sample_cell<const DENSITY: bool>(
         &self,
         c: [u32; 3],
         f: [f32; 3],
@@ -528,17 +549,20 @@ impl VoxelGrid {
         let inv_volume = inv_cell.powi(3);
         let (mut m, mut p, mut density) = (0.0f32, Vector3::zeros(), 0.0f32);
         let mut grad = Vector3::zeros();
-        for (d, w) in stencil(f) {
+        // Corner `k` lies in the next brick along the axes where it is upper and the cell is in
+        // its brick's last layer.
+        let spilled = spill(c) as usize;
+        for (k, (d, w)) in stencil(f).enumerate() {
             let n: [u32; 3] = std::array::from_fn(|a| c[a] + d[a]);
-            let next = (0..3).fold(0, |off, a| {
-                off | ((d[a] == 1 && c[a] as usize % BRICK == BRICK - 1) as usize) << a
-            });
-            let Some(b) = find(next) else {
+            let Some(b) = find(k & spilled) else {
                 continue;
             };
             let o = &self.nodes[b * BRICK_NODES + local(n)];
             m += w * o[0];
             p += Vector3::new(o[1], o[2], o[3]) * w;
+            if !DENSITY {
+                continue;
+            }
             let phi = o[4] * inv_volume;
             density += w * phi;
             let excess = (phi - target).max(0.0);
@@ -605,12 +629,14 @@ impl VoxelGrid {
 }
 
 /// The 8 corners of a cell (offsets 0/1 per axis, x fastest) with the trilinear weights of
-/// position `f` in it.
+/// position `f` in it, each `(w_x · w_y) · w_z` (the x–y products computed once).
 fn stencil(f: [f32; 3]) -> impl Iterator<Item = ([u32; 3], f32)> {
+    let w = |a: usize| [1.0 - f[a], f[a]];
+    let (wx, wy, wz) = (w(0), w(1), w(2));
+    let wxy = [wx[0] * wy[0], wx[1] * wy[0], wx[0] * wy[1], wx[1] * wy[1]];
     (0..8u32).map(move |corner| {
         let d = [corner & 1, (corner >> 1) & 1, (corner >> 2) & 1];
-        let w = |a: usize| if d[a] == 1 { f[a] } else { 1.0 - f[a] };
-        (d, w(0) * w(1) * w(2))
+        (d, wxy[(corner & 3) as usize] * wz[d[2] as usize])
     })
 }
 
@@ -687,6 +713,11 @@ mod tests {
         g.build(0.004, &input(&x, &v, &m, &vol)).unwrap();
         for (i, x) in x.iter().enumerate() {
             assert_eq!(g.sample_point(i, 0.1), g.sample(x, 0.1), "point {i}");
+            assert_eq!(
+                g.velocity_at_point(i),
+                g.sample(x, 0.1).velocity,
+                "point {i}"
+            );
         }
     }
 
