@@ -14,9 +14,9 @@
 //! 1. Every point's base cell (the cell holding it) gives its *source* brick and its *spill* (the
 //!    axes along which its stencil leaves that brick); the pairs `(source key and spill, point)`
 //!    are put in order, so each source brick lists its points by spill, then in point order. When
-//!    the box of bricks over the span is small (at most [`DENSE_BRICKS_PER_POINT`] per point plus
-//!    [`DENSE_BRICKS_EXTRA`]; hair around a head: a few hundred occupied bricks in a box of about
-//!    a thousand) a counting pass does it in linear time: a histogram over every (brick of the
+//!    the box of bricks over the span is small (at most one brick per [`POINTS_PER_DENSE_BRICK`]
+//!    points plus [`DENSE_BRICKS_EXTRA`], so its histogram costs less than the pairs; hair around
+//!    a head: a few hundred occupied bricks in a box of about a thousand) a counting pass does it in linear time: a histogram over every (brick of the
 //!    box, spill), its running sum, and one scatter in point order. A sparse grid whose box is
 //!    large (clumps far apart) sorts the pairs instead (a stable merge sort that runs through the
 //!    last step's, nearly sorted, order). The pairs are distinct, so both give the same order.
@@ -51,11 +51,13 @@ const KEY_BITS: u32 = 16;
 /// Most grid nodes along one axis (bricks are keyed with 16 bits per axis): 262 m at 1 mm cells.
 pub const MAX_NODES_PER_AXIS: u64 = (BRICK as u64) << KEY_BITS;
 
-/// Bricks per point the box of bricks over the span may hold for the counting pass (see the
-/// module doc); larger boxes are sorted.
-const DENSE_BRICKS_PER_POINT: u64 = 4;
+/// The box of bricks over the span may hold one brick per this many points for the counting pass
+/// (see the module doc; its histogram, 8 × 4 bytes per brick, then costs at most a quarter of the
+/// 16-byte pairs); larger boxes are sorted.
+const POINTS_PER_DENSE_BRICK: u64 = 8;
 
-/// Bricks the box may hold for the counting pass on top of [`DENSE_BRICKS_PER_POINT`] per point.
+/// Bricks the box may hold for the counting pass on top of one per [`POINTS_PER_DENSE_BRICK`]
+/// points (a histogram of at most 512 KiB).
 const DENSE_BRICKS_EXTRA: u64 = 1 << 14;
 
 /// Empty cells kept around the hair's bounding box on every side.
@@ -336,7 +338,7 @@ impl VoxelGrid {
         // reach `dims − 1` (below 2^16 each, so the product fits).
         let box_bricks = self.dims.map(|d| d.div_ceil(BRICK as u64));
         if box_bricks.iter().product::<u64>()
-            <= DENSE_BRICKS_PER_POINT * n as u64 + DENSE_BRICKS_EXTRA
+            <= n as u64 / POINTS_PER_DENSE_BRICK + DENSE_BRICKS_EXTRA
         {
             counting_order(&cells, box_bricks, &mut self.bucket_start, &mut order);
         } else {
@@ -425,9 +427,9 @@ impl VoxelGrid {
         self.nodes = nodes;
     }
 
-    /// Sums into `out`, the nodes of `brick`, the contributions of the points whose stencil
-    /// reaches it: source bricks `brick − d` for `d` in {0, 1}³ in a fixed order, the points of
-    /// each source that spill along `d` by spill and then in point order.
+    /// Sums into `out`, the nodes of one brick, the contributions of the points whose stencil
+    /// reaches it: `feeds`, its source bricks `brick − d` for `d` in {0, 1}³ in a fixed order,
+    /// the points of each source that spill along `d` by spill and then in point order.
     fn gather(&self, feeds: &[u32; 8], out: &mut [[f32; CHANNELS]], p: &SplatInput) {
         for (along, &s) in feeds.iter().enumerate() {
             if s == NO_BRICK {
@@ -719,6 +721,21 @@ mod tests {
                 "point {i}"
             );
         }
+    }
+
+    #[test]
+    fn counting_order_equals_the_sorted_pairs() {
+        // Base cells spread over a box of 5 × 4 × 3 bricks, several per brick and spill.
+        let cells: Vec<([u32; 3], [f32; 3])> = (0..500u32)
+            .map(|i| ([(i * 7) % 20, (i * 13) % 16, (i * 5) % 12], [0.5; 3]))
+            .collect();
+        let (mut start, mut order) = (Vec::new(), Vec::new());
+        counting_order(&cells, [5, 4, 3], &mut start, &mut order);
+        let mut sorted: Vec<(u64, u32)> = (0..cells.len() as u32)
+            .map(|i| (pair_key(cells[i as usize].0), i))
+            .collect();
+        sorted.sort();
+        assert_eq!(order, sorted);
     }
 
     #[test]
