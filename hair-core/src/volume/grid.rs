@@ -13,8 +13,13 @@
 //! **Build, per step.**
 //! 1. Every point's base cell (the cell holding it) gives its *source* brick and its *spill* (the
 //!    axes along which its stencil leaves that brick); the pairs `(source key and spill, point)`
-//!    are sorted (a stable merge sort that runs through the last step's, nearly sorted, order),
-//!    so each source brick lists its points by spill, then in point order.
+//!    are put in order, so each source brick lists its points by spill, then in point order. When
+//!    the box of bricks over the span is small (at most one brick per [`POINTS_PER_DENSE_BRICK`]
+//!    points plus [`DENSE_BRICKS_EXTRA`], so its histogram costs less than the pairs; hair around
+//!    a head: a few hundred occupied bricks in a box of about a thousand) a counting pass does it in linear time: a histogram over every (brick of the
+//!    box, spill), its running sum, and one scatter in point order. A sparse grid whose box is
+//!    large (clumps far apart) sorts the pairs instead (a stable merge sort that runs through the
+//!    last step's, nearly sorted, order). The pairs are distinct, so both give the same order.
 //! 2. A point's 2 × 2 × 2 stencil reaches the next brick along an axis only from the last cell
 //!    layer of its source brick; the allocated bricks are the sources plus those neighbours
 //!    (sorted and deduplicated keys). Their storage is a `Vec` reused between steps.
@@ -45,6 +50,15 @@ const KEY_BITS: u32 = 16;
 
 /// Most grid nodes along one axis (bricks are keyed with 16 bits per axis): 262 m at 1 mm cells.
 pub const MAX_NODES_PER_AXIS: u64 = (BRICK as u64) << KEY_BITS;
+
+/// The box of bricks over the span may hold one brick per this many points for the counting pass
+/// (see the module doc; its histogram, 8 × 4 bytes per brick, then costs at most a quarter of the
+/// 16-byte pairs); larger boxes are sorted.
+const POINTS_PER_DENSE_BRICK: u64 = 8;
+
+/// Bricks the box may hold for the counting pass on top of one per [`POINTS_PER_DENSE_BRICK`]
+/// points (a histogram of at most 512 KiB).
+const DENSE_BRICKS_EXTRA: u64 = 1 << 14;
 
 /// Empty cells kept around the hair's bounding box on every side.
 const MARGIN_CELLS: u64 = 1;
@@ -78,6 +92,9 @@ pub struct VoxelGrid {
     /// `(source brick key · 8 + spill, point index)`, sorted (see [`spill`]); kept between
     /// steps, where it is nearly sorted already.
     order: Vec<(u64, u32)>,
+    /// Scratch of the counting pass: the histogram over every (brick of the span's box, spill)
+    /// and its running sum.
+    bucket_start: Vec<u32>,
     /// Distinct source brick keys, sorted.
     sources: Vec<u64>,
     /// Where the points of source `s` with spill `m` start in `order`: entry `8·s + m` (one more
@@ -161,6 +178,43 @@ fn spill(c: [u32; 3]) -> u64 {
     (0..3).fold(0, |m, a| {
         m | (((c[a] as usize % BRICK == BRICK - 1) as u64) << a)
     })
+}
+
+/// The `order` key of a point in base cell `c`: its source brick's key times 8 plus its spill.
+fn pair_key(c: [u32; 3]) -> u64 {
+    (key(c.map(|c| c / BRICK as u32)) << 3) | spill(c)
+}
+
+/// Fills `order` with the pairs `(pair key, point)` of the points in base cells `cells`, in
+/// increasing order, by counting: `box_bricks` are the bricks per axis of the span's box, `start`
+/// a buffer for the histogram over every (brick, spill) of the box and its running sum. A brick's
+/// index in the box (x fastest) increases with its key (z highest), so counting by (box index,
+/// spill) and scattering in point order gives the sorted order.
+fn counting_order(
+    cells: &[([u32; 3], [f32; 3])],
+    box_bricks: [u64; 3],
+    start: &mut Vec<u32>,
+    order: &mut Vec<(u64, u32)>,
+) {
+    let [nx, ny, nz] = box_bricks.map(|b| b as usize);
+    let bucket = |c: [u32; 3]| {
+        let b = c.map(|c| (c / BRICK as u32) as usize);
+        (((b[2] * ny + b[1]) * nx + b[0]) << 3) | spill(c) as usize
+    };
+    start.clear();
+    start.resize(8 * nx * ny * nz + 1, 0);
+    for (c, _) in cells {
+        start[bucket(*c) + 1] += 1;
+    }
+    for b in 1..start.len() {
+        start[b] += start[b - 1];
+    }
+    order.resize(cells.len(), (0, 0));
+    for (i, (c, _)) in cells.iter().enumerate() {
+        let slot = &mut start[bucket(*c)];
+        order[*slot as usize] = (pair_key(*c), i as u32);
+        *slot += 1;
+    }
 }
 
 /// The key of brick `b` (coordinates below 2^16).
@@ -280,17 +334,26 @@ impl VoxelGrid {
             .collect_into_vec(&mut cells);
         let n = positions.len();
         let mut order = std::mem::take(&mut self.order);
-        if order.len() != n {
-            order.clear();
-            order.extend((0..n as u32).map(|i| (0, i)));
+        // Bricks per axis of the span's box: base cells lie below `dims − 1` and their stencils
+        // reach `dims − 1` (below 2^16 each, so the product fits).
+        let box_bricks = self.dims.map(|d| d.div_ceil(BRICK as u64));
+        if box_bricks.iter().product::<u64>()
+            <= n as u64 / POINTS_PER_DENSE_BRICK + DENSE_BRICKS_EXTRA
+        {
+            counting_order(&cells, box_bricks, &mut self.bucket_start, &mut order);
+        } else {
+            if order.len() != n {
+                order.clear();
+                order.extend((0..n as u32).map(|i| (0, i)));
+            }
+            order.par_iter_mut().for_each(|(k, i)| {
+                *k = pair_key(cells[*i as usize].0);
+            });
+            // The pairs are distinct, so the sorted order is unique whatever the thread count;
+            // the last step's order is nearly sorted for this one, which the merge sort runs
+            // through.
+            order.par_sort();
         }
-        order.par_iter_mut().for_each(|(k, i)| {
-            let c = cells[*i as usize].0;
-            *k = (key(c.map(|c| c / BRICK as u32)) << 3) | spill(c);
-        });
-        // The pairs are distinct, so the sorted order is unique whatever the thread count; the
-        // last step's order is nearly sorted for this one, which the merge sort runs through.
-        order.par_sort();
         // Sources, their points by spill, and the neighbours their points reach.
         self.sources.clear();
         self.source_start.clear();
@@ -359,17 +422,15 @@ impl VoxelGrid {
         let this = &*self;
         nodes
             .par_chunks_mut(BRICK_NODES)
-            .zip(&self.bricks)
             .zip(&self.feeds)
-            .for_each(|((out, &brick), feeds)| this.gather(brick, feeds, out, input));
+            .for_each(|(out, feeds)| this.gather(feeds, out, input));
         self.nodes = nodes;
     }
 
-    /// Sums into `out`, the nodes of `brick`, the contributions of the points whose stencil
-    /// reaches it: source bricks `brick − d` for `d` in {0, 1}³ in a fixed order, the points of
-    /// each source that spill along `d` by spill and then in point order.
-    fn gather(&self, brick: u64, feeds: &[u32; 8], out: &mut [[f32; CHANNELS]], p: &SplatInput) {
-        let b = unkey(brick);
+    /// Sums into `out`, the nodes of one brick, the contributions of the points whose stencil
+    /// reaches it: `feeds`, its source bricks `brick − d` for `d` in {0, 1}³ in a fixed order,
+    /// the points of each source that spill along `d` by spill and then in point order.
+    fn gather(&self, feeds: &[u32; 8], out: &mut [[f32; CHANNELS]], p: &SplatInput) {
         for (along, &s) in feeds.iter().enumerate() {
             if s == NO_BRICK {
                 continue;
@@ -379,23 +440,34 @@ impl VoxelGrid {
                 let range = self.source_start[8 * s + m] as usize
                     ..self.source_start[8 * s + m + 1] as usize;
                 for &(_, i) in &self.order[range] {
-                    self.splat_point(i as usize, b, out, p);
+                    self.splat_point(i as usize, m, along, out, p);
                 }
             }
         }
     }
 
-    /// Adds point `i`'s stencil nodes that lie in brick `b` to `out`, the brick's nodes.
-    fn splat_point(&self, i: usize, b: [u32; 3], out: &mut [[f32; CHANNELS]], p: &SplatInput) {
+    /// Adds to `out` point `i`'s stencil nodes that lie in its source brick plus `along` (bit
+    /// `a`: +1 along axis `a`), the point's spill being `spill` (`along` within it). Along a
+    /// spilled axis the stencil's upper corners lie in the next brick and its lower ones in the
+    /// source; along any other axis both lie in the source: so corner `k` (bit `a`: upper along
+    /// axis `a`) lands in that brick exactly when `k & spill == along`.
+    fn splat_point(
+        &self,
+        i: usize,
+        spill: usize,
+        along: usize,
+        out: &mut [[f32; CHANNELS]],
+        p: &SplatInput,
+    ) {
         let (c, f) = self.cells[i];
         let m = p.masses[i];
         let mv = p.velocities[i] * m;
         let vol = p.volumes[i];
-        for (corner, w) in stencil(f) {
-            let n: [u32; 3] = std::array::from_fn(|a| c[a] + corner[a]);
-            if (0..3).any(|a| n[a] / BRICK as u32 != b[a]) {
+        for (k, (corner, w)) in stencil(f).enumerate() {
+            if k & spill != along {
                 continue;
             }
+            let n: [u32; 3] = std::array::from_fn(|a| c[a] + corner[a]);
             let o = &mut out[local(n)];
             o[0] += w * m;
             o[1] += w * mv.x;
@@ -433,7 +505,7 @@ impl VoxelGrid {
         // Most stencils lie in the base cell's brick: look it up once.
         let base = c.map(|c| c / BRICK as u32);
         let base_index = self.bricks.binary_search(&key(base)).ok();
-        self.sample_cell(c, f, target, |d| {
+        self.sample_cell::<true>(c, f, target, |d| {
             if d == 0 {
                 base_index
             } else {
@@ -446,17 +518,29 @@ impl VoxelGrid {
     /// [`Self::sample`] at point `i` of the last build, where the grid already knows the point's
     /// cell and bricks (no search).
     pub fn sample_point(&self, i: usize, target: f32) -> GridSample {
+        self.sample_linked::<true>(i, target)
+    }
+
+    /// The grid velocity (m/s) of [`Self::sample_point`] alone, without the density and its
+    /// gradient (the same bits; `None` where no mass was splatted).
+    pub fn velocity_at_point(&self, i: usize) -> Option<Vector3<f32>> {
+        self.sample_linked::<false>(i, 0.0).velocity
+    }
+
+    /// [`Self::sample_cell`] at point `i` of the last build through its source's links.
+    fn sample_linked<const DENSITY: bool>(&self, i: usize, target: f32) -> GridSample {
         let (c, f) = self.cells[i];
         let links = &self.links[self.point_source[i] as usize];
-        self.sample_cell(c, f, target, |d| {
+        self.sample_cell::<DENSITY>(c, f, target, |d| {
             let index = links[d];
             (index != NO_BRICK).then_some(index as usize)
         })
     }
 
     /// Samples cell `c` at position `f` in it; `find` gives the index in `bricks` of the brick
-    /// `d` (bit `a`: +1 along axis `a`) from the cell's own.
-    fn sample_cell(
+    /// `d` (bit `a`: +1 along axis `a`) from the cell's own. Without `DENSITY` only the velocity
+    /// is computed (density and gradient left zero).
+    fn sample_cell<const DENSITY: bool>(
         &self,
         c: [u32; 3],
         f: [f32; 3],
@@ -467,17 +551,20 @@ impl VoxelGrid {
         let inv_volume = inv_cell.powi(3);
         let (mut m, mut p, mut density) = (0.0f32, Vector3::zeros(), 0.0f32);
         let mut grad = Vector3::zeros();
-        for (d, w) in stencil(f) {
+        // Corner `k` lies in the next brick along the axes where it is upper and the cell is in
+        // its brick's last layer.
+        let spilled = spill(c) as usize;
+        for (k, (d, w)) in stencil(f).enumerate() {
             let n: [u32; 3] = std::array::from_fn(|a| c[a] + d[a]);
-            let next = (0..3).fold(0, |off, a| {
-                off | ((d[a] == 1 && c[a] as usize % BRICK == BRICK - 1) as usize) << a
-            });
-            let Some(b) = find(next) else {
+            let Some(b) = find(k & spilled) else {
                 continue;
             };
             let o = &self.nodes[b * BRICK_NODES + local(n)];
             m += w * o[0];
             p += Vector3::new(o[1], o[2], o[3]) * w;
+            if !DENSITY {
+                continue;
+            }
             let phi = o[4] * inv_volume;
             density += w * phi;
             let excess = (phi - target).max(0.0);
@@ -544,12 +631,14 @@ impl VoxelGrid {
 }
 
 /// The 8 corners of a cell (offsets 0/1 per axis, x fastest) with the trilinear weights of
-/// position `f` in it.
+/// position `f` in it, each `(w_x · w_y) · w_z` (the x–y products computed once).
 fn stencil(f: [f32; 3]) -> impl Iterator<Item = ([u32; 3], f32)> {
+    let w = |a: usize| [1.0 - f[a], f[a]];
+    let (wx, wy, wz) = (w(0), w(1), w(2));
+    let wxy = [wx[0] * wy[0], wx[1] * wy[0], wx[0] * wy[1], wx[1] * wy[1]];
     (0..8u32).map(move |corner| {
         let d = [corner & 1, (corner >> 1) & 1, (corner >> 2) & 1];
-        let w = |a: usize| if d[a] == 1 { f[a] } else { 1.0 - f[a] };
-        (d, w(0) * w(1) * w(2))
+        (d, wxy[(corner & 3) as usize] * wz[d[2] as usize])
     })
 }
 
@@ -626,7 +715,27 @@ mod tests {
         g.build(0.004, &input(&x, &v, &m, &vol)).unwrap();
         for (i, x) in x.iter().enumerate() {
             assert_eq!(g.sample_point(i, 0.1), g.sample(x, 0.1), "point {i}");
+            assert_eq!(
+                g.velocity_at_point(i),
+                g.sample(x, 0.1).velocity,
+                "point {i}"
+            );
         }
+    }
+
+    #[test]
+    fn counting_order_equals_the_sorted_pairs() {
+        // Base cells spread over a box of 5 × 4 × 3 bricks, several per brick and spill.
+        let cells: Vec<([u32; 3], [f32; 3])> = (0..500u32)
+            .map(|i| ([(i * 7) % 20, (i * 13) % 16, (i * 5) % 12], [0.5; 3]))
+            .collect();
+        let (mut start, mut order) = (Vec::new(), Vec::new());
+        counting_order(&cells, [5, 4, 3], &mut start, &mut order);
+        let mut sorted: Vec<(u64, u32)> = (0..cells.len() as u32)
+            .map(|i| (pair_key(cells[i as usize].0), i))
+            .collect();
+        sorted.sort();
+        assert_eq!(order, sorted);
     }
 
     #[test]

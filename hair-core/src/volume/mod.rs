@@ -210,14 +210,20 @@ impl HairHair {
                 if inv_mass[i] == 0.0 || (s.friction == 0.0 && s.repulsion == 0.0) {
                     continue;
                 }
-                let g = grid.sample_point(i, s.target_density);
+                // Without repulsion only the grid velocity is needed.
+                let (velocity, gradient) = if s.repulsion > 0.0 {
+                    let g = grid.sample_point(i, s.target_density);
+                    (g.velocity, Some(g.excess_gradient))
+                } else {
+                    (grid.velocity_at_point(i), None)
+                };
                 if s.friction > 0.0 {
-                    if let Some(vg) = g.velocity {
+                    if let Some(vg) = velocity {
                         *dv = (vg - v[i]) * s.friction;
                     }
                 }
-                if s.repulsion > 0.0 {
-                    *a -= g.excess_gradient * s.repulsion;
+                if let Some(gradient) = gradient {
+                    *a -= gradient * s.repulsion;
                 }
             }
             // Keep every segment's along-segment relative velocity: root to tip.
