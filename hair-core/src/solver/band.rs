@@ -88,40 +88,49 @@ impl<L: Lane, const W: usize> BandLdlt<L, W> {
     pub fn solve(&self, b: &mut [L]) {
         let rows = self.rows.len();
         debug_assert_eq!(b.len(), rows);
+        // Windows of W rows where they fit (constant loop bounds, as in `factor`), then the
+        // shorter ones at the end.
         let full = rows.saturating_sub(W - 1);
         // Forward, L z = b: each solved z(c) leaves the rows below at once.
         for c in 0..full {
-            let z = b[c];
             let window: &[[L; W]; W] = (&self.rows[c..c + W]).try_into().expect("W rows");
             let below: &mut [L; W] = (&mut b[c..c + W]).try_into().expect("W rows");
-            for i in 1..W {
-                below[i] -= window[i][i] * z;
-            }
+            forward(window, below);
         }
         for c in full..rows {
-            let z = b[c];
-            for i in 1..rows - c {
-                b[c + i] -= self.rows[c + i][i] * z;
-            }
+            forward(&self.rows[c..], &mut b[c..]);
         }
-        // D w = z, then back, Lᵀ y = w: the newest term y(r + 1) last in each row's sum.
+        // D w = z, then back, Lᵀ y = w.
         for r in (full..rows).rev() {
-            let mut acc = b[r] * self.inv_pivot[r];
-            for m in (1..rows - r).rev() {
-                acc -= self.rows[r + m][m] * b[r + m];
-            }
-            b[r] = acc;
+            back(&self.rows[r..], &mut b[r..], self.inv_pivot[r]);
         }
         for r in (0..full).rev() {
             let window: &[[L; W]; W] = (&self.rows[r..r + W]).try_into().expect("W rows");
             let below: &mut [L; W] = (&mut b[r..r + W]).try_into().expect("W rows");
-            let mut acc = below[0] * self.inv_pivot[r];
-            for m in (1..W).rev() {
-                acc -= window[m][m] * below[m];
-            }
-            below[0] = acc;
+            back(window, below, self.inv_pivot[r]);
         }
     }
+}
+
+/// Forward substitution of one column: `below[0]` is solved (`z(c)`); the rows below it in
+/// `window` lose their `L(c + i, c) z(c)`.
+#[inline(always)]
+fn forward<L: Lane, const W: usize>(window: &[[L; W]], below: &mut [L]) {
+    let z = below[0];
+    for (i, row) in window.iter().enumerate().skip(1) {
+        below[i] -= row[i] * z;
+    }
+}
+
+/// Back substitution of one row: `below[0]` becomes `w(r) − Σ L(r + m, r) y(r + m)` with
+/// `w(r) = z(r) / D(r)` (`inv_pivot` is `1 / D(r)`), the newest term `y(r + 1)` last.
+#[inline(always)]
+fn back<L: Lane, const W: usize>(window: &[[L; W]], below: &mut [L], inv_pivot: L) {
+    let mut acc = below[0] * inv_pivot;
+    for (m, row) in window.iter().enumerate().skip(1).rev() {
+        acc -= row[m] * below[m];
+    }
+    below[0] = acc;
 }
 
 /// Eliminates the column of `window[0]`'s pivot from the rows below it in `window` (at most

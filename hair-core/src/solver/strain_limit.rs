@@ -100,9 +100,10 @@ pub(crate) fn limit_strain<L: Lane>(
     let (zero, one) = (splat::<L>(0.0), splat::<L>(1.0));
     let m = rest_length.len();
     s.fit(m);
-    // Stretched segments, longer than the limit less the allowed strain (about their rest
-    // length), are held at their length while over-long ones are shortened (module docs).
-    let held = one - ratio;
+    // Relative excess (−max_strain) above which a segment joins the active set: stretched
+    // segments, longer than the limit less the allowed strain (about their rest length), are
+    // held at their length while over-long ones are shortened (module docs).
+    let hold_above = one - ratio;
     for _ in 0..ITERATIONS {
         // Active set and constraint values: over-long segments are brought to the limit,
         // stretched ones held at their length (right-hand side 0), the others are out of the
@@ -117,7 +118,7 @@ pub(crate) fn limit_strain<L: Lane>(
             // corrected: it stays out of the solve, whose row would be singular.
             let movable = L::select((inv_mass[j] + inv_mass[j + 1]).simd_gt(zero), one, zero);
             worst = worst.max(excess / limit * movable);
-            let active = L::select(excess.simd_gt(limit * held), one, zero) * movable;
+            let active = L::select(excess.simd_gt(limit * hold_above), one, zero) * movable;
             s.tangent[j] = d * div_or_zero(one, len, 1e-9);
             s.rhs[j] = excess.max(zero) * active;
             s.lambda[j] = active;

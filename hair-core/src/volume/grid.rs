@@ -16,8 +16,9 @@
 //!    are put in order, so each source brick lists its points by spill, then in point order. When
 //!    the box of bricks over the span is small (at most one brick per [`POINTS_PER_DENSE_BRICK`]
 //!    points plus [`DENSE_BRICKS_EXTRA`], so its histogram costs less than the pairs; hair around
-//!    a head: a few hundred occupied bricks in a box of about a thousand) a counting pass does it in linear time: a histogram over every (brick of the
-//!    box, spill), its running sum, and one scatter in point order. A sparse grid whose box is
+//!    a head: a few hundred occupied bricks in a box of about a thousand) a counting pass does it
+//!    in linear time: a histogram over every (brick of the box, spill), its running sum, and one
+//!    scatter in point order. A sparse grid whose box is
 //!    large (clumps far apart) sorts the pairs instead (a stable merge sort that runs through the
 //!    last step's, nearly sorted, order). The pairs are distinct, so both give the same order.
 //! 2. A point's 2 × 2 × 2 stencil reaches the next brick along an axis only from the last cell
