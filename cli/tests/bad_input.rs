@@ -149,7 +149,7 @@ fn unwritable_cache_path_fails_before_simulating() {
 #[test]
 fn blow_up_leaves_no_complete_cache() {
     // Stiff springs with a fixed substep far above the stability bound of the explicit
-    // integrator (named: "auto" would take implicit Euler, which is stable there).
+    // integrator (named: "auto" would take BDF2, which is stable there).
     let scene = SCENE.replace(
         "[physics]\nstretch_stiffness = 20.0",
         "[solver]\nintegrator = \"semi-implicit-euler\"\nsubsteps = 1\n[physics]\n\

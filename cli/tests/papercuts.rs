@@ -399,7 +399,7 @@ fn auto_substeps_from_a_huge_stretch_stiffness_are_capped_naming_it() {
     let s = scene(
         &dir,
         "count = 10\nlength = 0.1\nsegments = 4",
-        // The explicit integrator's substeps follow the stability bound (implicit Euler, which
+        // The explicit integrator's substeps follow the stability bound (BDF2, which
         // "auto" would pick here, has none).
         "\n[solver]\nintegrator = \"semi-implicit-euler\"\n[physics]\nstretch_stiffness = 1e15\n",
     );

@@ -243,7 +243,7 @@ pub fn groom_options(
                     "integrator",
                     "\"auto\" chooses from a scene file's colliders and guides, which a host \
                      drives frame by frame here; name one: \"semi-implicit-euler\", \
-                     \"implicit-euler\", \"xpbd\" or \"explicit-euler\"",
+                     \"implicit-euler\", \"bdf2\", \"xpbd\" or \"explicit-euler\"",
                 ))
             }
             Err(e) => return Err(argument("integrator", &e)),

@@ -1,4 +1,4 @@
-//! `[solver] integrator = "auto"` on the shipped scenes: implicit Euler where the stability
+//! `[solver] integrator = "auto"` on the shipped scenes: BDF2 where the stability
 //! bound's explicit substeps cost more and contact is gentle (the default and wind scenes), and
 //! semi-implicit Euler for each measured reason elsewhere (`hairsys/src/scene/integrator.rs` and
 //! BENCHMARKS.md, session 10, give the measurements behind each rule). The built scene's solver
@@ -17,21 +17,21 @@ fn build(name: &str) -> hairsys::scene::Simulation {
 }
 
 #[test]
-fn the_default_and_wind_scenes_run_implicit_euler_at_its_accuracy_limit() {
+fn the_default_and_wind_scenes_run_bdf2_at_its_accuracy_limit() {
     for name in ["default.toml", "wind_demo.toml"] {
         let sim = build(name);
         let chosen = &sim.integrator;
         assert!(chosen.auto, "{name}");
-        assert_eq!(chosen.integrator, Integrator::ImplicitEuler, "{name}");
-        assert_eq!(sim.settings.integrator, Integrator::ImplicitEuler, "{name}");
-        assert!(chosen.explicit_substeps > 48, "{name}: {chosen:?}");
+        assert_eq!(chosen.integrator, Integrator::Bdf2, "{name}");
+        assert_eq!(sim.settings.integrator, Integrator::Bdf2, "{name}");
+        assert!(chosen.explicit_substeps > 18, "{name}: {chosen:?}");
         let solver = sim.strand_solver().unwrap();
         assert_eq!(solver.substeps(), chosen.implicit_substeps, "{name}");
-        assert_eq!(chosen.implicit_substeps, 16, "{name}");
+        assert_eq!(chosen.implicit_substeps, 6, "{name}");
     }
     // The built-in default is the shipped default file.
     let builtin = SceneFile::builtin_default().build().unwrap();
-    assert_eq!(builtin.settings.integrator, Integrator::ImplicitEuler);
+    assert_eq!(builtin.settings.integrator, Integrator::Bdf2);
 }
 
 #[test]

@@ -1,6 +1,6 @@
 //! Issue 22's measurement on the shipped default scene (4,000 strands × 16 segments, head
 //! collider, hair–hair friction, sag-free groom, 1 % strain limit, as shipped): cost per frame and
-//! position error of the implicit integrator at several substep counts, and of the default
+//! position error of the implicit integrators (backward Euler and BDF2) at several substep counts, and of the default
 //! semi-implicit kernel at `auto`, against the converged inextensible reference of issue 22's
 //! table (the same scene, semi-implicit Euler with the inextensibility projection at 512
 //! substeps). Error: RMS over all points of the distance to the reference, per frame, over 24
@@ -8,7 +8,7 @@
 //!
 //! A timing and a long run, so not run by default:
 //! `cargo test --release -p hairsys-tests --test implicit_euler_default_scene -- --ignored --nocapture`
-//! (`IMPLICIT_SUBSTEPS=2,4,8` picks the counts).
+//! (`IMPLICIT_SUBSTEPS=2,4,8` and `BDF2_SUBSTEPS=4,8` pick the counts).
 
 mod study;
 
@@ -29,6 +29,12 @@ fn implicit_euler_on_the_default_scene_against_the_inextensible_reference() {
         runs.push(run(
             &format!("implicit Euler, {n} substeps"),
             &scene("implicit-euler", &n.to_string(), false),
+        ));
+    }
+    for n in counts("BDF2_SUBSTEPS", "2,4,8,16") {
+        runs.push(run(
+            &format!("BDF2, {n} substeps"),
+            &scene("bdf2", &n.to_string(), false),
         ));
     }
     table(&runs, &reference);

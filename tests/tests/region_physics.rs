@@ -106,10 +106,10 @@ fn check_integrator(integrator: Integrator, name: &str) {
     assert!(plain == unit, "{name}: unit scales changed the bits");
 
     // A stiff region at a fixed substep changes only its own strands (the explicit kernel at
-    // the stiff region's bound; implicit Euler and XPBD have none, and run 24 per frame).
+    // the stiff region's bound; implicit Euler, BDF2 and XPBD have none, and run 24 per frame).
     let substeps = match integrator {
         Integrator::SemiImplicitEuler | Integrator::ExplicitEuler => stable_substeps(),
-        Integrator::ImplicitEuler | Integrator::Xpbd => 24,
+        Integrator::ImplicitEuler | Integrator::Bdf2 | Integrator::Xpbd => 24,
     };
     let fixed = fixed_settings(24.0, substeps, integrator);
     let (without, _) = run_with(fixed, None);
@@ -149,6 +149,11 @@ fn region_stiffness_changes_only_that_region_semi_implicit() {
 #[test]
 fn region_stiffness_changes_only_that_region_implicit_euler() {
     check_integrator(Integrator::ImplicitEuler, "implicit Euler");
+}
+
+#[test]
+fn region_stiffness_changes_only_that_region_bdf2() {
+    check_integrator(Integrator::Bdf2, "BDF2");
 }
 
 #[test]

@@ -203,6 +203,7 @@ impl Method for MassSpring {
             Integrator::ExplicitEuler => "explicit Euler".to_string(),
             Integrator::SemiImplicitEuler => "semi-implicit Euler".to_string(),
             Integrator::ImplicitEuler => "implicit Euler".to_string(),
+            Integrator::Bdf2 => "BDF2".to_string(),
             Integrator::Xpbd => "XPBD".to_string(),
         };
         if !self.damping {

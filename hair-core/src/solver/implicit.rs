@@ -1,5 +1,6 @@
-//! The implicit substep (`integrator = "implicit-euler"`): linearised backward Euler along each
-//! strand, with one banded direct solve per strand per substep.
+//! The implicit substeps (`integrator = "implicit-euler"` and `"bdf2"`): linearised backward
+//! Euler, or the second-order backward differentiation formula built on it, along each strand,
+//! with one banded direct solve per strand per substep.
 //!
 //! # Why
 //!
@@ -66,6 +67,40 @@
 //! the swing of the hair too, by `≈ exp(−π ω h)` per period (`2π/(ωh)` substeps of
 //! `1 − (ωh)²/2`): 10 % per period for a 1 s swing at 192 substeps per second, 5 % at 384.
 //! The pendulum test in `tests/tests/implicit_euler.rs` measures it against this formula.
+//!
+//! # BDF2
+//!
+//! Backward Euler's error is first order, and most of it on hair is that damping. BDF2 (the
+//! second-order backward differentiation formula, as Choi and Ko used it for cloth, "Stable but
+//! Responsive Cloth", SIGGRAPH 2002) is as stable (A- and L-stable: the stiff modes are still
+//! damped out) but second order: per substep it keeps a swing's amplitude to `≈ (ωh)⁴/4` instead
+//! of `(ωh)²/2`. Its step, `y' = (4 y − y_prev)/3 + (2h/3) ẏ'` for `y = x, v`, is a backward
+//! Euler step of length `2h/3` from the extrapolated state `((4 x − x_prev)/3, (4 v − v_prev)/3)`,
+//! so it reuses everything above: one assembly and one banded solve per substep, the same
+//! linearisation about where the substep starts (here the extrapolated positions), and the same
+//! contact response, kinematic points and strain limit with `2h/3` as the position update's
+//! step. The extrapolation is computed as `y + (y − y_prev)/3`, whose coefficients sum to one
+//! exactly; `(4 y − y_prev)·⅓` in f32 scaled the state by `1 + 3·10⁻⁸` a substep, a drift that
+//! had capped the measured order.
+//!
+//! BDF2 needs the state one substep back, which a collision step does not have at its start
+//! (hair–hair friction and the contacts change between steps, and a resumed run starts there).
+//! Each step therefore starts with a backward Euler substep of `h/3` and continues with
+//! variable-step BDF2 (step ratio `r`: `y' = ((1 + r)² y − r² y_prev)/(1 + 2r) +
+//! h_n (1 + r)/(1 + 2r) ẏ'`, zero-stable for `r < 1 + √2`) over `2h/3` (`r = 2`), then `h`
+//! (`r = 3/2`), then `h`: the substep boundaries stay at `h, 2h, …`, a step costs one solve more
+//! than its substeps, and the first-order start loses `(ωh/3)²/2` of a swing per step instead
+//! of a whole backward Euler substep's `(ωh)²/2` (with a full-length start, the pendulum at
+//! h = 1/96 s lost 6.7 % per period; with this one 2.2 %; backward Euler 13.5 %). The errors of
+//! the start are `O(h²)` once per step, so the method stays second order in the substep.
+//!
+//! The linearisation's bending matrix is approximate (above), and it multiplies the whole
+//! velocity of the substep: that leaves a first-order term, small against the second-order
+//! one at the steps hair uses (the order measured on a swinging chain is 2.3, 2.4, 1.9 from 8 to
+//! 64 substeps per frame, 1.3 beyond). Evaluating the forces at the predicted end
+//! `x̂ + (2h/3) v̂` instead, so that the approximate matrix multiplies only the correction,
+//! removes that term but was tried and dropped: the stiff cantilever at two substeps per frame
+//! diverged from predictions far along the stiff modes.
 
 use super::band::BandLdlt;
 use super::dispatch::avx2_copy;
@@ -73,7 +108,8 @@ use super::kernel::{
     elastic_forces, finish_substep, kinematic_velocity, Scratch, StepConstants, StrandView,
     SubstepClock,
 };
-use super::lanes::{div_or_zero, splat, Lane, LANES, V3};
+use super::lanes::{div_or_zero, splat, Lane, LANES, M3, V3};
+use super::params::Integrator;
 use crate::mesh::RootFrame;
 
 /// Longest substep `substeps = "auto"` takes with this integrator, s. Stability sets no bound
@@ -88,6 +124,20 @@ pub(crate) const AUTO_DT: f64 = 1.0 / 384.0;
 /// integrator: the fewest keeping the substep at most [`AUTO_DT`], at least 1.
 pub(crate) fn auto_substeps(step_dt: f64) -> u32 {
     (step_dt / AUTO_DT * (1.0 - 1e-9))
+        .ceil()
+        .clamp(1.0, u32::MAX as f64) as u32
+}
+
+/// Longest substep `substeps = "auto"` takes with [`crate::Integrator::Bdf2`], s. Measured like
+/// [`AUTO_DT`] (2026-11-28, `implicit_euler_default_scene`): substeps per frame at 24 fps 4, 5,
+/// 6, 8 gave 1.45, 1.23, 1.14, 1.00 mm RMS with p99 stretch 1.00, 0.91, 0.78, 0.62 % (implicit
+/// Euler at 16: 1.21 mm, 0.48 %); 6 keeps both of issue 22's targets with a margin.
+pub(crate) const AUTO_DT_BDF2: f64 = 1.0 / 144.0;
+
+/// Substeps per step of length `step_dt` (s) that `substeps = "auto"` chooses with BDF2: the
+/// fewest keeping the substep at most [`AUTO_DT_BDF2`], at least 1.
+pub(crate) fn auto_substeps_bdf2(step_dt: f64) -> u32 {
+    (step_dt / AUTO_DT_BDF2 * (1.0 - 1e-9))
         .ceil()
         .clamp(1.0, u32::MAX as f64) as u32
 }
@@ -183,6 +233,48 @@ pub(crate) struct ImplicitScratch<L: Lane> {
     band: BandLdlt<L, BAND_WIDTH>,
     /// The right-hand side, then the solution, per scalar row.
     sol: Vec<L>,
+    /// The previous substep's state, for BDF2.
+    history: History<L>,
+}
+
+/// The state at the start of the previous substep, which a BDF2 substep extrapolates from.
+#[derive(Default)]
+struct History<L: Lane> {
+    /// Positions, m.
+    x: Vec<V3<L>>,
+    /// Velocities, m/s.
+    v: Vec<V3<L>>,
+}
+
+impl<L: Lane> History<L> {
+    /// Remembers the state `(x, v)` at a substep's start.
+    #[inline(always)]
+    fn remember(&mut self, x: &[V3<L>], v: &[V3<L>]) {
+        self.x.clear();
+        self.x.extend_from_slice(x);
+        self.v.clear();
+        self.v.extend_from_slice(v);
+    }
+
+    /// Before a BDF2 substep `r` times as long as the previous one: remembers the state `(x, v)`
+    /// at its start and replaces it by `((1 + r)² y − r² y_prev) / (1 + 2r)` for `y = x, v` (with
+    /// `r = 1`, `(4 y − y_prev)/3`), from which the substep is backward Euler over
+    /// `(1 + r)/(1 + 2r)` of its length (the variable-step BDF2 formula).
+    #[inline(always)]
+    fn extrapolate(&mut self, x: &mut [V3<L>], v: &mut [V3<L>], r: f32) {
+        // As `y + b (y − y_prev)`: the coefficients sum to 1 exactly whatever their rounding, so
+        // round-off does not scale the state a little every substep.
+        let b = splat::<L>(r * r / (1.0 + 2.0 * r));
+        for (now, prev) in x
+            .iter_mut()
+            .zip(&mut self.x)
+            .chain(v.iter_mut().zip(&mut self.v))
+        {
+            let hat = *now + (*now - *prev) * b;
+            *prev = *now;
+            *now = hat;
+        }
+    }
 }
 
 impl<L: Lane> ImplicitScratch<L> {
@@ -216,7 +308,8 @@ avx2_copy!(
 );
 
 /// Advances a group of strands (equal point counts, at most [`LANES`]) by one collision step of
-/// implicit substeps (module docs); roots and pinned points move as in the explicit kernel.
+/// implicit substeps (module docs): backward Euler, or BDF2 with
+/// [`Integrator::Bdf2`]; roots and pinned points move as in the explicit kernel.
 #[inline(always)]
 pub(crate) fn step_group_implicit<L: Lane>(
     views: &mut [StrandView],
@@ -230,74 +323,130 @@ pub(crate) fn step_group_implicit<L: Lane>(
     let mut s = std::mem::take(&mut g.implicit);
     s.fit(g);
     let mut clock = SubstepClock::new(g);
-    for k in 0..c.substeps {
-        let (origin, rot) = clock.end_of(g, k, c.substeps);
-        elastic_forces(g, c, &clock);
-        assemble(g, &mut s, c);
-        let inv_dt = splat::<L>(1.0 / c.dt);
-        let one = splat::<L>(1.0);
-        // Kinematic points: their Δv is known; move it to the right-hand side of their
-        // neighbours, then make their rows and columns the identity (lanes where a point is free
-        // are untouched: `pinned` is zero there).
-        let n = g.x.len();
-        for &p in &g.pinned {
-            let kinematic = kinematic_velocity(g, p, &origin, &rot, inv_dt);
-            let pinned = one - g.free[p];
-            let dv = (kinematic - g.v[p]) * pinned;
-            if p >= 2 {
-                s.rhs[p - 2] -= s.skip[p - 2].mul(&dv);
-            }
-            if p >= 1 {
-                s.rhs[p - 1] -= s.next[p - 1].mul(&dv);
-            }
-            if p + 1 < n {
-                s.rhs[p + 1] -= s.next[p].mul(&dv);
-            }
-            if p + 2 < n {
-                s.rhs[p + 2] -= s.skip[p].mul(&dv);
-            }
-            // Kept here until every neighbour is adjusted: a pinned neighbour's own row is
-            // replaced below.
-            s.sol[3 * p] = dv.x;
-            s.sol[3 * p + 1] = dv.y;
-            s.sol[3 * p + 2] = dv.z;
+    if c.integrator == Integrator::Bdf2 {
+        bdf2_substeps(g, &mut s, c, &mut clock);
+    } else {
+        for k in 0..c.substeps {
+            let (origin, rot) = clock.end_of(g, k, c.substeps);
+            elastic_forces(g, c, &clock);
+            assemble(g, &mut s, c);
+            solve_velocities(g, &mut s, c, &origin, &rot);
+            finish_substep(g, c, (k + 1) as f32 * c.dt, &origin, &rot, false);
+            clock.advance(origin, rot);
         }
-        for &p in &g.pinned {
-            let (free, pinned) = (g.free[p], one - g.free[p]);
-            let dv = V3 {
-                x: s.sol[3 * p],
-                y: s.sol[3 * p + 1],
-                z: s.sol[3 * p + 2],
-            };
-            s.rhs[p] = s.rhs[p] * free + dv;
-            s.diag[p] = s.diag[p].scaled(free);
-            s.diag[p].add_diagonal(pinned);
-            if p >= 2 {
-                s.skip[p - 2] = s.skip[p - 2].scaled(free);
-            }
-            if p >= 1 {
-                s.next[p - 1] = s.next[p - 1].scaled(free);
-            }
-            if p + 1 < n {
-                s.next[p] = s.next[p].scaled(free);
-            }
-            if p + 2 < n {
-                s.skip[p] = s.skip[p].scaled(free);
-            }
-        }
-        solve(&mut s);
-        for i in 0..n {
-            g.v[i] += V3 {
-                x: s.sol[3 * i],
-                y: s.sol[3 * i + 1],
-                z: s.sol[3 * i + 2],
-            };
-        }
-        finish_substep(g, c, k, &origin, &rot, false);
-        clock.advance(origin, rot);
     }
     g.implicit = s;
     g.scatter(views);
+}
+
+/// The substeps of one collision step by BDF2 (`c.substeps` of `h = c.dt`; module docs): a
+/// backward Euler substep of `h/3`, then BDF2 substeps ending at `h, 2h, …`, the first of
+/// length `2h/3` (ratio 2 to the one before), the second `h` (ratio 3/2), the rest `h`.
+#[inline(always)]
+fn bdf2_substeps<L: Lane>(
+    g: &mut Scratch<L>,
+    s: &mut ImplicitScratch<L>,
+    c: &StepConstants,
+    clock: &mut SubstepClock<L>,
+) {
+    let h = c.dt;
+    let steps = c.substeps as f32;
+    // (length, end, ratio to the previous length) in units of h; no ratio: backward Euler.
+    let start = [(1.0 / 3.0, 1.0 / 3.0, None), (2.0 / 3.0, 1.0, Some(2.0))];
+    let rest = (2..=c.substeps).map(|k| (1.0, k as f32, Some(if k == 2 { 1.5 } else { 1.0 })));
+    for (length, end, ratio) in start.into_iter().chain(rest) {
+        let (origin, rot) = clock.at(g, end / steps);
+        let dt = match ratio {
+            None => {
+                s.history.remember(&g.x, &g.v);
+                length * h
+            }
+            // BDF2 after a substep r times shorter: backward Euler over (1 + r)/(1 + 2r) of its
+            // length from the extrapolated state.
+            Some(r) => {
+                s.history.extrapolate(&mut g.x, &mut g.v, r);
+                length * h * (1.0 + r) / (1.0 + 2.0 * r)
+            }
+        };
+        let cb = StepConstants { dt, ..*c };
+        elastic_forces(g, &cb, clock);
+        assemble(g, s, &cb);
+        solve_velocities(g, s, &cb, &origin, &rot);
+        finish_substep(g, &cb, end * h, &origin, &rot, false);
+        clock.advance(origin, rot);
+    }
+}
+
+/// Solves the assembled substep for `Δv` and adds it to `g.v`, with kinematic points (the root,
+/// pinned points) given the velocity that takes them to the scalp at the substep's end
+/// (`origin`, `rot`) over `c.dt`.
+#[inline(always)]
+fn solve_velocities<L: Lane>(
+    g: &mut Scratch<L>,
+    s: &mut ImplicitScratch<L>,
+    c: &StepConstants,
+    origin: &V3<L>,
+    rot: &M3<L>,
+) {
+    let inv_dt = splat::<L>(1.0 / c.dt);
+    let one = splat::<L>(1.0);
+    // Kinematic points: their Δv is known; move it to the right-hand side of their
+    // neighbours, then make their rows and columns the identity (lanes where a point is free
+    // are untouched: `pinned` is zero there).
+    let n = g.x.len();
+    for &p in &g.pinned {
+        let kinematic = kinematic_velocity(g, p, origin, rot, inv_dt);
+        let pinned = one - g.free[p];
+        let dv = (kinematic - g.v[p]) * pinned;
+        if p >= 2 {
+            s.rhs[p - 2] -= s.skip[p - 2].mul(&dv);
+        }
+        if p >= 1 {
+            s.rhs[p - 1] -= s.next[p - 1].mul(&dv);
+        }
+        if p + 1 < n {
+            s.rhs[p + 1] -= s.next[p].mul(&dv);
+        }
+        if p + 2 < n {
+            s.rhs[p + 2] -= s.skip[p].mul(&dv);
+        }
+        // Kept here until every neighbour is adjusted: a pinned neighbour's own row is
+        // replaced below.
+        s.sol[3 * p] = dv.x;
+        s.sol[3 * p + 1] = dv.y;
+        s.sol[3 * p + 2] = dv.z;
+    }
+    for &p in &g.pinned {
+        let (free, pinned) = (g.free[p], one - g.free[p]);
+        let dv = V3 {
+            x: s.sol[3 * p],
+            y: s.sol[3 * p + 1],
+            z: s.sol[3 * p + 2],
+        };
+        s.rhs[p] = s.rhs[p] * free + dv;
+        s.diag[p] = s.diag[p].scaled(free);
+        s.diag[p].add_diagonal(pinned);
+        if p >= 2 {
+            s.skip[p - 2] = s.skip[p - 2].scaled(free);
+        }
+        if p >= 1 {
+            s.next[p - 1] = s.next[p - 1].scaled(free);
+        }
+        if p + 1 < n {
+            s.next[p] = s.next[p].scaled(free);
+        }
+        if p + 2 < n {
+            s.skip[p] = s.skip[p].scaled(free);
+        }
+    }
+    solve(s);
+    for i in 0..n {
+        g.v[i] += V3 {
+            x: s.sol[3 * i],
+            y: s.sol[3 * i + 1],
+            z: s.sol[3 * i + 2],
+        };
+    }
 }
 
 /// Builds the blocks of `h D + h² K` and the right-hand side `h f − (h D + h² K) v` (module

@@ -482,7 +482,7 @@ pub(crate) fn step_group<L: Lane>(
             );
         }
 
-        finish_substep(g, c, k, &origin, &rot, explicit);
+        finish_substep(g, c, (k + 1) as f32 * c.dt, &origin, &rot, explicit);
         clock.advance(origin, rot);
     }
     g.scatter(views);
@@ -511,7 +511,12 @@ impl<L: Lane> SubstepClock<L> {
     /// The root frame at the end of substep `k` of `substeps` (origin, rotation).
     #[inline(always)]
     pub fn end_of(&self, g: &Scratch<L>, k: u32, substeps: u32) -> (V3<L>, M3<L>) {
-        let s = (k + 1) as f32 / substeps as f32;
+        self.at(g, (k + 1) as f32 / substeps as f32)
+    }
+
+    /// The root frame at the fraction `s` (0–1) of the step (origin, rotation).
+    #[inline(always)]
+    pub fn at(&self, g: &Scratch<L>, s: f32) -> (V3<L>, M3<L>) {
         let rot = Q4::nlerp(&g.q_start, &g.q_end, s).matrix();
         let origin = g.o_start * splat(1.0 - s) + g.o_end * splat(s);
         (origin, rot)
@@ -656,12 +661,14 @@ pub(super) fn kinematic_velocity<L: Lane>(
 
 /// The end of a substep after the velocity update: the contact response, the position update,
 /// kinematic points put where the scalp moves them (`origin`, `rot`: the root frame at the
-/// substep's end), then the inextensibility projection and the strain limit if on.
+/// substep's end), then the inextensibility projection and the strain limit if on. `c.dt` is the
+/// position update's step (s; the BDF2 substep's is 2/3 of its length) and `t_end` the time of
+/// the substep's end from the step's start (s), where time-varying contacts are evaluated.
 #[inline(always)]
 pub(super) fn finish_substep<L: Lane>(
     g: &mut Scratch<L>,
     c: &StepConstants,
-    k: u32,
+    t_end: f32,
     origin: &V3<L>,
     rot: &M3<L>,
     explicit: bool,
@@ -673,7 +680,7 @@ pub(super) fn finish_substep<L: Lane>(
     // sub-loop, before the position update. Explicit Euler moves points with the old
     // velocity, so the response applies to that one too.
     if g.has_contacts {
-        let t_end = splat((k + 1) as f32 * c.dt);
+        let t_end = splat(t_end);
         let max_push = splat(c.max_push_speed);
         for &i in &g.contact_points {
             let moving = if explicit {
@@ -728,7 +735,7 @@ pub(super) fn finish_substep<L: Lane>(
             contact: &g.contact,
             push: &g.push,
             free: &g.free,
-            t_end: splat((k + 1) as f32 * c.dt),
+            t_end: splat(t_end),
             dt: c.dt,
         };
         coupling::solve(&mut g.x, &mut g.v, &contacts, &mut g.coupling, lengths);

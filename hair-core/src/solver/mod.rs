@@ -583,7 +583,9 @@ impl Solver {
             let integrator = self.settings.integrator;
             let outcome = if kernel::wide_registers(self.settings.kernel) {
                 let kernel: GroupKernel<lanes::F8> = match integrator {
-                    Integrator::ImplicitEuler => implicit::step_group_implicit_avx2,
+                    Integrator::ImplicitEuler | Integrator::Bdf2 => {
+                        implicit::step_group_implicit_avx2
+                    }
                     Integrator::Xpbd => xpbd::step_group_xpbd_avx2,
                     Integrator::SemiImplicitEuler | Integrator::ExplicitEuler => {
                         kernel::step_group_avx2
@@ -592,7 +594,9 @@ impl Solver {
                 self.step_strands(kernel, strands, &starts, &ends, &consts, contacts)
             } else {
                 let kernel: GroupKernel<lanes::Baseline> = match integrator {
-                    Integrator::ImplicitEuler => implicit::step_group_implicit::<lanes::Baseline>,
+                    Integrator::ImplicitEuler | Integrator::Bdf2 => {
+                        implicit::step_group_implicit::<lanes::Baseline>
+                    }
                     Integrator::Xpbd => xpbd::step_group_xpbd::<lanes::Baseline>,
                     Integrator::SemiImplicitEuler | Integrator::ExplicitEuler => {
                         kernel::step_group::<lanes::Baseline>
@@ -754,6 +758,7 @@ pub(crate) fn resolve_substeps(settings: &SolverSettings, bound: &StabilityBound
         Substeps::Fixed(n) => n,
         Substeps::Auto => match settings.integrator {
             Integrator::ImplicitEuler => implicit::auto_substeps(settings.step_dt()),
+            Integrator::Bdf2 => implicit::auto_substeps_bdf2(settings.step_dt()),
             Integrator::Xpbd => xpbd::auto_substeps(settings.step_dt()),
             Integrator::SemiImplicitEuler | Integrator::ExplicitEuler => {
                 bound.auto_substeps(settings.step_dt())

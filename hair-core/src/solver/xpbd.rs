@@ -284,7 +284,7 @@ pub(crate) fn step_group_xpbd<L: Lane>(
                 c.damp_iterations,
             );
         }
-        finish_substep(g, c, k, &origin, &rot, false);
+        finish_substep(g, c, (k + 1) as f32 * c.dt, &origin, &rot, false);
         clock.advance(origin, rot);
     }
     g.xpbd = s;

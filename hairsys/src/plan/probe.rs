@@ -47,6 +47,8 @@ impl std::fmt::Display for Method {
             (Integrator::ExplicitEuler, _) => "explicit",
             (Integrator::ImplicitEuler, false) => "implicit",
             (Integrator::ImplicitEuler, true) => "implicit+inext",
+            (Integrator::Bdf2, false) => "bdf2",
+            (Integrator::Bdf2, true) => "bdf2+inext",
             (Integrator::Xpbd, false) => "xpbd",
             (Integrator::Xpbd, true) => "xpbd+inext",
         };

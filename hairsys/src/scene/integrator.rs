@@ -1,47 +1,51 @@
 //! `[solver] integrator`: a named time integrator, or `"auto"` (the default), which picks the
-//! cheaper of semi-implicit and implicit Euler for the scene's strands.
+//! cheaper of semi-implicit Euler and BDF2 for the scene's strands.
 //!
 //! # The rule
 //!
 //! Both integrators meet the same accuracy where `"auto"` uses them (issue 22's measure on the
-//! default scene, 24 frames, RMS against the inextensible reference at 512 substeps: semi-implicit
-//! Euler at its stability bound 0.33 mm, implicit Euler at its accuracy limit of 1/384 s 0.92 mm,
-//! both under the 1.5 mm target with p99 stretch under 1 %). What differs is the cost:
+//! default scene, 24 frames, RMS against the inextensible reference at 512 substeps, 2026-11-28:
+//! semi-implicit Euler at its stability bound 0.60 mm, BDF2 at its accuracy limit of 1/144 s
+//! 1.14 mm, implicit Euler at 1/384 s 1.21 mm, all under the 1.5 mm target with p99 stretch
+//! under 1 %). What differs is the cost:
 //!
 //! - semi-implicit Euler needs the substeps its **stability bound** asks for
 //!   ([`hair_core::StabilityBound`]): few on long soft segments (the parity scene: 19 per frame),
 //!   many where short segments carry stiff springs (the default scene 165, the character 434);
-//! - implicit Euler needs the substeps its **accuracy limit** asks for (16 per frame at 24 fps),
-//!   whatever the stiffness, but each costs [`IMPLICIT_SUBSTEP_COST`] explicit substeps (a banded
-//!   solve per strand instead of a force sweep).
+//! - BDF2 needs the substeps its **accuracy limit** asks for (6 per frame at 24 fps), whatever
+//!   the stiffness, but each costs [`IMPLICIT_SUBSTEP_COST`] explicit substeps (a banded solve
+//!   per strand instead of a force sweep). It replaced implicit Euler here (16 substeps per
+//!   frame for a slightly larger error, and 5–13× the artificial damping of a swing).
 //!
-//! So `"auto"` takes implicit Euler when the stability bound's substeps cost more than the
-//! accuracy limit's implicit ones, and semi-implicit Euler otherwise (ties go to semi-implicit
-//! Euler, the more accurate of the two per substep) — unless a rest joint of the groom turns by
-//! more than [`MAX_IMPLICIT_REST_TURN`]: implicit Euler's matrix takes bending's small-angle
+//! So `"auto"` takes BDF2 when the stability bound's substeps cost more than the accuracy
+//! limit's BDF2 ones, and semi-implicit Euler otherwise (ties go to semi-implicit Euler, the
+//! more accurate of the two per substep) — unless a rest joint of the groom turns by more than
+//! [`MAX_IMPLICIT_REST_TURN`]: the implicit integrators' matrix takes bending's small-angle
 //! Hessian about a straight joint (`hair_core::solver` module `implicit`), which misjudges a
-//! sharply pre-bent joint's stiffness. Measured 2026-11-25 (first-frame joint turns, and point-
-//! frames turning past 90° over 48 frames at 16 implicit substeps): the default, wind, gust,
-//! collision and character grooms turn at most 27–32° per joint and fold nowhere; Sintel's has
-//! five joints of 29,090 at 71–83°, next to her roots, and exactly those folded into hairpins
-//! (29 point-frames, up to 150°; still 26 at 64 substeps), where semi-implicit Euler folds none.
+//! sharply pre-bent joint's stiffness. Measured 2026-11-25 with implicit Euler (first-frame joint
+//! turns, and point-frames turning past 90° over 48 frames at 16 implicit substeps): the
+//! default, wind, gust, collision and character grooms turn at most 27–32° per joint and fold
+//! nowhere; Sintel's has five joints of 29,090 at 71–83°, next to her roots, and exactly those
+//! folded into hairpins (29 point-frames, up to 150°; still 26 at 64 substeps), where
+//! semi-implicit Euler folds none.
 //!
 //! With a fixed substep count it takes semi-implicit Euler where that count is within the
-//! stability bound and implicit Euler where it is not (it is stable at any substep). Only the
+//! stability bound and BDF2 where it is not (it is stable at any substep). Only the
 //! mass-spring model has a choice: the rod and the strips keep their own schemes.
 //!
-//! **Contacts.** Implicit Euler applies the contact response after each substep's solve, as the
-//! explicit kernel does, but at 16 substeps a frame instead of ~150 the springs pull a pushed-out
-//! point back towards its neighbours for a whole 2.6 ms substep before the next response. On the
-//! shipped default, wind and collision scenes that stays within the look bounds, but harder contact
-//! does not (measured 2026-11-25): a ball at 24 m/s through hanging hair left points 26.6 mm inside
-//! it at 16 implicit substeps and 0.45 mm at 64, none at 256 (semi-implicit Euler: none at its 96);
-//! a keyed gust swept into the head left 0.22 % of point-frames inside (semi-implicit 0.055 %); a
-//! shrugging deforming scalp left 4 point-frames 0.23 mm inside (semi-implicit none). So `"auto"`
-//! takes implicit Euler only where contact is gentle: no `[[colliders]]` surface moving more than
-//! its thickness plus the thinnest hair's radius in one implicit substep, no deforming collider
-//! (the scalp included) and no animated guides ([`ContactLoad`]). The rigid scalp collider does
-//! not count: the hair it carries is rooted on it and moves with it.
+//! **Contacts.** The implicit integrators apply the contact response after each substep's solve,
+//! as the explicit kernel does, but at a few substeps a frame instead of ~150 the springs pull a
+//! pushed-out point back towards its neighbours for a whole substep before the next response. On
+//! the shipped default, wind and collision scenes that stays within the look bounds, but harder
+//! contact does not (measured 2026-11-25 with implicit Euler): a ball at 24 m/s through hanging
+//! hair left points 26.6 mm inside it at 16 implicit substeps and 0.45 mm at 64, none at 256
+//! (semi-implicit Euler: none at its 96); a keyed gust swept into the head left 0.22 % of
+//! point-frames inside (semi-implicit 0.055 %); a shrugging deforming scalp left 4 point-frames
+//! 0.23 mm inside (semi-implicit none). So `"auto"` takes BDF2 only where contact is gentle: no
+//! `[[colliders]]` surface moving more than its thickness plus the thinnest hair's radius in one
+//! BDF2 substep, no deforming collider (the scalp included) and no animated guides
+//! ([`ContactLoad`]). The rigid scalp collider does not count: the hair it carries is rooted on
+//! it and moves with it.
 //!
 //! The choice is made once, when the scene is built, from the strands at rest (per-region
 //! stiffness included), so a run and its resume take the same integrator.
@@ -53,14 +57,16 @@ use serde::de::{Deserializer, Error as _};
 use serde::ser::Serializer;
 use serde::{Deserialize, Serialize};
 
-/// Strand-phase cost of one implicit Euler substep in semi-implicit Euler substeps on the same
-/// strands. Measured 2026-11-25 on this project's 2-core machine (`hairsys simulate --json`,
-/// `strands_ms_per_frame / substeps`, each scene run both ways): default scene 2.7, wind demo
-/// 3.4, gust 3.4, collision demo 3.1, character 3.2, parity 2.1; 2.8 on the default scene in
-/// session 6.
+/// Strand-phase cost of one BDF2 substep in semi-implicit Euler substeps on the same strands.
+/// Measured 2026-11-28 on this project's 2-core machine on the default scene
+/// (`implicit_euler_default_scene`, strand-phase ms per frame over substeps per frame): 2.9
+/// (a BDF2 substep does a little over one banded solve: each step starts with a backward
+/// Euler third of a substep); an implicit Euler substep 2.0. Measured 2026-11-25 for implicit
+/// Euler on the other shipped scenes: wind demo 3.4, gust 3.4, collision demo 3.1, character
+/// 3.2, parity 2.1.
 pub const IMPLICIT_SUBSTEP_COST: f64 = 3.0;
 
-/// Largest turn of a rest joint (rad) for which `"auto"` takes implicit Euler: 45°, between the
+/// Largest turn of a rest joint (rad) for which `"auto"` takes BDF2: 45°, between the
 /// shipped grooms' 32° and Sintel's 71–83° (module docs), where the curvature measure
 /// `2 tan(θ/2)` departs from the angle by 5.5 %.
 pub const MAX_IMPLICIT_REST_TURN: f64 = std::f64::consts::FRAC_PI_4;
@@ -72,7 +78,7 @@ pub struct ContactLoad {
     /// moving colliders).
     pub collider_speed: f64,
     /// Smallest `thickness` of those colliders plus the thinnest hair's radius, m: how far a
-    /// collider may move in one implicit substep.
+    /// collider may move in one BDF2 substep.
     pub margin: f64,
     /// A collider (the scalp's included) deforms.
     pub deforming: bool,
@@ -81,8 +87,7 @@ pub struct ContactLoad {
 }
 
 impl ContactLoad {
-    /// Why implicit Euler's contact response at a substep of `dt` (s) is not enough here, if it
-    /// is not.
+    /// Why BDF2's contact response at a substep of `dt` (s) is not enough here, if it is not.
     fn too_hard(&self, dt: f64) -> Option<String> {
         if self.deforming {
             Some("a collider deforms".into())
@@ -90,7 +95,7 @@ impl ContactLoad {
             Some("animated guides press the hair into its colliders".into())
         } else if self.collider_speed * dt > self.margin {
             Some(format!(
-                "a collider moves {:.1} mm in one implicit substep, more than its thickness plus \
+                "a collider moves {:.1} mm in one BDF2 substep, more than its thickness plus \
                  the hair radius ({:.1} mm)",
                 self.collider_speed * dt * 1e3,
                 self.margin * 1e3
@@ -129,7 +134,7 @@ pub fn fastest_surface_speed(
 /// `[solver] integrator`: `"auto"` or a named integrator.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum IntegratorChoice {
-    /// The cheaper of semi-implicit and implicit Euler for the scene (module docs).
+    /// The cheaper of semi-implicit Euler and BDF2 for the scene (module docs).
     #[default]
     Auto,
     /// This integrator, whatever it costs.
@@ -147,7 +152,7 @@ pub struct ResolvedIntegrator {
     /// bound's for `"auto"` substeps, on the groom before sag-free initialisation, which can
     /// move the bound by a fraction of a percent).
     pub explicit_substeps: u32,
-    /// Substeps per step implicit Euler would take (the fixed count, or its accuracy limit's).
+    /// Substeps per step BDF2 would take (the fixed count, or its accuracy limit's).
     pub implicit_substeps: u32,
     /// Largest turn of a rest joint over the strands, rad.
     pub max_rest_turn: f64,
@@ -164,10 +169,9 @@ pub enum Rule {
     OtherModel,
     /// The cost comparison alone.
     Cost,
-    /// The cost asked for implicit Euler, but a rest joint turns more than
-    /// [`MAX_IMPLICIT_REST_TURN`].
+    /// The cost asked for BDF2, but a rest joint turns more than [`MAX_IMPLICIT_REST_TURN`].
     SharpJoint,
-    /// The cost asked for implicit Euler, but contact is too hard for it (why, in words).
+    /// The cost asked for BDF2, but contact is too hard for it (why, in words).
     HardContact(String),
 }
 
@@ -180,23 +184,22 @@ impl ResolvedIntegrator {
         match &self.rule {
             Rule::Named | Rule::OtherModel => String::new(),
             Rule::HardContact(why) => format!(
-                "{why}, which implicit Euler's contact response at its substep does not hold, \
-                 {fallback}"
+                "{why}, which BDF2's contact response at its substep does not hold, {fallback}"
             ),
             Rule::SharpJoint => format!(
-                "a rest joint turns {:.0}°, beyond the {:.0}° implicit Euler's bending matrix \
-                 holds, {fallback}",
+                "a rest joint turns {:.0}°, beyond the {:.0}° BDF2's bending matrix holds, \
+                 {fallback}",
                 self.max_rest_turn.to_degrees(),
                 MAX_IMPLICIT_REST_TURN.to_degrees()
             ),
-            Rule::Cost if self.integrator == Integrator::ImplicitEuler => format!(
+            Rule::Cost if self.integrator == Integrator::Bdf2 => format!(
                 "semi-implicit Euler would need about {explicit} substeps per step for \
-                 stability, more than {implicit} implicit substeps at {IMPLICIT_SUBSTEP_COST}× \
+                 stability, more than {implicit} BDF2 substeps at {IMPLICIT_SUBSTEP_COST}× \
                  the cost"
             ),
             Rule::Cost => format!(
                 "about {explicit} semi-implicit substeps per step are stable and cost no more \
-                 than {implicit} implicit substeps at {IMPLICIT_SUBSTEP_COST}× the cost"
+                 than {implicit} BDF2 substeps at {IMPLICIT_SUBSTEP_COST}× the cost"
             ),
         }
     }
@@ -223,8 +226,8 @@ impl IntegratorChoice {
             .resolved_substeps(bound)
         };
         let explicit_substeps = with(Integrator::SemiImplicitEuler);
-        let implicit_substeps = with(Integrator::ImplicitEuler);
-        // Implicit Euler is the cheaper (or, at a fixed count, the only stable) of the two.
+        let implicit_substeps = with(Integrator::Bdf2);
+        // BDF2 is the cheaper (or, at a fixed count, the only stable) of the two.
         let cheaper = match settings.substeps {
             Substeps::Auto => {
                 f64::from(explicit_substeps) > IMPLICIT_SUBSTEP_COST * f64::from(implicit_substeps)
@@ -241,7 +244,7 @@ impl IntegratorChoice {
         };
         let integrator = match self {
             Self::Named(integrator) => integrator,
-            Self::Auto if cheaper && rule == Rule::Cost => Integrator::ImplicitEuler,
+            Self::Auto if cheaper && rule == Rule::Cost => Integrator::Bdf2,
             Self::Auto => Integrator::SemiImplicitEuler,
         };
         ResolvedIntegrator {
@@ -278,12 +281,13 @@ pub fn integrator_name(integrator: Integrator) -> &'static str {
         Integrator::SemiImplicitEuler => "semi-implicit-euler",
         Integrator::ExplicitEuler => "explicit-euler",
         Integrator::ImplicitEuler => "implicit-euler",
+        Integrator::Bdf2 => "bdf2",
         Integrator::Xpbd => "xpbd",
     }
 }
 
 const NAMES: &str =
-    "\"auto\", \"semi-implicit-euler\", \"implicit-euler\", \"xpbd\" or \"explicit-euler\"";
+    "\"auto\", \"semi-implicit-euler\", \"implicit-euler\", \"bdf2\", \"xpbd\" or \"explicit-euler\"";
 
 impl fmt::Display for IntegratorChoice {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -311,6 +315,7 @@ impl std::str::FromStr for IntegratorChoice {
         [
             Integrator::SemiImplicitEuler,
             Integrator::ImplicitEuler,
+            Integrator::Bdf2,
             Integrator::Xpbd,
             Integrator::ExplicitEuler,
         ]
@@ -349,10 +354,10 @@ mod tests {
         }
     }
 
-    /// At 24 fps implicit Euler's accuracy limit asks for 16 substeps, so `"auto"` changes over
-    /// where the stability bound asks for more than 48.
+    /// At 24 fps BDF2's accuracy limit asks for 6 substeps, so `"auto"` changes over where the
+    /// stability bound asks for more than 18.
     #[test]
-    fn auto_takes_implicit_euler_where_the_stability_bound_costs_more() {
+    fn auto_takes_bdf2_where_the_stability_bound_costs_more() {
         let step = 1.0 / 24.0;
         let s = settings(Substeps::Auto);
         let stiff = IntegratorChoice::Auto.resolve(
@@ -362,29 +367,26 @@ mod tests {
             0.5,
             &ContactLoad::default(),
         );
-        assert_eq!(stiff.integrator, Integrator::ImplicitEuler);
-        assert_eq!(
-            (stiff.explicit_substeps, stiff.implicit_substeps),
-            (165, 16)
-        );
+        assert_eq!(stiff.integrator, Integrator::Bdf2);
+        assert_eq!((stiff.explicit_substeps, stiff.implicit_substeps), (165, 6));
         let soft = IntegratorChoice::Auto.resolve(
             StrandModel::MassSpring,
             &s,
-            &bound(step / 40.0 / hair_core::solver::stability::AUTO_SAFETY),
+            &bound(step / 12.0 / hair_core::solver::stability::AUTO_SAFETY),
             0.5,
             &ContactLoad::default(),
         );
         assert_eq!(soft.integrator, Integrator::SemiImplicitEuler);
-        assert_eq!(soft.explicit_substeps, 40);
-        // 48 explicit substeps cost exactly 16 implicit ones: semi-implicit Euler.
+        assert_eq!(soft.explicit_substeps, 12);
+        // 18 explicit substeps cost exactly 6 BDF2 ones: semi-implicit Euler.
         let tie = IntegratorChoice::Auto.resolve(
             StrandModel::MassSpring,
             &s,
-            &bound(step / 48.0 / hair_core::solver::stability::AUTO_SAFETY * 1.000001),
+            &bound(step / 18.0 / hair_core::solver::stability::AUTO_SAFETY * 1.000001),
             0.5,
             &ContactLoad::default(),
         );
-        assert_eq!(tie.explicit_substeps, 48);
+        assert_eq!(tie.explicit_substeps, 18);
         assert_eq!(tie.integrator, Integrator::SemiImplicitEuler);
     }
 
@@ -403,7 +405,7 @@ mod tests {
                 &ContactLoad::default(),
             )
         };
-        assert_eq!(at(32.0).integrator, Integrator::ImplicitEuler);
+        assert_eq!(at(32.0).integrator, Integrator::Bdf2);
         let sharp = at(83.0);
         assert_eq!(sharp.integrator, Integrator::SemiImplicitEuler);
         assert!(sharp.reason().contains("83°"), "{}", sharp.reason());
@@ -442,13 +444,13 @@ mod tests {
             IntegratorChoice::Auto.resolve(StrandModel::MassSpring, &s, &b, 0.3, &contact)
         };
         let margin = 0.003;
-        // 16 substeps of 1/384 s: 1 m/s moves 2.6 mm, under the margin; 2 m/s 5.2 mm.
+        // 6 substeps of 1/144 s: 0.4 m/s moves 2.8 mm, under the margin; 2 m/s 13.9 mm.
         let slow = at(ContactLoad {
-            collider_speed: 1.0,
+            collider_speed: 0.4,
             margin,
             ..ContactLoad::default()
         });
-        assert_eq!(slow.integrator, Integrator::ImplicitEuler);
+        assert_eq!(slow.integrator, Integrator::Bdf2);
         assert_eq!(slow.rule, Rule::Cost);
         for hard in [
             ContactLoad {
@@ -488,7 +490,7 @@ mod tests {
     }
 
     #[test]
-    fn a_fixed_count_below_the_stability_bound_takes_implicit_euler() {
+    fn a_fixed_count_below_the_stability_bound_takes_bdf2() {
         let step = 1.0 / 24.0;
         let b = bound(step / 100.0 / hair_core::solver::stability::AUTO_SAFETY);
         let below = IntegratorChoice::Auto.resolve(
@@ -498,7 +500,7 @@ mod tests {
             0.0,
             &ContactLoad::default(),
         );
-        assert_eq!(below.integrator, Integrator::ImplicitEuler);
+        assert_eq!(below.integrator, Integrator::Bdf2);
         let within = IntegratorChoice::Auto.resolve(
             StrandModel::MassSpring,
             &settings(Substeps::Fixed(200)),

@@ -89,8 +89,17 @@ pub fn assert_undamped_chain_gains_no_energy(integrator: Integrator, name: &str)
 
 /// `(time, x)` samples of a 5° pendulum (a 10 g bob on a 0.5 m, 10⁴ N/m spring) at one
 /// substep per frame of `fps` by `integrator`, over 8 periods; returns them with the period of the stretched
-/// pendulum and the substep.
+/// pendulum, the substep (s) and the swing's angular frequency (rad/s).
 pub fn pendulum(integrator: Integrator, fps: f32) -> (Vec<(f64, f64)>, f64, f64, f64) {
+    pendulum_at(integrator, fps, 1)
+}
+
+/// [`pendulum`] at `substeps` substeps per frame, sampled once a frame.
+pub fn pendulum_at(
+    integrator: Integrator,
+    fps: f32,
+    substeps: u32,
+) -> (Vec<(f64, f64)>, f64, f64, f64) {
     let length = 0.5f64;
     let (mass, k) = (PENDULUM_MASS, PENDULUM_K);
     let theta0 = 5.0f64.to_radians();
@@ -108,7 +117,7 @@ pub fn pendulum(integrator: Integrator, fps: f32) -> (Vec<(f64, f64)>, f64, f64,
     let mut params = bare_params(k as f32);
     params.gravity = gravity();
     let mut solver = Solver::new(
-        fixed_settings(fps, 1, integrator),
+        fixed_settings(fps, substeps, integrator),
         params,
         &strands,
         &scalp,
@@ -126,7 +135,7 @@ pub fn pendulum(integrator: Integrator, fps: f32) -> (Vec<(f64, f64)>, f64, f64,
     let frames = (8.0 * t_ref * fps as f64).ceil() as u32;
     let mut samples = vec![(0.0, strands.positions[1].x as f64)];
     run(&mut solver, &mut strands, &scalp, frames, |s, set| {
-        samples.push((s.frame() as f64 * h, set.positions[1].x as f64));
+        samples.push((s.frame() as f64 / fps as f64, set.positions[1].x as f64));
     })
     .unwrap();
     (samples, t_ref, h, omega)
@@ -237,8 +246,19 @@ pub fn assert_hanging_chain_settles_at_weight_below_over_k(integrator: Integrato
 /// reference at 8× the finest step, the finest error is overestimated by 1/(1 − 1/8) for a
 /// first-order method: the last ratio reads ~0.9–1.0.
 pub fn assert_first_order_as_the_step_halves(integrator: Integrator, name: &str) {
+    assert_order_as_the_step_halves(integrator, name, [16, 32, 64, 128], 0.8..1.3);
+}
+
+/// The swing of [`swing`] by `integrator` (`name` in the printout) at `counts` substeps per
+/// frame (each twice the one before) against 8× the finest: `log2` of each successive RMS error
+/// ratio must lie in `orders`.
+pub fn assert_order_as_the_step_halves(
+    integrator: Integrator,
+    name: &str,
+    counts: [u32; 4],
+    orders: std::ops::Range<f64>,
+) {
     let frames = 12;
-    let counts = [16u32, 32, 64, 128];
     let reference = swing(integrator, 8 * counts[counts.len() - 1], frames);
     let errors: Vec<f64> = counts
         .iter()
@@ -252,15 +272,15 @@ pub fn assert_first_order_as_the_step_halves(integrator: Integrator, name: &str)
             (sum / x.len() as f64).sqrt()
         })
         .collect();
-    let orders: Vec<f64> = errors.windows(2).map(|e| (e[0] / e[1]).log2()).collect();
+    let measured: Vec<f64> = errors.windows(2).map(|e| (e[0] / e[1]).log2()).collect();
     println!(
         "{name} swing at 0.5 s, substeps/frame {counts:?}: RMS errors {errors:?} m, orders \
-         {orders:.3?}"
+         {measured:.3?}"
     );
-    for (i, p) in orders.iter().enumerate() {
+    for (i, p) in measured.iter().enumerate() {
         assert!(
-            (0.8..1.3).contains(p),
-            "order {p:.3} between {} and {} substeps",
+            orders.contains(p),
+            "order {p:.3} between {} and {} substeps (expected {orders:?})",
             counts[i],
             counts[i + 1]
         );
