@@ -141,7 +141,7 @@ class Session:
         steps: int = 1,
         substeps: int | Literal["auto"] = "auto",
         integrator: Literal[
-            "semi-implicit-euler", "implicit-euler", "xpbd", "explicit-euler"
+            "semi-implicit-euler", "implicit-euler", "bdf2", "xpbd", "explicit-euler"
         ] = "semi-implicit-euler",
         damping_iterations: int = 10,
         gravity: tuple[float, float, float] = (0.0, 0.0, -9.81),

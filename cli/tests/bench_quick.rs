@@ -42,6 +42,8 @@ fn bench_quick_writes_pngs_and_a_table_row_per_case_and_method() {
         "semi-implicit Euler + projection, no stretch springs",
         "implicit Euler",
         "implicit Euler, physical springs",
+        "BDF2",
+        "BDF2, physical springs",
         "XPBD",
         "XPBD, physical springs",
         "rod, 1 projection iteration",

@@ -25,7 +25,7 @@ fn font() {
     });
 }
 
-const COLORS: [RGBColor; 11] = [
+const COLORS: [RGBColor; 13] = [
     RGBColor(214, 39, 40),
     RGBColor(31, 119, 180),
     RGBColor(44, 160, 44),
@@ -33,6 +33,8 @@ const COLORS: [RGBColor; 11] = [
     RGBColor(255, 127, 14),
     RGBColor(23, 190, 207),
     RGBColor(140, 86, 75),
+    RGBColor(0, 90, 50),
+    RGBColor(120, 40, 140),
     RGBColor(227, 119, 194),
     RGBColor(127, 127, 127),
     RGBColor(188, 189, 34),

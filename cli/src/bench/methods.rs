@@ -145,6 +145,15 @@ impl MassSpring {
                 ..d
             }),
             Box::new(Self {
+                integrator: Integrator::Bdf2,
+                ..d
+            }),
+            Box::new(Self {
+                integrator: Integrator::Bdf2,
+                stretch: Stretch::Physical,
+                ..d
+            }),
+            Box::new(Self {
                 integrator: Integrator::Xpbd,
                 ..d
             }),

@@ -73,8 +73,8 @@
 //! Backward Euler's error is first order, and most of it on hair is that damping. BDF2 (the
 //! second-order backward differentiation formula, as Choi and Ko used it for cloth, "Stable but
 //! Responsive Cloth", SIGGRAPH 2002) is as stable (A- and L-stable: the stiff modes are still
-//! damped out) but second order: per substep it keeps a swing's amplitude to `≈ (ωh)⁴/4` instead
-//! of `(ωh)²/2`. Its step, `y' = (4 y − y_prev)/3 + (2h/3) ẏ'` for `y = x, v`, is a backward
+//! damped out) but second order: per substep it takes `≈ (ωh)⁴/4` of a swing's amplitude
+//! instead of `(ωh)²/2`. Its step, `y' = (4 y − y_prev)/3 + (2h/3) ẏ'` for `y = x, v`, is a backward
 //! Euler step of length `2h/3` from the extrapolated state `((4 x − x_prev)/3, (4 v − v_prev)/3)`,
 //! so it reuses everything above: one assembly and one banded solve per substep, the same
 //! linearisation about where the substep starts (here the extrapolated positions), and the same

@@ -14,8 +14,9 @@
 //! machine the wall clock measures the other work as much as the probe's). The sim-hair count costs no extra probe: inside
 //! each patch the strands are as dense as in the groom, so keeping a fraction of them and
 //! interpolating the rest ([`levels`]) gives the error of simulating that fraction of the groom,
-//! at that fraction of the cost. Substeps of the implicit integrator are tried from the fewest up
-//! and stop at the first within tolerance (its error falls as the step shrinks, order 1); at a
+//! at that fraction of the cost. Substeps of the implicit integrator (BDF2, the one `"auto"` takes)
+//! are tried from the fewest up and stop at the first within tolerance (its error falls as the
+//! step shrinks, order 2); at a
 //! coarser segment count they start where the finer count stopped, and a segment count whose
 //! most accurate method (inextensible springs at the bound) misses the tolerance ends the
 //! search towards coarser strands. Segment counts are compared as the same material
@@ -285,7 +286,7 @@ pub fn plan(
         // integrator starts at the substeps that sufficed at the finer count.
         for n in [2, 4, 8, 16].into_iter().filter(|&n| n >= implicit_from) {
             let implicit = Method {
-                integrator: Integrator::ImplicitEuler,
+                integrator: Integrator::Bdf2,
                 substeps: Some(n),
                 ..springs_n
             };
@@ -396,7 +397,7 @@ pub fn plan(
             "a different groom (cards), not the scene's strands".to_string(),
         ),
         (
-            "implicit-euler above the first count within tolerance".to_string(),
+            "bdf2 above the first count within tolerance".to_string(),
             "costs more; its error falls with the step".to_string(),
         ),
     ];

@@ -166,8 +166,8 @@ pub enum SubstepsValue {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SolverSection {
-    /// `"auto"` (default: the cheaper of semi-implicit and implicit Euler for the scene, see
-    /// [`integrator`]), `"semi-implicit-euler"`, `"implicit-euler"`, `"xpbd"` or
+    /// `"auto"` (default: the cheaper of semi-implicit Euler and BDF2 for the scene, see
+    /// [`integrator`]), `"semi-implicit-euler"`, `"bdf2"`, `"implicit-euler"`, `"xpbd"` or
     /// `"explicit-euler"`.
     pub integrator: IntegratorChoice,
     /// Collision steps per frame.
