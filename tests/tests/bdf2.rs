@@ -119,25 +119,7 @@ fn bdf2_converges_at_second_order_as_the_step_halves() {
 
 #[test]
 fn bdf2_stiff_cantilever_is_stable_at_two_substeps_per_frame() {
-    let settle = |integrator: Integrator, substeps: Option<u32>| {
-        let r = settle_stiff_cantilever(integrator, substeps);
-        (r.tip, r.ratio, r.fastest, r.substeps)
-    };
-    let (tip, ratio, fastest, _) = settle(BDF2, Some(2));
-    let (tip_explicit, _, _, explicit_substeps) = settle(Integrator::SemiImplicitEuler, None);
-    let sag = -tip.z;
-    let diff = (tip - tip_explicit).norm();
-    println!(
-        "stiff cantilever: BDF2 at 2 substeps/frame (h = {ratio:.0}× the explicit bound; the \
-         explicit kernel needs {explicit_substeps}): tip sag {sag:.4e} m, {diff:.2e} m from the \
-         explicit kernel's equilibrium; fastest point over 10 s {fastest:.3} m/s"
-    );
-    assert!(ratio > 100.0);
-    assert!(sag > 0.0 && fastest < 1.0, "not a sag: {tip:?}");
-    assert!(
-        diff < 0.01 * sag,
-        "settled {diff:.2e} m from the explicit equilibrium (sag {sag:.2e} m)"
-    );
+    assert_stiff_cantilever_settles_where_the_explicit_kernel_does(BDF2, "bdf2", 2);
 }
 
 #[test]

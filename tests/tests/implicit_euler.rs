@@ -76,25 +76,7 @@ fn implicit_euler_converges_at_first_order_as_the_step_halves() {
 
 #[test]
 fn implicit_stiff_cantilever_is_stable_at_one_substep_per_frame() {
-    let settle = |integrator: Integrator, substeps: Option<u32>| {
-        let r = settle_stiff_cantilever(integrator, substeps);
-        (r.tip, r.ratio, r.fastest, r.substeps)
-    };
-    let (tip, ratio, fastest, _) = settle(IMPLICIT, Some(1));
-    let (tip_explicit, _, _, explicit_substeps) = settle(Integrator::SemiImplicitEuler, None);
-    let sag = -tip.z;
-    let diff = (tip - tip_explicit).norm();
-    println!(
-        "stiff cantilever: implicit at 1 substep/frame (h = {ratio:.0}× the explicit bound; \
-         the explicit kernel needs {explicit_substeps}): tip sag {sag:.4e} m, {diff:.2e} m from \
-         the explicit kernel's equilibrium; fastest point over 10 s {fastest:.3} m/s"
-    );
-    assert!(ratio > 100.0);
-    assert!(sag > 0.0 && fastest < 1.0, "not a sag: {tip:?}");
-    assert!(
-        diff < 0.01 * sag,
-        "settled {diff:.2e} m from the explicit equilibrium (sag {sag:.2e} m)"
-    );
+    assert_stiff_cantilever_settles_where_the_explicit_kernel_does(IMPLICIT, "implicit", 1);
 }
 
 #[test]

@@ -30,7 +30,7 @@
 //! semi-implicit Euler folds none.
 //!
 //! With a fixed substep count it takes semi-implicit Euler where that count is within the
-//! stability bound and BDF2 where it is not (it is stable at any substep). Only the
+//! stability bound and BDF2 where it is not (stable far past the bound). Only the
 //! mass-spring model has a choice: the rod and the strips keep their own schemes.
 //!
 //! **Contacts.** The implicit integrators apply the contact response after each substep's solve,

@@ -332,6 +332,32 @@ pub fn settle_stiff_cantilever(integrator: Integrator, substeps: Option<u32>) ->
     }
 }
 
+/// The stiff cantilever of [`settle_stiff_cantilever`] by `integrator` (`name` in the printout)
+/// at `substeps` per frame, more than 100× the explicit bound: it settles without runaway (no
+/// point faster than 1 m/s over 10 s) within 1 % of its sag of the explicit kernel's equilibrium.
+pub fn assert_stiff_cantilever_settles_where_the_explicit_kernel_does(
+    integrator: Integrator,
+    name: &str,
+    substeps: u32,
+) {
+    let r = settle_stiff_cantilever(integrator, Some(substeps));
+    let explicit = settle_stiff_cantilever(Integrator::SemiImplicitEuler, None);
+    let sag = -r.tip.z;
+    let diff = (r.tip - explicit.tip).norm();
+    println!(
+        "stiff cantilever: {name} at {substeps} substep(s)/frame (h = {:.0}× the explicit bound; \
+         the explicit kernel needs {}): tip sag {sag:.4e} m, {diff:.2e} m from the explicit \
+         kernel's equilibrium; fastest point over 10 s {:.3} m/s",
+        r.ratio, explicit.substeps, r.fastest
+    );
+    assert!(r.ratio > 100.0);
+    assert!(sag > 0.0 && r.fastest < 1.0, "not a sag: {:?}", r.tip);
+    assert!(
+        diff < 0.01 * sag,
+        "settled {diff:.2e} m from the explicit equilibrium (sag {sag:.2e} m)"
+    );
+}
+
 /// A small head scene on the integrator `{integrator}` (the scene key) with everything that acts on a strand besides
 /// its springs: the head as a collider, hair–hair friction and repulsion, a wind field, goal
 /// springs and the strain limit.
