@@ -100,7 +100,8 @@ pub struct BudgetReport {
     pub memory_bytes: f64,
     /// The memory limit, bytes (`null` with `--allow-large`).
     pub memory_limit: Option<f64>,
-    /// Estimated work, point-substeps (points × substeps × steps × frames stepped).
+    /// Estimated work, point-substeps (points × substeps × their weight, see
+    /// [`hairsys::budget::substep_weight`], × steps × frames stepped).
     pub point_substeps: f64,
     /// The work limit (`null` with `--allow-large`).
     pub point_substeps_limit: Option<f64>,
@@ -175,6 +176,7 @@ pub fn report(scene: &str, sim: &Simulation, budget: Budget) -> Result<SceneRepo
             memory_limit: (budget.memory_bytes != u64::MAX).then_some(budget.memory_bytes as f64),
             point_substeps: points as f64
                 * f64::from(substeps)
+                * hairsys::budget::substep_weight(sim.integrator.integrator)
                 * f64::from(steps)
                 * f64::from(frames),
             point_substeps_limit: limit(budget.point_substeps),

@@ -7,13 +7,39 @@
 //! memory is counted as points × [`BYTES_PER_POINT`] (positions, velocities, rest state, masses
 //! and the solver's scratch, each a few 4- or 8-byte numbers per point, rounded up), children as
 //! points × samples × [`BYTES_PER_CHILD_POINT`], and time as point-substeps (points × force
-//! substeps × steps per frame × frames), the unit `hairsys simulate` reports its throughput in.
+//! substeps × steps per frame × frames, each substep weighted by [`substep_weight`]: an
+//! implicit substep counts as the explicit ones it costs), the unit `hairsys simulate` reports
+//! its throughput in.
 //! [`Budget::default`] lets through every scene in `scenes/` and the bench with room to spare;
 //! a host that knows better sets its own [`Budget`] (or [`Budget::UNLIMITED`]) on the
 //! [`SceneFile`](crate::scene::SceneFile) or the export options, and the command lifts it with
 //! `--allow-large`.
 
 use std::fmt;
+
+use hair_core::Integrator;
+
+use crate::scene::integrator::IMPLICIT_SUBSTEP_COST;
+
+/// Explicit substeps one force substep of `integrator` costs in the work estimate: a banded solve
+/// per strand for implicit Euler and BDF2 ([`IMPLICIT_SUBSTEP_COST`], measured), one force sweep
+/// otherwise (XPBD's solve is counted as one, a lower bound).
+pub fn substep_weight(integrator: Integrator) -> f64 {
+    match integrator {
+        Integrator::ImplicitEuler | Integrator::Bdf2 => IMPLICIT_SUBSTEP_COST,
+        Integrator::SemiImplicitEuler | Integrator::ExplicitEuler | Integrator::Xpbd => 1.0,
+    }
+}
+
+/// How a work estimate's text names the weight of its substeps: nothing for explicit ones,
+/// `" at 3× an explicit one"` for implicit ones.
+pub fn weight_note(weight: f64) -> String {
+    if weight == 1.0 {
+        String::new()
+    } else {
+        format!(" at {weight}× an explicit one")
+    }
+}
 
 /// Bytes counted per simulated point (an upper estimate, see the [module](self) docs).
 pub const BYTES_PER_POINT: u64 = 256;

@@ -171,14 +171,16 @@ pub fn simulate(
         let start = resumed.as_ref().map_or(first_frame, Resumed::last_frame);
         let (points, substeps) = (session.strands().point_count(), session.solver().substeps());
         let frames = last_frame - start;
+        let weight = crate::budget::substep_weight(integrator.integrator);
         opts.scene
             .budget
             .check_work(
                 &format!(
-                    "--frames {first}-{last}: the run ({points} points × {substeps} substeps × \
-                     [solver] steps = {steps} × {frames} frames)"
+                    "--frames {first}-{last}: the run ({points} points × {substeps} substeps{} × \
+                     [solver] steps = {steps} × {frames} frames)",
+                    crate::budget::weight_note(weight)
                 ),
-                points as f64 * f64::from(substeps) * f64::from(steps) * f64::from(frames),
+                points as f64 * f64::from(substeps) * weight * f64::from(steps) * f64::from(frames),
             )
             .map_err(|e| Error::Usage(e.to_string()))?;
     }

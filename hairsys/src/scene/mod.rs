@@ -643,8 +643,8 @@ impl SceneFile {
 
     /// Refuses a run whose force substeps (explicit or resolved from `"auto"` for its
     /// integrator, with the stability bound `bound` of its strands) exceed
-    /// [`crate::budget::MAX_SUBSTEPS`], or whose work (`points` × substeps × steps × frames) is
-    /// over [`Self::budget`].
+    /// [`crate::budget::MAX_SUBSTEPS`], or whose work (`points` × substeps × their
+    /// [`crate::budget::substep_weight`] × steps × frames) is over [`Self::budget`].
     fn check_work_budget(
         &self,
         settings: &SolverSettings,
@@ -679,12 +679,14 @@ impl SceneFile {
         }
         let [first, last] = s.scene.frames;
         let frames = f64::from(last.saturating_sub(first));
-        let work = points as f64 * substeps * f64::from(settings.steps) * frames;
+        let weight = crate::budget::substep_weight(settings.integrator);
+        let work = points as f64 * substeps * weight * f64::from(settings.steps) * frames;
         self.budget
             .check_work(
                 &format!(
-                    "the run ({points} points × {substeps} substeps × [solver] steps = {} × \
+                    "the run ({points} points × {substeps} substeps{} × [solver] steps = {} × \
                      {frames} frames)",
+                    crate::budget::weight_note(weight),
                     settings.steps
                 ),
                 work,
