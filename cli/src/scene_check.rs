@@ -174,11 +174,14 @@ pub fn report(scene: &str, sim: &Simulation, budget: Budget) -> Result<SceneRepo
         budget: BudgetReport {
             memory_bytes: points as f64 * BYTES_PER_POINT as f64,
             memory_limit: (budget.memory_bytes != u64::MAX).then_some(budget.memory_bytes as f64),
-            point_substeps: points as f64
-                * f64::from(substeps)
-                * hairsys::budget::substep_weight(sim.integrator.integrator)
-                * f64::from(steps)
-                * f64::from(frames),
+            point_substeps: hairsys::budget::RunWork {
+                points,
+                substeps: f64::from(substeps),
+                integrator: sim.integrator.integrator,
+                steps,
+                frames: f64::from(frames),
+            }
+            .point_substeps(),
             point_substeps_limit: limit(budget.point_substeps),
         },
     })

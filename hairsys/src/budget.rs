@@ -31,13 +31,43 @@ pub fn substep_weight(integrator: Integrator) -> f64 {
     }
 }
 
-/// How a work estimate's text names the weight of its substeps: nothing for explicit ones,
-/// `" at 3× an explicit one"` for implicit ones.
-pub fn weight_note(weight: f64) -> String {
-    if weight == 1.0 {
-        String::new()
-    } else {
-        format!(" at {weight}× an explicit one")
+/// The numbers a run's work estimate is made of.
+#[derive(Debug, Clone, Copy)]
+pub struct RunWork {
+    /// Simulated points.
+    pub points: usize,
+    /// Force substeps per collision step.
+    pub substeps: f64,
+    /// The integrator, which weighs each substep ([`substep_weight`]).
+    pub integrator: Integrator,
+    /// Collision steps per frame.
+    pub steps: u32,
+    /// Frames stepped.
+    pub frames: f64,
+}
+
+impl RunWork {
+    /// The estimate, point-substeps: points × substeps × their weight × steps × frames.
+    pub fn point_substeps(&self) -> f64 {
+        self.points as f64
+            * self.substeps
+            * substep_weight(self.integrator)
+            * f64::from(self.steps)
+            * self.frames
+    }
+
+    /// What the estimate is made of, in words.
+    fn describe(&self) -> String {
+        let weight = substep_weight(self.integrator);
+        let note = if weight == 1.0 {
+            String::new()
+        } else {
+            format!(" at {weight}× an explicit one")
+        };
+        format!(
+            "{} points × {} substeps{note} × [solver] steps = {} × {} frames",
+            self.points, self.substeps, self.steps, self.frames
+        )
     }
 }
 
@@ -131,6 +161,15 @@ impl Budget {
             limit: self.memory_bytes as f64,
             unit: "bytes",
         })
+    }
+
+    /// Checks the work of a run against the time limit; `context` (a flag, or empty) leads the
+    /// message.
+    pub fn check_run(&self, context: &str, work: &RunWork) -> Result<(), OverBudget> {
+        self.check_work(
+            &format!("{context}the run ({})", work.describe()),
+            work.point_substeps(),
+        )
     }
 
     /// Checks a run's work, point-substeps, against the time limit.

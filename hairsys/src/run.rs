@@ -171,17 +171,16 @@ pub fn simulate(
         let start = resumed.as_ref().map_or(first_frame, Resumed::last_frame);
         let (points, substeps) = (session.strands().point_count(), session.solver().substeps());
         let frames = last_frame - start;
-        let weight = crate::budget::substep_weight(integrator.integrator);
+        let work = crate::budget::RunWork {
+            points,
+            substeps: f64::from(substeps),
+            integrator: integrator.integrator,
+            steps,
+            frames: f64::from(frames),
+        };
         opts.scene
             .budget
-            .check_work(
-                &format!(
-                    "--frames {first}-{last}: the run ({points} points × {substeps} substeps{} × \
-                     [solver] steps = {steps} × {frames} frames)",
-                    crate::budget::weight_note(weight)
-                ),
-                points as f64 * f64::from(substeps) * weight * f64::from(steps) * f64::from(frames),
-            )
+            .check_run(&format!("--frames {first}-{last}: "), &work)
             .map_err(|e| Error::Usage(e.to_string()))?;
     }
     session.set_thread_pool(std::sync::Arc::new(pool));

@@ -120,27 +120,11 @@ use crate::mesh::RootFrame;
 /// (`exp(−π ω h)`).
 pub(crate) const AUTO_DT: f64 = 1.0 / 384.0;
 
-/// Substeps per step of length `step_dt` (s) that `substeps = "auto"` chooses with this
-/// integrator: the fewest keeping the substep at most [`AUTO_DT`], at least 1.
-pub(crate) fn auto_substeps(step_dt: f64) -> u32 {
-    (step_dt / AUTO_DT * (1.0 - 1e-9))
-        .ceil()
-        .clamp(1.0, u32::MAX as f64) as u32
-}
-
 /// Longest substep `substeps = "auto"` takes with [`crate::Integrator::Bdf2`], s. Measured like
 /// [`AUTO_DT`] (2026-11-28, `implicit_euler_default_scene`): substeps per frame at 24 fps 4, 5,
 /// 6, 8 gave 1.45, 1.23, 1.14, 1.00 mm RMS with p99 stretch 1.00, 0.91, 0.78, 0.62 % (implicit
 /// Euler at 16: 1.21 mm, 0.48 %); 6 keeps both of issue 22's targets with a margin.
 pub(crate) const AUTO_DT_BDF2: f64 = 1.0 / 144.0;
-
-/// Substeps per step of length `step_dt` (s) that `substeps = "auto"` chooses with BDF2: the
-/// fewest keeping the substep at most [`AUTO_DT_BDF2`], at least 1.
-pub(crate) fn auto_substeps_bdf2(step_dt: f64) -> u32 {
-    (step_dt / AUTO_DT_BDF2 * (1.0 - 1e-9))
-        .ceil()
-        .clamp(1.0, u32::MAX as f64) as u32
-}
 
 /// Width of the scalar band (diagonal included): a point couples with points up to two away
 /// (bending), 3 components each, so row `3i + a` reaches column `3(i − 2) + 0`, 8 to its left.
@@ -327,12 +311,8 @@ pub(crate) fn step_group_implicit<L: Lane>(
         bdf2_substeps(g, &mut s, c, &mut clock);
     } else {
         for k in 0..c.substeps {
-            let (origin, rot) = clock.end_of(g, k, c.substeps);
-            elastic_forces(g, c, &clock);
-            assemble(g, &mut s, c);
-            solve_velocities(g, &mut s, c, &origin, &rot);
-            finish_substep(g, c, (k + 1) as f32 * c.dt, &origin, &rot, false);
-            clock.advance(origin, rot);
+            let end = clock.end_of(g, k, c.substeps);
+            substep(g, &mut s, c, &mut clock, (k + 1) as f32 * c.dt, end);
         }
     }
     g.implicit = s;
@@ -350,12 +330,12 @@ fn bdf2_substeps<L: Lane>(
     clock: &mut SubstepClock<L>,
 ) {
     let h = c.dt;
-    let steps = c.substeps as f32;
+    let substeps = c.substeps as f32;
     // (length, end, ratio to the previous length) in units of h; no ratio: backward Euler.
     let start = [(1.0 / 3.0, 1.0 / 3.0, None), (2.0 / 3.0, 1.0, Some(2.0))];
     let rest = (2..=c.substeps).map(|k| (1.0, k as f32, Some(if k == 2 { 1.5 } else { 1.0 })));
     for (length, end, ratio) in start.into_iter().chain(rest) {
-        let (origin, rot) = clock.at(g, end / steps);
+        let at_end = clock.at(g, end / substeps);
         let dt = match ratio {
             None => {
                 s.history.remember(&g.x, &g.v);
@@ -368,13 +348,26 @@ fn bdf2_substeps<L: Lane>(
                 length * h * (1.0 + r) / (1.0 + 2.0 * r)
             }
         };
-        let cb = StepConstants { dt, ..*c };
-        elastic_forces(g, &cb, clock);
-        assemble(g, s, &cb);
-        solve_velocities(g, s, &cb, &origin, &rot);
-        finish_substep(g, &cb, end * h, &origin, &rot, false);
-        clock.advance(origin, rot);
+        substep(g, s, &StepConstants { dt, ..*c }, clock, end * h, at_end);
     }
+}
+
+/// One backward Euler substep of `c.dt` from the state in `g` (which BDF2 has extrapolated),
+/// ending `t_end` (s) after the step's start with the root frame `(origin, rot)`.
+#[inline(always)]
+fn substep<L: Lane>(
+    g: &mut Scratch<L>,
+    s: &mut ImplicitScratch<L>,
+    c: &StepConstants,
+    clock: &mut SubstepClock<L>,
+    t_end: f32,
+    (origin, rot): (V3<L>, M3<L>),
+) {
+    elastic_forces(g, c, clock);
+    assemble(g, s, c);
+    solve_velocities(g, s, c, &origin, &rot);
+    finish_substep(g, c, t_end, &origin, &rot, false);
+    clock.advance(origin, rot);
 }
 
 /// Solves the assembled substep for `Δv` and adds it to `g.v`, with kinematic points (the root,

@@ -757,14 +757,22 @@ pub(crate) fn resolve_substeps(settings: &SolverSettings, bound: &StabilityBound
     match settings.substeps {
         Substeps::Fixed(n) => n,
         Substeps::Auto => match settings.integrator {
-            Integrator::ImplicitEuler => implicit::auto_substeps(settings.step_dt()),
-            Integrator::Bdf2 => implicit::auto_substeps_bdf2(settings.step_dt()),
-            Integrator::Xpbd => xpbd::auto_substeps(settings.step_dt()),
+            Integrator::ImplicitEuler => substeps_within(settings.step_dt(), implicit::AUTO_DT),
+            Integrator::Bdf2 => substeps_within(settings.step_dt(), implicit::AUTO_DT_BDF2),
+            Integrator::Xpbd => substeps_within(settings.step_dt(), xpbd::AUTO_DT),
             Integrator::SemiImplicitEuler | Integrator::ExplicitEuler => {
                 bound.auto_substeps(settings.step_dt())
             }
         },
     }
+}
+
+/// The fewest substeps per step of length `step_dt` (s) keeping the substep at most `longest`
+/// (s), at least 1: `"auto"` for the integrators whose substep follows an accuracy limit.
+fn substeps_within(step_dt: f64, longest: f64) -> u32 {
+    (step_dt / longest * (1.0 - 1e-9))
+        .ceil()
+        .clamp(1.0, u32::MAX as f64) as u32
 }
 
 /// Checks a strand after a step: finite, and energy per unit mass (kinetic + stretch) below

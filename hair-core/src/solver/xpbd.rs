@@ -107,14 +107,6 @@ use crate::mesh::RootFrame;
 /// frame's turn").
 pub(crate) const AUTO_DT: f64 = 1.0 / 384.0;
 
-/// Substeps per step of length `step_dt` (s) that `substeps = "auto"` chooses with this
-/// integrator: the fewest keeping the substep at most [`AUTO_DT`], at least 1.
-pub(crate) fn auto_substeps(step_dt: f64) -> u32 {
-    (step_dt / AUTO_DT * (1.0 - 1e-9))
-        .ceil()
-        .clamp(1.0, u32::MAX as f64) as u32
-}
-
 /// Chord iterations of the direct solve per substep (module docs, step 3), each on the
 /// multipliers accumulated so far.
 const ITERATIONS: u32 = 4;

@@ -679,18 +679,15 @@ impl SceneFile {
         }
         let [first, last] = s.scene.frames;
         let frames = f64::from(last.saturating_sub(first));
-        let weight = crate::budget::substep_weight(settings.integrator);
-        let work = points as f64 * substeps * weight * f64::from(settings.steps) * frames;
+        let work = crate::budget::RunWork {
+            points,
+            substeps,
+            integrator: settings.integrator,
+            steps: settings.steps,
+            frames,
+        };
         self.budget
-            .check_work(
-                &format!(
-                    "the run ({points} points × {substeps} substeps{} × [solver] steps = {} × \
-                     {frames} frames)",
-                    crate::budget::weight_note(weight),
-                    settings.steps
-                ),
-                work,
-            )
+            .check_run("", &work)
             .map_err(|e| self.error(e.to_string()))
     }
 
