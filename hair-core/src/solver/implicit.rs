@@ -31,15 +31,27 @@
 //!   `rate`, the meaning the explicit kernel's damping sub-loop gives it; the sub-loop does not
 //!   run,
 //! - **bending**: the force is the exact curvature gradient of [`super::curvature`] (computed by
-//!   the same code as the explicit kernel); the matrix takes its small-angle Hessian about a
-//!   straight strand: joint `j` turns by `θ_j = (δ_{j+1} − δ_j)/l_j − (δ_j − δ_{j−1})/l_{j−1}` for
-//!   sideways displacements `δ`, so it adds `k_j e eᵀ ⊗ P` with `e = (1/l_{j−1}, −1/l_{j−1} − 1/l_j,
-//!   1/l_j)` on points `j − 1, j, j + 1` and `P = I − t̄ t̄ᵀ` the projection across the joint's mean
-//!   tangent; the root joint adds `k_0/l_0² P` on the first segment's relative motion. This is
-//!   positive semi-definite, couples points two apart (the band's second off-diagonal), and
-//!   leaves out the terms of a curved rest shape and the transported frame's twist (small where
-//!   the joint turns little, and approximating the Jacobian changes only how the stiff modes are
-//!   damped, not the equilibrium),
+//!   the same code as the explicit kernel); the matrix takes one of two approximations of its
+//!   Hessian, per group of strands:
+//!   - **small-angle**, about a straight strand: joint `j` turns by `θ_j = (δ_{j+1} − δ_j)/l_j −
+//!     (δ_j − δ_{j−1})/l_{j−1}` for sideways displacements `δ`, so it adds `k_j e eᵀ ⊗ P` with
+//!     `e = (1/l_{j−1}, −1/l_{j−1} − 1/l_j, 1/l_j)` on points `j − 1, j, j + 1` and `P = I − t̄ t̄ᵀ`
+//!     the projection across the joint's mean tangent; the root joint adds `k_0/l_0² P` on the
+//!     first segment's relative motion. It leaves out the terms of a curved rest shape, which
+//!     is right where joints turn little at rest and wrong where they turn much: on the bench's
+//!     curly hair (46° joints) implicit Euler blew up below 16 substeps per frame with it;
+//!   - **Gauss–Newton**, for groups with a joint turning more than [`SHARP_REST_TURN_DEG`] at
+//!     rest: `k Jᵀ J` with `J` the exact Jacobian of each joint's residual `κ − K` at the
+//!     current shape (`bending_hessian`), including the turn of the transported frame that
+//!     carries `K` as the joint's first tangent turns. It costs a third more per substep (its
+//!     blocks coupling two points are unsymmetric 3×3 products) and halves the substeps
+//!     implicit Euler and BDF2 need on the curly hair (3 % stretch at 32 substeps per frame
+//!     became 0.2 %);
+//!
+//!   both are positive semi-definite and couple points two apart (the band's second
+//!   off-diagonal), and both leave out the twist that parallel transport accumulates from the
+//!   root (approximating the Jacobian changes only how the stiff modes are damped, not the
+//!   equilibrium),
 //! - **goal springs** (`k_goal w I` on the diagonal) and **air drag** (`m · drag · I`), implicit,
 //! - gravity, force fields and hair–hair repulsion as explicit forces (constant over the
 //!   substep).
@@ -103,6 +115,7 @@
 //! diverged from predictions far along the stiff modes.
 
 use super::band::BandLdlt;
+use super::blocks::{Mat3, Sym3};
 use super::dispatch::avx2_copy;
 use super::kernel::{
     elastic_forces, finish_substep, kinematic_velocity, Scratch, StepConstants, StrandView,
@@ -126,75 +139,18 @@ pub(crate) const AUTO_DT: f64 = 1.0 / 384.0;
 /// Euler at 16: 1.21 mm, 0.48 %); 6 keeps both of issue 22's targets with a margin.
 pub(crate) const AUTO_DT_BDF2: f64 = 1.0 / 144.0;
 
+/// Rest turn of a joint (degrees) beyond which a group of strands takes bending's Gauss–Newton
+/// Hessian instead of the small-angle one (module docs). The small-angle form serves the default
+/// groom (joints up to 27°); on the bench's curly hair (46°) implicit Euler with it stretched 3 %
+/// at 32 substeps per frame and needed 64 to stay under 1 %, and with the Gauss–Newton form 0.2 %
+/// at 32. The Gauss–Newton form made the default scene's strand phase a third slower when forced
+/// on it (2026-11-28, one thread), so straighter grooms keep the small-angle form, and their
+/// results are the same bits as before it existed.
+const SHARP_REST_TURN_DEG: f32 = 30.0;
+
 /// Width of the scalar band (diagonal included): a point couples with points up to two away
 /// (bending), 3 components each, so row `3i + a` reaches column `3(i − 2) + 0`, 8 to its left.
 const BAND_WIDTH: usize = 9;
-
-/// A symmetric 3×3 matrix per lane.
-#[derive(Clone, Copy, Default, Debug)]
-struct Sym3<L> {
-    xx: L,
-    yy: L,
-    zz: L,
-    xy: L,
-    xz: L,
-    yz: L,
-}
-
-impl<L: Lane> Sym3<L> {
-    /// `a I + b t tᵀ`.
-    #[inline(always)]
-    fn iso_outer(a: L, b: L, t: &V3<L>) -> Self {
-        let (bx, by) = (b * t.x, b * t.y);
-        Self {
-            xx: a + bx * t.x,
-            yy: a + by * t.y,
-            zz: a + b * t.z * t.z,
-            xy: bx * t.y,
-            xz: bx * t.z,
-            yz: by * t.z,
-        }
-    }
-
-    #[inline(always)]
-    fn scaled(&self, s: L) -> Self {
-        Self {
-            xx: self.xx * s,
-            yy: self.yy * s,
-            zz: self.zz * s,
-            xy: self.xy * s,
-            xz: self.xz * s,
-            yz: self.yz * s,
-        }
-    }
-
-    #[inline(always)]
-    fn add(&mut self, o: &Self) {
-        self.xx += o.xx;
-        self.yy += o.yy;
-        self.zz += o.zz;
-        self.xy += o.xy;
-        self.xz += o.xz;
-        self.yz += o.yz;
-    }
-
-    /// Adds `s I`.
-    #[inline(always)]
-    fn add_diagonal(&mut self, s: L) {
-        self.xx += s;
-        self.yy += s;
-        self.zz += s;
-    }
-
-    #[inline(always)]
-    fn mul(&self, v: &V3<L>) -> V3<L> {
-        V3 {
-            x: self.xx * v.x + self.xy * v.y + self.xz * v.z,
-            y: self.xy * v.x + self.yy * v.y + self.yz * v.z,
-            z: self.xz * v.x + self.yz * v.y + self.zz * v.z,
-        }
-    }
-}
 
 /// Per-thread buffers of the implicit substep, refitted to each group.
 #[derive(Default)]
@@ -207,10 +163,10 @@ pub(crate) struct ImplicitScratch<L: Lane> {
     damp: Vec<L>,
     /// Block `(i, i)` of `h D + h² K` per point.
     diag: Vec<Sym3<L>>,
-    /// Block `(i, i + 1)` (symmetric, so also `(i + 1, i)`).
-    next: Vec<Sym3<L>>,
-    /// Block `(i, i + 2)` (bending only).
-    skip: Vec<Sym3<L>>,
+    /// Block `(i + 1, i)` (its transpose is block `(i, i + 1)`).
+    next: Vec<Mat3<L>>,
+    /// Block `(i + 2, i)` (bending only; its transpose is block `(i, i + 2)`).
+    skip: Vec<Mat3<L>>,
     /// Right-hand side per point, then `Δv` of kinematic points.
     rhs: Vec<V3<L>>,
     /// The matrix `M + h D + h² K` as a scalar band, then its `L D Lᵀ` factor.
@@ -219,6 +175,9 @@ pub(crate) struct ImplicitScratch<L: Lane> {
     sol: Vec<L>,
     /// The previous substep's state, for BDF2.
     history: History<L>,
+    /// Does a joint of the group turn by more than [`SHARP_REST_TURN_DEG`] at rest? Its bending
+    /// then takes the Gauss–Newton Hessian instead of the small-angle one (module docs).
+    sharp: bool,
 }
 
 /// The state at the start of the previous substep, which a BDF2 substep extrapolates from.
@@ -282,6 +241,12 @@ impl<L: Lane> ImplicitScratch<L> {
             self.inv_rest[j] = one / g.rest_length[j];
             self.damp[j] = div_or_zero(rate, g.inv_mass[j] + g.inv_mass[j + 1], 0.0);
         }
+        // |k K| > k |K_sharp| in any lane, with |K| = 2 tan(θ/2) for a joint turning by θ.
+        let sharp = splat::<L>(2.0 * (SHARP_REST_TURN_DEG.to_radians() / 2.0).tan());
+        self.sharp = (1..n - 1).any(|j| {
+            let (rest, limit) = (g.rest_moment[j], g.joint_k[j] * sharp);
+            L::any(rest.dot(&rest).simd_gt(limit * limit))
+        });
     }
 }
 
@@ -364,7 +329,7 @@ fn substep<L: Lane>(
     (origin, rot): (V3<L>, M3<L>),
 ) {
     elastic_forces(g, c, clock);
-    assemble(g, s, c);
+    assemble(g, s, c, clock);
     solve_velocities(g, s, c, &origin, &rot);
     finish_substep(g, c, t_end, &origin, &rot, false);
     clock.advance(origin, rot);
@@ -392,10 +357,10 @@ fn solve_velocities<L: Lane>(
         let pinned = one - g.free[p];
         let dv = (kinematic - g.v[p]) * pinned;
         if p >= 2 {
-            s.rhs[p - 2] -= s.skip[p - 2].mul(&dv);
+            s.rhs[p - 2] -= s.skip[p - 2].mul_transposed(&dv);
         }
         if p >= 1 {
-            s.rhs[p - 1] -= s.next[p - 1].mul(&dv);
+            s.rhs[p - 1] -= s.next[p - 1].mul_transposed(&dv);
         }
         if p + 1 < n {
             s.rhs[p + 1] -= s.next[p].mul(&dv);
@@ -443,13 +408,21 @@ fn solve_velocities<L: Lane>(
 }
 
 /// Builds the blocks of `h D + h² K` and the right-hand side `h f − (h D + h² K) v` (module
-/// docs) from the forces, tangents and tensions [`elastic_forces`] left in `g`.
+/// docs) from the forces, tangents, tensions and rest curvatures [`elastic_forces`] left in `g`;
+/// `clock` gives the root frame the forces were taken in.
 #[inline(always)]
-fn assemble<L: Lane>(g: &Scratch<L>, s: &mut ImplicitScratch<L>, c: &StepConstants) {
+fn assemble<L: Lane>(
+    g: &Scratch<L>,
+    s: &mut ImplicitScratch<L>,
+    c: &StepConstants,
+    clock: &SubstepClock<L>,
+) {
     let n = g.x.len();
-    for buf in [&mut s.diag, &mut s.next, &mut s.skip] {
+    s.diag.clear();
+    s.diag.resize(n, Sym3::default());
+    for buf in [&mut s.next, &mut s.skip] {
         buf.clear();
-        buf.resize(n, Sym3::default());
+        buf.resize(n, Mat3::default());
     }
     let h = splat::<L>(c.dt);
     let h2 = h * h;
@@ -462,28 +435,13 @@ fn assemble<L: Lane>(g: &Scratch<L>, s: &mut ImplicitScratch<L>, c: &StepConstan
         let block = Sym3::iso_outer(h2k * alpha, h2k * (one - alpha) + h * s.damp[j], &t);
         s.diag[j].add(&block);
         s.diag[j + 1].add(&block);
-        s.next[j].add(&block.scaled(-one));
+        s.next[j].sub(&Mat3::from_sym(&block));
     }
-    // Bending: small-angle Hessian of each joint, across its mean tangent.
     if c.bend > 0.0 {
-        let t0 = g.tangent[1];
-        let b = h2 * g.joint_k[0] * s.inv_rest[0] * s.inv_rest[0];
-        let block = Sym3::iso_outer(b, -b, &t0);
-        s.diag[0].add(&block);
-        s.diag[1].add(&block);
-        s.next[0].add(&block.scaled(-one));
-        for j in 1..n - 1 {
-            let mean = g.tangent[j] + g.tangent[j + 1];
-            let across = Sym3::iso_outer(one, -div_or_zero(one, mean.dot(&mean), 1e-12), &mean);
-            let (ia, ib) = (s.inv_rest[j - 1], s.inv_rest[j]);
-            let e = [ia, zero - ia - ib, ib];
-            let beta = h2 * g.joint_k[j];
-            s.diag[j - 1].add(&across.scaled(beta * e[0] * e[0]));
-            s.diag[j].add(&across.scaled(beta * e[1] * e[1]));
-            s.diag[j + 1].add(&across.scaled(beta * e[2] * e[2]));
-            s.next[j - 1].add(&across.scaled(beta * e[0] * e[1]));
-            s.next[j].add(&across.scaled(beta * e[1] * e[2]));
-            s.skip[j - 1].add(&across.scaled(beta * e[0] * e[2]));
+        if s.sharp {
+            bending_hessian(g, s, h, clock);
+        } else {
+            small_angle_bending_hessian(g, s, h);
         }
     }
     // Goal springs and air drag on the diagonal (zero on pinned points).
@@ -501,13 +459,13 @@ fn assemble<L: Lane>(g: &Scratch<L>, s: &mut ImplicitScratch<L>, c: &StepConstan
         }
         let mut sv = s.diag[i].mul(&g.v[i]);
         if i + 1 < n {
-            sv += s.next[i].mul(&g.v[i + 1]);
+            sv += s.next[i].mul_transposed(&g.v[i + 1]);
         }
         if i >= 1 {
             sv += s.next[i - 1].mul(&g.v[i - 1]);
         }
         if i + 2 < n {
-            sv += s.skip[i].mul(&g.v[i + 2]);
+            sv += s.skip[i].mul_transposed(&g.v[i + 2]);
         }
         if i >= 2 {
             sv += s.skip[i - 2].mul(&g.v[i - 2]);
@@ -517,6 +475,111 @@ fn assemble<L: Lane>(g: &Scratch<L>, s: &mut ImplicitScratch<L>, c: &StepConstan
     // The matrix M + h D + h² K: masses on the diagonal.
     for i in 0..n {
         s.diag[i].add_diagonal(s.mass[i]);
+    }
+}
+
+/// Adds bending's small-angle Hessian about a straight strand (module docs) to the blocks, `h`
+/// the substep (s): joint `j` adds `h² k_j e eᵀ ⊗ P` across its mean tangent.
+#[inline(always)]
+fn small_angle_bending_hessian<L: Lane>(g: &Scratch<L>, s: &mut ImplicitScratch<L>, h: L) {
+    let n = g.x.len();
+    let h2 = h * h;
+    let (zero, one) = (splat::<L>(0.0), splat::<L>(1.0));
+    let t0 = g.tangent[1];
+    let b = h2 * g.joint_k[0] * s.inv_rest[0] * s.inv_rest[0];
+    let block = Sym3::iso_outer(b, -b, &t0);
+    s.diag[0].add(&block);
+    s.diag[1].add(&block);
+    s.next[0].sub(&Mat3::from_sym(&block));
+    for j in 1..n - 1 {
+        let mean = g.tangent[j] + g.tangent[j + 1];
+        let across = Sym3::iso_outer(one, -div_or_zero(one, mean.dot(&mean), 1e-12), &mean);
+        let (ia, ib) = (s.inv_rest[j - 1], s.inv_rest[j]);
+        let e = [ia, zero - ia - ib, ib];
+        let beta = h2 * g.joint_k[j];
+        s.diag[j - 1].add(&across.scaled(beta * e[0] * e[0]));
+        s.diag[j].add(&across.scaled(beta * e[1] * e[1]));
+        s.diag[j + 1].add(&across.scaled(beta * e[2] * e[2]));
+        s.next[j - 1].add(&Mat3::from_sym(&across.scaled(beta * e[0] * e[1])));
+        s.next[j].add(&Mat3::from_sym(&across.scaled(beta * e[1] * e[2])));
+        s.skip[j - 1].add(&Mat3::from_sym(&across.scaled(beta * e[0] * e[2])));
+    }
+}
+
+/// The Jacobians of a joint's curvature residual `r = κ − K` (`bending_hessian`'s notation):
+/// `A` (`−∂r/∂x_{j−1}`) and `B` (`∂r/∂x_{j+1}`), for unit tangents `a`, `b`, their segments'
+/// inverse lengths (1/m) and the rest curvature `K` in the transported frame, world (`K = 0`:
+/// no frame term). (A function, not a closure: closures are not compiled for the kernel's AVX2.)
+#[inline(always)]
+fn joint_jacobians<L: Lane>(
+    a: &V3<L>,
+    b: &V3<L>,
+    inv_len_a: L,
+    inv_len_b: L,
+    rest: &V3<L>,
+) -> (Mat3<L>, Mat3<L>) {
+    let (one, two) = (splat::<L>(1.0), splat::<L>(2.0));
+    let chi = div_or_zero(one, one + a.dot(b), 1e-6);
+    let kappa = a.cross(b) * (two * chi);
+    let sum = Mat3::outer(&kappa, &(*a + *b));
+    let mut bm = Mat3::cross(a).scaled(two);
+    bm.sub(&sum);
+    // κ(a, b) = −κ(b, a) gives κ's Jacobian in a; the frame turns by a × δa.
+    let mut am = Mat3::cross(b).scaled(-two);
+    am.sub(&sum);
+    let mut am = am.scaled(chi);
+    am.add(&Mat3::cross(rest).times(&Mat3::cross(a)));
+    (am.scaled(inv_len_a), bm.scaled(chi * inv_len_b))
+}
+
+/// Adds bending's Gauss–Newton Hessian `h² k Jᵀ J` (module docs) to the blocks, `h` the
+/// substep (s). A joint between tangents `a` and `b` (points `j − 1, j, j + 1`) has the
+/// residual `r = κ − K`, `κ = 2 a × b / (1 + a·b)` and `K` its rest curvature in the
+/// transported frame, which turns by `a × δa` as `a` does; with `χ = 1/(1 + a·b)`,
+/// `P_t = I − t tᵀ` and `ι` a segment's inverse length,
+///
+/// `∂r/∂x_{j+1} = B = ι_b χ (2 [a]× − κ (a + b)ᵀ)` (that is `∂κ/∂b P_b ι_b`),
+/// `∂r/∂x_{j−1} = −A`, `A = ι_a (χ (−2 [b]× − κ (a + b)ᵀ) + [K]× [a]×)`, and
+/// `∂r/∂x_j = A − B`; the root joint measures `b` against the root frame's rest direction
+/// (kinematic, `K = 0`) and has only `B`.
+#[inline(always)]
+fn bending_hessian<L: Lane>(
+    g: &Scratch<L>,
+    s: &mut ImplicitScratch<L>,
+    h: L,
+    clock: &SubstepClock<L>,
+) {
+    let n = g.x.len();
+    let (zero, one) = (splat::<L>(0.0), splat::<L>(1.0));
+    let rot = clock.rot_now;
+    let (root_t, up) = (rot.cols[2], rot.cols[0]);
+    let r = g.root_rest;
+    let root_dir = root_t * r.x + up * r.y + root_t.cross(&up) * r.z;
+    let (_, b0) = joint_jacobians(&root_dir, &g.tangent[1], zero, g.inv_len[1], &V3::default());
+    let gram = b0.scaled(h * g.joint_k[0].sqrt()).gram();
+    s.diag[0].add(&gram);
+    s.diag[1].add(&gram);
+    s.next[0].sub(&Mat3::from_sym(&gram));
+    for j in 1..n - 1 {
+        let k = g.joint_k[j];
+        // `rest_bend` holds k K.
+        let rest = g.rest_bend[j + 1] * div_or_zero(one, k, 1e-30);
+        let (am, bm) = joint_jacobians(
+            &g.tangent[j],
+            &g.tangent[j + 1],
+            g.inv_len[j],
+            g.inv_len[j + 1],
+            &rest,
+        );
+        let scale = h * k.sqrt();
+        let (am, bm) = (am.scaled(scale), bm.scaled(scale));
+        let cm = am.minus(&bm);
+        s.diag[j - 1].add(&am.gram());
+        s.diag[j].add(&cm.gram());
+        s.diag[j + 1].add(&bm.gram());
+        s.next[j - 1].sub(&cm.transposed_times(&am));
+        s.next[j].add(&bm.transposed_times(&cm));
+        s.skip[j - 1].sub(&bm.transposed_times(&am));
     }
 }
 
@@ -530,15 +593,15 @@ fn solve<L: Lane>(s: &mut ImplicitScratch<L>) {
     let zero = L::default();
     for i in 0..n {
         // Row 3i + a, entry d is A(3i + a, 3i + a − d): the diagonal block's lower triangle at
-        // d = a − b, block (i, i − 1) at 3 + a − b, block (i, i − 2) at 6 + a − b (both
-        // symmetric, so equal to `next[i − 1]` and `skip[i − 2]`).
+        // d = a − b, block (i, i − 1) (`next[i − 1]`) at 3 + a − b, block (i, i − 2)
+        // (`skip[i − 2]`) at 6 + a − b, each at its row a and column b.
         let (d, q, w) = (&s.diag[i], i.checked_sub(1), i.checked_sub(2));
-        let none = Sym3::default();
-        let e = q.map_or(&none, |q| &s.next[q]);
-        let k = w.map_or(&none, |w| &s.skip[w]);
-        *s.band.row_mut(3 * i) = [d.xx, e.xz, e.xy, e.xx, k.xz, k.xy, k.xx, zero, zero];
-        *s.band.row_mut(3 * i + 1) = [d.yy, d.xy, e.yz, e.yy, e.xy, k.yz, k.yy, k.xy, zero];
-        *s.band.row_mut(3 * i + 2) = [d.zz, d.yz, d.xz, e.zz, e.yz, e.xz, k.zz, k.yz, k.xz];
+        let none = Mat3::default();
+        let [e0, e1, e2] = q.map_or(&none, |q| &s.next[q]).rows;
+        let [k0, k1, k2] = w.map_or(&none, |w| &s.skip[w]).rows;
+        *s.band.row_mut(3 * i) = [d.xx, e0.z, e0.y, e0.x, k0.z, k0.y, k0.x, zero, zero];
+        *s.band.row_mut(3 * i + 1) = [d.yy, d.xy, e1.z, e1.y, e1.x, k1.z, k1.y, k1.x, zero];
+        *s.band.row_mut(3 * i + 2) = [d.zz, d.yz, d.xz, e2.z, e2.y, e2.x, k2.z, k2.y, k2.x];
         s.sol[3 * i] = s.rhs[i].x;
         s.sol[3 * i + 1] = s.rhs[i].y;
         s.sol[3 * i + 2] = s.rhs[i].z;
@@ -552,7 +615,8 @@ mod tests {
     use super::super::lanes::Baseline;
     use super::*;
 
-    /// A random symmetric positive definite pentadiagonal block system, solved by [`solve`],
+    /// A random symmetric positive definite pentadiagonal block system (unsymmetric
+    /// off-diagonal blocks, each appearing transposed above the diagonal), solved by [`solve`],
     /// must satisfy `A x = b` (checked by multiplying back with the blocks).
     #[test]
     fn band_cholesky_solves_block_pentadiagonal_systems() {
@@ -571,9 +635,16 @@ mod tests {
             xz: splat(r()),
             yz: splat(r()),
         };
+        let full = |r: &mut dyn FnMut() -> f32| Mat3 {
+            rows: std::array::from_fn(|_| V3 {
+                x: splat(r()),
+                y: splat(r()),
+                z: splat(r()),
+            }),
+        };
         s.diag = (0..n).map(|_| sym(&mut rand)).collect();
-        s.next = (0..n).map(|_| sym(&mut rand)).collect();
-        s.skip = (0..n).map(|_| sym(&mut rand)).collect();
+        s.next = (0..n).map(|_| full(&mut rand)).collect();
+        s.skip = (0..n).map(|_| full(&mut rand)).collect();
         // Diagonally dominant, so positive definite.
         for d in &mut s.diag {
             d.add_diagonal(splat(6.0));
@@ -602,19 +673,68 @@ mod tests {
         for i in 0..n {
             let mut ax = diag[i].mul(&x[i]);
             if i + 1 < n {
-                ax += next[i].mul(&x[i + 1]);
+                ax += next[i].mul_transposed(&x[i + 1]);
             }
             if i >= 1 {
                 ax += next[i - 1].mul(&x[i - 1]);
             }
             if i + 2 < n {
-                ax += skip[i].mul(&x[i + 2]);
+                ax += skip[i].mul_transposed(&x[i + 2]);
             }
             if i >= 2 {
                 ax += skip[i - 2].mul(&x[i - 2]);
             }
             let r = (ax - rhs[i]).lane(0);
             assert!(r.norm() < 1e-5, "residual {r:?} at block {i}");
+        }
+    }
+
+    /// `joint_jacobians` against central differences of the residual `r = κ(a, b) − K(a)` of a
+    /// joint bent by 50°, with `K` carried by parallel transport as `a` turns: moving the far
+    /// point changes `r` by `B δ`, the near point by `−A δ`.
+    #[test]
+    fn joint_jacobians_match_central_differences() {
+        use nalgebra::Vector3;
+        let lanes = |v: Vector3<f64>| V3::<Baseline>::splat(&v.cast::<f32>());
+        let (p0, p1) = (Vector3::zeros(), Vector3::new(0.012, 0.002, -0.003));
+        let turn = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), 50f64.to_radians());
+        let p2 = p1 + turn * (p1 - p0) * 0.8 + Vector3::new(0.0, 0.0, 0.002);
+        let a0 = (p1 - p0).normalize();
+        // The frame at a: `u` across it, and the rest curvature (0.4, −0.7) in (u, a × u).
+        let u0 = a0.cross(&Vector3::z()).normalize();
+        let rest_in = |a: Vector3<f64>| {
+            // Parallel transport (`crate::frames::transport`) of u0 from a0 to a, in f64.
+            let u = u0 - (a0 + a) * (u0.dot(&a) / (1.0 + a0.dot(&a)));
+            u * 0.4 + a.cross(&u) * -0.7
+        };
+        let residual = |p0: Vector3<f64>, p1: Vector3<f64>, p2: Vector3<f64>| {
+            let (a, b) = ((p1 - p0).normalize(), (p2 - p1).normalize());
+            a.cross(&b) * (2.0 / (1.0 + a.dot(&b))) - rest_in(a)
+        };
+        let (a, b) = (a0, (p2 - p1).normalize());
+        let inv = |d: Vector3<f64>| splat::<Baseline>(1.0 / d.norm() as f32);
+        let (am, bm) = joint_jacobians(
+            &lanes(a),
+            &lanes(b),
+            inv(p1 - p0),
+            inv(p2 - p1),
+            &lanes(rest_in(a)),
+        );
+        let eps = 1e-6;
+        for axis in 0..3 {
+            let d = Vector3::ith(axis, eps);
+            let far = (residual(p0, p1, p2 + d) - residual(p0, p1, p2 - d)) / (2.0 * eps);
+            let near = (residual(p0 + d, p1, p2) - residual(p0 - d, p1, p2)) / (2.0 * eps);
+            let e = lanes(Vector3::ith(axis, 1.0));
+            let (b_col, a_col) = (bm.mul(&e).lane(0).cast::<f64>(), am.mul(&e).lane(0).cast());
+            assert!(
+                (b_col - far).norm() < 1e-3 * far.norm().max(1.0),
+                "{b_col} {far}"
+            );
+            assert!(
+                (a_col + near).norm() < 1e-3 * near.norm().max(1.0),
+                "{a_col} {near}"
+            );
         }
     }
 }

@@ -173,6 +173,11 @@ pub(crate) struct Scratch<L: Lane> {
     pub(super) bend: Vec<V3<L>>,
     pub(super) react: Vec<V3<L>>,
     pub(super) beta: Vec<V3<L>>,
+    /// Per joint (padded like `bend`), `k K`: the joint's stiffness times its rest curvature
+    /// (dimensionless) in the transported frame, world axes, in `joint_k`'s units. Filled by
+    /// [`elastic_forces`] for the implicit integrators only, whose Gauss–Newton bending
+    /// Jacobian turns it with the frame.
+    pub(super) rest_bend: Vec<V3<L>>,
     pub(super) twist: Vec<L>,
     pub(super) damp_coef: Vec<L>,
     pub(super) impulse: Vec<L>,
@@ -587,6 +592,10 @@ pub(super) fn elastic_forces<L: Lane>(
     // near point gets the opposite); `react` the force of joint i − 1 on the far point of the
     // segment before it.
     if c.bend > 0.0 {
+        let implicit = matches!(c.integrator, Integrator::ImplicitEuler | Integrator::Bdf2);
+        if implicit {
+            g.rest_bend.resize(n + 1, V3::default());
+        }
         let root_t = rot_now.cols[2];
         let mut tp = root_t;
         let mut up = rot_now.cols[0];
@@ -608,6 +617,9 @@ pub(super) fn elastic_forces<L: Lane>(
             } else {
                 let rest = g.rest_moment[i - 1];
                 let m = beta * (two * g.joint_k[i - 1]) - up * rest.y - tp.cross(&up) * rest.z;
+                if implicit {
+                    g.rest_bend[i] = up * rest.y + tp.cross(&up) * rest.z;
+                }
                 (tp, chi, beta, m)
             };
             let two_chi = two * chi_e;

@@ -44,6 +44,7 @@
 //! written anywhere.
 
 mod band;
+mod blocks;
 pub mod curvature;
 mod damping;
 mod dispatch;
