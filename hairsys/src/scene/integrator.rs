@@ -20,9 +20,12 @@
 //! So `"auto"` takes BDF2 when the stability bound's substeps cost more than the accuracy
 //! limit's BDF2 ones, and semi-implicit Euler otherwise (ties go to semi-implicit Euler, the
 //! more accurate of the two per substep) — unless a rest joint of the groom turns by more than
-//! [`MAX_IMPLICIT_REST_TURN`]: the implicit integrators' matrix takes bending's small-angle
+//! [`MAX_IMPLICIT_REST_TURN`]: the implicit integrators' matrix took bending's small-angle
 //! Hessian about a straight joint (`hair_core::solver` module `implicit`), which misjudges a
-//! sharply pre-bent joint's stiffness. Measured 2026-11-25 with implicit Euler (first-frame joint
+//! sharply pre-bent joint's stiffness. (Since 2026-11-28 groups of strands with a joint sharper
+//! than 30° take the Gauss–Newton Hessian instead, which halves the substeps implicit Euler and
+//! BDF2 need on the bench's curly hair; the Sintel measurement below was not repeated with it, so
+//! the rule stays.) Measured 2026-11-25 with implicit Euler (first-frame joint
 //! turns, and point-frames turning past 90° over 48 frames at 16 implicit substeps): the
 //! default, wind, gust, collision and character grooms turn at most 27–32° per joint and fold
 //! nowhere; Sintel's has five joints of 29,090 at 71–83°, next to her roots, and exactly those
