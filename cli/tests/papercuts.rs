@@ -630,8 +630,8 @@ fn resume_from_a_partial_whose_last_frame_holds_nan_is_refused_by_frame() {
 #[test]
 fn ten_million_frames_given_by_frames_are_refused_by_the_work_budget_and_allow_large_lifts_it() {
     let dir = tempdir("budget-frames");
-    // 4000 × 17 points (the default scene) × its 6 BDF2 substeps, each weighted as 3 explicit
-    // ones, × 10⁷ frames is 1.2e13 point-substeps, over 10¹³ (10⁶ frames would be 1.2e12,
+    // 4000 × 17 points (the default scene) × its 8 BDF2 substeps, each weighted as 3 explicit
+    // ones, × 10⁷ frames is 1.6e13 point-substeps, over 10¹³ (10⁶ frames would be 1.6e12,
     // under); the scene's own 48 frames are not.
     let o = hairsys(
         &["simulate", "--frames", "1-10000000", "--cache", "f.mcap"],

@@ -8,7 +8,8 @@
 //!
 //! A timing and a long run, so not run by default:
 //! `cargo test --release -p hairsys-tests --test implicit_euler_default_scene -- --ignored --nocapture`
-//! (`IMPLICIT_SUBSTEPS=2,4,8` and `BDF2_SUBSTEPS=4,8` pick the counts).
+//! (`IMPLICIT_SUBSTEPS=2,4,8` and `BDF2_SUBSTEPS=4,8` pick the counts, `STUDY_FRAMES=48` the
+//! frames).
 
 mod study;
 

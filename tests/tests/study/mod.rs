@@ -12,8 +12,13 @@ use hairsys::session::Session;
 
 const PARITY_COLLIDE: &str = include_str!("../../../scenes/parity_collide.toml");
 
-/// Frames each run steps.
-pub const FRAMES: usize = 24;
+/// Frames each run steps: 24 (issue 22's table), or `STUDY_FRAMES` (up to the scene's 48).
+pub fn frame_count() -> usize {
+    std::env::var("STUDY_FRAMES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(24)
+}
 
 /// One run of the study: its frames' positions, stretches and cost.
 pub struct Run {
@@ -47,7 +52,7 @@ pub fn scene(integrator: &str, substeps: &str, inextensible: bool) -> SceneFile 
 fn named(word: &str) -> IntegratorChoice {
     word.parse().unwrap()
 }
-/// Steps `scene` for [`FRAMES`] frames through a `Session`, timing each step.
+/// Steps `scene` for [`frame_count`] frames through a `Session`, timing each step.
 pub fn run(label: &str, scene: &SceneFile) -> Run {
     let mut session = Session::from_scene(scene).unwrap();
     let offsets = session.strand_offsets().to_vec();
@@ -57,7 +62,7 @@ pub fn run(label: &str, scene: &SceneFile) -> Run {
     let mut stretch = Vec::new();
     let mut max_stretch = 0.0f32;
     let rest: Vec<f32> = session.strands().rest_lengths().to_vec();
-    for _ in 0..FRAMES {
+    for _ in 0..frame_count() {
         let t = Instant::now();
         let report = session.step().unwrap();
         spent += t.elapsed();
@@ -77,8 +82,8 @@ pub fn run(label: &str, scene: &SceneFile) -> Run {
     let report = Run {
         max_stretch,
         label: label.into(),
-        ms_per_frame: spent.as_secs_f64() * 1e3 / FRAMES as f64,
-        strands_ms: strand_time.as_secs_f64() * 1e3 / FRAMES as f64,
+        ms_per_frame: spent.as_secs_f64() * 1e3 / frames.len() as f64,
+        strands_ms: strand_time.as_secs_f64() * 1e3 / frames.len() as f64,
         frames,
         stretch,
     };
