@@ -4,7 +4,7 @@
 //! semi-implicit kernel at `auto`, against the converged inextensible reference of issue 22's
 //! table (the same scene, semi-implicit Euler with the inextensibility projection at 512
 //! substeps). Error: RMS over all points of the distance to the reference, per frame, over 24
-//! frames; stretch: p99 of `|len/rest − 1|` over all segments of all frames.
+//! frames (`STUDY_FRAMES`); stretch: p99 of `|len/rest − 1|` over all segments of all frames.
 //!
 //! A timing and a long run, so not run by default:
 //! `cargo test --release -p hairsys-tests --test implicit_euler_default_scene -- --ignored --nocapture`
