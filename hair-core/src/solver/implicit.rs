@@ -227,23 +227,21 @@ impl<L: Lane> ImplicitScratch<L> {
     /// Sizes the buffers for `n` points and takes the per-step constants from the gathered group.
     fn fit(&mut self, g: &Scratch<L>) {
         let n = g.x.len();
-        let fill = |buf: &mut Vec<_>, len| {
-            buf.clear();
-            buf.resize(len, Default::default());
-        };
-        fill(&mut self.mass, n);
-        fill(&mut self.inv_rest, n - 1);
-        fill(&mut self.damp, n - 1);
-        fill(&mut self.sol, 3 * n);
+        // The solution's old values are not cleared: every row is written before it is read.
+        self.sol.resize(3 * n, L::default());
         let one = splat::<L>(1.0);
-        for i in 0..n {
-            self.mass[i] = div_or_zero(one, g.inv_mass[i], 0.0);
-        }
+        self.mass.clear();
+        self.mass
+            .extend(g.inv_mass.iter().map(|&w| div_or_zero(one, w, 0.0)));
+        self.inv_rest.clear();
+        self.inv_rest.extend(g.rest_length.iter().map(|&l| one / l));
         let rate = g.damp_rate;
-        for j in 0..n - 1 {
-            self.inv_rest[j] = one / g.rest_length[j];
-            self.damp[j] = div_or_zero(rate, g.inv_mass[j] + g.inv_mass[j + 1], 0.0);
-        }
+        self.damp.clear();
+        self.damp.extend(
+            g.inv_mass
+                .windows(2)
+                .map(|w| div_or_zero(rate, w[0] + w[1], 0.0)),
+        );
         // |k K| > k |K_sharp| in any lane, with |K| = 2 tan(θ/2) for a joint turning by θ.
         let sharp = splat::<L>(2.0 * (SHARP_REST_TURN_DEG.to_radians() / 2.0).tan());
         self.sharp = (1..n - 1).any(|j| {

@@ -95,6 +95,8 @@ pub(crate) struct ProjectionScratch<L = Baseline> {
 }
 
 impl<L: Lane> ProjectionScratch<L> {
+    /// Sizes the buffers for `segments` segments. Their old values are not cleared: the
+    /// projection and the strain limit write every entry before they read it.
     pub(super) fn fit(&mut self, segments: usize) {
         for buf in [
             &mut self.rhs,
@@ -103,10 +105,8 @@ impl<L: Lane> ProjectionScratch<L> {
             &mut self.factor,
             &mut self.lambda,
         ] {
-            buf.clear();
             buf.resize(segments, L::default());
         }
-        self.tangent.clear();
         self.tangent.resize(segments, V3::default());
     }
 

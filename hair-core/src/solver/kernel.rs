@@ -212,9 +212,34 @@ fn refit<T: Copy + Default>(buf: &mut Vec<T>, len: usize) {
     buf.resize(len, T::default());
 }
 
-/// Gathers lane `l`'s value of per-point data: `f(strand, i)` for the group's strands.
-fn gather<T: Copy>(views: &[StrandView], l: usize, f: impl Fn(&StrandView) -> T) -> T {
-    f(&views[l.min(views.len() - 1)])
+/// Refills `buf` with `values` (no zeroing first, for buffers written whole).
+fn rebuild<T>(buf: &mut Vec<T>, values: impl Iterator<Item = T>) {
+    buf.clear();
+    buf.extend(values);
+}
+
+/// `f` of each lane's strand: strand `l`, or the last strand for lanes the group does not fill.
+/// For cheap loads; see [`per_strand`] for costly values.
+#[inline(always)]
+fn per_lane<T>(views: &[StrandView], f: impl Fn(&StrandView) -> T) -> [T; LANES] {
+    let last = views.len() - 1;
+    std::array::from_fn(|l| f(&views[l.min(last)]))
+}
+
+/// Like [`per_lane`], but `f(l, strand)` runs once per strand `l` of the group, not once per
+/// lane: lanes the group does not fill copy the last strand's value.
+#[inline(always)]
+fn per_strand<T: Copy + Default>(
+    views: &[StrandView],
+    mut f: impl FnMut(usize, &StrandView) -> T,
+) -> [T; LANES] {
+    let mut out = [T::default(); LANES];
+    for (l, (o, s)) in out.iter_mut().zip(views).enumerate() {
+        *o = f(l, s);
+    }
+    let last = out[views.len() - 1];
+    out[views.len()..].fill(last);
+    out
 }
 
 impl<L: Lane> Scratch<L> {
@@ -226,14 +251,7 @@ impl<L: Lane> Scratch<L> {
         c: &StepConstants,
     ) {
         let n = views[0].x.len();
-        for buf in [
-            &mut self.x,
-            &mut self.v,
-            &mut self.v_old,
-            &mut self.force,
-            &mut self.rest_local,
-            &mut self.target,
-        ] {
+        for buf in [&mut self.v_old, &mut self.force, &mut self.target] {
             refit(buf, n);
         }
         for buf in [
@@ -253,71 +271,72 @@ impl<L: Lane> Scratch<L> {
         ] {
             refit(buf, n + 1);
         }
-        refit(&mut self.inv_mass, n);
-        refit(&mut self.free, n);
-        refit(&mut self.goal_k, n);
-        refit(&mut self.rest_length, n - 1);
         refit(&mut self.joint_k, n - 1);
         refit(&mut self.rest_moment, n - 1);
-        let lanes3 = |f: &dyn Fn(&StrandView) -> Vector3<f32>| {
-            V3::from_lanes(&std::array::from_fn(|l| gather(views, l, f)))
-        };
-        let lanes1 =
-            |f: &dyn Fn(&StrandView) -> f32| L::new(std::array::from_fn(|l| gather(views, l, f)));
         // Per-strand parameters: each lane loads its own strand's scaled values (a unit scale
         // gives the step's value bit for bit).
-        self.stretch_k = lanes1(&|s| c.stretch * s.scales.stretch);
-        self.drag = lanes1(&|s| c.drag * s.scales.drag);
-        self.damp_rate = lanes1(&|s| c.damp_rate * s.scales.damping);
-        let damp_fraction =
-            lanes1(&|s| damp_fraction(c.damp_rate * s.scales.damping, c.dt, c.damp_iterations));
-        for i in 0..n {
-            self.x[i] = lanes3(&|s| s.x[i]);
-            self.v[i] = lanes3(&|s| s.v[i]);
-            self.rest_local[i] = lanes3(&|s| s.rest_local[i]);
-            self.inv_mass[i] = lanes1(&|s| s.inv_mass[i]);
-            self.free[i] = lanes1(&|s| if s.inv_mass[i] > 0.0 { 1.0 } else { 0.0 });
-            self.goal_k[i] = lanes1(&|s| {
+        self.stretch_k = L::new(per_lane(views, |s| c.stretch * s.scales.stretch));
+        self.drag = L::new(per_lane(views, |s| c.drag * s.scales.drag));
+        self.damp_rate = L::new(per_lane(views, |s| c.damp_rate * s.scales.damping));
+        let damp_fraction = L::new(per_strand(views, |_, s| {
+            damp_fraction(c.damp_rate * s.scales.damping, c.dt, c.damp_iterations)
+        }));
+        // Per-point data, gathered into buffers written whole.
+        let v3 = |f: fn(&StrandView, usize) -> Vector3<f32>| {
+            (0..n).map(move |i| V3::from_lanes(&per_lane(views, |s| f(s, i))))
+        };
+        rebuild(&mut self.x, v3(|s, i| s.x[i]));
+        rebuild(&mut self.v, v3(|s, i| s.v[i]));
+        rebuild(&mut self.rest_local, v3(|s, i| s.rest_local[i]));
+        let inv_mass = (0..n).map(|i| L::new(per_lane(views, |s| s.inv_mass[i])));
+        rebuild(&mut self.inv_mass, inv_mass);
+        let free = (0..n).map(|i| {
+            L::new(per_lane(
+                views,
+                |s| if s.inv_mass[i] > 0.0 { 1.0 } else { 0.0 },
+            ))
+        });
+        rebuild(&mut self.free, free);
+        let goal_k = (0..n).map(|i| {
+            L::new(per_lane(views, |s| {
                 if s.inv_mass[i] > 0.0 {
                     c.goal * s.scales.goal * s.goal_weight[i]
                 } else {
                     0.0
                 }
-            });
-        }
+            }))
+        });
+        rebuild(&mut self.goal_k, goal_k);
+        let rest_length = (0..n - 1).map(|j| L::new(per_lane(views, |s| s.rest_length[j])));
+        rebuild(&mut self.rest_length, rest_length);
         if c.bend > 0.0 {
-            let rigidity: [f64; LANES] = std::array::from_fn(|l| {
-                gather(views, l, |s| {
-                    rigidity(c.bend * s.scales.bend, s.rest_length)
-                })
+            // In f64, once per strand: the rigidity, and per joint its stiffness and rest moment.
+            let rigidity = per_strand(views, |_, s| {
+                rigidity(c.bend * s.scales.bend, s.rest_length)
             });
             for j in 0..n - 1 {
-                let k: [f32; LANES] = std::array::from_fn(|l| {
-                    let s = &views[l.min(views.len() - 1)];
-                    joint_stiffness(rigidity[l], s.rest_length, j) as f32
+                let joint = per_strand(views, |l, s| {
+                    let k = joint_stiffness(rigidity[l], s.rest_length, j) as f32;
+                    let (k_u, k_w) = rest_curvature(&s.bend_rest[j]);
+                    (k, Vector3::new(0.0, k * k_u, k * k_w))
                 });
-                self.joint_k[j] = L::new(k);
-                self.rest_moment[j] = V3::from_lanes(&std::array::from_fn(|l| {
-                    let (k_u, k_w) = rest_curvature(&gather(views, l, |s| s.bend_rest[j]));
-                    Vector3::new(0.0, k[l] * k_u, k[l] * k_w)
-                }));
+                self.joint_k[j] = L::new(joint.map(|(k, _)| k));
+                self.rest_moment[j] = V3::from_lanes(&joint.map(|(_, m)| m));
             }
         }
-        self.root_rest = lanes3(&|s| root_direction(&s.bend_rest[0]));
-        for j in 0..n - 1 {
-            self.rest_length[j] = lanes1(&|s| s.rest_length[j]);
-            if c.damp_fraction > 0.0 {
-                let w = lanes1(&|s| s.inv_mass[j] + s.inv_mass[j + 1]);
+        self.root_rest = V3::from_lanes(&per_lane(views, |s| root_direction(&s.bend_rest[0])));
+        if c.damp_fraction > 0.0 {
+            for j in 0..n - 1 {
+                let w = L::new(per_lane(views, |s| s.inv_mass[j] + s.inv_mass[j + 1]));
                 self.damp_coef[j + 1] = div_or_zero(damp_fraction, w, 0.0);
             }
         }
         self.has_accel = views[0].accel.is_some();
         if self.has_accel {
-            refit(&mut self.accel, n);
             let zero = Vector3::zeros();
-            for i in 0..n {
-                self.accel[i] = lanes3(&|s| s.accel.map_or(zero, |a| a[i]));
-            }
+            let accel = (0..n)
+                .map(|i| V3::from_lanes(&per_lane(views, |s| s.accel.map_or(zero, |a| a[i]))));
+            rebuild(&mut self.accel, accel);
         }
         self.has_contacts = views.iter().any(|s| s.contacts.is_some());
         self.contact_points.clear();
