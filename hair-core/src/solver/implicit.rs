@@ -178,9 +178,6 @@ pub(crate) struct ImplicitScratch<L: Lane> {
     sol: Vec<L>,
     /// The previous substep's state, for BDF2.
     history: History<L>,
-    /// Does a joint of the group turn by more than [`SHARP_REST_TURN_DEG`] at rest? Its bending
-    /// then takes the Gauss–Newton Hessian instead of the small-angle one (module docs).
-    sharp: bool,
 }
 
 /// The state at the start of the previous substep, which a BDF2 substep extrapolates from.
@@ -242,13 +239,19 @@ impl<L: Lane> ImplicitScratch<L> {
                 .windows(2)
                 .map(|w| div_or_zero(rate, w[0] + w[1], 0.0)),
         );
-        // |k K| > k |K_sharp| in any lane, with |K| = 2 tan(θ/2) for a joint turning by θ.
-        let sharp = splat::<L>(2.0 * (SHARP_REST_TURN_DEG.to_radians() / 2.0).tan());
-        self.sharp = (1..n - 1).any(|j| {
-            let (rest, limit) = (g.rest_moment[j], g.joint_k[j] * sharp);
-            L::any(rest.dot(&rest).simd_gt(limit * limit))
-        });
     }
+}
+
+/// Does a joint of the gathered group turn by more than [`SHARP_REST_TURN_DEG`] at rest, in any
+/// lane? Its bending then takes the Gauss–Newton Hessian instead of the small-angle one (module
+/// docs).
+fn has_sharp_rest_joint<L: Lane>(g: &Scratch<L>) -> bool {
+    // |k K| > k |K_sharp|, with |K| = 2 tan(θ/2) for a joint turning by θ.
+    let sharp = splat::<L>(2.0 * (SHARP_REST_TURN_DEG.to_radians() / 2.0).tan());
+    (1..g.x.len() - 1).any(|j| {
+        let (rest, limit) = (g.rest_moment[j], g.joint_k[j] * sharp);
+        L::any(rest.dot(&rest).simd_gt(limit * limit))
+    })
 }
 
 avx2_copy!(
@@ -270,6 +273,7 @@ pub(crate) fn step_group_implicit<L: Lane>(
 ) {
     debug_assert!(!views.is_empty() && views.len() <= LANES);
     g.fit(views, starts, ends, c);
+    g.gauss_newton_bending = c.bend > 0.0 && has_sharp_rest_joint(g);
     let mut s = std::mem::take(&mut g.implicit);
     s.fit(g);
     let mut clock = SubstepClock::new(g);
@@ -439,7 +443,7 @@ fn assemble<L: Lane>(
         s.next[j].sub(&Mat3::from_sym(&block));
     }
     if c.bend > 0.0 {
-        if s.sharp {
+        if g.gauss_newton_bending {
             bending_hessian(g, s, h, clock);
         } else {
             small_angle_bending_hessian(g, s, h);

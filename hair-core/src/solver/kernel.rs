@@ -175,9 +175,11 @@ pub(crate) struct Scratch<L: Lane> {
     pub(super) beta: Vec<V3<L>>,
     /// Per joint (padded like `bend`), `k K`: the joint's stiffness times its rest curvature
     /// (dimensionless) in the transported frame, world axes, in `joint_k`'s units. Filled by
-    /// [`elastic_forces`] for the implicit integrators only, whose Gauss–Newton bending
-    /// Jacobian turns it with the frame.
+    /// [`elastic_forces`] only where `gauss_newton_bending` is set.
     pub(super) rest_bend: Vec<V3<L>>,
+    /// Does the implicit kernel take bending's Gauss–Newton Hessian for this group (set by it
+    /// after [`Scratch::fit`], which clears it)? Its Jacobian turns `rest_bend` with the frame.
+    pub(super) gauss_newton_bending: bool,
     pub(super) twist: Vec<L>,
     pub(super) damp_coef: Vec<L>,
     pub(super) impulse: Vec<L>,
@@ -338,6 +340,7 @@ impl<L: Lane> Scratch<L> {
                 .map(|i| V3::from_lanes(&per_lane(views, |s| s.accel.map_or(zero, |a| a[i]))));
             rebuild(&mut self.accel, accel);
         }
+        self.gauss_newton_bending = false;
         self.has_contacts = views.iter().any(|s| s.contacts.is_some());
         self.contact_points.clear();
         if self.has_contacts {
@@ -611,8 +614,8 @@ pub(super) fn elastic_forces<L: Lane>(
     // near point gets the opposite); `react` the force of joint i − 1 on the far point of the
     // segment before it.
     if c.bend > 0.0 {
-        let implicit = matches!(c.integrator, Integrator::ImplicitEuler | Integrator::Bdf2);
-        if implicit {
+        let keep_rest = g.gauss_newton_bending;
+        if keep_rest {
             g.rest_bend.resize(n + 1, V3::default());
         }
         let root_t = rot_now.cols[2];
@@ -636,7 +639,7 @@ pub(super) fn elastic_forces<L: Lane>(
             } else {
                 let rest = g.rest_moment[i - 1];
                 let m = beta * (two * g.joint_k[i - 1]) - up * rest.y - tp.cross(&up) * rest.z;
-                if implicit {
+                if keep_rest {
                     g.rest_bend[i] = up * rest.y + tp.cross(&up) * rest.z;
                 }
                 (tp, chi, beta, m)
