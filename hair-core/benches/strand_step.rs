@@ -4,8 +4,9 @@
 //! substeps is timed, with stretch + bend + goal + gravity + drag, with and without the damping
 //! sub-loop (10 Jacobi iterations), with the sub-loop and the inextensibility projection, and
 //! with the sub-loop and a 1 % strain limit (soft springs that the limit holds), at 48 fps so dt
-//! is half the stability bound; and implicit Euler (`solver::implicit`) with the same strain
-//! limit and substep, whose cost per substep is what its larger usable step must repay. Run: `cargo bench -p hair-core --bench strand_step`.
+//! is half the stability bound; and implicit Euler and BDF2 (`solver::implicit`) with the same
+//! strain limit and substep, whose cost per substep is what their larger usable step must repay.
+//! Run: `cargo bench -p hair-core --bench strand_step`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use hair_core::{
@@ -70,6 +71,13 @@ fn bench(c: &mut Criterion) {
         (
             "implicit Euler + strain limit 1 %",
             Integrator::ImplicitEuler,
+            0,
+            false,
+            Some(0.01),
+        ),
+        (
+            "BDF2 + strain limit 1 %",
+            Integrator::Bdf2,
             0,
             false,
             Some(0.01),

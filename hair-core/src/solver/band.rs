@@ -31,7 +31,7 @@
 //! for the step) takes that floor: the solve stays finite, and the solution is that of a matrix
 //! changed by less than the round-off already in it.
 
-use super::lanes::{splat, Lane};
+use super::lanes::{splat, zeroed, Lane};
 
 /// The band `L D Lᵀ` factor of a symmetric positive definite matrix whose entries vanish more
 /// than `W − 1` rows off the diagonal, per lane.
@@ -48,10 +48,13 @@ impl<L: Lane, const W: usize> BandLdlt<L, W> {
     /// Sets the matrix to zero with `rows` rows.
     #[inline(always)]
     pub fn reset(&mut self, rows: usize) {
-        self.rows.clear();
-        self.rows.resize(rows, [L::default(); W]);
-        self.inv_pivot.clear();
-        self.inv_pivot.resize(rows, L::default());
+        if self.rows.len() != rows {
+            self.rows.resize(rows, [L::default(); W]);
+        }
+        for row in self.rows.iter_mut() {
+            *row = [L::default(); W];
+        }
+        zeroed(&mut self.inv_pivot, rows);
     }
 
     /// Row `r` of the lower band: entry `d` is `A(r, r − d)` (entries reaching before row 0 are

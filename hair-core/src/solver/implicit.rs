@@ -121,7 +121,7 @@ use super::kernel::{
     elastic_forces, finish_substep, kinematic_velocity, Scratch, StepConstants, StrandView,
     SubstepClock,
 };
-use super::lanes::{div_or_zero, splat, Lane, LANES, M3, V3};
+use super::lanes::{div_or_zero, splat, zeroed, Lane, LANES, M3, V3};
 use super::params::Integrator;
 use crate::mesh::RootFrame;
 
@@ -423,12 +423,9 @@ fn assemble<L: Lane>(
     clock: &SubstepClock<L>,
 ) {
     let n = g.x.len();
-    s.diag.clear();
-    s.diag.resize(n, Sym3::default());
-    for buf in [&mut s.next, &mut s.skip] {
-        buf.clear();
-        buf.resize(n, Mat3::default());
-    }
+    zeroed(&mut s.diag, n);
+    zeroed(&mut s.next, n);
+    zeroed(&mut s.skip, n);
     let h = splat::<L>(c.dt);
     let h2 = h * h;
     let (zero, one) = (splat::<L>(0.0), splat::<L>(1.0));
@@ -454,8 +451,7 @@ fn assemble<L: Lane>(
     for i in 0..n {
         s.diag[i].add_diagonal(h2 * g.goal_k[i] + h * drag * s.mass[i]);
     }
-    s.rhs.clear();
-    s.rhs.resize(n, V3::default());
+    zeroed(&mut s.rhs, n);
     let gravity = V3::splat(&c.gravity);
     for i in 0..n {
         let mut f = g.force[i] + gravity * s.mass[i];

@@ -29,7 +29,7 @@ use super::damping::damp_segments;
 use super::dispatch::avx2_copy;
 use super::implicit::ImplicitScratch;
 use super::inextensible::{project, Inextensibility, ProjectionScratch};
-use super::lanes::{div_or_zero, splat, Lane, LANES, M3, Q4, V3};
+use super::lanes::{div_or_zero, splat, zeroed, Lane, LANES, M3, Q4, V3};
 use super::params::{HairParams, Integrator, StrandScales};
 use super::strain_limit::limit_strain;
 use super::xpbd::XpbdScratch;
@@ -209,11 +209,6 @@ pub(crate) struct Scratch<L: Lane> {
     pub(super) xpbd: XpbdScratch<L>,
 }
 
-fn refit<T: Copy + Default>(buf: &mut Vec<T>, len: usize) {
-    buf.clear();
-    buf.resize(len, T::default());
-}
-
 /// Refills `buf` with `values` (no zeroing first, for buffers written whole).
 fn rebuild<T>(buf: &mut Vec<T>, values: impl Iterator<Item = T>) {
     buf.clear();
@@ -254,7 +249,7 @@ impl<L: Lane> Scratch<L> {
     ) {
         let n = views[0].x.len();
         for buf in [&mut self.v_old, &mut self.force, &mut self.target] {
-            refit(buf, n);
+            zeroed(buf, n);
         }
         for buf in [
             &mut self.tangent,
@@ -262,7 +257,7 @@ impl<L: Lane> Scratch<L> {
             &mut self.react,
             &mut self.beta,
         ] {
-            refit(buf, n + 1);
+            zeroed(buf, n + 1);
         }
         for buf in [
             &mut self.inv_len,
@@ -271,10 +266,10 @@ impl<L: Lane> Scratch<L> {
             &mut self.damp_coef,
             &mut self.impulse,
         ] {
-            refit(buf, n + 1);
+            zeroed(buf, n + 1);
         }
-        refit(&mut self.joint_k, n - 1);
-        refit(&mut self.rest_moment, n - 1);
+        zeroed(&mut self.joint_k, n - 1);
+        zeroed(&mut self.rest_moment, n - 1);
         // Per-strand parameters: each lane loads its own strand's scaled values (a unit scale
         // gives the step's value bit for bit).
         self.stretch_k = L::new(per_lane(views, |s| c.stretch * s.scales.stretch));
@@ -344,8 +339,8 @@ impl<L: Lane> Scratch<L> {
         self.has_contacts = views.iter().any(|s| s.contacts.is_some());
         self.contact_points.clear();
         if self.has_contacts {
-            refit(&mut self.contact, n);
-            refit(&mut self.push, n);
+            zeroed(&mut self.contact, n);
+            zeroed(&mut self.push, n);
             self.contact_points.extend((0..n).filter(|&i| {
                 views
                     .iter()
