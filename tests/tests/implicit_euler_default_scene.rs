@@ -9,7 +9,7 @@
 //! A timing and a long run, so not run by default:
 //! `cargo test --release -p hairsys-tests --test implicit_euler_default_scene -- --ignored --nocapture`
 //! (`IMPLICIT_SUBSTEPS=2,4,8` and `BDF2_SUBSTEPS=4,8` pick the counts, `STUDY_FRAMES=48` the
-//! frames).
+//! frames, `STUDY_STRETCH=400` the implicit runs' stretch stiffness in N/m).
 
 mod study;
 
@@ -27,16 +27,17 @@ fn implicit_euler_on_the_default_scene_against_the_inextensible_reference() {
         &scene("semi-implicit-euler", "\"auto\"", false),
     )];
     for n in counts("IMPLICIT_SUBSTEPS", "2,4,8,16,32") {
+        let mut file = scene("implicit-euler", &n.to_string(), false);
+        let stiffness = stiffened(&mut file);
         runs.push(run(
-            &format!("implicit Euler, {n} substeps"),
-            &scene("implicit-euler", &n.to_string(), false),
+            &format!("implicit Euler, {n} substeps{stiffness}"),
+            &file,
         ));
     }
     for n in counts("BDF2_SUBSTEPS", "2,4,8,16") {
-        runs.push(run(
-            &format!("BDF2, {n} substeps"),
-            &scene("bdf2", &n.to_string(), false),
-        ));
+        let mut file = scene("bdf2", &n.to_string(), false);
+        let stiffness = stiffened(&mut file);
+        runs.push(run(&format!("BDF2, {n} substeps{stiffness}"), &file));
     }
     table(&runs, &reference);
 }

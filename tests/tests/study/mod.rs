@@ -48,6 +48,19 @@ pub fn scene(integrator: &str, substeps: &str, inextensible: bool) -> SceneFile 
     file
 }
 
+/// `file` with its stretch springs set to `STUDY_STRETCH` N/m when that variable is set (the
+/// implicit integrators' runs: the explicit reference could not take stiffer springs at its
+/// substep), else unchanged. Returns the label suffix naming the stiffness.
+pub fn stiffened(file: &mut SceneFile) -> String {
+    match std::env::var("STUDY_STRETCH").ok().and_then(|v| v.parse::<f32>().ok()) {
+        Some(k) => {
+            file.scene.physics.stretch_stiffness = k;
+            format!(", stretch {k} N/m")
+        }
+        None => String::new(),
+    }
+}
+
 /// The integrator spelled `word` in a scene file.
 fn named(word: &str) -> IntegratorChoice {
     word.parse().unwrap()
