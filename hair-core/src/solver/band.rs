@@ -57,6 +57,17 @@ impl<L: Lane, const W: usize> BandLdlt<L, W> {
         zeroed(&mut self.inv_pivot, rows);
     }
 
+    /// Sizes the matrix to `rows` rows without clearing them, for a caller that writes every
+    /// entry `d ≤ r` of every row `r` before [`Self::factor`] (entries reaching before row 0
+    /// are never read, and `factor` takes the diagonal from the rows).
+    #[inline(always)]
+    pub fn resize_for_overwrite(&mut self, rows: usize) {
+        if self.rows.len() != rows {
+            self.rows.resize(rows, [L::default(); W]);
+            self.inv_pivot.resize(rows, L::default());
+        }
+    }
+
     /// Row `r` of the lower band: entry `d` is `A(r, r − d)` (entries reaching before row 0 are
     /// ignored).
     #[inline(always)]

@@ -589,7 +589,8 @@ fn bending_hessian<L: Lane>(
 fn solve<L: Lane>(s: &mut ImplicitScratch<L>) {
     let n = s.diag.len();
     let rows = 3 * n;
-    s.band.reset(rows);
+    // Every entry of every row is written below.
+    s.band.resize_for_overwrite(rows);
     s.sol.resize(rows, L::default());
     let zero = L::default();
     for i in 0..n {
