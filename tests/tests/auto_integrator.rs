@@ -1,6 +1,7 @@
 //! `[solver] integrator = "auto"` on the shipped scenes: BDF2 where the stability
-//! bound's explicit substeps cost more and contact is gentle (the default and wind scenes), and
-//! semi-implicit Euler for each measured reason elsewhere (`hairsys/src/scene/integrator.rs` and
+//! bound's explicit substeps cost more and contact is gentle (the default and wind scenes; Sintel
+//! at the finer step of sharply bent grooms), and semi-implicit Euler for each measured reason
+//! elsewhere (`hairsys/src/scene/integrator.rs` and
 //! BENCHMARKS.md, session 10, give the measurements behind each rule). The built scene's solver
 //! takes the chosen integrator and its substeps.
 
@@ -59,4 +60,28 @@ fn hard_contact_and_cheap_explicit_steps_keep_semi_implicit_euler() {
     let sim = gust.build().unwrap();
     assert_eq!(sim.settings.integrator, Integrator::SemiImplicitEuler);
     assert!(sim.integrator.reason().contains("animated guides"));
+}
+
+/// Sintel's groom has rest joints turning 71–83° (sharper than `MAX_IMPLICIT_REST_TURN`) and
+/// no keyed guide poses: `"auto"` gives BDF2 the finer step, 32 substeps per frame, which the
+/// solver takes, and says why. (Her guides carry an animation object without keys, which must
+/// not count as animated guides.)
+#[test]
+fn sintels_sharp_joints_run_bdf2_at_the_finer_step() {
+    let sim = build("sintel.toml");
+    let chosen = &sim.integrator;
+    assert!(chosen.max_rest_turn.to_degrees() > 45.0, "{chosen:?}");
+    assert_eq!(
+        sim.settings.integrator,
+        Integrator::Bdf2,
+        "{}",
+        chosen.reason()
+    );
+    assert_eq!(chosen.implicit_substeps, 32);
+    assert_eq!(sim.strand_solver().unwrap().substeps(), 32);
+    assert!(
+        chosen.reason().contains("finer BDF2 step"),
+        "{}",
+        chosen.reason()
+    );
 }

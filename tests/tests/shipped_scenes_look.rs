@@ -221,16 +221,14 @@ fn parity() {
 /// Sintel: the clean bounds but for the deepest point. The groom leaves out the sim hairs that
 /// started inside the gap between her right ear and head (before: 0.0067 % of point-frames
 /// inside, up to 1.40 mm, and a first segment held 40 % compressed) and the one rooted on that
-/// ear's rim that stood out behind it. Measured 2026-11-25 over 48 frames (release): 3 of 1.5 M
-/// point-frames deeper than 0.1 mm (2·10⁻⁶), one frame each — a tip beside her left ear at
-/// frame 2, two tips on her upper back at frame 38 as the bust turns back — the deepest
-/// 0.51 mm, so the deepest is held to the hair radius, 1 mm (a centre line that never enters
-/// the bust), not 0.5 mm; 0 hairpins (largest turn 83°); stretch p99 0.34 %, max 1.0002 %
-/// against her 1 % limit; compression max 0.8 %. Slow (the sharp rest curvatures of her groom
-/// need ~4× the substeps of the default scene): `cargo test --release -p hairsys-tests --test
-/// shipped_scenes_look sintel -- --ignored`.
+/// ear's rim that stood out behind it. Measured 2026-11-25 over 48 frames under semi-implicit
+/// Euler (2,626 substeps per frame): 3 of 1.5 M point-frames deeper than 0.1 mm, the deepest
+/// 0.51 mm, so the deepest is held to the hair radius, 1 mm (a centre line that never enters the
+/// bust), not 0.5 mm. Since 2026-11-28 `"auto"` runs her on BDF2 at 32 substeps per frame
+/// (sharp rest joints, `hairsys::scene::integrator`), 23× faster: 3 point-frames deeper than
+/// 0.1 mm (deepest 0.28 mm), 0 hairpins (largest turn 83°), stretch p99 0.32 %, max 1.011 %
+/// against her 1 % limit, 0.16 mm RMS from the semi-implicit run.
 #[test]
-#[ignore = "slow: the Sintel scene; run with --ignored"]
 fn sintel() {
     check(
         "sintel",

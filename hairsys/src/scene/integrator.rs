@@ -20,18 +20,25 @@
 //!
 //! So `"auto"` takes BDF2 when the stability bound's substeps cost more than the accuracy
 //! limit's BDF2 ones, and semi-implicit Euler otherwise (ties go to semi-implicit Euler, the
-//! more accurate of the two per substep) — unless a rest joint of the groom turns by more than
-//! [`MAX_IMPLICIT_REST_TURN`]: the implicit integrators' matrix took bending's small-angle
-//! Hessian about a straight joint (`hair_core::solver` module `implicit`), which misjudges a
-//! sharply pre-bent joint's stiffness. (Since 2026-11-28 groups of strands with a joint sharper
-//! than 30° take the Gauss–Newton Hessian instead, which halves the substeps implicit Euler and
-//! BDF2 need on the bench's curly hair; the Sintel measurement below was not repeated with it, so
-//! the rule stays.) Measured 2026-11-25 with implicit Euler (first-frame joint
-//! turns, and point-frames turning past 90° over 48 frames at 16 implicit substeps): the
-//! default, wind, gust, collision and character grooms turn at most 27–32° per joint and fold
-//! nowhere; Sintel's has five joints of 29,090 at 71–83°, next to her roots, and exactly those
-//! folded into hairpins (29 point-frames, up to 150°; still 26 at 64 substeps), where
-//! semi-implicit Euler folds none.
+//! more accurate of the two per substep). Where a rest joint of the groom turns by more than
+//! [`MAX_IMPLICIT_REST_TURN`], BDF2's substep is [`SHARP_JOINT_BDF2_DT`] instead (32 per frame at
+//! 24 fps), and the cost comparison uses that count. Those grooms take bending's Gauss–Newton
+//! Hessian (`hair_core::solver` module `implicit`, above 30°), which made BDF2 usable there, but
+//! only at the finer step (measured 2026-11-28):
+//! - on the bench's curly hair (every joint 46°) BDF2 gains energy at 8 substeps per frame
+//!   (stretch 73 %) and 16 (14 %), and holds the converged run's 0.14 % from 32 (0.16 %);
+//! - on Sintel (5 of 29,090 joints at 71–83°, next to her roots) BDF2 at 8 substeps stays 0.68
+//!   mm RMS from the shipped semi-implicit run (2,626 substeps per frame) but leaves 44
+//!   point-frames more than 0.1 mm inside the bust (deepest 1.45 mm; the semi-implicit run: 3,
+//!   0.51 mm); at 32: 0.16 mm RMS, 3 point-frames (0.28 mm), no hairpins, 17× faster
+//!   (84.6 against 1,418 ms per frame).
+//!
+//! Before the Gauss–Newton Hessian (measured 2026-11-25 with implicit Euler at 16 substeps and
+//! the small-angle Hessian) Sintel's five sharp joints folded into hairpins (29 point-frames, up
+//! to 150°; still 26 at 64 substeps), so `"auto"` kept semi-implicit Euler for such grooms; the
+//! default, wind, gust, collision and character grooms turn at most 27–32° per joint and never
+//! took that rule. A fixed substep count on such a groom still keeps semi-implicit Euler where
+//! it is stable (the rule's old form): the count was chosen by hand.
 //!
 //! With a fixed substep count it takes semi-implicit Euler where that count is within the
 //! stability bound and BDF2 where it is not (stable far past the bound). Only the
@@ -74,6 +81,11 @@ pub const IMPLICIT_SUBSTEP_COST: f64 = 3.0;
 /// shipped grooms' 32° and Sintel's 71–83° (module docs), where the curvature measure
 /// `2 tan(θ/2)` departs from the angle by 5.5 %.
 pub const MAX_IMPLICIT_REST_TURN: f64 = std::f64::consts::FRAC_PI_4;
+
+/// BDF2's substep under `"auto"` substeps where a rest joint turns by more than
+/// [`MAX_IMPLICIT_REST_TURN`], s: 1/768 s, 32 substeps per frame at 24 fps (module docs: the
+/// coarsest step at which BDF2 held the bench's curly hair and Sintel's bust).
+pub const SHARP_JOINT_BDF2_DT: f64 = 1.0 / 768.0;
 
 /// What in a scene presses on its hair, for `"auto"`'s contact condition (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -156,8 +168,12 @@ pub struct ResolvedIntegrator {
     /// bound's for `"auto"` substeps, on the groom before sag-free initialisation, which can
     /// move the bound by a fraction of a percent).
     pub explicit_substeps: u32,
-    /// Substeps per step BDF2 would take (the fixed count, or its accuracy limit's).
+    /// Substeps per step BDF2 would take (the fixed count, or its accuracy limit's, or the count
+    /// of [`SHARP_JOINT_BDF2_DT`] on a sharply bent groom).
     pub implicit_substeps: u32,
+    /// The fixed substep count the solver must be given instead of `"auto"`: BDF2's finer step
+    /// on a sharply bent groom (`None`: the scene's substeps as written).
+    pub substeps_override: Option<u32>,
     /// Largest turn of a rest joint over the strands, rad.
     pub max_rest_turn: f64,
     /// The rule that decided.
@@ -173,7 +189,8 @@ pub enum Rule {
     OtherModel,
     /// The cost comparison alone.
     Cost,
-    /// The cost asked for BDF2, but a rest joint turns more than [`MAX_IMPLICIT_REST_TURN`].
+    /// A rest joint turns more than [`MAX_IMPLICIT_REST_TURN`]: with `"auto"` substeps, BDF2 at
+    /// [`SHARP_JOINT_BDF2_DT`] where that is cheaper; with a fixed count, semi-implicit Euler.
     SharpJoint,
     /// The cost asked for BDF2, but contact is too hard for it (why, in words).
     HardContact(String),
@@ -190,8 +207,15 @@ impl ResolvedIntegrator {
             Rule::HardContact(why) => format!(
                 "{why}, which BDF2's contact response at its substep does not hold, {fallback}"
             ),
+            Rule::SharpJoint if self.integrator == Integrator::Bdf2 => format!(
+                "semi-implicit Euler would need about {explicit} substeps per step for \
+                 stability, more than {implicit} BDF2 substeps at {IMPLICIT_SUBSTEP_COST}× the \
+                 cost (the finer BDF2 step a rest joint turning {:.0}° needs, beyond {:.0}°)",
+                self.max_rest_turn.to_degrees(),
+                MAX_IMPLICIT_REST_TURN.to_degrees()
+            ),
             Rule::SharpJoint => format!(
-                "a rest joint turns {:.0}°, beyond the {:.0}° BDF2's bending matrix holds, \
+                "a rest joint turns {:.0}°, beyond {:.0}°, and the substep count is fixed, \
                  {fallback}",
                 self.max_rest_turn.to_degrees(),
                 MAX_IMPLICIT_REST_TURN.to_degrees()
@@ -230,7 +254,11 @@ impl IntegratorChoice {
             .resolved_substeps(bound)
         };
         let explicit_substeps = with(Integrator::SemiImplicitEuler);
-        let implicit_substeps = with(Integrator::Bdf2);
+        let sharp = max_rest_turn > MAX_IMPLICIT_REST_TURN;
+        // A sharply bent groom's BDF2 takes the finer step (module docs).
+        let substeps_override = (sharp && settings.substeps == Substeps::Auto)
+            .then(|| substeps_within(settings.step_dt(), SHARP_JOINT_BDF2_DT));
+        let implicit_substeps = substeps_override.unwrap_or_else(|| with(Integrator::Bdf2));
         // BDF2 is the cheaper (or, at a fixed count, the only stable) of the two.
         let cheaper = match settings.substeps {
             Substeps::Auto => {
@@ -243,23 +271,44 @@ impl IntegratorChoice {
             Self::Named(_) => Rule::Named,
             Self::Auto if model != StrandModel::MassSpring => Rule::OtherModel,
             Self::Auto if !cheaper => Rule::Cost,
-            Self::Auto if max_rest_turn > MAX_IMPLICIT_REST_TURN => Rule::SharpJoint,
-            Self::Auto => contact.too_hard(dt).map_or(Rule::Cost, Rule::HardContact),
+            // A fixed count on a sharply bent groom: semi-implicit Euler (module docs).
+            Self::Auto if sharp && substeps_override.is_none() => Rule::SharpJoint,
+            Self::Auto => contact.too_hard(dt).map_or(
+                if sharp { Rule::SharpJoint } else { Rule::Cost },
+                Rule::HardContact,
+            ),
         };
+        let bdf2 = cheaper
+            && match rule {
+                Rule::Cost => true,
+                Rule::SharpJoint => substeps_override.is_some(),
+                _ => false,
+            };
         let integrator = match self {
             Self::Named(integrator) => integrator,
-            Self::Auto if cheaper && rule == Rule::Cost => Integrator::Bdf2,
+            Self::Auto if bdf2 => Integrator::Bdf2,
             Self::Auto => Integrator::SemiImplicitEuler,
         };
+        // The override only matters where BDF2 runs.
+        let substeps_override = substeps_override.filter(|_| integrator == Integrator::Bdf2);
         ResolvedIntegrator {
             integrator,
             auto: self == Self::Auto,
             explicit_substeps,
             implicit_substeps,
+            substeps_override,
             max_rest_turn,
             rule,
         }
     }
+}
+
+/// The fewest substeps per step of `step_dt` (s) keeping the substep at most `longest` (s), at
+/// least 1.
+fn substeps_within(step_dt: f64, longest: f64) -> u32 {
+    (step_dt / longest * (1.0 - 1e-9))
+        .ceil()
+        .clamp(1.0, f64::from(u32::MAX)) as u32
 }
 
 /// Largest angle between consecutive rest segments over `strands`, rad (0 for straight
@@ -394,25 +443,47 @@ mod tests {
         assert_eq!(tie.integrator, Integrator::SemiImplicitEuler);
     }
 
-    /// A sharply pre-bent joint keeps semi-implicit Euler however stiff the springs.
+    /// A sharply pre-bent joint takes BDF2 at the finer step where that is still cheaper, and
+    /// keeps semi-implicit Euler where it is not or where the substep count is fixed.
     #[test]
-    fn auto_keeps_semi_implicit_euler_where_a_rest_joint_turns_sharply() {
+    fn auto_takes_bdf2_at_the_finer_step_where_a_rest_joint_turns_sharply() {
         let step = 1.0 / 24.0;
         let b = bound(step / 2626.0 / hair_core::solver::stability::AUTO_SAFETY);
-        let s = settings(Substeps::Auto);
-        let at = |turn_deg: f64| {
+        let at = |turn_deg: f64, substeps: Substeps, b: &StabilityBound| {
             IntegratorChoice::Auto.resolve(
                 StrandModel::MassSpring,
-                &s,
-                &b,
+                &settings(substeps),
+                b,
                 turn_deg.to_radians(),
                 &ContactLoad::default(),
             )
         };
-        assert_eq!(at(32.0).integrator, Integrator::Bdf2);
-        let sharp = at(83.0);
-        assert_eq!(sharp.integrator, Integrator::SemiImplicitEuler);
+        let gentle = at(32.0, Substeps::Auto, &b);
+        assert_eq!(gentle.integrator, Integrator::Bdf2);
+        assert_eq!(
+            (gentle.implicit_substeps, gentle.substeps_override),
+            (8, None)
+        );
+        // Sintel: 2,626 explicit substeps against 32 BDF2 ones.
+        let sharp = at(83.0, Substeps::Auto, &b);
+        assert_eq!(sharp.integrator, Integrator::Bdf2);
+        assert_eq!(sharp.rule, Rule::SharpJoint);
+        assert_eq!(
+            (sharp.implicit_substeps, sharp.substeps_override),
+            (32, Some(32))
+        );
         assert!(sharp.reason().contains("83°"), "{}", sharp.reason());
+        // 48 explicit substeps would take BDF2 at 8, but not at 32.
+        let soft = bound(step / 48.0 / hair_core::solver::stability::AUTO_SAFETY);
+        assert_eq!(at(32.0, Substeps::Auto, &soft).integrator, Integrator::Bdf2);
+        let sharp_soft = at(83.0, Substeps::Auto, &soft);
+        assert_eq!(sharp_soft.integrator, Integrator::SemiImplicitEuler);
+        assert_eq!(sharp_soft.substeps_override, None);
+        // A fixed count below the stability bound: semi-implicit Euler as written.
+        let fixed = at(83.0, Substeps::Fixed(40), &b);
+        assert_eq!(fixed.integrator, Integrator::SemiImplicitEuler);
+        assert_eq!(fixed.rule, Rule::SharpJoint);
+        assert!(fixed.reason().contains("fixed"), "{}", fixed.reason());
     }
 
     #[test]

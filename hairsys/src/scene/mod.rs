@@ -891,7 +891,10 @@ impl SceneFile {
         let contact = integrator::ContactLoad {
             deforming: scalp_animation.is_some() && s.scalp.collider.is_some()
                 || colliders.iter().any(|c| c.animation.is_some()),
-            animated_guides: guided.as_ref().is_some_and(|g| g.animation.is_some()),
+            animated_guides: guided
+                .as_ref()
+                .and_then(|g| g.animation.as_ref())
+                .is_some_and(|a| a.has_poses()),
             ..self.collider_motion(&colliders, &strands)
         };
         let bound = hair_core::StabilityBound::of_scaled(&strands, &s.physics, &scales);
@@ -903,6 +906,9 @@ impl SceneFile {
             &contact,
         );
         settings.integrator = integrator.integrator;
+        if let Some(n) = integrator.substeps_override {
+            settings.substeps = hair_core::Substeps::Fixed(n);
+        }
         self.check_work_budget(&settings, &bound, strands.point_count())?;
         if let Some(c) = &s.contacts {
             c.validate().map_err(|e| err(format!("[contacts] {e}")))?;

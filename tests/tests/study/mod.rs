@@ -52,7 +52,10 @@ pub fn scene(integrator: &str, substeps: &str, inextensible: bool) -> SceneFile 
 /// implicit integrators' runs: the explicit reference could not take stiffer springs at its
 /// substep), else unchanged. Returns the label suffix naming the stiffness.
 pub fn stiffened(file: &mut SceneFile) -> String {
-    match std::env::var("STUDY_STRETCH").ok().and_then(|v| v.parse::<f32>().ok()) {
+    match std::env::var("STUDY_STRETCH")
+        .ok()
+        .and_then(|v| v.parse::<f32>().ok())
+    {
         Some(k) => {
             file.scene.physics.stretch_stiffness = k;
             format!(", stretch {k} N/m")
