@@ -77,9 +77,10 @@ use serde::{Deserialize, Serialize};
 /// 3.2, parity 2.1.
 pub const IMPLICIT_SUBSTEP_COST: f64 = 3.0;
 
-/// Largest turn of a rest joint (rad) for which `"auto"` takes BDF2: 45°, between the
-/// shipped grooms' 32° and Sintel's 71–83° (module docs), where the curvature measure
-/// `2 tan(θ/2)` departs from the angle by 5.5 %.
+/// Largest turn of a rest joint (rad) for which `"auto"` takes BDF2 at its accuracy limit's
+/// step; sharper grooms take [`SHARP_JOINT_BDF2_DT`]. 45°, between the shipped grooms' 32° and
+/// Sintel's 71–83° (module docs), where the curvature measure `2 tan(θ/2)` departs from the
+/// angle by 5.5 %.
 pub const MAX_IMPLICIT_REST_TURN: f64 = std::f64::consts::FRAC_PI_4;
 
 /// BDF2's substep under `"auto"` substeps where a rest joint turns by more than
