@@ -770,7 +770,7 @@ pub(crate) fn resolve_substeps(settings: &SolverSettings, bound: &StabilityBound
 
 /// The fewest substeps per step of length `step_dt` (s) keeping the substep at most `longest`
 /// (s), at least 1: `"auto"` for the integrators whose substep follows an accuracy limit.
-fn substeps_within(step_dt: f64, longest: f64) -> u32 {
+pub fn substeps_within(step_dt: f64, longest: f64) -> u32 {
     (step_dt / longest * (1.0 - 1e-9))
         .ceil()
         .clamp(1.0, u32::MAX as f64) as u32

@@ -258,7 +258,7 @@ impl IntegratorChoice {
         let sharp = max_rest_turn > MAX_IMPLICIT_REST_TURN;
         // A sharply bent groom's BDF2 takes the finer step (module docs).
         let substeps_override = (sharp && settings.substeps == Substeps::Auto)
-            .then(|| substeps_within(settings.step_dt(), SHARP_JOINT_BDF2_DT));
+            .then(|| hair_core::solver::substeps_within(settings.step_dt(), SHARP_JOINT_BDF2_DT));
         let implicit_substeps = substeps_override.unwrap_or_else(|| with(Integrator::Bdf2));
         // BDF2 is the cheaper (or, at a fixed count, the only stable) of the two.
         let cheaper = match settings.substeps {
@@ -302,14 +302,6 @@ impl IntegratorChoice {
             rule,
         }
     }
-}
-
-/// The fewest substeps per step of `step_dt` (s) keeping the substep at most `longest` (s), at
-/// least 1.
-fn substeps_within(step_dt: f64, longest: f64) -> u32 {
-    (step_dt / longest * (1.0 - 1e-9))
-        .ceil()
-        .clamp(1.0, f64::from(u32::MAX)) as u32
 }
 
 /// Largest angle between consecutive rest segments over `strands`, rad (0 for straight
