@@ -31,7 +31,7 @@
 //! for the step) takes that floor: the solve stays finite, and the solution is that of a matrix
 //! changed by less than the round-off already in it.
 
-use super::lanes::{splat, zeroed, Lane};
+use super::lanes::{splat, Lane};
 
 /// The band `L D Lᵀ` factor of a symmetric positive definite matrix whose entries vanish more
 /// than `W − 1` rows off the diagonal, per lane.
@@ -48,13 +48,11 @@ impl<L: Lane, const W: usize> BandLdlt<L, W> {
     /// Sets the matrix to zero with `rows` rows.
     #[inline(always)]
     pub fn reset(&mut self, rows: usize) {
-        if self.rows.len() != rows {
-            self.rows.resize(rows, [L::default(); W]);
-        }
+        self.resize_for_overwrite(rows);
+        // `factor` takes the pivots from the rows, so only the rows need clearing.
         for row in self.rows.iter_mut() {
             *row = [L::default(); W];
         }
-        zeroed(&mut self.inv_pivot, rows);
     }
 
     /// Sizes the matrix to `rows` rows without clearing them, for a caller that writes every

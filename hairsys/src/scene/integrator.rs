@@ -208,23 +208,28 @@ impl ResolvedIntegrator {
             Rule::HardContact(why) => format!(
                 "{why}, which BDF2's contact response at its substep does not hold, {fallback}"
             ),
-            Rule::SharpJoint if self.integrator == Integrator::Bdf2 => format!(
-                "semi-implicit Euler would need about {explicit} substeps per step for \
-                 stability, more than {implicit} BDF2 substeps at {IMPLICIT_SUBSTEP_COST}× the \
-                 cost (the finer BDF2 step a rest joint turning {:.0}° needs, beyond {:.0}°)",
-                self.max_rest_turn.to_degrees(),
-                MAX_IMPLICIT_REST_TURN.to_degrees()
-            ),
+            Rule::Cost | Rule::SharpJoint if self.integrator == Integrator::Bdf2 => {
+                let why = format!(
+                    "semi-implicit Euler would need about {explicit} substeps per step for \
+                     stability, more than {implicit} BDF2 substeps at {IMPLICIT_SUBSTEP_COST}× \
+                     the cost"
+                );
+                if self.rule == Rule::SharpJoint {
+                    format!(
+                        "{why} (the finer BDF2 step a rest joint turning {:.0}° needs, beyond \
+                         {:.0}°)",
+                        self.max_rest_turn.to_degrees(),
+                        MAX_IMPLICIT_REST_TURN.to_degrees()
+                    )
+                } else {
+                    why
+                }
+            }
             Rule::SharpJoint => format!(
                 "a rest joint turns {:.0}°, beyond {:.0}°, and the substep count is fixed, \
                  {fallback}",
                 self.max_rest_turn.to_degrees(),
                 MAX_IMPLICIT_REST_TURN.to_degrees()
-            ),
-            Rule::Cost if self.integrator == Integrator::Bdf2 => format!(
-                "semi-implicit Euler would need about {explicit} substeps per step for \
-                 stability, more than {implicit} BDF2 substeps at {IMPLICIT_SUBSTEP_COST}× \
-                 the cost"
             ),
             Rule::Cost => format!(
                 "about {explicit} semi-implicit substeps per step are stable and cost no more \
@@ -274,21 +279,18 @@ impl IntegratorChoice {
             Self::Auto if !cheaper => Rule::Cost,
             // A fixed count on a sharply bent groom: semi-implicit Euler (module docs).
             Self::Auto if sharp && substeps_override.is_none() => Rule::SharpJoint,
-            Self::Auto => contact.too_hard(dt).map_or(
-                if sharp { Rule::SharpJoint } else { Rule::Cost },
-                Rule::HardContact,
-            ),
+            Self::Auto => match contact.too_hard(dt) {
+                Some(why) => Rule::HardContact(why),
+                None if sharp => Rule::SharpJoint,
+                None => Rule::Cost,
+            },
         };
-        let bdf2 = cheaper
-            && match rule {
-                Rule::Cost => true,
-                Rule::SharpJoint => substeps_override.is_some(),
-                _ => false,
-            };
-        let integrator = match self {
-            Self::Named(integrator) => integrator,
-            Self::Auto if bdf2 => Integrator::Bdf2,
-            Self::Auto => Integrator::SemiImplicitEuler,
+        // Past the fixed-count case, a sharp joint's rule is reached only where BDF2 is cheaper.
+        let integrator = match (self, &rule) {
+            (Self::Named(integrator), _) => integrator,
+            (Self::Auto, Rule::Cost) if cheaper => Integrator::Bdf2,
+            (Self::Auto, Rule::SharpJoint) if substeps_override.is_some() => Integrator::Bdf2,
+            (Self::Auto, _) => Integrator::SemiImplicitEuler,
         };
         // The override only matters where BDF2 runs.
         let substeps_override = substeps_override.filter(|_| integrator == Integrator::Bdf2);
