@@ -89,6 +89,22 @@ pub(crate) struct SubstepContacts<'a, L: Lane> {
     pub dt: f32,
 }
 
+/// The length constraints the contacts are solved with: called with the positions (m), the
+/// velocities (m/s) and what is corrected. Implementations mark `apply` `#[inline(always)]`
+/// so it is compiled into the kernel's AVX2 copy (see `solver::kernel`).
+pub(crate) trait Lengths<L: Lane> {
+    /// Applies the constraints to one group's `x` and `v`.
+    fn apply(&mut self, x: &mut [V3<L>], v: &mut [V3<L>], correction: Correction);
+}
+
+/// Closures, as the tests write their constraints.
+#[cfg(test)]
+impl<L: Lane, F: FnMut(&mut [V3<L>], &mut [V3<L>], Correction)> Lengths<L> for F {
+    fn apply(&mut self, x: &mut [V3<L>], v: &mut [V3<L>], correction: Correction) {
+        self(x, v, correction)
+    }
+}
+
 /// Work buffers: each contact's floor for the two phases, m, in the order of
 /// [`SubstepContacts::points`].
 #[derive(Default)]
@@ -106,7 +122,7 @@ pub(crate) fn solve<L: Lane>(
     v: &mut [V3<L>],
     c: &SubstepContacts<L>,
     s: &mut CouplingScratch<L>,
-    mut lengths: impl FnMut(&mut [V3<L>], &mut [V3<L>], Correction),
+    lengths: &mut impl Lengths<L>,
 ) {
     let zero = splat::<L>(0.0);
     let dt = splat::<L>(c.dt);
@@ -122,19 +138,19 @@ pub(crate) fn solve<L: Lane>(
         s.recovery.push((floor + push).min(zero));
     }
     let inv_dt = splat::<L>(1.0 / c.dt);
-    lengths(x, v, Correction::Motion);
+    lengths.apply(x, v, Correction::Motion);
     for _ in 0..ROUNDS {
         if !project(x, Some((v, inv_dt)), c, &s.motion) {
             break;
         }
-        lengths(x, v, Correction::Motion);
+        lengths.apply(x, v, Correction::Motion);
     }
     if recovers {
         for _ in 0..ROUNDS {
             if !project(x, None, c, &s.recovery) {
                 break;
             }
-            lengths(x, v, Correction::Recovery);
+            lengths.apply(x, v, Correction::Recovery);
         }
     }
 }
@@ -245,7 +261,7 @@ mod tests {
             &mut v,
             &c,
             &mut CouplingScratch::default(),
-            pair_limit(0.01, dt),
+            &mut pair_limit(0.01, dt),
         );
         let (p0, p1) = (x[0].lane(0), x[1].lane(0));
         assert!(p0.z > -1e-5, "point 0 pulled {} m into the ground", -p0.z);
@@ -293,7 +309,7 @@ mod tests {
             &mut v,
             &c,
             &mut CouplingScratch::default(),
-            pair_limit(0.01, dt),
+            &mut pair_limit(0.01, dt),
         );
         let (p0, p1) = (x[0].lane(0), x[1].lane(0));
         // Out by the push (within what the last pull left), the segment at its length.
@@ -330,7 +346,7 @@ mod tests {
                 &mut v,
                 &c,
                 &mut CouplingScratch::default(),
-                |_, _, _| {},
+                &mut |_: &mut [V3<Baseline>], _: &mut [V3<Baseline>], _| {},
             );
             assert_eq!(x[0].lane(0), below[0]);
             assert_eq!(v[0].lane(0), Vector3::zeros());

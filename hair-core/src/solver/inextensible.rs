@@ -97,6 +97,7 @@ pub(crate) struct ProjectionScratch<L = Baseline> {
 impl<L: Lane> ProjectionScratch<L> {
     /// Sizes the buffers for `segments` segments. Their old values are not cleared: the
     /// projection and the strain limit write every entry before they read it.
+    #[inline(always)]
     pub(super) fn fit(&mut self, segments: usize) {
         for buf in [
             &mut self.rhs,
@@ -112,6 +113,7 @@ impl<L: Lane> ProjectionScratch<L> {
 
     /// Unit segment directions of `x` into `tangent`; returns the lengths' worst relative error
     /// per lane and leaves `len − rest` in `rhs`.
+    #[inline(always)]
     fn measure(&mut self, x: &[V3<L>], rest_length: &[L]) -> L {
         let mut worst = splat::<L>(0.0);
         for (j, &rest) in rest_length.iter().enumerate() {
@@ -127,6 +129,7 @@ impl<L: Lane> ProjectionScratch<L> {
     /// Solves `(G M⁻¹ Gᵀ) λ = rhs` for the current tangents (Thomas algorithm; the matrix is
     /// symmetric positive semi-definite, and a segment between two fixed points has a zero row
     /// and gets λ = 0), then applies `y_j += w_j t_j λ_j`, `y_{j+1} −= w_{j+1} t_j λ_j`.
+    #[inline(always)]
     fn solve_and_apply(&mut self, y: &mut [V3<L>], inv_mass: &[L]) {
         let m = self.rhs.len();
         for j in 0..m {
@@ -147,6 +150,7 @@ impl<L: Lane> ProjectionScratch<L> {
 
     /// Solves the tridiagonal system held in `diag`, `upper` (symmetric) and `rhs` into
     /// `lambda` (Thomas algorithm; a zero pivot gives λ = 0 for its row).
+    #[inline(always)]
     pub(super) fn thomas(&mut self) {
         let m = self.rhs.len();
         let (mut prev_factor, mut prev_lambda) = (splat(0.0), splat(0.0));
@@ -168,6 +172,7 @@ impl<L: Lane> ProjectionScratch<L> {
 /// segment, m), then, with `velocities`, its velocities `v` onto the velocities that keep those
 /// lengths (without: a position correction, as `contacts::coupling` asks for when it moves
 /// points out of a collider). `inv_mass` (1/kg) is 0 for points that must not move.
+#[inline(always)]
 pub(crate) fn project<L: Lane>(
     x: &mut [V3<L>],
     v: &mut [V3<L>],
