@@ -210,9 +210,47 @@ pub(crate) struct Scratch<L: Lane> {
 }
 
 /// Refills `buf` with `values` (no zeroing first, for buffers written whole).
+#[inline(always)]
 fn rebuild<T>(buf: &mut Vec<T>, values: impl Iterator<Item = T>) {
     buf.clear();
     buf.extend(values);
+}
+
+/// Each lane's strand's slice `field`, cut to its first `n` entries (lanes the group does not
+/// fill take the last strand's). Cut once per group, the slices let the gathers below index
+/// every lane without a bounds check or a lookup of its strand per entry.
+#[inline(always)]
+fn lane_slices<'a, T>(
+    views: &'a [StrandView<'_>],
+    n: usize,
+    field: impl Fn(&'a StrandView<'_>) -> &'a [T],
+) -> [&'a [T]; LANES] {
+    let last = views.len() - 1;
+    std::array::from_fn(|l| &field(&views[l.min(last)])[..n])
+}
+
+/// Refills `buf` with point `i`'s vector of every lane's slice, for `i` below the slices' length.
+#[inline(always)]
+fn gather_v3<L: Lane>(buf: &mut Vec<V3<L>>, lanes: [&[Vector3<f32>]; LANES]) {
+    let n = lanes[0].len();
+    rebuild(
+        buf,
+        (0..n).map(|i| V3 {
+            x: L::new(std::array::from_fn(|l| lanes[l][i].x)),
+            y: L::new(std::array::from_fn(|l| lanes[l][i].y)),
+            z: L::new(std::array::from_fn(|l| lanes[l][i].z)),
+        }),
+    );
+}
+
+/// Refills `buf` with `f` of point `i`'s value of every lane's slice.
+#[inline(always)]
+fn gather<L: Lane>(buf: &mut Vec<L>, lanes: [&[f32]; LANES], f: impl Fn(usize, f32) -> f32) {
+    let n = lanes[0].len();
+    rebuild(
+        buf,
+        (0..n).map(|i| L::new(std::array::from_fn(|l| f(l, lanes[l][i])))),
+    );
 }
 
 /// `f` of each lane's strand: strand `l`, or the last strand for lanes the group does not fill.
@@ -279,33 +317,36 @@ impl<L: Lane> Scratch<L> {
             damp_fraction(c.damp_rate * s.scales.damping, c.dt, c.damp_iterations)
         }));
         // Per-point data, gathered into buffers written whole.
-        let v3 = |f: fn(&StrandView, usize) -> Vector3<f32>| {
-            (0..n).map(move |i| V3::from_lanes(&per_lane(views, |s| f(s, i))))
-        };
-        rebuild(&mut self.x, v3(|s, i| s.x[i]));
-        rebuild(&mut self.v, v3(|s, i| s.v[i]));
-        rebuild(&mut self.rest_local, v3(|s, i| s.rest_local[i]));
-        let inv_mass = (0..n).map(|i| L::new(per_lane(views, |s| s.inv_mass[i])));
-        rebuild(&mut self.inv_mass, inv_mass);
-        let free = (0..n).map(|i| {
-            L::new(per_lane(
-                views,
-                |s| if s.inv_mass[i] > 0.0 { 1.0 } else { 0.0 },
-            ))
-        });
-        rebuild(&mut self.free, free);
+        gather_v3(&mut self.x, lane_slices(views, n, |s| &*s.x));
+        gather_v3(&mut self.v, lane_slices(views, n, |s| &*s.v));
+        gather_v3(
+            &mut self.rest_local,
+            lane_slices(views, n, |s| s.rest_local),
+        );
+        let inv_mass = lane_slices(views, n, |s| s.inv_mass);
+        gather(&mut self.inv_mass, inv_mass, |_, w| w);
+        gather(
+            &mut self.free,
+            inv_mass,
+            |_, w| if w > 0.0 { 1.0 } else { 0.0 },
+        );
+        let goal_scale = per_lane(views, |s| c.goal * s.scales.goal);
+        let goal_weight = lane_slices(views, n, |s| s.goal_weight);
         let goal_k = (0..n).map(|i| {
-            L::new(per_lane(views, |s| {
-                if s.inv_mass[i] > 0.0 {
-                    c.goal * s.scales.goal * s.goal_weight[i]
+            L::new(std::array::from_fn(|l| {
+                if inv_mass[l][i] > 0.0 {
+                    goal_scale[l] * goal_weight[l][i]
                 } else {
                     0.0
                 }
             }))
         });
         rebuild(&mut self.goal_k, goal_k);
-        let rest_length = (0..n - 1).map(|j| L::new(per_lane(views, |s| s.rest_length[j])));
-        rebuild(&mut self.rest_length, rest_length);
+        gather(
+            &mut self.rest_length,
+            lane_slices(views, n - 1, |s| s.rest_length),
+            |_, l| l,
+        );
         if c.bend > 0.0 {
             // In f64, once per strand: the rigidity, and per joint its stiffness and rest moment.
             let rigidity = per_strand(views, |_, s| {
@@ -330,10 +371,17 @@ impl<L: Lane> Scratch<L> {
         }
         self.has_accel = views[0].accel.is_some();
         if self.has_accel {
-            let zero = Vector3::zeros();
-            let accel = (0..n)
-                .map(|i| V3::from_lanes(&per_lane(views, |s| s.accel.map_or(zero, |a| a[i]))));
-            rebuild(&mut self.accel, accel);
+            if views.iter().all(|s| s.accel.is_some()) {
+                gather_v3(
+                    &mut self.accel,
+                    lane_slices(views, n, |s| s.accel.unwrap_or(&[])),
+                );
+            } else {
+                let zero = Vector3::zeros();
+                let accel = (0..n)
+                    .map(|i| V3::from_lanes(&per_lane(views, |s| s.accel.map_or(zero, |a| a[i]))));
+                rebuild(&mut self.accel, accel);
+            }
         }
         self.gauss_newton_bending = false;
         self.has_contacts = views.iter().any(|s| s.contacts.is_some());
