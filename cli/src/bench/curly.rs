@@ -153,3 +153,71 @@ mod implicit_tests {
         }
     }
 }
+
+/// A study, not a test: BDF2's flutter on the curly hair at fine steps (BENCHMARKS.md, session
+/// 16). Prints, every fourth frame, the largest stretch and the strand's energy of BDF2 and
+/// implicit Euler at the substep counts of `SUBSTEPS` (default 64,128,256,512,1024), run in
+/// `STEPS` collision steps per frame (default 1; each step restarts BDF2 with backward Euler):
+/// `STEPS=16 cargo test --release -p hairsys-cli --lib bdf2_flutter -- --ignored --nocapture`.
+#[cfg(test)]
+mod flutter_study {
+    use super::*;
+    use crate::bench::methods::{MassSpring, Stretch};
+    use hair_core::{Integrator, Solver, SolverSettings, StrandSolver};
+
+    fn env_list(name: &str, default: &str) -> Vec<u32> {
+        std::env::var(name)
+            .unwrap_or_else(|_| default.into())
+            .split(',')
+            .map(|s| s.trim().parse().expect("a list of counts"))
+            .collect()
+    }
+
+    #[test]
+    #[ignore = "a study: prints figures, asserts nothing"]
+    fn bdf2_flutter() {
+        let case = curly().expect("the curly case");
+        let sim = &case.sim;
+        let steps = env_list("STEPS", "1")[0];
+        for substeps in env_list("SUBSTEPS", "64,128,256,512,1024") {
+            for integrator in [Integrator::ImplicitEuler, Integrator::Bdf2] {
+                let method = MassSpring {
+                    integrator,
+                    stretch: Stretch::Soft,
+                    ..MassSpring::DEFAULT
+                };
+                let per_step = method
+                    .solver(&case, Some(substeps / steps))
+                    .expect("a solver");
+                let settings = SolverSettings {
+                    steps,
+                    ..*per_step.settings()
+                };
+                let rest = sim.scalp_at(sim.first_frame as f32);
+                let solver = Solver::new(
+                    settings,
+                    *per_step.params(),
+                    &sim.strands,
+                    &rest,
+                    sim.first_frame,
+                )
+                .expect("a solver");
+                let mut solver = StrandSolver::from(solver);
+                let mut strands = sim.strands.clone();
+                let mut line = format!("{integrator:?} {substeps}/frame, {steps} steps:");
+                for frame in sim.first_frame + 1..=sim.last_frame {
+                    let scalp = sim.scalp_at(frame as f32);
+                    let report = solver
+                        .step_frame(&mut strands, &scalp, None)
+                        .expect("a frame");
+                    if frame % 4 == 0 {
+                        let stretch = 100.0 * report.max_stretch;
+                        let energy = solver.energy(&strands);
+                        line += &format!(" | {frame}: {stretch:.2} % {energy:.3e} J");
+                    }
+                }
+                println!("{line}");
+            }
+        }
+    }
+}

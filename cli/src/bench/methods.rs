@@ -189,7 +189,9 @@ impl MassSpring {
         }
     }
 
-    fn solver(&self, case: &Case, substeps: Option<u32>) -> Result<Solver, HairError> {
+    /// The solver of this configuration for `case` at `substeps` per frame (`None`: auto), one
+    /// collision step per frame, at the case's first frame.
+    pub fn solver(&self, case: &Case, substeps: Option<u32>) -> Result<Solver, HairError> {
         let sim = &case.sim;
         let solver = Solver::new(
             self.settings(case, substeps),

@@ -113,6 +113,21 @@
 //! `x̂ + (2h/3) v̂` instead, so that the approximate matrix multiplies only the correction,
 //! removes that term but was tried and dropped: the stiff cantilever at two substeps per frame
 //! diverged from predictions far along the stiff modes.
+//!
+//! **Flutter at fine steps (a limit of BDF2 here).** What the approximate matrix leaves out
+//! acts as an explicit force within the substep, and an explicit force can feed a mode a
+//! little energy every substep, at a rate that shrinks only like `h`. Backward Euler's own
+//! damping (`(ωh)²/2` per substep) outweighs that at every step; BDF2's (`(ωh)⁴/4`) outweighs
+//! it only at long steps, and the physical damping only at very short ones. In between, the
+//! bench's curly hair (Gauss–Newton bending, 46° joints) flutters under BDF2: it settles at 64
+//! substeps per frame and from 1,024, but at 128–512 its energy climbs from frame 5 and its
+//! segments stretch 2–5 % for the rest of the run, where implicit Euler settles at every count
+//! (`cli/src/bench/curly.rs`, `flutter_study`). It is not BDF2's second root (restarting
+//! BDF2 with backward Euler every 8 substeps flutters alike) and it grows with the matrix's
+//! error (the small-angle Hessian flutters from 64). `substeps = "auto"` stays outside that
+//! window (BDF2's longest substep, 1/192 s, or 1/768 s with a sharp rest joint); a scene that
+//! asks BDF2 for fine steps on sharply bent hair should take implicit Euler instead. Newton
+//! iterations or a complete Jacobian would close the window; neither is built.
 
 use super::band::BandLdlt;
 use super::blocks::{Mat3, Sym3};
