@@ -116,7 +116,8 @@ pub(crate) struct StrandView<'a> {
     /// This step's contacts of the strand's points, if any point has one.
     pub contacts: Option<ContactSlice<'a>>,
     /// External acceleration per point for this step (force fields, hair–hair repulsion),
-    /// m/s², constant over the substeps; `None` costs nothing.
+    /// m/s², constant over the substeps; `None` costs nothing. Given to every strand of a step or
+    /// to none.
     pub accel: Option<&'a [Vector3<f32>]>,
     /// The strand's multipliers of the step's stiffnesses, damping and drag (per-region
     /// physics; [`StrandScales::ONE`] = the scene's material).
@@ -245,11 +246,11 @@ fn gather_v3<L: Lane>(buf: &mut Vec<V3<L>>, lanes: [&[Vector3<f32>]; LANES]) {
 
 /// Refills `buf` with `f` of point `i`'s value of every lane's slice.
 #[inline(always)]
-fn gather<L: Lane>(buf: &mut Vec<L>, lanes: [&[f32]; LANES], f: impl Fn(usize, f32) -> f32) {
+fn gather<L: Lane>(buf: &mut Vec<L>, lanes: [&[f32]; LANES], f: impl Fn(f32) -> f32) {
     let n = lanes[0].len();
     rebuild(
         buf,
-        (0..n).map(|i| L::new(std::array::from_fn(|l| f(l, lanes[l][i])))),
+        (0..n).map(|i| L::new(std::array::from_fn(|l| f(lanes[l][i])))),
     );
 }
 
@@ -324,11 +325,11 @@ impl<L: Lane> Scratch<L> {
             lane_slices(views, n, |s| s.rest_local),
         );
         let inv_mass = lane_slices(views, n, |s| s.inv_mass);
-        gather(&mut self.inv_mass, inv_mass, |_, w| w);
+        gather(&mut self.inv_mass, inv_mass, |w| w);
         gather(
             &mut self.free,
             inv_mass,
-            |_, w| if w > 0.0 { 1.0 } else { 0.0 },
+            |w| if w > 0.0 { 1.0 } else { 0.0 },
         );
         let goal_scale = per_lane(views, |s| c.goal * s.scales.goal);
         let goal_weight = lane_slices(views, n, |s| s.goal_weight);
@@ -345,7 +346,7 @@ impl<L: Lane> Scratch<L> {
         gather(
             &mut self.rest_length,
             lane_slices(views, n - 1, |s| s.rest_length),
-            |_, l| l,
+            |l| l,
         );
         if c.bend > 0.0 {
             // In f64, once per strand: the rigidity, and per joint its stiffness and rest moment.
@@ -369,19 +370,14 @@ impl<L: Lane> Scratch<L> {
                 self.damp_coef[j + 1] = div_or_zero(damp_fraction, w, 0.0);
             }
         }
-        self.has_accel = views[0].accel.is_some();
+        // The step's external acceleration is given to every strand of a step or to none.
+        self.has_accel = views.iter().all(|s| s.accel.is_some());
+        debug_assert!(self.has_accel || views.iter().all(|s| s.accel.is_none()));
         if self.has_accel {
-            if views.iter().all(|s| s.accel.is_some()) {
-                gather_v3(
-                    &mut self.accel,
-                    lane_slices(views, n, |s| s.accel.unwrap_or(&[])),
-                );
-            } else {
-                let zero = Vector3::zeros();
-                let accel = (0..n)
-                    .map(|i| V3::from_lanes(&per_lane(views, |s| s.accel.map_or(zero, |a| a[i]))));
-                rebuild(&mut self.accel, accel);
-            }
+            gather_v3(
+                &mut self.accel,
+                lane_slices(views, n, |s| s.accel.unwrap_or_default()),
+            );
         }
         self.gauss_newton_bending = false;
         self.has_contacts = views.iter().any(|s| s.contacts.is_some());
@@ -850,12 +846,11 @@ impl<L: Lane> Lengths<L> for LengthConstraints<'_, L> {
             } else {
                 splat(0.0)
             };
-            let (inv_mass, rest_length) = (self.inv_mass, self.rest_length);
             limit_strain(
                 x,
                 v,
-                inv_mass,
-                rest_length,
+                self.inv_mass,
+                self.rest_length,
                 splat(ratio),
                 rate,
                 self.projection,
