@@ -38,6 +38,7 @@ use parry3d::math::Vector;
 use parry3d::query::PointProjection;
 use parry3d::query::{PointQueryWithLocation, Ray, RayCast};
 use parry3d::shape::TrianglePointLocation;
+use rayon::prelude::*;
 
 use crate::error::{parameter, GroomError};
 use crate::interpolate::SimHair;
@@ -281,17 +282,23 @@ pub fn lay_over_scalp(
 ) -> Result<(), GroomError> {
     opts.validate()?;
     let surface = Surface::new(mesh)?;
+    // Each surface-rooted strand's layer height, drawn in strand order, so the strands can then
+    // be laid in parallel with the same result on any number of threads.
     let mut heights = rng::stream(opts.seed, Purpose::Layers);
-    for strand in strands.iter_mut() {
+    let layered: Vec<(&mut StrandInput, f32)> = strands
+        .iter_mut()
+        .filter(|strand| matches!(strand.anchor, Anchor::Surface(_)))
+        .map(|strand| (strand, rng::unit_f32(&mut heights)))
+        .collect();
+    layered.into_par_iter().for_each(|(strand, u)| {
         let Anchor::Surface(sample) = strand.anchor else {
-            continue;
+            return;
         };
-        let u = rng::unit_f32(&mut heights);
         let frame = mesh.evaluate(&sample);
         let world: Vec<Vector3<f32>> = strand.rest.iter().map(|p| frame.to_world(p)).collect();
         let laid = lay_strand(&surface, &world, opts, opts.clearance + opts.layer * u);
         strand.rest = laid.iter().map(|p| frame.to_local(p)).collect();
-    }
+    });
     Ok(())
 }
 
@@ -876,6 +883,31 @@ mod tests {
             tips_back > 150,
             "{tips_back} of 200 tips behind their roots"
         );
+    }
+
+    #[test]
+    fn laying_is_the_same_on_one_thread_and_on_several() {
+        let mesh = uv_sphere(0.1, 48, 24).unwrap();
+        let laid = |threads: usize| {
+            let mut strands = hair(&mesh);
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| lay_over_scalp(&mut strands, &mesh, &options()).unwrap());
+            strands
+        };
+        let (one, four) = (laid(1), laid(4));
+        for (a, b) in one.iter().zip(&four) {
+            // Bit for bit: each strand's layer height is drawn in strand order before laying.
+            let bits = |s: &StrandInput| -> Vec<u32> {
+                s.rest
+                    .iter()
+                    .flat_map(|p| p.iter().map(|c| c.to_bits()))
+                    .collect()
+            };
+            assert_eq!(bits(a), bits(b));
+        }
     }
 
     #[test]
