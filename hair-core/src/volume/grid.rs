@@ -114,6 +114,24 @@ pub struct VoxelGrid {
     /// Node data, [`BRICK`]³ nodes per brick in the order of `bricks`; node `(i, j, k)` of a
     /// brick at `i + BRICK·(j + BRICK·k)`.
     nodes: Vec<[f32; CHANNELS]>,
+    /// What the splat needs of each point, in the sorted order of `order`: the bricks read
+    /// their points from it in sequence instead of from four per-point arrays at random.
+    splat_order: Vec<SplatPoint>,
+}
+
+/// A point as the splat reads it: its base cell and position in it, and what it carries.
+#[derive(Debug, Clone, Copy, Default)]
+struct SplatPoint {
+    /// Base cell (global node coordinates of its lower corner).
+    cell: [u32; 3],
+    /// Position within the base cell, 0–1 per axis.
+    frac: [f32; 3],
+    /// Mass, kg.
+    mass: f32,
+    /// Momentum, kg·m/s.
+    momentum: Vector3<f32>,
+    /// Hair volume, m³.
+    volume: f32,
 }
 
 /// What the grid says at one point.
@@ -215,6 +233,26 @@ fn counting_order(
         let slot = &mut start[bucket(*c)];
         order[*slot as usize] = (pair_key(*c), i as u32);
         *slot += 1;
+    }
+}
+
+/// Adds to `out` the stencil nodes of `p` that lie in its source brick plus `along` (bit `a`:
+/// +1 along axis `a`), the point's spill being `spill` (`along` within it). Along a spilled axis
+/// the stencil's upper corners lie in the next brick and its lower ones in the source; along any
+/// other axis both lie in the source: so corner `k` (bit `a`: upper along axis `a`) lands in
+/// that brick exactly when `k & spill == along`.
+fn splat_point(p: &SplatPoint, spill: usize, along: usize, out: &mut [[f32; CHANNELS]]) {
+    for (k, (corner, w)) in stencil(p.frac).enumerate() {
+        if k & spill != along {
+            continue;
+        }
+        let n: [u32; 3] = std::array::from_fn(|a| p.cell[a] + corner[a]);
+        let o = &mut out[local(n)];
+        o[0] += w * p.mass;
+        o[1] += w * p.momentum.x;
+        o[2] += w * p.momentum.y;
+        o[3] += w * p.momentum.z;
+        o[4] += w * p.volume;
     }
 }
 
@@ -420,18 +458,36 @@ impl VoxelGrid {
     /// Splats every point into the cleared bricks (see the module doc for the order).
     fn splat_all(&mut self, input: &SplatInput) {
         let mut nodes = std::mem::take(&mut self.nodes);
+        let mut points = std::mem::take(&mut self.splat_order);
+        let cells = &self.cells;
+        self.order
+            .par_iter()
+            .map(|&(_, i)| {
+                let i = i as usize;
+                let (cell, frac) = cells[i];
+                let mass = input.masses[i];
+                SplatPoint {
+                    cell,
+                    frac,
+                    mass,
+                    momentum: input.velocities[i] * mass,
+                    volume: input.volumes[i],
+                }
+            })
+            .collect_into_vec(&mut points);
         let this = &*self;
         nodes
             .par_chunks_mut(BRICK_NODES)
             .zip(&self.feeds)
-            .for_each(|(out, feeds)| this.gather(feeds, out, input));
+            .for_each(|(out, feeds)| this.gather(feeds, out, &points));
         self.nodes = nodes;
+        self.splat_order = points;
     }
 
     /// Sums into `out`, the nodes of one brick, the contributions of the points whose stencil
     /// reaches it: `feeds`, its source bricks `brick − d` for `d` in {0, 1}³ in a fixed order,
     /// the points of each source that spill along `d` by spill and then in point order.
-    fn gather(&self, feeds: &[u32; 8], out: &mut [[f32; CHANNELS]], p: &SplatInput) {
+    fn gather(&self, feeds: &[u32; 8], out: &mut [[f32; CHANNELS]], points: &[SplatPoint]) {
         for (along, &s) in feeds.iter().enumerate() {
             if s == NO_BRICK {
                 continue;
@@ -440,41 +496,10 @@ impl VoxelGrid {
             for m in (0..8).filter(|m| m & along == along) {
                 let range = self.source_start[8 * s + m] as usize
                     ..self.source_start[8 * s + m + 1] as usize;
-                for &(_, i) in &self.order[range] {
-                    self.splat_point(i as usize, m, along, out, p);
+                for point in &points[range] {
+                    splat_point(point, m, along, out);
                 }
             }
-        }
-    }
-
-    /// Adds to `out` point `i`'s stencil nodes that lie in its source brick plus `along` (bit
-    /// `a`: +1 along axis `a`), the point's spill being `spill` (`along` within it). Along a
-    /// spilled axis the stencil's upper corners lie in the next brick and its lower ones in the
-    /// source; along any other axis both lie in the source: so corner `k` (bit `a`: upper along
-    /// axis `a`) lands in that brick exactly when `k & spill == along`.
-    fn splat_point(
-        &self,
-        i: usize,
-        spill: usize,
-        along: usize,
-        out: &mut [[f32; CHANNELS]],
-        p: &SplatInput,
-    ) {
-        let (c, f) = self.cells[i];
-        let m = p.masses[i];
-        let mv = p.velocities[i] * m;
-        let vol = p.volumes[i];
-        for (k, (corner, w)) in stencil(f).enumerate() {
-            if k & spill != along {
-                continue;
-            }
-            let n: [u32; 3] = std::array::from_fn(|a| c[a] + corner[a]);
-            let o = &mut out[local(n)];
-            o[0] += w * m;
-            o[1] += w * mv.x;
-            o[2] += w * mv.y;
-            o[3] += w * mv.z;
-            o[4] += w * vol;
         }
     }
 
