@@ -1336,6 +1336,9 @@ fn run_simulate(run: RunArgs, quiet: bool, json: bool) -> i32 {
             if let (Some(warning), false) = (&summary.recovery_warning, quiet || json) {
                 eprintln!("warning: the interrupted run kept {warning}");
             }
+            if let (Some(warning), false) = (&summary.integrator_warning, quiet || json) {
+                eprintln!("warning: {warning}");
+            }
             if json {
                 outln!("{}", json!({ "event": "done", "summary": summary }));
             } else if !quiet {

@@ -36,6 +36,9 @@ pub struct SceneReport {
     pub integrator: Option<&'static str>,
     /// Why `[solver] integrator = "auto"` chose it (`None` when the scene named it).
     pub integrator_reason: Option<String>,
+    /// Where the scene named an implicit integrator at a substep it was measured not to hold on
+    /// hair this sharply bent (`hairsys::scene::integrator::sharp_joint_warning`).
+    pub integrator_warning: Option<String>,
     /// Collision steps per frame (`[solver] steps`).
     pub steps: u32,
     /// Force substeps per step the run will take.
@@ -149,6 +152,7 @@ pub fn report(scene: &str, sim: &Simulation, budget: Budget) -> Result<SceneRepo
             .then(|| integrator_name(sim.integrator.integrator)),
         integrator_reason: (sim.model == StrandModel::MassSpring && sim.integrator.auto)
             .then(|| sim.integrator.reason()),
+        integrator_warning: sim.integrator.warning.clone(),
         steps,
         substeps,
         substeps_auto: matches!(sim.settings.substeps, Substeps::Auto),
@@ -268,6 +272,9 @@ impl std::fmt::Display for SceneReport {
             match &self.integrator_reason {
                 Some(why) => writeln!(f, "  integrator: {integrator} (\"auto\": {why})")?,
                 None => writeln!(f, "  integrator: {integrator}")?,
+            }
+            if let Some(warning) = &self.integrator_warning {
+                writeln!(f, "  warning: {warning}")?;
             }
         }
         writeln!(

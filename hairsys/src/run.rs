@@ -74,6 +74,10 @@ pub struct RunSummary {
     /// Why `[solver] integrator = "auto"` chose `integrator`, in words (`None` when the scene
     /// named it).
     pub integrator_reason: Option<String>,
+    /// Where the scene named an implicit integrator at a substep it was measured not to hold on
+    /// hair this sharply bent: what to expect and what to take instead (see
+    /// [`crate::scene::integrator::sharp_joint_warning`]).
+    pub integrator_warning: Option<String>,
     /// Compiled copy of the mass-spring kernel this CPU ran: `"avx2"` or `"baseline"` (same
     /// bits, see [`hair_core::kernel_instructions`]).
     pub kernel: &'static str,
@@ -281,6 +285,7 @@ pub fn simulate(
         integrator: mass_spring
             .then(|| crate::scene::integrator::integrator_name(integrator.integrator)),
         integrator_reason: (mass_spring && integrator.auto).then(|| integrator.reason()),
+        integrator_warning: integrator.warning.clone(),
         kernel: hair_core::kernel_instructions(opts.kernel),
         projection: totals.projection,
         components: components.names(),

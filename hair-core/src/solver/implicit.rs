@@ -128,7 +128,8 @@
 //! turn, cantilever, chain) holds at every count up to 512. `integrator = "auto"` stays outside
 //! the window: it gives a groom whose rest joints turn more than 45° BDF2 only at the 1/768 s
 //! substep of `substeps = "auto"` and, at a fixed count, semi-implicit Euler. A scene that names
-//! BDF2 with fine steps on sharply bent hair should take implicit Euler instead.
+//! BDF2 with fine steps on sharply bent hair should take implicit Euler instead; the scene
+//! layer warns of it (`hairsys::scene::integrator::sharp_joint_warning`).
 //!
 //! **A Newton correction was measured and not adopted.** One simplified Newton iteration per
 //! substep (the residual `M Δv − h f(x + h v', v')` with the forces at the substep's end,

@@ -88,6 +88,13 @@ pub const MAX_IMPLICIT_REST_TURN: f64 = std::f64::consts::FRAC_PI_4;
 /// coarsest step at which BDF2 held the bench's curly hair and Sintel's bust).
 pub const SHARP_JOINT_BDF2_DT: f64 = 1.0 / 768.0;
 
+/// Substeps shorter than this (s) put BDF2 on sharply bent hair where it can flutter (module
+/// docs of `hair_core::solver` module `implicit`): on the bench's curly hair (46° joints) it
+/// settled at 1/1536 s and gained energy, stretching 2–5 %, at 1/3072–1/12288 s (2026-11-28).
+/// 1/2048 s lies between; the window's short end moves with the physical damping, so every
+/// shorter substep is warned of.
+pub const BDF2_FLUTTER_DT: f64 = 1.0 / 2048.0;
+
 /// What in a scene presses on its hair, for `"auto"`'s contact condition (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ContactLoad {
@@ -179,6 +186,10 @@ pub struct ResolvedIntegrator {
     pub max_rest_turn: f64,
     /// The rule that decided.
     pub rule: Rule,
+    /// Where the scene named an implicit integrator at a substep it was measured not to hold
+    /// on hair this sharply bent, what to expect and what to take instead
+    /// ([`sharp_joint_warning`]).
+    pub warning: Option<String>,
 }
 
 /// Which of `"auto"`'s rules (module docs) decided an integrator.
@@ -294,6 +305,17 @@ impl IntegratorChoice {
         };
         // The override only matters where BDF2 runs.
         let substeps_override = substeps_override.filter(|_| integrator == Integrator::Bdf2);
+        // A named implicit integrator runs at whatever substep the scene gives it.
+        let warning = match (self, integrator) {
+            (Self::Named(_), Integrator::Bdf2 | Integrator::ImplicitEuler)
+                if model == StrandModel::MassSpring && sharp =>
+            {
+                let substeps = substeps_override.unwrap_or_else(|| with(integrator));
+                let dt = settings.step_dt() / f64::from(substeps.max(1));
+                sharp_joint_warning(integrator, dt, max_rest_turn)
+            }
+            _ => None,
+        };
         ResolvedIntegrator {
             integrator,
             auto: self == Self::Auto,
@@ -302,7 +324,37 @@ impl IntegratorChoice {
             substeps_override,
             max_rest_turn,
             rule,
+            warning,
         }
+    }
+}
+
+/// What a named implicit integrator at substep `dt` (s) risks on hair whose sharpest rest joint
+/// turns by `turn` (rad, beyond [`MAX_IMPLICIT_REST_TURN`]), from the bench's curly hair (46°
+/// joints, 2026-11-28): longer than [`SHARP_JOINT_BDF2_DT`] both implicit integrators stretched
+/// it 11–95 % (1/384 s and longer; 0.2 % at 1/768 s); BDF2 shorter than [`BDF2_FLUTTER_DT`]
+/// fluttered. `None` where neither applies.
+pub fn sharp_joint_warning(integrator: Integrator, dt: f64, turn: f64) -> Option<String> {
+    let name = integrator_name(integrator);
+    let bent = format!(
+        "hair whose rest joints turn up to {:.0}° (beyond {:.0}°)",
+        turn.to_degrees(),
+        MAX_IMPLICIT_REST_TURN.to_degrees()
+    );
+    if dt > SHARP_JOINT_BDF2_DT * (1.0 + 1e-9) {
+        Some(format!(
+            "{name} at substeps of {dt:.2e} s may not hold {bent}: on the bench's curly hair \
+             (46° joints) it stretched segments by 11–95 % at 1/384 s and longer and 0.2 % at \
+             1/768 s; use substeps = \"auto\" (BDF2: 1/768 s) or a count giving at most 1/768 s"
+        ))
+    } else if integrator == Integrator::Bdf2 && dt < BDF2_FLUTTER_DT {
+        Some(format!(
+            "bdf2 at substeps of {dt:.2e} s can flutter on {bent}: on the bench's curly hair \
+             (46° joints) it gained energy and stretched segments by 2–5 % at 1/3072–1/12288 s; \
+             implicit-euler settles at every such substep, or use substeps = \"auto\" (1/768 s)"
+        ))
+    } else {
+        None
     }
 }
 
@@ -479,6 +531,48 @@ mod tests {
         assert_eq!(fixed.integrator, Integrator::SemiImplicitEuler);
         assert_eq!(fixed.rule, Rule::SharpJoint);
         assert!(fixed.reason().contains("fixed"), "{}", fixed.reason());
+    }
+
+    /// A named implicit integrator on sharply bent hair is warned of where the bench's curly
+    /// hair did not hold: longer substeps than 1/768 s, and BDF2 shorter than 1/2048 s; `"auto"`
+    /// and straighter hair are not.
+    #[test]
+    fn named_implicit_integrators_are_warned_of_off_the_steps_sharp_hair_holds() {
+        let b = bound(1.0 / 24.0 / 2626.0 / hair_core::solver::stability::AUTO_SAFETY);
+        let at = |choice: IntegratorChoice, turn_deg: f64, substeps: Substeps| {
+            choice
+                .resolve(
+                    StrandModel::MassSpring,
+                    &settings(substeps),
+                    &b,
+                    turn_deg.to_radians(),
+                    &ContactLoad::default(),
+                )
+                .warning
+        };
+        let bdf2 = IntegratorChoice::Named(Integrator::Bdf2);
+        let euler = IntegratorChoice::Named(Integrator::ImplicitEuler);
+        // At 24 fps: 8 and 16 substeps per frame are too long, 32 and 64 hold, 128 flutters.
+        for n in [8, 16] {
+            let w = at(bdf2, 46.0, Substeps::Fixed(n)).expect("a warning");
+            assert!(w.contains("1/768 s") && w.contains("46°"), "{w}");
+            assert!(at(euler, 46.0, Substeps::Fixed(n)).is_some());
+        }
+        for n in [32, 64] {
+            assert_eq!(at(bdf2, 46.0, Substeps::Fixed(n)), None, "{n}");
+            assert_eq!(at(euler, 46.0, Substeps::Fixed(n)), None, "{n}");
+        }
+        let w = at(bdf2, 46.0, Substeps::Fixed(128)).expect("a warning");
+        assert!(w.contains("flutter") && w.contains("implicit-euler"), "{w}");
+        assert_eq!(at(euler, 46.0, Substeps::Fixed(128)), None);
+        // "auto" substeps: BDF2 takes 1/768 s; implicit Euler its own 1/384 s, too long here.
+        assert_eq!(at(bdf2, 46.0, Substeps::Auto), None);
+        assert!(at(euler, 46.0, Substeps::Auto).is_some());
+        // Straighter hair, "auto" integrators and explicit ones are not warned of.
+        assert_eq!(at(bdf2, 32.0, Substeps::Fixed(8)), None);
+        assert_eq!(at(IntegratorChoice::Auto, 83.0, Substeps::Fixed(8)), None);
+        let explicit = IntegratorChoice::Named(Integrator::SemiImplicitEuler);
+        assert_eq!(at(explicit, 83.0, Substeps::Fixed(8)), None);
     }
 
     #[test]
