@@ -285,15 +285,14 @@ pub fn lay_over_scalp(
     // Each surface-rooted strand's layer height, drawn in strand order, so the strands can then
     // be laid in parallel with the same result on any number of threads.
     let mut heights = rng::stream(opts.seed, Purpose::Layers);
-    let layered: Vec<(&mut StrandInput, f32)> = strands
+    let layered: Vec<_> = strands
         .iter_mut()
-        .filter(|strand| matches!(strand.anchor, Anchor::Surface(_)))
-        .map(|strand| (strand, rng::unit_f32(&mut heights)))
+        .filter_map(|strand| match strand.anchor {
+            Anchor::Surface(sample) => Some((strand, sample, rng::unit_f32(&mut heights))),
+            _ => None,
+        })
         .collect();
-    layered.into_par_iter().for_each(|(strand, u)| {
-        let Anchor::Surface(sample) = strand.anchor else {
-            return;
-        };
+    layered.into_par_iter().for_each(|(strand, sample, u)| {
         let frame = mesh.evaluate(&sample);
         let world: Vec<Vector3<f32>> = strand.rest.iter().map(|p| frame.to_world(p)).collect();
         let laid = lay_strand(&surface, &world, opts, opts.clearance + opts.layer * u);

@@ -120,7 +120,7 @@ pub struct VoxelGrid {
 }
 
 /// A point as the splat reads it: its base cell and position in it, and what it carries.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 struct SplatPoint {
     /// Base cell (global node coordinates of its lower corner).
     cell: [u32; 3],

@@ -349,7 +349,7 @@ pub fn sharp_joint_warning(integrator: Integrator, dt: f64, turn: f64) -> Option
         ))
     } else if integrator == Integrator::Bdf2 && dt < BDF2_FLUTTER_DT {
         Some(format!(
-            "bdf2 at substeps of {dt:.2e} s can flutter on {bent}: on the bench's curly hair \
+            "{name} at substeps of {dt:.2e} s can flutter on {bent}: on the bench's curly hair \
              (46° joints) it gained energy and stretched segments by 2–5 % at 1/3072–1/12288 s; \
              implicit-euler settles at every such substep, or use substeps = \"auto\" (1/768 s)"
         ))
