@@ -13,10 +13,13 @@
 //!
 //! If every vertex of the mesh is convex and the mesh is one connected piece, it bounds a convex
 //! body, which lies entirely below the plane of each of its triangles: then the foot is the
-//! answer at any height, with no clearance needed (the built-in head, a UV sphere).
+//! answer at any height above it, with no clearance needed (the built-in head, a UV sphere).
 //!
 //! When the foot falls outside `T`, the search walks to the neighbour across the edge it fell
-//! behind (at most [`WALK`] times: hair moves little per step) and tries the certificate there.
+//! behind (on a convex body also from a triangle whose plane the point lies below: hair that
+//! outran the head within a step; the edge and vertex tests below do not depend on the height,
+//! only the face's does), at most [`WALK`] times (hair moves little per step), and tries the
+//! certificate there.
 //! On a convex body a point behind the edge it just crossed, seen from both its triangles, lies
 //! in that edge's region (far from a coarse convex mesh, as often as in a face's) when its
 //! projection on the edge falls between the edge's ends; beyond an end, that vertex is the answer
@@ -254,7 +257,9 @@ impl FastProjection {
             }
             let (corners, normal) = (&plane.corners, plane.normal);
             let height = normal.dot(&(p - corners[0]));
-            if height <= 0.0 {
+            // Below a triangle's plane a point may be inside; on a convex body the walk goes on
+            // (the edge and vertex tests do not depend on the height), elsewhere it gives up.
+            if height <= 0.0 && !self.convex_body {
                 return None;
             }
             let foot = p - normal * height;
@@ -299,7 +304,9 @@ impl FastProjection {
                     previous = t;
                     t = self.neighbours[t as usize][k];
                 }
-                None if self.convex_body || height <= self.half_clearance(mesh, t) => {
+                None if height > 0.0
+                    && (self.convex_body || height <= self.half_clearance(mesh, t)) =>
+                {
                     return Some(FastHit {
                         triangle: t,
                         feature: Feature::Face,
@@ -477,6 +484,26 @@ mod tests {
         let hit = fast.project(&mesh, 0, &p).expect("the vertex answers");
         assert!(matches!(hit.feature, Feature::Vertex(_)));
         assert_eq!(nearest_on(&mesh, &hit, &p), Vector3::x());
+    }
+
+    #[test]
+    fn on_a_convex_body_the_walk_crosses_triangles_a_point_lies_below() {
+        // The hint is the face of +x, +y, +z; the point lies above the face of +x, −y, +z and
+        // below the hint's plane (hair that slid past its old triangle within one step).
+        let mesh = octahedron();
+        let fast = FastProjection::new(&mesh, 0.5);
+        let p = Vector3::new(0.9, -0.5, 0.4);
+        assert!(p.sum() < 1.0, "below the hint's plane x + y + z = 1");
+        let hit = fast
+            .project(&mesh, 0, &p)
+            .expect("the walk reaches the next face");
+        assert_eq!((hit.triangle, hit.feature), (3, Feature::Face));
+        let exact = mesh.project_local_point(to_glam(&p), false);
+        assert!((nearest_on(&mesh, &hit, &p) - from_glam(exact.point)).norm() < 1e-6);
+        // Inside the body, under the hint's own face: no certificate, parry decides.
+        assert!(fast
+            .project(&mesh, 0, &Vector3::new(0.1, 0.1, 0.1))
+            .is_none());
     }
 
     #[test]
