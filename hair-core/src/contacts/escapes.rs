@@ -29,7 +29,7 @@ use nalgebra::{Point3, Vector3};
 use rayon::prelude::*;
 
 use super::collider_set::Colliders;
-use super::detect::{step_colliders, NO_CONTACT};
+use super::detect::{step_colliders, Affine, NO_CONTACT};
 
 /// Points per parallel job.
 const CHUNK: usize = 4096;
@@ -67,7 +67,7 @@ pub(crate) fn put_back_escapees(
         return 0;
     }
     let step = step_colliders(&colliders.entries, a, 1.0, true);
-    let end_inv: Vec<_> = step.iter().map(|c| c.end.inverse()).collect();
+    let to_body: Vec<Affine> = step.iter().map(|c| Affine::from(c.end.inverse())).collect();
     input
         .positions
         .par_chunks_mut(CHUNK)
@@ -84,9 +84,9 @@ pub(crate) fn put_back_escapees(
                 }
                 for (c, col) in step.iter().enumerate() {
                     let m = &mut memory[j * count + c];
-                    let local = (end_inv[c] * Point3::from(*x)).coords;
+                    let local = to_body[c].apply(x);
                     let keep = input.radii[i] + col.thickness;
-                    if m.bound - (local - m.at).norm() >= keep {
+                    if m.clear_of(&local, keep) {
                         continue;
                     }
                     let Some(hit) = m.project(col, local, keep, m.hint) else {
