@@ -144,9 +144,7 @@ impl Memory {
             }
         }
     }
-}
 
-impl Memory {
     /// Is body-space point `local` certainly farther than `q` (m) from the surface? Its distance
     /// is at least `bound − |local − at|` (the distance is 1-Lipschitz); compared squared, without
     /// a square root.
@@ -166,13 +164,17 @@ pub(super) struct Affine {
 }
 
 impl Affine {
-    /// The displacement `pose · x − x` that `pose` causes at `x`, as `(R − I) x + t`: no
-    /// cancellation between the moved point and the point where the motion is small.
+    /// The displacement `pose · x − x` that `pose` causes at `x`, as `(R − I) x + t` with
+    /// `R − I = 2w[v]× + 2(v vᵀ − |v|² I)` from the rotation's quaternion `(w, v)`: no
+    /// cancellation against 1 on the diagonal nor between the moved point and the point, so a
+    /// small motion keeps its relative precision.
     fn displacement(pose: Isometry3<f32>) -> Self {
-        let map = Self::from(pose);
+        let q = pose.rotation.quaternion();
+        let v = q.imag();
         Self {
-            linear: map.linear - Matrix3::identity(),
-            offset: map.offset,
+            linear: v.cross_matrix() * (2.0 * q.w)
+                + (v * v.transpose() - Matrix3::identity() * v.norm_squared()) * 2.0,
+            offset: pose.translation.vector,
         }
     }
 
@@ -938,6 +940,49 @@ mod tests {
     use super::*;
     use crate::contacts::Collider;
     use crate::mesh::TriMesh;
+
+    #[test]
+    fn affine_maps_agree_with_the_poses_they_stand_for() {
+        let pose = Isometry3::new(Vector3::new(0.3, -1.2, 0.5), Vector3::new(0.4, -0.7, 1.1));
+        let small = Isometry3::new(Vector3::new(1e-4, 0.0, 2e-4), Vector3::new(0.0, 1e-3, 0.0));
+        for k in 0..50 {
+            let t = k as f32 * 0.37;
+            let x = Vector3::new(t.sin(), (1.3 * t).cos(), 0.2 * t - 4.0);
+            let exact = (pose * Point3::from(x)).coords;
+            assert!((Affine::from(pose).apply(&x) - exact).norm() <= 1e-6 * exact.norm());
+            // The reference in f64: in f32, `small · x − x` itself loses digits to cancellation.
+            let x64 = x.cast::<f64>();
+            let moved = ((small.cast::<f64>() * Point3::from(x64)).coords - x64).cast::<f32>();
+            let d = Affine::displacement(small).apply(&x);
+            assert!(
+                (d - moved).norm() <= 1e-5 * moved.norm(),
+                "{k}: {d} {moved}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_clearance_test_is_the_lipschitz_bound() {
+        let m = Memory {
+            at: Vector3::new(1.0, 0.0, 0.0),
+            bound: 0.5,
+            hint: u32::MAX,
+        };
+        // Moved 0.3 from where 0.5 was measured: at least 0.2 away.
+        let p = Vector3::new(1.0, 0.3, 0.0);
+        assert!(m.clear_of(&p, 0.19));
+        assert!(!m.clear_of(&p, 0.21));
+        // Farther than the bound: nothing is known.
+        assert!(!m.clear_of(&Vector3::new(1.0, 0.6, 0.0), 0.0));
+        // Unknown (−∞) and NaN bounds never skip.
+        let unknown = Memory::default();
+        assert!(!unknown.clear_of(&Vector3::zeros(), 0.0));
+        let nan = Memory {
+            bound: f32::NAN,
+            ..m
+        };
+        assert!(!nan.clear_of(&m.at, 0.0));
+    }
 
     /// 300 two-point strands (a kinematic root and a free point at the same place) 0.2 m above
     /// a faceted unit sphere in directions spread over it, moving at 3 m/s so that each is
