@@ -140,8 +140,9 @@
 //! it is under half the first change of velocity stops the blow-ups, but BDF2 at 32 (the step
 //! `"auto"` gives such hair) then stretches 2.1 % instead of 0.15 %. On the default scene it
 //! lets BDF2 take 6 substeps per frame for the error of 8 (1.20 mm against 1.28 mm over the
-//! shot) at 15–31 % more per substep, no net saving. The prototype and its figures: BENCHMARKS.md, session 17. A complete Jacobian
-//! (the bending Hessian's second-derivative terms, made definite) is what remains to try.
+//! shot) at 15–31 % more per substep, no net saving. The prototype and its figures:
+//! BENCHMARKS.md, session 17. A complete Jacobian (the bending Hessian's second-derivative
+//! terms, made definite) is what remains to try.
 
 use super::band::BandLdlt;
 use super::blocks::{Mat3, Sym3};
