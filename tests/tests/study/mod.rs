@@ -175,7 +175,17 @@ pub fn table(runs: &[Run], reference: &Run) {
 
 /// The parity scene with its head mesh as collider on `integrator` at `substeps`.
 pub fn parity(integrator: &str, substeps: &str) -> SceneFile {
-    let text = PARITY_COLLIDE.replace("substeps = \"auto\"", &format!("substeps = {substeps}"));
+    parity_file(integrator, substeps, false)
+}
+
+/// The parity scene with its head mesh as collider on `integrator` at `substeps`, with the
+/// inextensibility projection when `inextensible` (the reference of [`parity`]'s runs).
+pub fn parity_file(integrator: &str, substeps: &str, inextensible: bool) -> SceneFile {
+    let mut text =
+        PARITY_COLLIDE.replace("substeps = \"auto\"", &format!("substeps = {substeps}"));
+    if inextensible {
+        text = text.replace("max_strain = ", "inextensibility = true\nmax_strain = ");
+    }
     let mut file = SceneFile::parse(
         &text,
         "parity_collide (issue 22 measurement)",
