@@ -37,9 +37,8 @@
 //! constraint). A last **follow-the-leader** pass root to tip moves far ends only (and their
 //! velocities by the same displacement over dt) to guarantee the limit for what the
 //! iterations leave. A group whose every movable segment is within its limit is left as it
-//! is after the first check (follow-the-leader would move nothing): most groups of a strand
-//! phase most of the time, so the check is all they pay (skipping the pass took 6 % off the
-//! default scene's strand phase, BENCHMARKS.md, session 19).
+//! is after the first check, since follow-the-leader would move nothing (skipping that pass
+//! took 6 % off the default scene's strand phase, BENCHMARKS.md, session 19).
 //!
 //! Why a projection and not Gauss–Seidel sweeps: an earlier version ran two Provot sweeps and
 //! then follow-the-leader on positions only. On a long soft strand the sweeps remove little of
