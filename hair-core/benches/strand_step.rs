@@ -40,6 +40,9 @@ fn strands() -> StrandSet {
         ))
         .expect("valid strand");
     }
+    // `push` leaves every strand at the origin; on its root, at rest, the step is the steady
+    // work of hanging hair, not the recoil of strands yanked to roots up to 0.6 m away.
+    set.reset_to_rest(&Scalp::fixed());
     set
 }
 
