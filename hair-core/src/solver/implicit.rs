@@ -97,19 +97,33 @@
 //!
 //! BDF2 needs the state one substep back, which a collision step does not have at its start
 //! (hair–hair friction and the contacts change between steps, and a resumed run starts there).
-//! Each step therefore starts with a backward Euler substep of `h/3` and continues with
-//! variable-step BDF2 (step ratio `r`: `y' = ((1 + r)² y − r² y_prev)/(1 + 2r) +
-//! h_n (1 + r)/(1 + 2r) ẏ'`, zero-stable for `r < 1 + √2`) over `2h/3` (`r = 2`), then `h`
-//! (`r = 3/2`), then `h`: the substep boundaries stay at `h, 2h, …`, a step costs one solve more
-//! than its substeps, and the first-order start loses `(ωh/3)²/2` of a swing per step instead
-//! of a whole backward Euler substep's `(ωh)²/2` (with a full-length start, the pendulum at
-//! h = 1/96 s lost 6.7 % per period; with this one 2.2 %; backward Euler 13.5 %). The errors of
-//! the start are `O(h²)` once per step, so the method stays second order in the substep.
+//! With two or more substeps a step therefore starts with the linearised **implicit midpoint
+//! rule** (the trapezoidal rule on this linear system, the first stage of Bank et al.'s TR-BDF2,
+//! 1985) over its first substep, and continues with BDF2: the midpoint substep is a backward
+//! Euler solve over `h/2`, whose velocity `v + Δv` moves the points over the whole substep, and
+//! the velocity ends at `v + 2Δv` (the contact response and the length limits act on it as on
+//! any substep). It is second order and A-stable, and costs one solve, so a step costs as many
+//! solves as it has substeps. It does not damp the stiff modes (their amplitude changes sign);
+//! the BDF2 substeps after it do. A step of one substep has no BDF2 substep after it, so it
+//! starts instead with a backward Euler substep of `h/3` and continues with variable-step BDF2
+//! (step ratio `r`: `y' = ((1 + r)² y − r² y_prev)/(1 + 2r) + h_n (1 + r)/(1 + 2r) ẏ'`,
+//! zero-stable for `r < 1 + √2`) over `2h/3` (`r = 2`): two solves, a first-order start that
+//! loses `(ωh/3)²/2` of a swing per step, and the stiff modes damped within the step.
+//!
+//! What the midpoint start changed (2026-11-28, against the backward Euler start of `h/3`
+//! that every step used before): the pendulum at h = 1/96 s loses 1.8 % per period instead of
+//! 2.2 % (a full-length backward Euler start: 6.7 %; backward Euler throughout: 13.5 %); the
+//! swinging chain's error at 8, 16, 32, 64 substeps per frame is 4.7, 0.82, 0.17, 0.058 mm
+//! instead of 5.4, 1.06, 0.20, 0.054; the default scene's strand phase is 8 % cheaper for 1.25 mm
+//! RMS over the shot instead of 1.28 (at 4 and 6 substeps per frame 2.31 and 1.55 mm instead of
+//! 2.09 and 1.52); on the bench's curly hair at 32 substeps per frame the slow rise of energy
+//! from frame 24 that both starts show (below, flutter) is a little faster (−2.39 instead of
+//! −2.60 × 10⁻⁷ J at frame 48, settled −2.72; largest stretch 0.18 instead of 0.15 %).
 //!
 //! The linearisation's bending matrix is approximate (above), and it multiplies the whole
 //! velocity of the substep: that leaves a first-order term, small against the second-order
-//! one at the steps hair uses (the order measured on a swinging chain is 2.3, 2.4, 1.9 from 8 to
-//! 64 substeps per frame, 1.3 beyond). Evaluating the forces at the predicted end
+//! one at the steps hair uses (the order measured on a swinging chain is 2.1, 2.5, 2.3 from 4 to
+//! 32 substeps per frame, 1.6 to 64, 1.3 beyond). Evaluating the forces at the predicted end
 //! `x̂ + (2h/3) v̂` instead, so that the approximate matrix multiplies only the correction,
 //! removes that term but was tried and dropped: the stiff cantilever at two substeps per frame
 //! diverged from predictions far along the stiff modes.
@@ -164,12 +178,10 @@ use crate::mesh::RootFrame;
 pub(crate) const AUTO_DT: f64 = 1.0 / 384.0;
 
 /// Longest substep `substeps = "auto"` takes with [`crate::Integrator::Bdf2`], s. Measured like
-/// [`AUTO_DT`] (2026-11-28, `implicit_euler_default_scene`): over the first 24 frames, substeps
-/// per frame at 24 fps 4, 5, 6, 8 gave 1.45, 1.23, 1.14, 1.00 mm RMS with p99 stretch 1.00, 0.91,
-/// 0.78, 0.62 % (implicit Euler at 16: 1.21 mm, 0.48 %); over the whole 48-frame shot (the
-/// second turn and the nod, `STUDY_FRAMES=48`) 4, 6, 8, 16 gave 2.09, 1.52, 1.28, 0.92 mm with
-/// p99 stretch 1.00, 0.86, 0.67, 0.46 % (implicit Euler at 16: 1.86 mm). 8 keeps both of issue
-/// 22's targets (1.5 mm, 1 %) over the whole shot; 6 did only over its first half.
+/// [`AUTO_DT`] (2026-11-28, `implicit_euler_default_scene`, `STUDY_FRAMES=48`: the whole shot,
+/// both turns and the nod): substeps per frame at 24 fps 4, 5, 6, 8 gave 2.31, 1.81, 1.55, 1.25
+/// mm RMS with p99 stretch 1.00, 1.00, 0.89, 0.67 % (implicit Euler at 16: 1.86 mm, 0.50 %). 8
+/// keeps both of issue 22's targets (1.5 mm, 1 %) over the whole shot; 6 misses the first.
 pub(crate) const AUTO_DT_BDF2: f64 = 1.0 / 192.0;
 
 /// Rest turn of a joint (degrees) beyond which a group of strands takes bending's Gauss–Newton
@@ -319,9 +331,9 @@ pub(crate) fn step_group_implicit<L: Lane>(
     g.scatter(views);
 }
 
-/// The substeps of one collision step by BDF2 (`c.substeps` of `h = c.dt`; module docs): a
-/// backward Euler substep of `h/3`, then BDF2 substeps ending at `h, 2h, …`, the first of
-/// length `2h/3` (ratio 2 to the one before), the second `h` (ratio 3/2), the rest `h`.
+/// The substeps of one collision step by BDF2 (`c.substeps` of `h = c.dt`; module docs): with
+/// two or more, an implicit midpoint substep, then BDF2 substeps of ratio 1 ending at `2h, 3h,
+/// …`; with one, a backward Euler substep of `h/3`, then a BDF2 substep of `2h/3` (ratio 2).
 #[inline(always)]
 fn bdf2_substeps<L: Lane>(
     g: &mut Scratch<L>,
@@ -330,26 +342,72 @@ fn bdf2_substeps<L: Lane>(
     clock: &mut SubstepClock<L>,
 ) {
     let h = c.dt;
-    let substeps = c.substeps as f32;
-    // (length, end, ratio to the previous length) in units of h; no ratio: backward Euler.
-    let start = [(1.0 / 3.0, 1.0 / 3.0, None), (2.0 / 3.0, 1.0, Some(2.0))];
-    let rest = (2..=c.substeps).map(|k| (1.0, k as f32, Some(if k == 2 { 1.5 } else { 1.0 })));
-    for (length, end, ratio) in start.into_iter().chain(rest) {
-        let at_end = clock.at(g, end / substeps);
-        let dt = match ratio {
-            None => {
-                s.history.remember(&g.x, &g.v);
-                length * h
-            }
-            // BDF2 after a substep r times shorter: backward Euler over (1 + r)/(1 + 2r) of its
-            // length from the extrapolated state.
-            Some(r) => {
-                s.history.extrapolate(&mut g.x, &mut g.v, r);
-                length * h * (1.0 + r) / (1.0 + 2.0 * r)
-            }
-        };
-        substep(g, s, &StepConstants { dt, ..*c }, clock, end * h, at_end);
+    s.history.remember(&g.x, &g.v);
+    if c.substeps == 1 {
+        let third = (1.0 / 3.0) * h;
+        let at_third = clock.at(g, 1.0 / 3.0);
+        substep(
+            g,
+            s,
+            &StepConstants { dt: third, ..*c },
+            clock,
+            third,
+            at_third,
+        );
+        // BDF2 over 2h/3 after a substep r = 2 times shorter: backward Euler over
+        // (1 + r)/(1 + 2r) of its length from the extrapolated state.
+        let r = 2.0;
+        let at_end = clock.at(g, 1.0);
+        s.history.extrapolate(&mut g.x, &mut g.v, r);
+        let dt = (2.0 / 3.0) * h * (1.0 + r) / (1.0 + 2.0 * r);
+        substep(g, s, &StepConstants { dt, ..*c }, clock, h, at_end);
+        return;
     }
+    let substeps = c.substeps as f32;
+    midpoint_substep(g, s, c, clock, clock.at(g, 1.0 / substeps));
+    for k in 2..=c.substeps {
+        let at_end = clock.at(g, k as f32 / substeps);
+        s.history.extrapolate(&mut g.x, &mut g.v, 1.0);
+        let dt = h * 2.0 / 3.0;
+        substep(
+            g,
+            s,
+            &StepConstants { dt, ..*c },
+            clock,
+            k as f32 * h,
+            at_end,
+        );
+    }
+}
+
+/// The linearised implicit midpoint rule (the trapezoidal rule) over a substep of `c.dt`: a
+/// backward Euler solve over `c.dt / 2` gives the midpoint velocity `v_m = v + Δv`, which moves
+/// the points over the whole substep (contacts and length limits acting on it as on any
+/// substep), and the velocity ends at `v_m + Δv` (`2 v_m − v` before those corrections).
+#[inline(always)]
+fn midpoint_substep<L: Lane>(
+    g: &mut Scratch<L>,
+    s: &mut ImplicitScratch<L>,
+    c: &StepConstants,
+    clock: &mut SubstepClock<L>,
+    (origin, rot): (V3<L>, M3<L>),
+) {
+    elastic_forces(g, c, clock);
+    let half = StepConstants {
+        dt: c.dt / 2.0,
+        ..*c
+    };
+    assemble(g, s, &half, clock);
+    // Kinematic points take the velocity that reaches the scalp over the whole substep.
+    solve_velocities(g, s, c, &origin, &rot);
+    for (dv, (v, v0)) in s.rhs.iter_mut().zip(g.v.iter().zip(&s.history.v)) {
+        *dv = *v - *v0;
+    }
+    finish_substep(g, c, c.dt, &origin, &rot, false);
+    for (v, (dv, free)) in g.v.iter_mut().zip(s.rhs.iter().zip(&g.free)) {
+        *v += *dv * *free;
+    }
+    clock.advance(origin, rot);
 }
 
 /// One backward Euler substep of `c.dt` from the state in `g` (which BDF2 has extrapolated),
