@@ -324,7 +324,7 @@ pub(crate) fn step_group_implicit<L: Lane>(
     } else {
         for k in 0..c.substeps {
             let end = clock.end_of(g, k, c.substeps);
-            substep(g, &mut s, c, &mut clock, (k + 1) as f32 * c.dt, end);
+            substep(g, &mut s, c, &mut clock, (k + 1) as f32 * c.dt, end, false);
         }
     }
     g.implicit = s;
@@ -342,76 +342,59 @@ fn bdf2_substeps<L: Lane>(
     clock: &mut SubstepClock<L>,
 ) {
     let h = c.dt;
+    let n = c.substeps;
     s.history.remember(&g.x, &g.v);
-    if c.substeps == 1 {
-        let third = (1.0 / 3.0) * h;
-        let at_third = clock.at(g, 1.0 / 3.0);
-        substep(
-            g,
-            s,
-            &StepConstants { dt: third, ..*c },
-            clock,
-            third,
-            at_third,
-        );
+    // Per substep: its start, the solve's dt, its end (s from the step's start), the end as a
+    // fraction of the step, and the ratio to the previous substep's length (none: the start).
+    // One call site, so the inlined substep is compiled once.
+    let third = (1.0 / 3.0) * h;
+    let one_substep = [
+        (Start::BackwardEuler, third, third, 1.0 / 3.0),
         // BDF2 over 2h/3 after a substep r = 2 times shorter: backward Euler over
         // (1 + r)/(1 + 2r) of its length from the extrapolated state.
-        let r = 2.0;
-        let at_end = clock.at(g, 1.0);
-        s.history.extrapolate(&mut g.x, &mut g.v, r);
-        let dt = (2.0 / 3.0) * h * (1.0 + r) / (1.0 + 2.0 * r);
-        substep(g, s, &StepConstants { dt, ..*c }, clock, h, at_end);
-        return;
-    }
-    let substeps = c.substeps as f32;
-    midpoint_substep(g, s, c, clock, clock.at(g, 1.0 / substeps));
-    for k in 2..=c.substeps {
-        let at_end = clock.at(g, k as f32 / substeps);
-        s.history.extrapolate(&mut g.x, &mut g.v, 1.0);
-        let dt = h * 2.0 / 3.0;
-        substep(
-            g,
-            s,
-            &StepConstants { dt, ..*c },
-            clock,
+        (Start::Bdf2(2.0), (2.0 / 3.0) * h * 3.0 / 5.0, h, 1.0),
+    ];
+    let midpoint = std::iter::once((Start::Midpoint, h, h, 1.0 / n as f32));
+    let rest = (2..=n).map(|k| {
+        (
+            Start::Bdf2(1.0),
+            h * 2.0 / 3.0,
             k as f32 * h,
-            at_end,
-        );
+            k as f32 / n as f32,
+        )
+    });
+    let plan: &mut dyn Iterator<Item = (Start, f32, f32, f32)> = if n == 1 {
+        &mut one_substep.into_iter()
+    } else {
+        &mut midpoint.chain(rest)
+    };
+    for (start, dt, t_end, end) in plan {
+        let at_end = clock.at(g, end);
+        if let Start::Bdf2(r) = start {
+            s.history.extrapolate(&mut g.x, &mut g.v, r);
+        }
+        let c = StepConstants { dt, ..*c };
+        substep(g, s, &c, clock, t_end, at_end, start == Start::Midpoint);
     }
 }
 
-/// The linearised implicit midpoint rule (the trapezoidal rule) over a substep of `c.dt`: a
-/// backward Euler solve over `c.dt / 2` gives the midpoint velocity `v_m = v + Δv`, which moves
-/// the points over the whole substep (contacts and length limits acting on it as on any
-/// substep), and the velocity ends at `v_m + Δv` (`2 v_m − v` before those corrections).
-#[inline(always)]
-fn midpoint_substep<L: Lane>(
-    g: &mut Scratch<L>,
-    s: &mut ImplicitScratch<L>,
-    c: &StepConstants,
-    clock: &mut SubstepClock<L>,
-    (origin, rot): (V3<L>, M3<L>),
-) {
-    elastic_forces(g, c, clock);
-    let half = StepConstants {
-        dt: c.dt / 2.0,
-        ..*c
-    };
-    assemble(g, s, &half, clock);
-    // Kinematic points take the velocity that reaches the scalp over the whole substep.
-    solve_velocities(g, s, c, &origin, &rot);
-    for (dv, (v, v0)) in s.rhs.iter_mut().zip(g.v.iter().zip(&s.history.v)) {
-        *dv = *v - *v0;
-    }
-    finish_substep(g, c, c.dt, &origin, &rot, false);
-    for (v, (dv, free)) in g.v.iter_mut().zip(s.rhs.iter().zip(&g.free)) {
-        *v += *dv * *free;
-    }
-    clock.advance(origin, rot);
+/// How a BDF2 substep starts (module docs).
+#[derive(Clone, Copy, PartialEq)]
+enum Start {
+    /// Backward Euler from the current state.
+    BackwardEuler,
+    /// The implicit midpoint rule from the current state.
+    Midpoint,
+    /// BDF2 from the state extrapolated with this ratio to the previous substep's length.
+    Bdf2(f32),
 }
 
 /// One backward Euler substep of `c.dt` from the state in `g` (which BDF2 has extrapolated),
-/// ending `t_end` (s) after the step's start with the root frame `(origin, rot)`.
+/// ending `t_end` (s) after the step's start with the root frame `(origin, rot)`; with
+/// `midpoint`, the linearised implicit midpoint rule (the trapezoidal rule) instead: the backward
+/// Euler solve over `c.dt / 2` gives the midpoint velocity `v_m = v + Δv`, which moves the
+/// points over the whole substep (contacts and length limits acting on it as on any substep),
+/// and the velocity ends at `v_m + Δv` (`2 v_m − v` before those corrections).
 #[inline(always)]
 fn substep<L: Lane>(
     g: &mut Scratch<L>,
@@ -420,11 +403,33 @@ fn substep<L: Lane>(
     clock: &mut SubstepClock<L>,
     t_end: f32,
     (origin, rot): (V3<L>, M3<L>),
+    midpoint: bool,
 ) {
     elastic_forces(g, c, clock);
-    assemble(g, s, c, clock);
+    let solved_over = if midpoint { c.dt / 2.0 } else { c.dt };
+    assemble(
+        g,
+        s,
+        &StepConstants {
+            dt: solved_over,
+            ..*c
+        },
+        clock,
+    );
+    // Kinematic points take the velocity that reaches the scalp over the whole substep.
     solve_velocities(g, s, c, &origin, &rot);
+    if midpoint {
+        // Δv, into the right-hand side's buffer (rebuilt by the next assembly).
+        for (dv, (v, v0)) in s.rhs.iter_mut().zip(g.v.iter().zip(&s.history.v)) {
+            *dv = *v - *v0;
+        }
+    }
     finish_substep(g, c, t_end, &origin, &rot, false);
+    if midpoint {
+        for (v, (dv, free)) in g.v.iter_mut().zip(s.rhs.iter().zip(&g.free)) {
+            *v += *dv * *free;
+        }
+    }
     clock.advance(origin, rot);
 }
 
