@@ -344,8 +344,8 @@ fn bdf2_substeps<L: Lane>(
     let h = c.dt;
     let n = c.substeps;
     s.history.remember(&g.x, &g.v);
-    // Per substep: its start, the solve's dt, its end (s from the step's start), the end as a
-    // fraction of the step, and the ratio to the previous substep's length (none: the start).
+    // Per substep: how it starts (BDF2 with its ratio to the previous substep's length), the
+    // solve's dt (s), its end (s from the step's start) and that end as a fraction of the step.
     // One call site, so the inlined substep is compiled once.
     let third = (1.0 / 3.0) * h;
     let one_substep = [
