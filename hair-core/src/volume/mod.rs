@@ -185,27 +185,29 @@ impl HairHair {
             },
         )?;
         let n = strands.point_count();
-        self.dv.clear();
+        // Every entry is written below before it is read: grow only.
         self.dv.resize(n, Vector3::zeros());
         let grid = &self.grid;
+        // The velocities change block by block while the rest of the set is read.
+        let mut velocities = std::mem::take(&mut strands.velocities);
         let offsets = strands.offsets();
         let inv_mass = strands.inverse_masses();
         let x = &strands.positions;
-        let v = &strands.velocities;
         // Per point: friction change and repulsion, split by blocks of whole strands.
         let mut jobs = Vec::with_capacity(blocks.len());
-        let (mut dv_rest, mut a_rest) = (&mut self.dv[..], accel);
+        let (mut dv_rest, mut a_rest, mut v_rest) = (&mut self.dv[..], accel, &mut velocities[..]);
         for b in blocks {
             let len = (offsets[b.end] - offsets[b.start]) as usize;
             let (dv, dr) = dv_rest.split_at_mut(len);
             let (a, ar) = a_rest.split_at_mut(len);
-            dv_rest = dr;
-            a_rest = ar;
-            jobs.push((b.clone(), dv, a));
+            let (v, vr) = v_rest.split_at_mut(len);
+            (dv_rest, a_rest, v_rest) = (dr, ar, vr);
+            jobs.push((b.clone(), dv, a, v));
         }
-        jobs.into_par_iter().for_each(|(b, dv, a)| {
+        jobs.into_par_iter().for_each(|(b, dv, a, v)| {
             let first = offsets[b.start] as usize;
             for (k, (dv, a)) in dv.iter_mut().zip(a.iter_mut()).enumerate() {
+                *dv = Vector3::zeros();
                 let i = first + k;
                 if inv_mass[i] == 0.0 || (s.friction == 0.0 && s.repulsion == 0.0) {
                     continue;
@@ -219,38 +221,36 @@ impl HairHair {
                 };
                 if s.friction > 0.0 {
                     if let Some(vg) = velocity {
-                        *dv = (vg - v[i]) * s.friction;
+                        *dv = (vg - v[k]) * s.friction;
                     }
                 }
                 if let Some(gradient) = gradient {
                     *a -= gradient * s.repulsion;
                 }
             }
+            if s.friction == 0.0 {
+                return;
+            }
             // Keep every segment's along-segment relative velocity: root to tip.
-            if s.friction > 0.0 {
-                for st in b {
-                    let (p0, p1) = (offsets[st] as usize, offsets[st + 1] as usize);
-                    for j in p0..p1 - 1 {
-                        if inv_mass[j + 1] == 0.0 {
-                            continue;
-                        }
-                        let d = x[j + 1] - x[j];
-                        let len2 = d.norm_squared();
-                        if len2 > 0.0 {
-                            let rel = dv[j + 1 - first] - dv[j - first];
-                            dv[j + 1 - first] -= d * (d.dot(&rel) / len2);
-                        }
+            for st in b {
+                let (p0, p1) = (offsets[st] as usize, offsets[st + 1] as usize);
+                for j in p0..p1 - 1 {
+                    if inv_mass[j + 1] == 0.0 {
+                        continue;
+                    }
+                    let d = x[j + 1] - x[j];
+                    let len2 = d.norm_squared();
+                    if len2 > 0.0 {
+                        let rel = dv[j + 1 - first] - dv[j - first];
+                        dv[j + 1 - first] -= d * (d.dot(&rel) / len2);
                     }
                 }
             }
+            for (v, dv) in v.iter_mut().zip(dv.iter()) {
+                *v += dv;
+            }
         });
-        if s.friction > 0.0 {
-            strands
-                .velocities
-                .par_iter_mut()
-                .zip(&self.dv)
-                .for_each(|(v, dv)| *v += dv);
-        }
+        strands.velocities = velocities;
         Ok(())
     }
 }
