@@ -25,10 +25,10 @@ fn the_default_and_wind_scenes_run_bdf2_at_its_accuracy_limit() {
         assert!(chosen.auto, "{name}");
         assert_eq!(chosen.integrator, Integrator::Bdf2, "{name}");
         assert_eq!(sim.settings.integrator, Integrator::Bdf2, "{name}");
-        assert!(chosen.explicit_substeps > 24, "{name}: {chosen:?}");
+        assert!(chosen.explicit_substeps > 21, "{name}: {chosen:?}");
         let solver = sim.strand_solver().unwrap();
         assert_eq!(solver.substeps(), chosen.implicit_substeps, "{name}");
-        assert_eq!(chosen.implicit_substeps, 8, "{name}");
+        assert_eq!(chosen.implicit_substeps, 7, "{name}");
     }
     // The built-in default is the shipped default file.
     let builtin = SceneFile::builtin_default().build().unwrap();

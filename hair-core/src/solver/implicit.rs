@@ -177,12 +177,14 @@ use crate::mesh::RootFrame;
 /// (`exp(−π ω h)`).
 pub(crate) const AUTO_DT: f64 = 1.0 / 384.0;
 
-/// Longest substep `substeps = "auto"` takes with [`crate::Integrator::Bdf2`], s. Measured like
-/// [`AUTO_DT`] (2026-11-28, `implicit_euler_default_scene`, `STUDY_FRAMES=48`: the whole shot,
-/// both turns and the nod): substeps per frame at 24 fps 4, 5, 6, 8 gave 2.31, 1.81, 1.55, 1.25
-/// mm RMS with p99 stretch 1.00, 1.00, 0.89, 0.67 % (implicit Euler at 16: 1.86 mm, 0.50 %). 8
-/// keeps both of issue 22's targets (1.5 mm, 1 %) over the whole shot; 6 misses the first.
-pub(crate) const AUTO_DT_BDF2: f64 = 1.0 / 192.0;
+/// Longest substep `substeps = "auto"` takes with [`crate::Integrator::Bdf2`], s: the longest
+/// that keeps issue 22's targets (1.5 mm RMS, p99 stretch 1 %) on the default scene. Measured like
+/// [`AUTO_DT`] (`implicit_euler_default_scene`, `STUDY_FRAMES=48`: the whole shot, both turns and
+/// the nod), with the midpoint start of each step (2026-11-29): substeps per frame at 24 fps 6, 7,
+/// 8 gave 1.55, 1.36, 1.25 mm RMS (worst frame 2.36, 2.03, 1.82 mm) with p99 stretch 0.89, 0.76,
+/// 0.67 %; 4 and 5 gave 2.31 and 1.81 mm (2026-11-28; implicit Euler at 16: 1.86 mm, 0.50 %).
+/// 7 keeps both targets over the whole shot; 6 misses the first.
+pub(crate) const AUTO_DT_BDF2: f64 = 1.0 / 168.0;
 
 /// Rest turn of a joint (degrees) beyond which a group of strands takes bending's Gauss–Newton
 /// Hessian instead of the small-angle one (module docs). The small-angle form serves the default

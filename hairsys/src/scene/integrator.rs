@@ -4,16 +4,16 @@
 //! # The rule
 //!
 //! Both integrators meet the same accuracy where `"auto"` uses them (issue 22's measure on the
-//! default scene, RMS against the inextensible reference at 512 substeps, 2026-11-28: over the
+//! default scene, RMS against the inextensible reference at 512 substeps, 2026-11-29: over the
 //! whole 48-frame shot semi-implicit Euler at its stability bound 0.69 mm, BDF2 at its accuracy
-//! limit of 1/192 s 1.28 mm, both under the 1.5 mm target with p99 stretch under 1 %; implicit
+//! limit of 1/168 s 1.36 mm, both under the 1.5 mm target with p99 stretch under 1 %; implicit
 //! Euler at 1/384 s, 1.21 mm over the first 24 frames, gave 1.86 mm over all 48). What differs is
 //! the cost:
 //!
 //! - semi-implicit Euler needs the substeps its **stability bound** asks for
 //!   ([`hair_core::StabilityBound`]): few on long soft segments (the parity scene: 19 per frame),
 //!   many where short segments carry stiff springs (the default scene 165, the character 434);
-//! - BDF2 needs the substeps its **accuracy limit** asks for (8 per frame at 24 fps), whatever
+//! - BDF2 needs the substeps its **accuracy limit** asks for (7 per frame at 24 fps), whatever
 //!   the stiffness, but each costs [`IMPLICIT_SUBSTEP_COST`] explicit substeps (a banded solve
 //!   per strand instead of a force sweep). It replaced implicit Euler here (16 substeps per
 //!   frame for a slightly larger error, and 5–13× the artificial damping of a swing).
@@ -454,8 +454,8 @@ mod tests {
         }
     }
 
-    /// At 24 fps BDF2's accuracy limit asks for 8 substeps, so `"auto"` changes over where the
-    /// stability bound asks for more than 24.
+    /// At 24 fps BDF2's accuracy limit asks for 7 substeps, so `"auto"` changes over where the
+    /// stability bound asks for more than 21.
     #[test]
     fn auto_takes_bdf2_where_the_stability_bound_costs_more() {
         let step = 1.0 / 24.0;
@@ -468,7 +468,7 @@ mod tests {
             &ContactLoad::default(),
         );
         assert_eq!(stiff.integrator, Integrator::Bdf2);
-        assert_eq!((stiff.explicit_substeps, stiff.implicit_substeps), (165, 8));
+        assert_eq!((stiff.explicit_substeps, stiff.implicit_substeps), (165, 7));
         let soft = IntegratorChoice::Auto.resolve(
             StrandModel::MassSpring,
             &s,
@@ -478,15 +478,15 @@ mod tests {
         );
         assert_eq!(soft.integrator, Integrator::SemiImplicitEuler);
         assert_eq!(soft.explicit_substeps, 12);
-        // 24 explicit substeps cost exactly 8 BDF2 ones: semi-implicit Euler.
+        // 21 explicit substeps cost exactly 7 BDF2 ones: semi-implicit Euler.
         let tie = IntegratorChoice::Auto.resolve(
             StrandModel::MassSpring,
             &s,
-            &bound(step / 24.0 / hair_core::solver::stability::AUTO_SAFETY * 1.000001),
+            &bound(step / 21.0 / hair_core::solver::stability::AUTO_SAFETY * 1.000001),
             0.5,
             &ContactLoad::default(),
         );
-        assert_eq!(tie.explicit_substeps, 24);
+        assert_eq!(tie.explicit_substeps, 21);
         assert_eq!(tie.integrator, Integrator::SemiImplicitEuler);
     }
 
@@ -509,7 +509,7 @@ mod tests {
         assert_eq!(gentle.integrator, Integrator::Bdf2);
         assert_eq!(
             (gentle.implicit_substeps, gentle.substeps_override),
-            (8, None)
+            (7, None)
         );
         // Sintel: 2,626 explicit substeps against 32 BDF2 ones.
         let sharp = at(83.0, Substeps::Auto, &b);
@@ -520,7 +520,7 @@ mod tests {
             (32, Some(32))
         );
         assert!(sharp.reason().contains("83°"), "{}", sharp.reason());
-        // 48 explicit substeps would take BDF2 at 8, but not at 32.
+        // 48 explicit substeps would take BDF2 at 7, but not at 32.
         let soft = bound(step / 48.0 / hair_core::solver::stability::AUTO_SAFETY);
         assert_eq!(at(32.0, Substeps::Auto, &soft).integrator, Integrator::Bdf2);
         let sharp_soft = at(83.0, Substeps::Auto, &soft);
@@ -608,7 +608,7 @@ mod tests {
             IntegratorChoice::Auto.resolve(StrandModel::MassSpring, &s, &b, 0.3, &contact)
         };
         let margin = 0.003;
-        // 8 substeps of 1/192 s: 0.4 m/s moves 2.1 mm, under the margin; 2 m/s 10.4 mm.
+        // 7 substeps of 1/168 s: 0.4 m/s moves 2.4 mm, under the margin; 2 m/s 11.9 mm.
         let slow = at(ContactLoad {
             collider_speed: 0.4,
             margin,
