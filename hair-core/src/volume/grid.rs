@@ -732,8 +732,9 @@ fn finite_bounds(points: &[Vector3<f32>]) -> (Vector3<f32>, Vector3<f32>) {
                 |(lo, hi), x| (lo.inf(x), hi.sup(x)),
             );
     }
+    // Lane k holds axis k % 3.
     let fold = |v: [f32; LANES], pick: fn(f32, f32) -> f32| {
-        Vector3::from_fn(|a, _| v.iter().skip(a).step_by(3).fold(v[a], |m, &c| pick(m, c)))
+        Vector3::from_fn(|a, _| v[a..].iter().step_by(3).copied().fold(v[a], pick))
     };
     (fold(lo, f32::min), fold(hi, f32::max))
 }

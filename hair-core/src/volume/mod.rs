@@ -185,7 +185,7 @@ impl HairHair {
             },
         )?;
         let n = strands.point_count();
-        // Every entry is written below before it is read: grow only.
+        // No clearing: every entry is written below before it is read.
         self.dv.resize(n, Vector3::zeros());
         let grid = &self.grid;
         // The velocities change block by block while the rest of the set is read.
