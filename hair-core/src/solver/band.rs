@@ -1,14 +1,14 @@
 //! A symmetric positive definite banded system `A y = b` solved directly by a band `L D Lᵀ`
-//! factorisation, one strand per SIMD lane: the one banded solver of the strand integrators.
+//! factorisation, one strand per SIMD lane: the XPBD substep's solve.
 //!
-//! Both implicit integrators reduce a strand's step to a banded system, because a strand is a
-//! chain and its forces or constraints couple only points a few apart: implicit Euler
-//! ([`super::implicit`]) solves a block-pentadiagonal system in the velocity change (3×3 blocks,
-//! half-width 8), XPBD ([`super::xpbd`]) one in the constraint multipliers (bending and stretch,
-//! 4×4 blocks, half-width 11). Dense elimination would cost `O(n³)`; keeping the factor inside
-//! the band costs `n · W²/2` multiply–adds for `W − 1` the half-width (Golub and Van Loan,
-//! *Matrix Computations*, §4.3.5), linear in the strand's length, and each operation advances
-//! the eight strands of a group at once like the rest of the kernel.
+//! XPBD ([`super::xpbd`]) reduces a strand's step to a banded system in the constraint
+//! multipliers (bending and stretch, 4×4 blocks, half-width 11), because a strand is a chain and
+//! its constraints couple only points a few apart. Dense elimination would cost `O(n³)`; keeping
+//! the factor inside the band costs `n · W²/2` multiply–adds for `W − 1` the half-width (Golub
+//! and Van Loan, *Matrix Computations*, §4.3.5), linear in the strand's length, and each
+//! operation advances the eight strands of a group at once like the rest of the kernel. (The
+//! implicit integrators' block-pentadiagonal system is factored on its 3×3 blocks instead,
+//! [`super::block_band`], which moves a third of the data this column-by-column form does.)
 //!
 //! # Why right-looking `L D Lᵀ`
 //!

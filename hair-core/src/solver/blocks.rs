@@ -55,6 +55,17 @@ impl<L: Lane> Sym3<L> {
         self.yz += o.yz;
     }
 
+    /// Subtracts `o`.
+    #[inline(always)]
+    pub fn sub(&mut self, o: &Self) {
+        self.xx -= o.xx;
+        self.yy -= o.yy;
+        self.zz -= o.zz;
+        self.xy -= o.xy;
+        self.xz -= o.xz;
+        self.yz -= o.yz;
+    }
+
     /// Adds `s I`.
     #[inline(always)]
     pub fn add_diagonal(&mut self, s: L) {

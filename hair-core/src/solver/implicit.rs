@@ -68,9 +68,10 @@
 //!
 //! The matrix is symmetric positive definite (masses plus positive semi-definite stiffness and
 //! damping), block-pentadiagonal with 3×3 blocks, i.e. a scalar band of half-width 8 over the
-//! `3n` velocity components. It is factored as band `L D Lᵀ` ([`super::band`], shared with the
-//! XPBD solve) in `≈ 3n · 8²/2` multiply–adds, eight strands per SIMD instruction like the
-//! explicit kernel, and solved for `Δv` (not `v'`, so rounding is relative to the change).
+//! `3n` velocity components. It is factored as block `L D Lᵀ` on the 3×3 blocks the assembly
+//! writes ([`super::block_band`]) in `≈ 140 n` multiply–adds, eight strands per SIMD instruction
+//! like the explicit kernel, and solved for `Δv` (not `v'`, so rounding is relative to the
+//! change).
 //!
 //! # Artificial damping
 //!
@@ -158,7 +159,7 @@
 //! BENCHMARKS.md, session 17. A complete Jacobian (the bending Hessian's second-derivative
 //! terms, made definite) is what remains to try.
 
-use super::band::BandLdlt;
+use super::block_band::solve_in_place;
 use super::blocks::{Mat3, Sym3};
 use super::dispatch::avx2_copy;
 use super::kernel::{
@@ -195,10 +196,6 @@ pub(crate) const AUTO_DT_BDF2: f64 = 1.0 / 168.0;
 /// results are the same bits as before it existed.
 const SHARP_REST_TURN_DEG: f32 = 30.0;
 
-/// Width of the scalar band (diagonal included): a point couples with points up to two away
-/// (bending), 3 components each, so row `3i + a` reaches column `3(i − 2) + 0`, 8 to its left.
-const BAND_WIDTH: usize = 9;
-
 /// Per-thread buffers of the implicit substep, refitted to each group.
 #[derive(Default)]
 pub(crate) struct ImplicitScratch<L: Lane> {
@@ -214,12 +211,11 @@ pub(crate) struct ImplicitScratch<L: Lane> {
     next: Vec<Mat3<L>>,
     /// Block `(i + 2, i)` (bending only; its transpose is block `(i, i + 2)`).
     skip: Vec<Mat3<L>>,
-    /// Right-hand side per point, then `Δv` of kinematic points.
+    /// Right-hand side per point, then the solution `Δv`.
     rhs: Vec<V3<L>>,
-    /// The matrix `M + h D + h² K` as a scalar band, then its `L D Lᵀ` factor.
-    band: BandLdlt<L, BAND_WIDTH>,
-    /// The right-hand side, then the solution, per scalar row.
-    sol: Vec<L>,
+    /// `Δv` of each point the group pins in some lane (in the order of `Scratch::pinned`), kept
+    /// while their rows are replaced.
+    known: Vec<V3<L>>,
     /// The previous substep's state, for BDF2.
     history: History<L>,
 }
@@ -267,9 +263,6 @@ impl<L: Lane> History<L> {
 impl<L: Lane> ImplicitScratch<L> {
     /// Sizes the buffers for `n` points and takes the per-step constants from the gathered group.
     fn fit(&mut self, g: &Scratch<L>) {
-        let n = g.x.len();
-        // The solution's old values are not cleared: every row is written before it is read.
-        self.sol.resize(3 * n, L::default());
         let one = splat::<L>(1.0);
         self.mass.clear();
         self.mass
@@ -452,6 +445,7 @@ fn solve_velocities<L: Lane>(
     // neighbours, then make their rows and columns the identity (lanes where a point is free
     // are untouched: `pinned` is zero there).
     let n = g.x.len();
+    s.known.clear();
     for &p in &g.pinned {
         let kinematic = kinematic_velocity(g, p, origin, rot, inv_dt);
         let pinned = one - g.free[p];
@@ -468,20 +462,13 @@ fn solve_velocities<L: Lane>(
         if p + 2 < n {
             s.rhs[p + 2] -= s.skip[p].mul(&dv);
         }
-        // Kept here until every neighbour is adjusted: a pinned neighbour's own row is
-        // replaced below.
-        s.sol[3 * p] = dv.x;
-        s.sol[3 * p + 1] = dv.y;
-        s.sol[3 * p + 2] = dv.z;
+        // Kept until every neighbour is adjusted: a pinned neighbour's own row is replaced
+        // below.
+        s.known.push(dv);
     }
-    for &p in &g.pinned {
+    for (&p, dv) in g.pinned.iter().zip(&s.known) {
         let (free, pinned) = (g.free[p], one - g.free[p]);
-        let dv = V3 {
-            x: s.sol[3 * p],
-            y: s.sol[3 * p + 1],
-            z: s.sol[3 * p + 2],
-        };
-        s.rhs[p] = s.rhs[p] * free + dv;
+        s.rhs[p] = s.rhs[p] * free + *dv;
         s.diag[p] = s.diag[p].scaled(free);
         s.diag[p].add_diagonal(pinned);
         if p >= 2 {
@@ -497,13 +484,9 @@ fn solve_velocities<L: Lane>(
             s.skip[p] = s.skip[p].scaled(free);
         }
     }
-    solve(s);
-    for i in 0..n {
-        g.v[i] += V3 {
-            x: s.sol[3 * i],
-            y: s.sol[3 * i + 1],
-            z: s.sol[3 * i + 2],
-        };
+    solve_in_place(&mut s.diag, &mut s.next, &mut s.skip, &mut s.rhs);
+    for (v, dv) in g.v.iter_mut().zip(&s.rhs) {
+        *v += *dv;
     }
 }
 
@@ -679,112 +662,10 @@ fn bending_hessian<L: Lane>(
     }
 }
 
-/// Solves the assembled system for `Δv` into `s.sol` (3 rows per point) by band `L D Lᵀ`.
-#[inline(always)]
-fn solve<L: Lane>(s: &mut ImplicitScratch<L>) {
-    let n = s.diag.len();
-    let rows = 3 * n;
-    // Every entry of every row is written below.
-    s.band.resize_for_overwrite(rows);
-    s.sol.resize(rows, L::default());
-    let zero = L::default();
-    for i in 0..n {
-        // Row 3i + a, entry d is A(3i + a, 3i + a − d): the diagonal block's lower triangle at
-        // d = a − b, block (i, i − 1) (`next[i − 1]`) at 3 + a − b, block (i, i − 2)
-        // (`skip[i − 2]`) at 6 + a − b, each at its row a and column b.
-        let (d, q, w) = (&s.diag[i], i.checked_sub(1), i.checked_sub(2));
-        let none = Mat3::default();
-        let [e0, e1, e2] = q.map_or(&none, |q| &s.next[q]).rows;
-        let [k0, k1, k2] = w.map_or(&none, |w| &s.skip[w]).rows;
-        *s.band.row_mut(3 * i) = [d.xx, e0.z, e0.y, e0.x, k0.z, k0.y, k0.x, zero, zero];
-        *s.band.row_mut(3 * i + 1) = [d.yy, d.xy, e1.z, e1.y, e1.x, k1.z, k1.y, k1.x, zero];
-        *s.band.row_mut(3 * i + 2) = [d.zz, d.yz, d.xz, e2.z, e2.y, e2.x, k2.z, k2.y, k2.x];
-        s.sol[3 * i] = s.rhs[i].x;
-        s.sol[3 * i + 1] = s.rhs[i].y;
-        s.sol[3 * i + 2] = s.rhs[i].z;
-    }
-    s.band.factor();
-    s.band.solve(&mut s.sol);
-}
-
 #[cfg(test)]
 mod tests {
     use super::super::lanes::Baseline;
     use super::*;
-
-    /// A random symmetric positive definite pentadiagonal block system (unsymmetric
-    /// off-diagonal blocks, each appearing transposed above the diagonal), solved by [`solve`],
-    /// must satisfy `A x = b` (checked by multiplying back with the blocks).
-    #[test]
-    fn band_cholesky_solves_block_pentadiagonal_systems() {
-        let n = 7;
-        let mut seed = 12345u32;
-        let mut rand = || {
-            seed = seed.wrapping_mul(1664525).wrapping_add(1013904223);
-            (seed >> 8) as f32 / (1u32 << 24) as f32 - 0.5
-        };
-        let mut s = ImplicitScratch::<Baseline>::default();
-        let sym = |r: &mut dyn FnMut() -> f32| Sym3 {
-            xx: splat(r()),
-            yy: splat(r()),
-            zz: splat(r()),
-            xy: splat(r()),
-            xz: splat(r()),
-            yz: splat(r()),
-        };
-        let full = |r: &mut dyn FnMut() -> f32| Mat3 {
-            rows: std::array::from_fn(|_| V3 {
-                x: splat(r()),
-                y: splat(r()),
-                z: splat(r()),
-            }),
-        };
-        s.diag = (0..n).map(|_| sym(&mut rand)).collect();
-        s.next = (0..n).map(|_| full(&mut rand)).collect();
-        s.skip = (0..n).map(|_| full(&mut rand)).collect();
-        // Diagonally dominant, so positive definite.
-        for d in &mut s.diag {
-            d.add_diagonal(splat(6.0));
-        }
-        s.rhs = (0..n)
-            .map(|_| V3 {
-                x: splat(rand()),
-                y: splat(rand()),
-                z: splat(rand()),
-            })
-            .collect();
-        let (diag, next, skip, rhs) = (
-            s.diag.clone(),
-            s.next.clone(),
-            s.skip.clone(),
-            s.rhs.clone(),
-        );
-        solve(&mut s);
-        let x: Vec<V3<Baseline>> = (0..n)
-            .map(|i| V3 {
-                x: s.sol[3 * i],
-                y: s.sol[3 * i + 1],
-                z: s.sol[3 * i + 2],
-            })
-            .collect();
-        for i in 0..n {
-            let mut ax = diag[i].mul(&x[i]);
-            if i + 1 < n {
-                ax += next[i].mul_transposed(&x[i + 1]);
-            }
-            if i >= 1 {
-                ax += next[i - 1].mul(&x[i - 1]);
-            }
-            if i + 2 < n {
-                ax += skip[i].mul_transposed(&x[i + 2]);
-            }
-            if i >= 2 {
-                ax += skip[i - 2].mul(&x[i - 2]);
-            }
-            let r = (ax - rhs[i]).lane(0);
-            assert!(r.norm() < 1e-5, "residual {r:?} at block {i}");
-        }
-    }
 
     /// `joint_jacobians` against central differences of the residual `r = κ(a, b) − K(a)` of a
     /// joint bent by 50°, with `K` carried by parallel transport as `a` turns: moving the far

@@ -44,6 +44,7 @@
 //! written anywhere.
 
 mod band;
+mod block_band;
 mod blocks;
 pub mod curvature;
 mod damping;

@@ -36,12 +36,11 @@
 //!    `(G W Gᵀ + α/h²) Δλ = −C(p) − (α/h²) λ`, `λ += Δλ`, `p += W Gᵀ Δλ`, with `G` the
 //!    constraint gradients at the substep's **start** `x` (see "Accuracy and damping"). The
 //!    matrix is then the same in every iteration: it is assembled and factored once per
-//!    substep by band `L D Lᵀ` ([`super::band`], the solver implicit Euler uses), and each
-//!    iteration is a forward and back substitution. This is a chord (simplified Newton)
-//!    iteration: its fixed point is that of the compliant system, `C(p) = −α λ/h²` with
-//!    `p = p̃ + W Gᵀ λ`; its rate is how far the gradients turn within the substep, small at the
-//!    steps this integrator is meant for. The bending gradients leave out the turn of the
-//!    transported frame (see "The frame's turn").
+//!    substep by band `L D Lᵀ` ([`super::band`]), and each iteration is a forward and back
+//!    substitution. This is a chord (simplified Newton) iteration: its fixed point is that of the
+//!    compliant system, `C(p) = −α λ/h²` with `p = p̃ + W Gᵀ λ`; its rate is how far the
+//!    gradients turn within the substep, small at the steps this integrator is meant for. The
+//!    bending gradients leave out the turn of the transported frame (see "The frame's turn").
 //! 4. **goal springs**: `C = p − target` with compliance `1/(k_goal w_goal)`, solved per point;
 //! 5. the **velocity** `v = (p − x)/h` (see "Round-off"), the damping sub-loop on it
 //!    ([`super::damping`]; the stretch damping's meaning is unchanged), then the contact
