@@ -20,10 +20,11 @@
 //! # The pivots
 //!
 //! In exact arithmetic the block factor's three scalar pivots per point are the band's (block
-//! elimination is column elimination grouped by three), so the band's safeguard carries over: a
-//! pivot that falls below `10⁻⁶` of its row's diagonal in the matrix as assembled (a matrix
-//! singular in f32 round-off, as a straight joint's bending is along its own tangent) takes that
-//! floor, and the solve stays finite.
+//! elimination is column elimination grouped by three). The implicit matrix is the masses plus
+//! positive semi-definite stiffness and damping (kinematic rows the identity), so no pivot falls
+//! below the smallest mass; the band's safeguard is kept as a guard against round-off all the
+//! same: a pivot below `10⁻⁶` of its row's diagonal as assembled takes that floor, and the solve
+//! stays finite.
 
 use super::blocks::{Mat3, Sym3};
 use super::lanes::{splat, Lane, V3};
@@ -45,19 +46,11 @@ pub(super) fn solve_in_place<L: Lane>(
 ) {
     let n = diag.len();
     debug_assert!(next.len() >= n && skip.len() >= n && rhs.len() >= n);
-    let floor = |d: &Sym3<L>| {
-        let f = splat::<L>(PIVOT_FLOOR);
-        V3 {
-            x: d.xx * f,
-            y: d.yy * f,
-            z: d.zz * f,
-        }
-    };
     // The floors of points k, k + 1 (k + 2 is taken before its first update, at step k).
     let mut floors = [
-        floor(&diag[0]),
+        pivot_floor(&diag[0]),
         if n > 1 {
-            floor(&diag[1])
+            pivot_floor(&diag[1])
         } else {
             V3::default()
         },
@@ -69,18 +62,18 @@ pub(super) fn solve_in_place<L: Lane>(
         let z = rhs[k];
         if k + 1 < n {
             let b1 = next[k];
-            let l1 = times_sym(&b1, &inv);
+            let l1 = b1.times_sym(&inv);
             next[k] = l1;
             rhs[k + 1] -= l1.mul(&z);
-            diag[k + 1].sub(&gram_with(&l1, &b1));
+            diag[k + 1].sub(&l1.times_transposed_sym(&b1));
             if k + 2 < n {
-                floors = [floors[1], floor(&diag[k + 2])];
+                floors = [floors[1], pivot_floor(&diag[k + 2])];
                 let b2 = skip[k];
-                let l2 = times_sym(&b2, &inv);
+                let l2 = b2.times_sym(&inv);
                 skip[k] = l2;
                 rhs[k + 2] -= l2.mul(&z);
-                next[k + 1].sub(&times_transposed(&l2, &b1));
-                diag[k + 2].sub(&gram_with(&l2, &b2));
+                next[k + 1].sub(&l2.times_transposed(&b1));
+                diag[k + 2].sub(&l2.times_transposed_sym(&b2));
             } else {
                 floors = [floors[1], floors[1]];
             }
@@ -97,6 +90,18 @@ pub(super) fn solve_in_place<L: Lane>(
             y -= skip[k].mul_transposed(&rhs[k + 2]);
         }
         rhs[k] = y;
+    }
+}
+
+/// The floors of the three pivots of a point whose assembled diagonal block is `d` (module
+/// docs). (A function, not a closure: closures are not compiled for the kernel's AVX2.)
+#[inline(always)]
+fn pivot_floor<L: Lane>(d: &Sym3<L>) -> V3<L> {
+    let f = splat::<L>(PIVOT_FLOOR);
+    V3 {
+        x: d.xx * f,
+        y: d.yy * f,
+        z: d.zz * f,
     }
 }
 
@@ -129,78 +134,49 @@ fn invert_pivot<L: Lane>(d: &Sym3<L>, floor: &V3<L>) -> Sym3<L> {
     }
 }
 
-/// `B S` for a symmetric `S`: row `r` is `S b_r`.
-#[inline(always)]
-fn times_sym<L: Lane>(b: &Mat3<L>, s: &Sym3<L>) -> Mat3<L> {
-    Mat3 {
-        rows: [s.mul(&b.rows[0]), s.mul(&b.rows[1]), s.mul(&b.rows[2])],
-    }
-}
-
-/// `A Bᵀ`: entry `(r, c)` is `a_r · b_c`.
-#[inline(always)]
-fn times_transposed<L: Lane>(a: &Mat3<L>, b: &Mat3<L>) -> Mat3<L> {
-    let [b0, b1, b2] = b.rows;
-    let row = |a: &V3<L>| V3 {
-        x: a.dot(&b0),
-        y: a.dot(&b1),
-        z: a.dot(&b2),
-    };
-    Mat3 {
-        rows: [row(&a.rows[0]), row(&a.rows[1]), row(&a.rows[2])],
-    }
-}
-
-/// `A Bᵀ` where it is known to be symmetric (`A = B S` for a symmetric `S`): the lower triangle's
-/// six dot products.
-#[inline(always)]
-fn gram_with<L: Lane>(a: &Mat3<L>, b: &Mat3<L>) -> Sym3<L> {
-    let ([a0, a1, a2], [b0, b1, b2]) = (a.rows, b.rows);
-    Sym3 {
-        xx: a0.dot(&b0),
-        yy: a1.dot(&b1),
-        zz: a2.dot(&b2),
-        xy: a1.dot(&b0),
-        xz: a2.dot(&b0),
-        yz: a2.dot(&b1),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::super::lanes::Baseline;
     use super::*;
 
-    /// A pseudo-random number in [−0.5, 0.5) from a linear congruential `seed`.
-    fn next_random(seed: &mut u32) -> f32 {
+    /// A pseudo-random number in [−0.5, 0.5) in every lane, from a linear congruential `seed`.
+    fn random(seed: &mut u32) -> Baseline {
         *seed = seed.wrapping_mul(1664525).wrapping_add(1013904223);
-        (*seed >> 8) as f32 / (1u32 << 24) as f32 - 0.5
+        splat((*seed >> 8) as f32 / (1u32 << 24) as f32 - 0.5)
+    }
+
+    /// A random vector.
+    fn random_v3(seed: &mut u32) -> V3<Baseline> {
+        V3 {
+            x: random(seed),
+            y: random(seed),
+            z: random(seed),
+        }
     }
 
     /// A random symmetric positive definite block-pentadiagonal system of `n` points
     /// (unsymmetric off-diagonal blocks, each appearing transposed above the diagonal), solved by
     /// [`solve_in_place`], satisfies `A y = b` (multiplied back with the blocks).
     fn solves_random_system(n: usize) {
-        let mut seed = 12345u32;
-        let mut rand = || splat::<Baseline>(next_random(&mut seed));
-        let mut sym = || Sym3 {
-            xx: rand(),
-            yy: rand(),
-            zz: rand(),
-            xy: rand(),
-            xz: rand(),
-            yz: rand(),
-        };
-        let mut diag: Vec<Sym3<Baseline>> = (0..n).map(|_| sym()).collect();
-        let mut seed = 777u32;
-        let mut rand = || splat::<Baseline>(next_random(&mut seed));
-        let mut v3 = || V3 {
-            x: rand(),
-            y: rand(),
-            z: rand(),
-        };
+        let seed = &mut 12345u32;
+        let mut diag: Vec<Sym3<Baseline>> = (0..n)
+            .map(|_| {
+                let ([xx, yy, zz], [xy, xz, yz]) = (
+                    [random(seed), random(seed), random(seed)],
+                    [random(seed), random(seed), random(seed)],
+                );
+                Sym3 {
+                    xx,
+                    yy,
+                    zz,
+                    xy,
+                    xz,
+                    yz,
+                }
+            })
+            .collect();
         let mut full = || Mat3 {
-            rows: [v3(), v3(), v3()],
+            rows: [random_v3(seed), random_v3(seed), random_v3(seed)],
         };
         let mut next: Vec<Mat3<Baseline>> = (0..n).map(|_| full()).collect();
         let mut skip: Vec<Mat3<Baseline>> = (0..n).map(|_| full()).collect();
@@ -208,7 +184,7 @@ mod tests {
         for d in &mut diag {
             d.add_diagonal(splat(6.0));
         }
-        let mut rhs: Vec<V3<Baseline>> = (0..n).map(|_| v3()).collect();
+        let mut rhs: Vec<V3<Baseline>> = (0..n).map(|_| random_v3(seed)).collect();
         let (a_diag, a_next, a_skip, b) = (diag.clone(), next.clone(), skip.clone(), rhs.clone());
         solve_in_place(&mut diag, &mut next, &mut skip, &mut rhs);
         let y = rhs;

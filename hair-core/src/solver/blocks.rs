@@ -231,33 +231,70 @@ impl<L: Lane> Mat3<L> {
         }
     }
 
+    /// The product `A S` for a symmetric `S`: row `r` is `S a_r`.
+    #[inline(always)]
+    pub fn times_sym(&self, s: &Sym3<L>) -> Self {
+        Self {
+            rows: [
+                s.mul(&self.rows[0]),
+                s.mul(&self.rows[1]),
+                s.mul(&self.rows[2]),
+            ],
+        }
+    }
+
+    /// The product `A Bᵀ`: entry `(r, c)` is `a_r · b_c`.
+    #[inline(always)]
+    pub fn times_transposed(&self, b: &Self) -> Self {
+        Self {
+            rows: [
+                b.mul(&self.rows[0]),
+                b.mul(&self.rows[1]),
+                b.mul(&self.rows[2]),
+            ],
+        }
+    }
+
+    /// The product `A Bᵀ` where it is known to be symmetric (`A = B S` for a symmetric `S`, or
+    /// `A = B`): the six dot products of its lower triangle.
+    #[inline(always)]
+    pub fn times_transposed_sym(&self, b: &Self) -> Sym3<L> {
+        let ([a0, a1, a2], [b0, b1, b2]) = (self.rows, b.rows);
+        Sym3 {
+            xx: a0.dot(&b0),
+            yy: a1.dot(&b1),
+            zz: a2.dot(&b2),
+            xy: a1.dot(&b0),
+            xz: a2.dot(&b0),
+            yz: a2.dot(&b1),
+        }
+    }
+
     /// `Aᵀ A`, symmetric positive semi-definite.
     #[inline(always)]
     pub fn gram(&self) -> Sym3<L> {
+        // Aᵀ A = T Tᵀ for T = Aᵀ, whose rows are A's columns.
         let [a0, a1, a2] = self.rows;
-        let cx = V3 {
-            x: a0.x,
-            y: a1.x,
-            z: a2.x,
+        let t = Self {
+            rows: [
+                V3 {
+                    x: a0.x,
+                    y: a1.x,
+                    z: a2.x,
+                },
+                V3 {
+                    x: a0.y,
+                    y: a1.y,
+                    z: a2.y,
+                },
+                V3 {
+                    x: a0.z,
+                    y: a1.z,
+                    z: a2.z,
+                },
+            ],
         };
-        let cy = V3 {
-            x: a0.y,
-            y: a1.y,
-            z: a2.y,
-        };
-        let cz = V3 {
-            x: a0.z,
-            y: a1.z,
-            z: a2.z,
-        };
-        Sym3 {
-            xx: cx.dot(&cx),
-            yy: cy.dot(&cy),
-            zz: cz.dot(&cz),
-            xy: cx.dot(&cy),
-            xz: cx.dot(&cz),
-            yz: cy.dot(&cz),
-        }
+        t.times_transposed_sym(&t)
     }
 }
 
@@ -301,5 +338,15 @@ mod tests {
         let s = la.gram();
         assert!((s.mul(&lv).lane(0) - a.transpose() * a * v).norm() < 1e-4);
         assert!(close(lane0(&la.scaled(splat(2.0))), a * 2.0));
+        assert!(close(lane0(&la.times_transposed(&lb)), a * b.transpose()));
+        let sym = b.transpose() * b;
+        let ls = lb.gram();
+        assert!(close(lane0(&la.times_sym(&ls)), a * sym));
+        // A S Aᵀ is symmetric.
+        let product = la.times_sym(&ls);
+        assert!(close(
+            lane0(&Mat3::from_sym(&product.times_transposed_sym(&la))),
+            a * sym * a.transpose()
+        ));
     }
 }
