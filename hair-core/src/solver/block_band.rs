@@ -10,9 +10,13 @@
 //! 130 loads and as many stores for as many multiply–adds, after the matrix has been copied from
 //! its blocks into band rows. Eliminating a point's three columns at once keeps the work in the
 //! blocks the assembly wrote: the pivot block is factored in registers (three scalar pivots, a
-//! chain of three divisions as in the band), the two blocks below it are multiplied by its
-//! inverse, and three blocks of the trailing matrix are updated by 3×3 products: about 160
-//! multiply–adds for 45 block entries loaded and 45 stored. The forward substitution runs in
+//! chain of three divisions as in the band), the two blocks `B` below it become `W = B L⁻ᵀ` (the
+//! band's partly eliminated column entries) and `W D⁻¹` (their `L`), and three blocks of the
+//! trailing matrix lose `W D⁻¹ Wᵀ` (the band's `a a / d`): about 160 multiply–adds for 45 block
+//! entries loaded and 45 stored. Forming the pivot block's inverse instead and multiplying by
+//! it was tried first: on stiff chains (implicit Euler on the bench's curly hair with physical
+//! springs, 700× past the explicit bound) its round-off made the next pivots garbage and the
+//! run non-finite; the form above does the band's operations. The forward substitution runs in
 //! the same sweep (the right-hand side's blocks below a finished pivot lose their share at once),
 //! so a second sweep does the back substitution alone. On the default scene this made the strand
 //! phase a sixth cheaper than the band did (`BENCHMARKS.md`, session 22).
@@ -56,40 +60,42 @@ pub(super) fn solve_in_place<L: Lane>(
         },
     ];
     for k in 0..n {
-        let inv = invert_pivot(&diag[k], &floors[0]);
-        diag[k] = inv;
-        // z(k) is final: the rows below lose L(·, k) z(k).
-        let z = rhs[k];
+        let pivot = factor_pivot(&diag[k], &floors[0]);
+        diag[k] = pivot;
+        // z(k) = L(k, k)⁻¹ b(k) is final: the rows below lose L(·, k) z(k).
+        let z = lower_solve(&pivot, &rhs[k]);
         if k + 1 < n {
-            let b1 = next[k];
-            let l1 = b1.times_sym(&inv);
+            // A(k + 1, k) L(k, k)⁻ᵀ: the band's partly eliminated column entries, and
+            // L(k + 1, k) = that times D(k)⁻¹, so the update is W D⁻¹ Wᵀ as the band's a a/d.
+            let w1 = eliminated(&pivot, &next[k]);
+            let l1 = scaled_columns(&pivot, &w1);
             next[k] = l1;
             rhs[k + 1] -= l1.mul(&z);
-            diag[k + 1].sub(&l1.times_transposed_sym(&b1));
+            diag[k + 1].sub(&l1.times_transposed_sym(&w1));
             if k + 2 < n {
                 floors = [floors[1], pivot_floor(&diag[k + 2])];
-                let b2 = skip[k];
-                let l2 = b2.times_sym(&inv);
+                let w2 = eliminated(&pivot, &skip[k]);
+                let l2 = scaled_columns(&pivot, &w2);
                 skip[k] = l2;
                 rhs[k + 2] -= l2.mul(&z);
-                next[k + 1].sub(&l2.times_transposed(&b1));
-                diag[k + 2].sub(&l2.times_transposed_sym(&b2));
+                next[k + 1].sub(&l2.times_transposed(&w1));
+                diag[k + 2].sub(&l2.times_transposed_sym(&w2));
             } else {
                 floors = [floors[1], floors[1]];
             }
         }
-        rhs[k] = inv.mul(&z);
+        rhs[k] = inverse_pivots(&pivot, &z);
     }
-    // Back: y(k) = w(k) − L(k + 1, k)ᵀ y(k + 1) − L(k + 2, k)ᵀ y(k + 2).
+    // Back: y(k) = L(k, k)⁻ᵀ (w(k) − L(k + 1, k)ᵀ y(k + 1) − L(k + 2, k)ᵀ y(k + 2)).
     for k in (0..n).rev() {
-        let mut y = rhs[k];
+        let mut u = rhs[k];
         if k + 1 < n {
-            y -= next[k].mul_transposed(&rhs[k + 1]);
+            u -= next[k].mul_transposed(&rhs[k + 1]);
         }
         if k + 2 < n {
-            y -= skip[k].mul_transposed(&rhs[k + 2]);
+            u -= skip[k].mul_transposed(&rhs[k + 2]);
         }
-        rhs[k] = y;
+        rhs[k] = upper_solve(&diag[k], &u);
     }
 }
 
@@ -105,32 +111,82 @@ fn pivot_floor<L: Lane>(d: &Sym3<L>) -> V3<L> {
     }
 }
 
-/// The inverse of the symmetric pivot block `d` from its scalar `L D Lᵀ`, each pivot floored at
-/// `floor`'s component for its row (module docs).
+/// The scalar `L D Lᵀ` of the pivot block `d`, each pivot floored at `floor`'s component for
+/// its row (module docs), packed in a [`Sym3`]: `xx, yy, zz` the inverse pivots `1/D`, `xy, xz,
+/// yz` the unit lower factor's `L(1, 0), L(2, 0), L(2, 1)`.
 #[inline(always)]
-fn invert_pivot<L: Lane>(d: &Sym3<L>, floor: &V3<L>) -> Sym3<L> {
+fn factor_pivot<L: Lane>(d: &Sym3<L>, floor: &V3<L>) -> Sym3<L> {
     let one = splat::<L>(1.0);
-    let d0 = d.xx.max(floor.x);
-    let i0 = one / d0;
+    let i0 = one / d.xx.max(floor.x);
     let (l10, l20) = (d.xy * i0, d.xz * i0);
-    let d1 = (d.yy - l10 * d.xy).max(floor.y);
-    let i1 = one / d1;
+    let i1 = one / (d.yy - l10 * d.xy).max(floor.y);
     // A(2, 1) after the first column: a21 − l20 a10.
     let a21 = d.yz - l20 * d.xy;
     let l21 = a21 * i1;
-    let d2 = (d.zz - l20 * d.xz - l21 * a21).max(floor.z);
-    let i2 = one / d2;
-    // L⁻¹ = [[1, 0, 0], [m10, 1, 0], [m20, m21, 1]]; D⁻¹ of the block = L⁻ᵀ diag(i) L⁻¹.
-    let (m10, m21) = (L::default() - l10, L::default() - l21);
-    let m20 = l10 * l21 - l20;
-    let (i2m20, i2m21) = (i2 * m20, i2 * m21);
+    let i2 = one / (d.zz - l20 * d.xz - l21 * a21).max(floor.z);
     Sym3 {
-        xx: i0 + i1 * m10 * m10 + i2m20 * m20,
-        yy: i1 + i2m21 * m21,
+        xx: i0,
+        yy: i1,
         zz: i2,
-        xy: i1 * m10 + i2m20 * m21,
-        xz: i2m20,
-        yz: i2m21,
+        xy: l10,
+        xz: l20,
+        yz: l21,
+    }
+}
+
+/// `L⁻¹ v` for the pivot's unit lower factor (packed by [`factor_pivot`]).
+#[inline(always)]
+fn lower_solve<L: Lane>(p: &Sym3<L>, v: &V3<L>) -> V3<L> {
+    let y = v.y - p.xy * v.x;
+    V3 {
+        x: v.x,
+        y,
+        z: v.z - p.xz * v.x - p.yz * y,
+    }
+}
+
+/// `L⁻ᵀ v` for the pivot's unit lower factor (packed by [`factor_pivot`]).
+#[inline(always)]
+fn upper_solve<L: Lane>(p: &Sym3<L>, v: &V3<L>) -> V3<L> {
+    let y = v.y - p.yz * v.z;
+    V3 {
+        x: v.x - p.xy * y - p.xz * v.z,
+        y,
+        z: v.z,
+    }
+}
+
+/// `D⁻¹ v` for the pivot's scalar pivots (packed by [`factor_pivot`]).
+#[inline(always)]
+fn inverse_pivots<L: Lane>(p: &Sym3<L>, v: &V3<L>) -> V3<L> {
+    V3 {
+        x: v.x * p.xx,
+        y: v.y * p.yy,
+        z: v.z * p.zz,
+    }
+}
+
+/// `B L⁻ᵀ` for a block `B` below the pivot: row `r` is `L⁻¹ b_r`.
+#[inline(always)]
+fn eliminated<L: Lane>(p: &Sym3<L>, b: &Mat3<L>) -> Mat3<L> {
+    Mat3 {
+        rows: [
+            lower_solve(p, &b.rows[0]),
+            lower_solve(p, &b.rows[1]),
+            lower_solve(p, &b.rows[2]),
+        ],
+    }
+}
+
+/// `W D⁻¹`: row `r` is `D⁻¹ w_r`.
+#[inline(always)]
+fn scaled_columns<L: Lane>(p: &Sym3<L>, w: &Mat3<L>) -> Mat3<L> {
+    Mat3 {
+        rows: [
+            inverse_pivots(p, &w.rows[0]),
+            inverse_pivots(p, &w.rows[1]),
+            inverse_pivots(p, &w.rows[2]),
+        ],
     }
 }
 
@@ -214,23 +270,47 @@ mod tests {
         }
     }
 
-    /// The pivot block's inverse is the inverse: `S S⁻¹ = I` for a well-conditioned `S`.
+    /// A stiff chain's matrix (springs 10⁶ times the masses, as an implicit substep far past
+    /// the explicit bound makes them) is solved with finite values and a backward error within
+    /// what f32 allows (a few ε · ‖A‖ · ‖y‖).
     #[test]
-    fn pivot_inverse_inverts() {
-        let s = Sym3::<Baseline> {
-            xx: splat(4.0),
-            yy: splat(3.0),
-            zz: splat(5.0),
-            xy: splat(1.0),
-            xz: splat(-0.5),
-            yz: splat(0.75),
-        };
-        let inv = invert_pivot(&s, &V3::default());
-        for axis in 0..3 {
-            let e = V3::<Baseline>::splat(&nalgebra::Vector3::ith(axis, 1.0));
-            let back = s.mul(&inv.mul(&e)).lane(0);
-            let expected = nalgebra::Vector3::<f32>::ith(axis, 1.0);
-            assert!((back - expected).norm() < 1e-6, "{back:?}");
+    fn stiff_chain_is_solved() {
+        let n = 17;
+        let k = splat::<Baseline>(1e6);
+        let t = V3::splat(&nalgebra::Vector3::new(0.6, 0.0, 0.8));
+        let spring = Sym3::iso_outer(splat(0.0), k, &t);
+        let mut diag: Vec<Sym3<Baseline>> = (0..n)
+            .map(|i| {
+                let mut d = Sym3::iso_outer(splat(1.0), splat(0.0), &t);
+                d.add(&spring);
+                if i + 1 < n {
+                    d.add(&spring);
+                }
+                d
+            })
+            .collect();
+        let mut next: Vec<Mat3<Baseline>> = (0..n)
+            .map(|_| Mat3::from_sym(&spring.scaled(splat(-1.0))))
+            .collect();
+        let mut skip = vec![Mat3::default(); n];
+        let seed = &mut 99u32;
+        let mut rhs: Vec<V3<Baseline>> = (0..n).map(|_| random_v3(seed)).collect();
+        let (a_diag, a_next, b) = (diag.clone(), next.clone(), rhs.clone());
+        solve_in_place(&mut diag, &mut next, &mut skip, &mut rhs);
+        let y_max = rhs.iter().map(|y| y.lane(0).amax()).fold(0.0f32, f32::max);
+        assert!(y_max.is_finite());
+        // ‖A‖∞ ≤ 1 + 4 · 10⁶ per row.
+        let tolerance = 8.0 * f32::EPSILON * 4e6 * y_max;
+        for i in 0..n {
+            let mut ay = a_diag[i].mul(&rhs[i]);
+            if i + 1 < n {
+                ay += a_next[i].mul_transposed(&rhs[i + 1]);
+            }
+            if i >= 1 {
+                ay += a_next[i - 1].mul(&rhs[i - 1]);
+            }
+            let r = (ay - b[i]).lane(0);
+            assert!(r.amax() < tolerance, "residual {r:?} at block {i}");
         }
     }
 

@@ -231,18 +231,6 @@ impl<L: Lane> Mat3<L> {
         }
     }
 
-    /// The product `A S` for a symmetric `S`: row `r` is `S a_r`.
-    #[inline(always)]
-    pub fn times_sym(&self, s: &Sym3<L>) -> Self {
-        Self {
-            rows: [
-                s.mul(&self.rows[0]),
-                s.mul(&self.rows[1]),
-                s.mul(&self.rows[2]),
-            ],
-        }
-    }
-
     /// The product `A Bᵀ`: entry `(r, c)` is `a_r · b_c`.
     #[inline(always)]
     pub fn times_transposed(&self, b: &Self) -> Self {
@@ -255,8 +243,9 @@ impl<L: Lane> Mat3<L> {
         }
     }
 
-    /// The product `A Bᵀ` where it is known to be symmetric (`A = B S` for a symmetric `S`, or
-    /// `A = B`): the six dot products of its lower triangle.
+    /// The product `A Bᵀ` where it is known to be symmetric (`A = B S` for a symmetric `S`, as
+    /// `W D⁻¹` and `W` in the block solve, or `A = B`): the six dot products of its lower
+    /// triangle.
     #[inline(always)]
     pub fn times_transposed_sym(&self, b: &Self) -> Sym3<L> {
         let ([a0, a1, a2], [b0, b1, b2]) = (self.rows, b.rows);
@@ -339,14 +328,10 @@ mod tests {
         assert!((s.mul(&lv).lane(0) - a.transpose() * a * v).norm() < 1e-4);
         assert!(close(lane0(&la.scaled(splat(2.0))), a * 2.0));
         assert!(close(lane0(&la.times_transposed(&lb)), a * b.transpose()));
-        let sym = b.transpose() * b;
-        let ls = lb.gram();
-        assert!(close(lane0(&la.times_sym(&ls)), a * sym));
-        // A S Aᵀ is symmetric.
-        let product = la.times_sym(&ls);
+        // A Aᵀ is symmetric.
         assert!(close(
-            lane0(&Mat3::from_sym(&product.times_transposed_sym(&la))),
-            a * sym * a.transpose()
+            lane0(&Mat3::from_sym(&la.times_transposed_sym(&la))),
+            a * a.transpose()
         ));
     }
 }
