@@ -13,10 +13,10 @@
 //! chain of three divisions as in the band), the two blocks `B` below it become `W = B L⁻ᵀ` (the
 //! band's partly eliminated column entries) and `W D⁻¹` (their `L`), and three blocks of the
 //! trailing matrix lose `W D⁻¹ Wᵀ` (the band's `a a / d`): about 160 multiply–adds for 45 block
-//! entries loaded and 45 stored. Forming the pivot block's inverse instead and multiplying by
-//! it was tried first: on stiff chains (implicit Euler on the bench's curly hair with physical
-//! springs, 700× past the explicit bound) its round-off made the next pivots garbage and the
-//! run non-finite; the form above does the band's operations. The forward substitution runs in
+//! entries loaded and 45 stored. The blocks are not multiplied by the pivot block's explicit
+//! inverse: on stiff chains (implicit Euler on the bench's curly hair with physical springs,
+//! 700× past the explicit bound) its round-off makes the next pivots garbage and the run
+//! non-finite; the form above does the band's operations. The forward substitution runs in
 //! the same sweep (the right-hand side's blocks below a finished pivot lose their share at once),
 //! so a second sweep does the back substitution alone. On the default scene this made the strand
 //! phase a sixth cheaper than the band did (`BENCHMARKS.md`, session 22).
@@ -39,8 +39,8 @@ const PIVOT_FLOOR: f32 = 1e-6;
 /// Solves `A y = b` for the symmetric block-pentadiagonal `A` given by its lower blocks —
 /// `diag[i]` the block `(i, i)`, `next[i]` the block `(i + 1, i)`, `skip[i]` the block
 /// `(i + 2, i)` (their transposes are the upper blocks) — with `b` in `rhs` and `y` out. The
-/// blocks are overwritten by the factor (`diag` by the inverse pivot blocks, `next` and `skip`
-/// by `L`'s blocks); entries of `next` and `skip` reaching past the last point are ignored.
+/// blocks are overwritten by the factor (`diag` by each pivot block's packed scalar `L D Lᵀ`,
+/// see `factor_pivot`; `next` and `skip` by `L`'s blocks); entries of `next` and `skip` reaching past the last point are ignored.
 #[inline(always)]
 pub(super) fn solve_in_place<L: Lane>(
     diag: &mut [Sym3<L>],
@@ -210,6 +210,35 @@ mod tests {
         }
     }
 
+    /// `A y − b` per point (lane 0) for the blocks of `A` as [`solve_in_place`] takes them.
+    fn residuals(
+        diag: &[Sym3<Baseline>],
+        next: &[Mat3<Baseline>],
+        skip: &[Mat3<Baseline>],
+        y: &[V3<Baseline>],
+        b: &[V3<Baseline>],
+    ) -> Vec<nalgebra::Vector3<f32>> {
+        let n = diag.len();
+        (0..n)
+            .map(|i| {
+                let mut ay = diag[i].mul(&y[i]);
+                if i + 1 < n {
+                    ay += next[i].mul_transposed(&y[i + 1]);
+                }
+                if i + 2 < n {
+                    ay += skip[i].mul_transposed(&y[i + 2]);
+                }
+                if i >= 1 {
+                    ay += next[i - 1].mul(&y[i - 1]);
+                }
+                if i >= 2 {
+                    ay += skip[i - 2].mul(&y[i - 2]);
+                }
+                (ay - b[i]).lane(0)
+            })
+            .collect()
+    }
+
     /// A random symmetric positive definite block-pentadiagonal system of `n` points
     /// (unsymmetric off-diagonal blocks, each appearing transposed above the diagonal), solved by
     /// [`solve_in_place`], satisfies `A y = b` (multiplied back with the blocks).
@@ -243,22 +272,10 @@ mod tests {
         let mut rhs: Vec<V3<Baseline>> = (0..n).map(|_| random_v3(seed)).collect();
         let (a_diag, a_next, a_skip, b) = (diag.clone(), next.clone(), skip.clone(), rhs.clone());
         solve_in_place(&mut diag, &mut next, &mut skip, &mut rhs);
-        let y = rhs;
-        for i in 0..n {
-            let mut ay = a_diag[i].mul(&y[i]);
-            if i + 1 < n {
-                ay += a_next[i].mul_transposed(&y[i + 1]);
-            }
-            if i >= 1 {
-                ay += a_next[i - 1].mul(&y[i - 1]);
-            }
-            if i + 2 < n {
-                ay += a_skip[i].mul_transposed(&y[i + 2]);
-            }
-            if i >= 2 {
-                ay += a_skip[i - 2].mul(&y[i - 2]);
-            }
-            let r = (ay - b[i]).lane(0);
+        for (i, r) in residuals(&a_diag, &a_next, &a_skip, &rhs, &b)
+            .iter()
+            .enumerate()
+        {
             assert!(r.norm() < 1e-5, "{n} points: residual {r:?} at block {i}");
         }
     }
@@ -301,15 +318,11 @@ mod tests {
         assert!(y_max.is_finite());
         // ‖A‖∞ ≤ 1 + 4 · 10⁶ per row.
         let tolerance = 8.0 * f32::EPSILON * 4e6 * y_max;
-        for i in 0..n {
-            let mut ay = a_diag[i].mul(&rhs[i]);
-            if i + 1 < n {
-                ay += a_next[i].mul_transposed(&rhs[i + 1]);
-            }
-            if i >= 1 {
-                ay += a_next[i - 1].mul(&rhs[i - 1]);
-            }
-            let r = (ay - b[i]).lane(0);
+        let a_skip = vec![Mat3::default(); n];
+        for (i, r) in residuals(&a_diag, &a_next, &a_skip, &rhs, &b)
+            .iter()
+            .enumerate()
+        {
             assert!(r.amax() < tolerance, "residual {r:?} at block {i}");
         }
     }

@@ -69,7 +69,7 @@
 //! The matrix is symmetric positive definite (masses plus positive semi-definite stiffness and
 //! damping), block-pentadiagonal with 3×3 blocks, i.e. a scalar band of half-width 8 over the
 //! `3n` velocity components. It is factored as block `L D Lᵀ` on the 3×3 blocks the assembly
-//! writes ([`super::block_band`]) in `≈ 140 n` multiply–adds, eight strands per SIMD instruction
+//! writes ([`super::block_band`]) in `≈ 160 n` multiply–adds, eight strands per SIMD instruction
 //! like the explicit kernel, and solved for `Δv` (not `v'`, so rounding is relative to the
 //! change).
 //!
