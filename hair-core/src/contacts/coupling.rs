@@ -33,7 +33,8 @@
 //!    gave it is taken back, so the strand drapes over the surface like a rope over a pulley
 //!    and the stored velocity is still the one that moved the point.
 //! 2. **Recovery** (positions only): a point that started inside is moved out by the push the
-//!    response allowed (`ContactSettings::max_push_speed` × dt), its floor raised by that much,
+//!    response allowed (`penalty`: the depth found at detection at most at
+//!    `ContactSettings::max_push_speed`), its floor raised by that much,
 //!    and the segments follow in more rounds — as position corrections that leave every
 //!    velocity as it is. The push-out is the correction of an earlier error, not motion (see
 //!    `penalty`); handing it to the neighbours as velocity was the pump above.
@@ -197,6 +198,7 @@ mod tests {
             anchor_velocity: V3::default(),
             surface_velocity: V3::default(),
             friction: splat(0.0),
+            found_depth: splat(0.0),
         }
     }
 

@@ -101,6 +101,10 @@ pub(crate) struct PointContacts {
     pub surface_velocity: Vec<Vector3<f32>>,
     /// Friction coefficient of the contact.
     pub friction: Vec<f32>,
+    /// How deep the point's sphere was inside the thickened surface at detection, m (0 outside
+    /// and without a contact): the error the response eases out at the push speed (see
+    /// [`super::penalty`]).
+    pub found_depth: Vec<f32>,
     /// Per strand: does any of its points have a contact?
     pub strand_active: Vec<bool>,
 }
@@ -329,6 +333,7 @@ struct BlockOut<'a> {
     anchor_velocity: &'a mut [Vector3<f32>],
     surface_velocity: &'a mut [Vector3<f32>],
     friction: &'a mut [f32],
+    found_depth: &'a mut [f32],
     active: &'a mut [bool],
     memory: &'a mut [Memory],
 }
@@ -365,6 +370,7 @@ pub(crate) fn detect(
     out.anchor_velocity.resize(n, Vector3::zeros());
     out.surface_velocity.resize(n, Vector3::zeros());
     out.friction.resize(n, 0.0);
+    out.found_depth.resize(n, 0.0);
     out.strand_active.resize(strands, false);
 
     let handles: Vec<_> = colliders.entries.iter().map(|e| e.handle).collect();
@@ -378,6 +384,7 @@ pub(crate) fn detect(
         let mut anchor_velocity = out.anchor_velocity.as_mut_slice();
         let mut surface_velocity = out.surface_velocity.as_mut_slice();
         let mut friction = out.friction.as_mut_slice();
+        let mut found_depth = out.found_depth.as_mut_slice();
         let mut active = out.strand_active.as_mut_slice();
         let mut memory = memory.as_mut_slice();
         for block in input.blocks {
@@ -389,6 +396,7 @@ pub(crate) fn detect(
                 anchor_velocity: take(&mut anchor_velocity, len),
                 surface_velocity: take(&mut surface_velocity, len),
                 friction: take(&mut friction, len),
+                found_depth: take(&mut found_depth, len),
                 active: take(&mut active, block.len()),
                 memory: take(&mut memory, len * count),
             };
@@ -423,6 +431,7 @@ pub(crate) fn detect(
                     o.anchor_velocity[j] = Vector3::zeros();
                     o.surface_velocity[j] = Vector3::zeros();
                     o.friction[j] = 0.0;
+                    o.found_depth[j] = 0.0;
                     if input.inv_mass[i] == 0.0 {
                         continue;
                     }
@@ -501,6 +510,7 @@ pub(crate) fn detect(
                     let x = input.positions[i];
                     o.surface_velocity[j] = col.surface_velocity(&hit.local_point, &hit.motion, dt);
                     o.friction[j] = col.friction;
+                    o.found_depth[j] = (-*d0).max(0.0);
                     o.active[k] = true;
                     found += 1;
                     // The sphere of the surface's curvature, grown like the surface by thickness

@@ -45,8 +45,8 @@
 //! - **Response** (`penalty`): after the velocity update and the damping sub-loop, a point whose
 //!   normal velocity would take it into the surface within the substep gets the normal velocity
 //!   that lands it exactly on the surface; a point already inside is moved out within the substep
-//!   (at most [`ContactSettings::max_push_speed`] × dt) as a position correction that keeps no
-//!   outward velocity; the kept normal velocity never exceeds what reaches the surface nor the
+//!   as a position correction that keeps no outward velocity (the depth it had at detection at
+//!   most at [`ContactSettings::max_push_speed`], anything the step added at once); the kept normal velocity never exceeds what reaches the surface nor the
 //!   surface's own normal speed (no bounce); friction removes at most μ × the normal velocity
 //!   change from the tangential velocity relative to the surface. It is the limit of Choe et al.'s
 //!   penalty spring stiff enough to stop penetration in one substep, applied as the impulse it

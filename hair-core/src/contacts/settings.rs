@@ -20,12 +20,13 @@ pub struct ContactSettings {
     /// Most collision steps a frame may be split into, in all (≥ 1). A frame that would need
     /// more runs with this many, and its contacts are then less accurate than `tolerance`.
     pub max_steps: u32,
-    /// Largest speed (m/s) at which a point already inside a collider is moved out (> 0). A point
-    /// inside by `d` is moved out by `min(d, max_push_speed·dt)` per substep, as a position
-    /// correction that leaves no velocity behind: penetrations of a few millimetres (a missed
-    /// detection, the strain limiter) go within a substep or two, while hair found deep inside
-    /// (it started there, the collider was teleported) is eased out over a few frames instead
-    /// of being torn apart and flung.
+    /// Largest speed (m/s) at which a point found inside a collider at detection is moved out
+    /// (> 0). A point found inside by `d` is moved out by at most `max_push_speed·dt` of it per
+    /// substep, as a position correction that leaves no velocity behind: penetrations of a few
+    /// millimetres (a missed detection, the strain limiter) go within a substep or two, while
+    /// hair found deep inside (it started there, the collider was teleported) is eased out over
+    /// a few frames instead of being torn apart and flung. Penetration the step itself makes
+    /// after detection (a large step's chord across a curved surface) is removed at once.
     pub max_push_speed: f32,
 }
 

@@ -133,6 +133,7 @@ pub(crate) struct ContactSlice<'a> {
     pub anchor_velocity: &'a [Vector3<f32>],
     pub surface_velocity: &'a [Vector3<f32>],
     pub friction: &'a [f32],
+    pub found_depth: &'a [f32],
 }
 
 /// Per-thread work buffers of one group, refitted to each group.
@@ -438,6 +439,7 @@ fn gather_contact<L: Lane>(views: &[StrandView], i: usize) -> ContactLanes<L> {
     let mut size = [NO_CONTACT; LANES];
     let mut curved = [0.0; LANES];
     let mut friction = [0.0; LANES];
+    let mut found_depth = [0.0; LANES];
     for l in 0..LANES {
         if let Some(c) = views[l.min(views.len() - 1)].contacts {
             anchor[l] = c.anchor[i];
@@ -446,6 +448,7 @@ fn gather_contact<L: Lane>(views: &[StrandView], i: usize) -> ContactLanes<L> {
             size[l] = c.size[i];
             curved[l] = if c.curved[i] { 1.0 } else { 0.0 };
             friction[l] = c.friction[i];
+            found_depth[l] = c.found_depth[i];
         }
     }
     ContactLanes {
@@ -455,6 +458,7 @@ fn gather_contact<L: Lane>(views: &[StrandView], i: usize) -> ContactLanes<L> {
         anchor_velocity: V3::from_lanes(&anchor_velocity),
         surface_velocity: V3::from_lanes(&surface_velocity),
         friction: L::new(friction),
+        found_depth: L::new(found_depth),
     }
 }
 
@@ -883,6 +887,7 @@ mod tests {
         curved: Vec<bool>,
         zero: Vec<Vector3<f32>>,
         friction: Vec<f32>,
+        found_depth: Vec<f32>,
     }
 
     const STRANDS: usize = 7;
@@ -936,6 +941,9 @@ mod tests {
             curved: (0..POINTS).map(|i| i == 3).collect(),
             zero: vec![Vector3::zeros(); POINTS],
             friction: vec![0.4; POINTS],
+            found_depth: (0..POINTS)
+                .map(|i| if i == 1 { 0.002 } else { 0.0 })
+                .collect(),
         }
     }
 
@@ -961,6 +969,7 @@ mod tests {
                         anchor_velocity: &h.zero,
                         surface_velocity: &h.zero,
                         friction: &h.friction,
+                        found_depth: &h.found_depth,
                     }),
                     accel: Some(&h.accel),
                     scales: StrandScales::ONE,

@@ -707,6 +707,7 @@ impl Solver {
                                     anchor_velocity: &c.anchor_velocity[p.clone()],
                                     surface_velocity: &c.surface_velocity[p.clone()],
                                     friction: &c.friction[p.clone()],
+                                    found_depth: &c.found_depth[p.clone()],
                                 }
                             }),
                             accel: (!self.external.is_empty()).then(|| &self.external[p.clone()]),
