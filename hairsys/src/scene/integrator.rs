@@ -76,10 +76,12 @@ use serde::{Deserialize, Serialize};
 /// Euler on the other shipped scenes: wind demo 3.4, gust 3.4, collision demo 3.1, character
 /// 3.2, parity 2.1. Since the solve works on 3×3 blocks (2026-11-29) a BDF2 substep costs 2.2
 /// on the default scene (2.16–2.34 at 8–6 substeps per frame) and 2.4–2.8 on the parity scene
-/// with its collider. The value stays 3: at 2.2 the scenes that would move to BDF2 at 7 substeps
-/// per frame are those whose bound asks for 16–21 explicit ones, long soft hair like the parity
-/// scene's (19), where the saving is small and fast hair meets the collider hard (BDF2 at 1–2
-/// substeps per frame left hair tips there 1–6.6 cm inside the head; 7 is not measured).
+/// with its collider at 1–4 substeps per frame, 1.7 at 7 (2026-11-29: strand phase 65.6 ms at
+/// 7 against 99.3 at the 18 semi-implicit substeps). The value stays 3: at 2.2 the scenes that
+/// would move to BDF2 at 7 substeps per frame are those whose bound asks for 16–21 explicit
+/// ones, long soft hair like the parity scene's, and there BDF2 at 7 buys its time with position
+/// error: 0.7× the time at 1.13× the error against the converged reference (52.6 against
+/// 46.4 mm RMS over the shot), so `"auto"` leaves such hair on the more accurate method.
 pub const IMPLICIT_SUBSTEP_COST: f64 = 3.0;
 
 /// Largest turn of a rest joint (rad) for which `"auto"` takes BDF2 at its accuracy limit's
