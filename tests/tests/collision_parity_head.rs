@@ -13,10 +13,10 @@
 //! since). The mesh case is `#[ignore]`d for time (about 20 s): `cargo test -p hairsys-tests
 //! --test collision_parity_head -- --ignored`.
 //!
-//! The sphere scene runs a second time on BDF2 at one substep per frame (two solves of 14 and
-//! 17 ms a frame), where the linearised step carries tips along chords into the head: a 25 cm
-//! slide over the 1 m sphere sinks 3 cm. While the push-out of that depth was held to
-//! `max_push_speed` (1 m/s), tips ended frames up to 7 cm inside the mesh; the response now
+//! The sphere scene runs a second time on BDF2 at one substep per frame (a backward Euler third
+//! of the frame, then one BDF2 solve), whose extrapolated start carries whipping tips on into the
+//! head by up to 9 cm after detection. While the push-out of that depth was held to
+//! `max_push_speed` (1 m/s), tips ended frames up to 6.4 cm inside the mesh; the response now
 //! removes within the substep all depth gained after detection (`hair_core::contacts`).
 
 use std::path::PathBuf;

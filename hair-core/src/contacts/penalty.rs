@@ -28,12 +28,13 @@
 //!   point already had at detection (`found_depth`) at most at `ContactSettings::max_push_speed`:
 //!   `push = min(needed, max_push + max(0, needed − found_depth/dt))` in velocity units. Hair
 //!   found deep inside (it started there, a collider was teleported) is eased out over several
-//!   substeps instead of being torn apart, but a large step that carries a point into the
-//!   surface — a chord across a curved surface, BDF2's extrapolated start — is corrected within
-//!   the substep, as a small step's contact would have stopped it. Capping that too left tips of
-//!   the parity scene's hair 1–7 cm inside its head at one BDF2 substep per frame (the chord of
-//!   a 25 cm slide over its 1 m sphere alone sinks 3 cm); with the found depth held apart, the
-//!   deepest point is 1.9 mm, as at 96 semi-implicit substeps;
+//!   substeps instead of being torn apart, but depth a large step makes after detection is
+//!   corrected within the substep, as a small step's contact would have prevented it. Where it
+//!   comes from, measured on the parity scene's hair at one BDF2 substep per frame: all in the
+//!   BDF2 substep (up to 93 mm; the backward Euler third before it made under 1 mm), whose start
+//!   extrapolates the previous substep's motion (`solver::implicit`) and so carries on an
+//!   approach that contact had stopped. Capping that too left tips 1–7 cm inside the head; with
+//!   the found depth held apart the deepest point is 1.9 mm, as at 18 semi-implicit substeps;
 //! - friction: with `Δ = v_n' − v_n ≥ 0` the normal velocity change kept, the tangential velocity
 //!   relative to the surface, `v_t`, shrinks by at most `μ Δ` (Coulomb: the friction impulse is at
 //!   most μ times the normal impulse), stopping at 0 (static friction) and never reversing.

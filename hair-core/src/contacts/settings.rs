@@ -26,7 +26,8 @@ pub struct ContactSettings {
     /// millimetres (a missed detection, the strain limiter) go within a substep or two, while
     /// hair found deep inside (it started there, the collider was teleported) is eased out over
     /// a few frames instead of being torn apart and flung. Penetration the step itself makes
-    /// after detection (a large step's chord across a curved surface) is removed at once.
+    /// after detection (a large implicit substep overshooting into the surface) is removed at
+    /// once.
     pub max_push_speed: f32,
 }
 
