@@ -121,22 +121,6 @@
 //! from frame 24 that both starts show (below, flutter) is a little faster (−2.39 instead of
 //! −2.60 × 10⁻⁷ J at frame 48, settled −2.72; largest stretch 0.18 instead of 0.15 %).
 //!
-//! **Contacts and the history.** The contact response changes a point's velocity within a
-//! substep by an impulse (`crate::contacts::penalty`). Left in the history, the next
-//! extrapolation `v + b (v − v_prev)` (`b = r²/(1 + 2r)`) applies it again: a point that hit the
-//! surface at normal speed `v_n` and was stopped starts the next substep leaving it at `b·v_n`
-//! (measured: free points dropped on a sphere left it at 31 % of the impact speed at one
-//! substep per frame, 3 % at 7, where semi-implicit Euler leaves them at rest). So where the
-//! response acted in the substep before, the extrapolated velocity's outward normal part is
-//! cut to what the point had before the extrapolation, or the surface's own normal speed if
-//! larger (the response's own rule, `penalty`). Resting contact is untouched (its history has
-//! no normal trend), and so is everything tangential. Subtracting the impulse from the history
-//! instead also stopped the bounce, but for hair resting on a head it turned the contact force
-//! that holds it up into an inward trend the next response had to cancel again, which raised
-//! the default scene's friction and p99 stretch (0.76 → 0.93 %). Positions keep their history:
-//! the approach the contact stopped is extrapolated into the surface, and the response
-//! removes that depth within the substep (it was gained after detection).
-//!
 //! The linearisation's bending matrix is approximate (above), and it multiplies the whole
 //! velocity of the substep: that leaves a first-order term, small against the second-order
 //! one at the steps hair uses (the order measured on a swinging chain is 2.1, 2.5, 2.3 from 4 to
@@ -184,7 +168,6 @@ use super::kernel::{
 };
 use super::lanes::{div_or_zero, splat, zeroed, Lane, LANES, M3, V3};
 use super::params::Integrator;
-use crate::contacts::penalty::surface_model;
 use crate::mesh::RootFrame;
 
 /// Longest substep `substeps = "auto"` takes with this integrator, s. Stability sets no bound
@@ -380,40 +363,13 @@ fn bdf2_substeps<L: Lane>(
     } else {
         &mut midpoint.chain(rest)
     };
-    let mut t_start = 0.0;
     for (start, dt, t_end, end) in plan {
         let at_end = clock.at(g, end);
         if let Start::Bdf2(r) = start {
             s.history.extrapolate(&mut g.x, &mut g.v, r);
-            if g.has_contacts {
-                no_departure(g, &s.history, t_start);
-            }
         }
         let c = StepConstants { dt, ..*c };
         substep(g, s, &c, clock, t_end, at_end, start == Start::Midpoint);
-        t_start = t_end;
-    }
-}
-
-/// After the extrapolation of a BDF2 substep starting `t` (s) after the step's start: where the
-/// contact response acted in the substep before (`g.contact_dv`), the extrapolated velocity may
-/// not leave the contact's surface faster than the point left it before the extrapolation
-/// (`history.v`), or than the surface moves (module docs: the response's impulse, extrapolated,
-/// turned a stop into a bounce).
-#[inline(always)]
-fn no_departure<L: Lane>(g: &mut Scratch<L>, history: &History<L>, t: f32) {
-    let zero = splat::<L>(0.0);
-    for &i in &g.contact_points {
-        let acted = g.contact_dv[i].dot(&g.contact_dv[i]).simd_gt(zero);
-        if !L::any(acted) {
-            continue;
-        }
-        let (n, _) = surface_model(&history.x[i], &g.contact[i], splat(t));
-        let allowed = n
-            .dot(&history.v[i])
-            .max(n.dot(&g.contact[i].anchor_velocity));
-        let excess = (n.dot(&g.v[i]) - allowed).max(zero);
-        g.v[i] -= n * L::select(acted, excess, zero);
     }
 }
 

@@ -189,10 +189,6 @@ pub(crate) struct Scratch<L: Lane> {
     pub(super) contact: Vec<ContactLanes<L>>,
     /// Extra velocity of the position update per point (along the contact normal), m/s.
     pub(super) push: Vec<V3<L>>,
-    /// Velocity change the contact response made per point in the last substep (of the
-    /// velocity that moves the points), m/s; written for `contact_points` only. BDF2's
-    /// extrapolation reads where it acted (`implicit`).
-    pub(super) contact_dv: Vec<V3<L>>,
     /// Does any strand of the group have a contact this step?
     pub(super) has_contacts: bool,
     /// External acceleration per point (only filled when `has_accel`), m/s².
@@ -390,7 +386,6 @@ impl<L: Lane> Scratch<L> {
         if self.has_contacts {
             zeroed(&mut self.contact, n);
             zeroed(&mut self.push, n);
-            zeroed(&mut self.contact_dv, n);
             self.contact_points.extend((0..n).filter(|&i| {
                 views
                     .iter()
@@ -770,9 +765,7 @@ pub(super) fn finish_substep<L: Lane>(
             } else {
                 &mut g.v[i]
             };
-            let before = *moving;
             g.push[i] = respond(moving, &g.x[i], &g.contact[i], t_end, inv_dt, max_push);
-            g.contact_dv[i] = *moving - before;
         }
         if explicit {
             for &i in &g.contact_points {
