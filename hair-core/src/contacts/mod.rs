@@ -46,8 +46,9 @@
 //!   normal velocity would take it into the surface within the substep gets the normal velocity
 //!   that lands it exactly on the surface; a point already inside is moved out within the substep
 //!   as a position correction that keeps no outward velocity (the depth it had at detection at
-//!   most at [`ContactSettings::max_push_speed`], anything the step added at once); the kept normal velocity never exceeds what reaches the surface nor the
-//!   surface's own normal speed (no bounce); friction removes at most μ × the normal velocity
+//!   most at [`ContactSettings::max_push_speed`], anything the step added at once); the kept
+//!   normal velocity never exceeds what reaches the surface nor the surface's own normal speed
+//!   (no bounce); friction removes at most μ × the normal velocity
 //!   change from the tangential velocity relative to the surface. It is the limit of Choe et al.'s
 //!   penalty spring stiff enough to stop penetration in one substep, applied as the impulse it
 //!   would deliver; it adds no stiffness, so it does not change the stability bound.
