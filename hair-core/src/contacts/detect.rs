@@ -1087,6 +1087,10 @@ mod tests {
                 c.anchor.iter().map(v).collect::<Vec<_>>(),
                 c.size.iter().map(|s| s.to_bits()).collect::<Vec<_>>(),
                 c.anchor_velocity.iter().map(v).collect::<Vec<_>>(),
+                c.found_depth
+                    .iter()
+                    .map(|d| d.to_bits())
+                    .collect::<Vec<_>>(),
             )
         };
         assert!(bits(&cold) == bits(&warm));
