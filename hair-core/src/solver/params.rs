@@ -175,13 +175,15 @@ pub enum Integrator {
     ImplicitEuler,
     /// The second-order backward differentiation formula (BDF2), linearised like
     /// [`Integrator::ImplicitEuler`] and solved by the same banded solve: stable far past the
-    /// explicit bound (the bench's stability map: from 2–4 substeps per frame on a stiff whipping
-    /// chain, where implicit Euler holds from 2), with far less artificial damping (`≈ (ωh)⁴/4`
-    /// of the amplitude per substep instead of `(ωh)²/2`), so fewer substeps reach the same
-    /// accuracy. Each step starts with a backward Euler third of a substep (BDF2 needs the state
-    /// one substep back), so a step depends on nothing before it and resume is unchanged. Not for
-    /// sharply pre-bent hair: on a curl (rest joints turning ~46°) it gains energy at fine steps,
-    /// as its bending Jacobian is taken about a straight joint. Scene key `"bdf2"`.
+    /// explicit bound (the bench's stability map: from 4 substeps per frame on a stiff whipping
+    /// chain, 6 at 10⁴ N/m, where implicit Euler holds from 2), with far less artificial damping
+    /// (`≈ (ωh)⁴/4` of the amplitude per substep instead of `(ωh)²/2`), so fewer substeps reach
+    /// the same accuracy. BDF2 needs the state one substep back, so each step starts afresh: with
+    /// an implicit midpoint substep, or with a backward Euler third when the step has one
+    /// substep; a step depends on nothing before it and resume is unchanged. Not for sharply
+    /// pre-bent hair at fine steps: on a curl (rest joints turning ~46°) it flutters at 128–512
+    /// substeps per frame, as what its bending matrix leaves out feeds energy faster than its
+    /// damping removes it (module `implicit`, "Flutter at fine steps"). Scene key `"bdf2"`.
     Bdf2,
     /// Extended position-based dynamics with small steps (Macklin et al. 2016, 2019): stretch,
     /// bending and goal springs as compliant constraints (compliance = 1/stiffness), the stretch
