@@ -121,6 +121,25 @@
 //! from frame 24 that both starts show (below, flutter) is a little faster (−2.39 instead of
 //! −2.60 × 10⁻⁷ J at frame 48, settled −2.72; largest stretch 0.18 instead of 0.15 %).
 //!
+//! **Contacts and the history.** The contact response changes a point's velocity within a
+//! substep (`crate::contacts::penalty`), and BDF2's next start `y + b (y − y_prev)` extrapolates
+//! that change: a point that hit the surface at normal speed `v_n` and was stopped starts the
+//! next substep leaving it at `b·v_n`, and its position carries on the approach into the
+//! surface. So before each BDF2 substep the points the response **stopped** in the substep just
+//! taken (an impact: a velocity change of more than [`super::kernel::IMPACT_RATIO`] times what
+//! gravity and the external forces add over the substep) get the history of a point that has
+//! always moved at its present velocity, `(x − h_prev v, v)`: the substep is then a BDF2 step of
+//! a point in uniform motion, first order for that point in that substep only. Resting contact,
+//! whose response only cancels what gravity added, keeps its history: restarting every point
+//! the response touched let free points on a sphere slide off it at two substeps per frame
+//! (`tests/tests/collision_drop_on_sphere.rs`), and the first two cures tried (2026-11-29: the
+//! impulse taken out of the remembered velocity; the extrapolated outward velocity cut) raised
+//! the default scene's stretch or error. Measured (2026-11-29, BENCHMARKS.md, session 24): free
+//! points dropped on a sphere left it at 31 % of the impact speed at one substep per frame and
+//! 3 % at seven, and now stop on it; the default scene at 7 substeps per frame moved from
+//! 1.36 to 1.33 mm RMS against the reference (p99 stretch 0.760 → 0.763 %), the parity scene with
+//! its collider from 52.6 to 48.6 mm at 7 (114.6 → 114.4 at 1).
+//!
 //! The linearisation's bending matrix is approximate (above), and it multiplies the whole
 //! velocity of the substep: that leaves a first-order term, small against the second-order
 //! one at the steps hair uses (the order measured on a swinging chain is 2.1, 2.5, 2.3 from 4 to
@@ -237,6 +256,25 @@ impl<L: Lane> History<L> {
         self.x.extend_from_slice(x);
         self.v.clear();
         self.v.extend_from_slice(v);
+    }
+
+    /// Before a BDF2 substep: gives the points a contact stopped in the substep just taken
+    /// (`g.impacted`; `h_prev` s long) the history of a point that has moved at its present
+    /// velocity all along, `(x − h_prev v, v)`, so that the extrapolation neither re-applies
+    /// the stop as a bounce nor carries on the approach it ended (module docs, "Contacts and the
+    /// history").
+    #[inline(always)]
+    fn restart_impacted(&mut self, g: &Scratch<L>, h_prev: f32) {
+        let zero = splat::<L>(0.0);
+        let h_prev = splat::<L>(h_prev);
+        for &i in &g.contact_points {
+            let stopped = g.impacted[i].simd_gt(zero);
+            if L::any(stopped) {
+                let moved_on = g.x[i] - g.v[i] * h_prev;
+                self.x[i] = V3::select(stopped, &moved_on, &self.x[i]);
+                self.v[i] = V3::select(stopped, &g.v[i], &self.v[i]);
+            }
+        }
     }
 
     /// Before a BDF2 substep `r` times as long as the previous one: remembers the state `(x, v)`
@@ -363,13 +401,19 @@ fn bdf2_substeps<L: Lane>(
     } else {
         &mut midpoint.chain(rest)
     };
+    // Start and end (s from the step's start) of the substep last taken.
+    let mut last = (0.0, 0.0);
     for (start, dt, t_end, end) in plan {
         let at_end = clock.at(g, end);
         if let Start::Bdf2(r) = start {
+            if g.has_contacts {
+                s.history.restart_impacted(g, last.1 - last.0);
+            }
             s.history.extrapolate(&mut g.x, &mut g.v, r);
         }
         let c = StepConstants { dt, ..*c };
         substep(g, s, &c, clock, t_end, at_end, start == Start::Midpoint);
+        last = (last.1, t_end);
     }
 }
 

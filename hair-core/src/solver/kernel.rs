@@ -189,6 +189,10 @@ pub(crate) struct Scratch<L: Lane> {
     pub(super) contact: Vec<ContactLanes<L>>,
     /// Extra velocity of the position update per point (along the contact normal), m/s.
     pub(super) push: Vec<V3<L>>,
+    /// Per point, BDF2 only: 1 where the contact response stopped the point in the last
+    /// substep (an impact, see [`IMPACT_RATIO`]), 0 elsewhere; written for `contact_points`.
+    /// The next BDF2 substep restarts those points' history (`super::implicit`).
+    pub(super) impacted: Vec<L>,
     /// Does any strand of the group have a contact this step?
     pub(super) has_contacts: bool,
     /// External acceleration per point (only filled when `has_accel`), m/s².
@@ -210,6 +214,13 @@ pub(crate) struct Scratch<L: Lane> {
     /// Buffers of the XPBD substep (`super::xpbd`).
     pub(super) xpbd: XpbdScratch<L>,
 }
+
+/// A contact response that changes a point's velocity by more than this many times what
+/// gravity and the external acceleration add to it over the substep is an **impact**: it
+/// stopped the point's approach, where the support of resting contact only cancels what those
+/// forces add. BDF2 restarts an impacted point's history (`super::implicit`, "Contacts and the
+/// history"), and leaves resting contact's alone.
+pub(super) const IMPACT_RATIO: f32 = 2.0;
 
 /// Refills `buf` with `values` (no zeroing first, for buffers written whole).
 #[inline(always)]
@@ -386,6 +397,7 @@ impl<L: Lane> Scratch<L> {
         if self.has_contacts {
             zeroed(&mut self.contact, n);
             zeroed(&mut self.push, n);
+            zeroed(&mut self.impacted, n);
             self.contact_points.extend((0..n).filter(|&i| {
                 views
                     .iter()
@@ -759,13 +771,27 @@ pub(super) fn finish_substep<L: Lane>(
     if g.has_contacts {
         let t_end = splat(t_end);
         let max_push = splat(c.max_push_speed);
+        let bdf2 = c.integrator == Integrator::Bdf2;
+        let impact_dt = splat::<L>(IMPACT_RATIO * c.dt);
+        let gravity = splat::<L>(c.gravity.norm());
         for &i in &g.contact_points {
             let moving = if explicit {
                 &mut g.v_old[i]
             } else {
                 &mut g.v[i]
             };
+            let before = *moving;
             g.push[i] = respond(moving, &g.x[i], &g.contact[i], t_end, inv_dt, max_push);
+            if bdf2 {
+                let applied = if g.has_accel {
+                    gravity + g.accel[i].dot(&g.accel[i]).sqrt()
+                } else {
+                    gravity
+                };
+                let (dv, limit) = (*moving - before, applied * impact_dt);
+                let stopped = dv.dot(&dv).simd_gt(limit * limit);
+                g.impacted[i] = L::select(stopped, splat(1.0), zero);
+            }
         }
         if explicit {
             for &i in &g.contact_points {
