@@ -81,7 +81,9 @@ use serde::{Deserialize, Serialize};
 /// would move to BDF2 at 7 substeps per frame are those whose bound asks for 16–21 explicit
 /// ones, long soft hair like the parity scene's, and there BDF2 at 7 buys its time with position
 /// error: 0.7× the time at 1.13× the error against the converged reference (52.6 against
-/// 46.4 mm RMS over the shot), so `"auto"` leaves such hair on the more accurate method.
+/// 46.4 mm RMS over the shot), so `"auto"` leaves such hair on the more accurate method. Since
+/// BDF2 restarts the history of points a contact stopped (2026-11-29) that error is 48.6 mm
+/// (1.05×); whether `"auto"` should then move such hair is open (BENCHMARKS.md, session 24).
 pub const IMPLICIT_SUBSTEP_COST: f64 = 3.0;
 
 /// Largest turn of a rest joint (rad) for which `"auto"` takes BDF2 at its accuracy limit's
