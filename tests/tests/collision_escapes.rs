@@ -23,6 +23,17 @@ fn points_that_outrun_detection_are_put_back_outside_the_head() {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../scenes/parity_collide.toml");
     let text = std::fs::read_to_string(&path).unwrap();
     assert!(text.contains("\nmax_strain = 0.015") && text.contains("\ncount = 20000"));
+    // Semi-implicit Euler, whose soft springs snap points past the margin without the strain
+    // limit (the shipped scene runs BDF2 at 8 substeps, under which none outran it).
+    let text = text
+        .lines()
+        .map(|line| match line.split_whitespace().next() {
+            Some("integrator") => "integrator = \"semi-implicit-euler\"",
+            Some("substeps") => "substeps = \"auto\"",
+            _ => line,
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
     let text = text
         .replace("\nmax_strain = 0.015", "\n# no strain limit")
         .replace("\ncount = 20000", "\ncount = 2000");

@@ -56,7 +56,7 @@ fn bdf2_on_the_parity_scene_against_the_inextensible_reference() {
         &parity_file("semi-implicit-euler", "512", true),
     );
     let mut runs = vec![run(
-        "semi-implicit, auto (shipped)",
+        "semi-implicit, auto (shipped until 2026-11-29)",
         &parity("semi-implicit-euler", "\"auto\""),
     )];
     for n in counts("PARITY_BDF2_SUBSTEPS", "1,2,4") {

@@ -181,7 +181,14 @@ pub fn parity(integrator: &str, substeps: &str) -> SceneFile {
 /// The parity scene with its head mesh as collider on `integrator` at `substeps`, with the
 /// inextensibility projection when `inextensible` (the reference of [`parity`]'s runs).
 pub fn parity_file(integrator: &str, substeps: &str, inextensible: bool) -> SceneFile {
-    let mut text = PARITY_COLLIDE.replace("substeps = \"auto\"", &format!("substeps = {substeps}"));
+    let mut text = PARITY_COLLIDE
+        .lines()
+        .map(|line| match line.split_whitespace().next() {
+            Some("substeps") => format!("substeps = {substeps}"),
+            _ => line.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
     if inextensible {
         text = text.replace("max_strain = ", "inextensibility = true\nmax_strain = ");
     }
