@@ -1,6 +1,6 @@
 //! The strain limit (`SolverSettings::max_strain`): after each substep's position update no
-//! segment is longer than `(1 + max_strain) ×` its rest length, and the velocities are those
-//! that moved the points.
+//! segment is longer than `(1 + max_strain) ×` its rest length (to a relative [`TOLERANCE`] of
+//! 10⁻⁵), and the velocities are those that moved the points.
 //!
 //! # Method
 //! Strain limiting after Provot 1995 ("Deformation constraints in a mass-spring model to
@@ -34,11 +34,15 @@
 //! right-hand side `C ≥ 0` gives `λ ≥ 0`: the held segments resist being stretched by the
 //! correction, never being shortened. With `ε = 0` (inextensible) the held set is empty. Impulses are equal and opposite along each segment,
 //! so linear momentum is conserved and the correction only dissipates energy (an inelastic
-//! constraint). A last **follow-the-leader** pass root to tip moves far ends only (and their
-//! velocities by the same displacement over dt) to guarantee the limit for what the
-//! iterations leave. A group whose every movable segment is within its limit is left as it
-//! is after the first check, since follow-the-leader would move nothing (skipping that pass
-//! took 6 % off the default scene's strand phase, BENCHMARKS.md, session 19).
+//! constraint). Where the iterations run out before every segment is within [`TOLERANCE`] of
+//! its limit, a last **follow-the-leader** pass root to tip moves far ends only (and their
+//! velocities by the same displacement over dt) to guarantee the limit. Where they converge,
+//! that pass does not run: it would move no point by more than the tolerance (a hundred
+//! thousandth of a segment), and it cost a square root and a division per segment on every
+//! call. Skipping it took 12 % off the parity scene's strand phase with its collider (BDF2,
+//! where the contacts call the limit three times a substep) and 14 % without (semi-implicit
+//! Euler), 2 % off the default scene's (BENCHMARKS.md, session 25); segments may then end
+//! the substep up to that tolerance over their limit.
 //!
 //! Why a projection and not Gauss–Seidel sweeps: an earlier version ran two Provot sweeps and
 //! then follow-the-leader on positions only. On a long soft strand the sweeps remove little of
@@ -81,9 +85,9 @@ use super::lanes::{div_or_zero, splat, Lane, V3};
 const ITERATIONS: u32 = 4;
 
 /// Relative excess `len/limit − 1` below which a segment counts as at the limit (the
-/// iterations stop when every lane's segments are within it). Ten times the f32 round-off of a
-/// segment's length, which a tighter tolerance only chases with wasted iterations; the
-/// follow-the-leader pass takes what is left.
+/// iterations stop when every lane's segments are within it, and follow-the-leader is not
+/// needed). Ten times the f32 round-off of a segment's length, which a tighter tolerance only
+/// chases with wasted iterations.
 const TOLERANCE: f32 = 1e-5;
 
 /// Limits the group's segments to `ratio × rest_length` (m), moving the velocities `v` (m/s)
@@ -106,7 +110,7 @@ pub(crate) fn limit_strain<L: Lane>(
     // segments, longer than the limit less the allowed strain (about their rest length), are
     // held at their length while over-long ones are shortened (module docs).
     let hold_above = one - ratio;
-    let mut settled = false;
+    let mut converged = false;
     for _ in 0..ITERATIONS {
         // Active set and constraint values: over-long segments are brought to the limit,
         // stretched ones held at their length (right-hand side 0), the others are out of the
@@ -126,10 +130,9 @@ pub(crate) fn limit_strain<L: Lane>(
             s.rhs[j] = excess.max(zero) * active;
             s.lambda[j] = active;
         }
-        let worst = worst.to_array();
-        if worst.iter().all(|&e| e <= TOLERANCE) {
-            // No movable segment over its limit: follow-the-leader would move nothing.
-            settled = worst.iter().all(|&e| e <= 0.0);
+        if worst.to_array().iter().all(|&e| e <= TOLERANCE) {
+            // Follow-the-leader would move no end by more than the tolerance.
+            converged = true;
             break;
         }
         masked_solve(s, inv_mass);
@@ -142,7 +145,7 @@ pub(crate) fn limit_strain<L: Lane>(
             v[j + 1] -= far * inv_dt;
         }
     }
-    if settled {
+    if converged {
         return;
     }
     // Follow the leader: far ends only, for what the iterations left.
