@@ -1,7 +1,7 @@
 //! The strain limit (`max_strain`): after every substep no segment is longer than
-//! `(1 + max_strain) × rest length` (to the limiter's relative tolerance of 10⁻⁵), and with `max_strain = 0` a soft-spring pendulum swings with
-//! the period of a rigid one, `2π √(L/g)`, instead of that of its sagging spring length
-//! `L' = L + m g / k`.
+//! `(1 + max_strain) × rest length` (to the limiter's relative tolerance of 10⁻⁵), and with
+//! `max_strain = 0` a soft-spring pendulum swings with the period of a rigid one, `2π √(L/g)`,
+//! instead of that of its sagging spring length `L' = L + m g / k`.
 
 mod common;
 
