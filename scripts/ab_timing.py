@@ -65,12 +65,14 @@ def run_together(binaries: list[str], scene: str, scratch: Path) -> list[dict]:
         )
         for k, b in enumerate(binaries)
     ]
-    results = []
-    for b, p in zip(binaries, running):
-        out, err = p.communicate()
-        done = subprocess.CompletedProcess(p.args, p.returncode, out, err)
-        results.append(summary(b, scene, done))
-    return results
+    # Every run finishes before any is judged, so a failure leaves no process writing into the
+    # scratch directory that is about to go.
+    outputs = [p.communicate() for p in running]
+    done = [
+        subprocess.CompletedProcess(p.args, p.returncode, out, err)
+        for p, (out, err) in zip(running, outputs)
+    ]
+    return [summary(b, scene, d) for b, d in zip(binaries, done)]
 
 
 def main() -> None:
