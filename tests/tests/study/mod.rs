@@ -128,9 +128,28 @@ pub fn rms_per_frame(a: &Run, b: &Run) -> Vec<f64> {
 
 /// The 99th percentile of `values`.
 pub fn p99(values: &[f32]) -> f32 {
+    quantile(values, 0.99)
+}
+
+/// The `q` quantile of `values` (nearest rank below).
+pub fn quantile(values: &[f32], q: f64) -> f32 {
     let mut v = values.to_vec();
     v.sort_by(f32::total_cmp);
-    v[(0.99 * (v.len() - 1) as f64) as usize]
+    v[(q * (v.len() - 1) as f64) as usize]
+}
+
+/// Distance of each of `a`'s points from `b`'s same point, over every frame, m. The tail of
+/// these is what an RMS hides: a few strands going their own way (BENCHMARKS.md, session 27).
+pub fn point_distances(a: &Run, b: &Run) -> Vec<f32> {
+    a.frames
+        .iter()
+        .zip(&b.frames)
+        .flat_map(|(x, y)| {
+            x.iter()
+                .zip(y)
+                .map(|(p, q)| (0..3).map(|c| (p[c] - q[c]).powi(2)).sum::<f32>().sqrt())
+        })
+        .collect()
 }
 
 /// Substep counts from the environment variable `var` (comma-separated), else `default`.
@@ -146,23 +165,28 @@ pub fn counts(var: &str, default: &str) -> Vec<u32> {
 pub fn table(runs: &[Run], reference: &Run) {
     println!(
         "| method | ms/frame | strand phase ms/frame | RMS error, min–max over frames (mm) | RMS \
-         error, all frames (mm) | p99 stretch (%) |"
+         error, all frames (mm) | p99 / p99.9 / max distance (mm) | p99 stretch (%) |"
     );
-    println!("|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|");
     for r in runs {
         let e = rms_per_frame(r, reference);
         let all = (e.iter().map(|x| x * x).sum::<f64>() / e.len() as f64).sqrt();
         let (lo, hi) = e
             .iter()
             .fold((f64::INFINITY, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
+        let d = point_distances(r, reference);
+        let largest = d.iter().copied().fold(0.0f32, f32::max);
         println!(
-            "| {} | {:.1} | {:.1} | {:.2}–{:.2} | {:.2} | {:.3} |",
+            "| {} | {:.1} | {:.1} | {:.2}–{:.2} | {:.2} | {:.2} / {:.2} / {:.1} | {:.3} |",
             r.label,
             r.ms_per_frame,
             r.strands_ms,
             lo * 1e3,
             hi * 1e3,
             all * 1e3,
+            p99(&d) * 1e3,
+            quantile(&d, 0.999) * 1e3,
+            largest * 1e3,
             100.0 * p99(&r.stretch)
         );
     }
