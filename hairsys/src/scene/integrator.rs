@@ -31,7 +31,11 @@
 //!   mm RMS from the shipped semi-implicit run (2,626 substeps per frame) but leaves 44
 //!   point-frames more than 0.1 mm inside the bust (deepest 1.45 mm; the semi-implicit run: 3,
 //!   0.51 mm); at 32: 0.16 mm RMS, 3 point-frames (0.28 mm), no hairpins, 17× faster
-//!   (84.6 against 1,418 ms per frame).
+//!   (84.6 against 1,418 ms per frame). The finer step holds her whole groom, not only the
+//!   strands with a sharp joint: given only to the solver's groups holding one, the rest at 7
+//!   (measured 2026-11-29, BENCHMARKS.md session 27), the strand phase fell 3× but 599
+//!   point-frames of gently bent strands ended more than 1 cm from the converged run (none at
+//!   32 everywhere), up to 33 mm, and the deepest point went to 1.16 mm.
 //!
 //! Before the Gauss–Newton Hessian (measured 2026-11-25 with implicit Euler at 16 substeps and
 //! the small-angle Hessian) Sintel's five sharp joints folded into hairpins (29 point-frames, up
