@@ -110,46 +110,45 @@ pub fn run(label: &str, scene: &SceneFile) -> Run {
     report
 }
 
-/// RMS distance of `a`'s points from `b`'s, per frame, m.
-pub fn rms_per_frame(a: &Run, b: &Run) -> Vec<f64> {
+/// Distance of each of `a`'s points from `b`'s same point, per frame, m. The RMS per frame is
+/// taken from these, and their tail beside it: the tail is what an RMS hides, a few strands
+/// going their own way (BENCHMARKS.md, session 27).
+pub fn point_distances(a: &Run, b: &Run) -> Vec<Vec<f64>> {
     a.frames
         .iter()
         .zip(&b.frames)
         .map(|(x, y)| {
-            let sum: f64 = x
-                .iter()
+            x.iter()
                 .zip(y)
-                .map(|(p, q)| (0..3).map(|c| ((p[c] - q[c]) as f64).powi(2)).sum::<f64>())
-                .sum();
-            (sum / x.len() as f64).sqrt()
+                .map(|(p, q)| {
+                    (0..3)
+                        .map(|c| ((p[c] - q[c]) as f64).powi(2))
+                        .sum::<f64>()
+                        .sqrt()
+                })
+                .collect()
         })
+        .collect()
+}
+
+/// RMS of each frame's point distances ([`point_distances`]), m.
+pub fn rms_per_frame(distances: &[Vec<f64>]) -> Vec<f64> {
+    distances
+        .iter()
+        .map(|d| (d.iter().map(|x| x * x).sum::<f64>() / d.len() as f64).sqrt())
         .collect()
 }
 
 /// The 99th percentile of `values`.
 pub fn p99(values: &[f32]) -> f32 {
-    quantile(values, 0.99)
-}
-
-/// The `q` quantile of `values` (nearest rank below).
-pub fn quantile(values: &[f32], q: f64) -> f32 {
     let mut v = values.to_vec();
     v.sort_by(f32::total_cmp);
-    v[(q * (v.len() - 1) as f64) as usize]
+    quantile(&v, 0.99)
 }
 
-/// Distance of each of `a`'s points from `b`'s same point, over every frame, m. The tail of
-/// these is what an RMS hides: a few strands going their own way (BENCHMARKS.md, session 27).
-pub fn point_distances(a: &Run, b: &Run) -> Vec<f32> {
-    a.frames
-        .iter()
-        .zip(&b.frames)
-        .flat_map(|(x, y)| {
-            x.iter()
-                .zip(y)
-                .map(|(p, q)| (0..3).map(|c| (p[c] - q[c]).powi(2)).sum::<f32>().sqrt())
-        })
-        .collect()
+/// The `q` quantile (nearest rank below) of `sorted`, sorted ascending.
+pub fn quantile<T: Copy>(sorted: &[T], q: f64) -> T {
+    sorted[(q * (sorted.len() - 1) as f64) as usize]
 }
 
 /// Substep counts from the environment variable `var` (comma-separated), else `default`.
@@ -169,13 +168,14 @@ pub fn table(runs: &[Run], reference: &Run) {
     );
     println!("|---|---|---|---|---|---|---|");
     for r in runs {
-        let e = rms_per_frame(r, reference);
+        let distances = point_distances(r, reference);
+        let e = rms_per_frame(&distances);
         let all = (e.iter().map(|x| x * x).sum::<f64>() / e.len() as f64).sqrt();
         let (lo, hi) = e
             .iter()
             .fold((f64::INFINITY, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
-        let d = point_distances(r, reference);
-        let largest = d.iter().copied().fold(0.0f32, f32::max);
+        let mut d: Vec<f64> = distances.into_iter().flatten().collect();
+        d.sort_by(f64::total_cmp);
         println!(
             "| {} | {:.1} | {:.1} | {:.2}–{:.2} | {:.2} | {:.2} / {:.2} / {:.1} | {:.3} |",
             r.label,
@@ -184,9 +184,9 @@ pub fn table(runs: &[Run], reference: &Run) {
             lo * 1e3,
             hi * 1e3,
             all * 1e3,
-            p99(&d) * 1e3,
+            quantile(&d, 0.99) * 1e3,
             quantile(&d, 0.999) * 1e3,
-            largest * 1e3,
+            d.last().copied().unwrap_or(0.0) * 1e3,
             100.0 * p99(&r.stretch)
         );
     }
