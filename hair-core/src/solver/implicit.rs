@@ -140,26 +140,6 @@
 //! 1.36 to 1.33 mm RMS against the reference (p99 stretch 0.760 → 0.763 %), the parity scene with
 //! its collider from 52.6 to 48.6 mm at 7 (114.6 → 114.4 at 1).
 //!
-//! **Turning springs.** A segment whose ends move apart by `u` over the position update
-//! lengthens by `t·u`, which the linearised solve sees, plus `δ = |u_⊥|² / (|d + u| + |d| + t·u)`
-//! (`u_⊥` the part of `u` across the tangent `t`; second order in the step), which it does not.
-//! A stiff spring was therefore stretched by `δ` at the end of every substep in which it turned,
-//! and the next substep's solve pulled it back along its turned tangent, that is partly against
-//! the turn: the turn slowed by about `θ²/2` a substep (`θ = |u_⊥|/|d|`), and most of BDF2's
-//! loss of a swing came from there, not from the scheme (the pendulum of `tests/tests/bdf2.rs`
-//! at h = 1/96 s lost 1.77 % per period where the scheme on the linear swing loses 0.06 %).
-//! So before the solve each spring's tension gets `k δ` more, with `u` from the velocities at
-//! the substep's start (`turning_stretch`): a stiff spring takes that length out within the
-//! solve, along `t`, across the turn. The midpoint substep, which solves over half the step it
-//! moves the points by, gets half of it (the whole overshot, and the pendulum gained energy at
-//! two substeps per frame). Turns of 0.2 rad or more within a substep get none: the start
-//! velocities there are those of stiff modes the step damps rather than resolves, and with the
-//! term the stiff cantilever at two substeps per frame blew up (as session 17's forces at the
-//! predicted end did). Measured (2026-11-30, BENCHMARKS.md, session 28): the pendulum loses
-//! 2.65, 0.80, 0.20 % per period at 2, 4, 8 substeps per frame instead of 6.8, 1.77, 0.35 %;
-//! the swinging chain's error at 4, 8, 16, 32 substeps per frame is 13.6, 2.53, 0.56, 0.156 mm
-//! instead of 19.9, 4.75, 0.82, 0.168 mm. It costs two square roots per segment and substep.
-//!
 //! The linearisation's bending matrix is approximate (above), and it multiplies the whole
 //! velocity of the substep: that leaves a first-order term, small against the second-order
 //! one at the steps hair uses (the order measured on a swinging chain is 2.1, 2.5, 2.3 from 4 to
@@ -234,11 +214,6 @@ pub(crate) const AUTO_DT_BDF2: f64 = 1.0 / 168.0;
 /// on it (2026-11-28, one thread), so straighter grooms keep the small-angle form, and their
 /// results are the same bits as before it existed.
 const SHARP_REST_TURN_DEG: f32 = 30.0;
-
-/// Largest turn of a segment within a substep (radians, as `|u_⊥|/|d|`) for which its spring
-/// gets the turning term (module docs, "Turning springs"): at 0.5 the stiff cantilever of
-/// `tests/tests/bdf2.rs` still blew up at two substeps per frame, at 0.2 it holds.
-const RESOLVED_TURN: f32 = 0.2;
 
 /// Per-thread buffers of the implicit substep, refitted to each group.
 #[derive(Default)]
@@ -471,7 +446,6 @@ fn substep<L: Lane>(
 ) {
     elastic_forces(g, c, clock);
     let solved_over = if midpoint { c.dt / 2.0 } else { c.dt };
-    turning_stretch(g, c.dt, solved_over / c.dt);
     assemble(
         g,
         s,
@@ -496,38 +470,6 @@ fn substep<L: Lane>(
         }
     }
     clock.advance(origin, rot);
-}
-
-/// Adds to `g.force` what each stretch spring's tension gains from its segment's turn over the
-/// position update of `dt` (s), times `share`, the solve's length over `dt` (the midpoint
-/// substep solves over half the substep it moves the points by): moving its ends apart by
-/// `u = dt (v_{j+1} − v_j)` lengthens the segment by `t·u` (the linearised solve sees it) plus
-/// `δ = |u_⊥|² / (|d + u| + |d| + t·u)` (second order; it does not), so the spring pulls along
-/// its present tangent `t` with `k δ` (N) more, for turns under [`RESOLVED_TURN`] (module docs,
-/// "Turning springs"). `δ` is written so that nothing cancels in f32.
-#[inline(always)]
-fn turning_stretch<L: Lane>(g: &mut Scratch<L>, dt: f32, share: f32) {
-    let (dt, k) = (splat::<L>(dt), g.stretch_k * splat::<L>(share));
-    let turn2 = splat::<L>(RESOLVED_TURN * RESOLVED_TURN);
-    for j in 0..g.x.len() - 1 {
-        let t = g.tangent[j + 1];
-        let d = g.x[j + 1] - g.x[j];
-        let u = (g.v[j + 1] - g.v[j]) * dt;
-        let along = t.dot(&u);
-        let across = u - t * along;
-        let e = d + u;
-        let sum = e.dot(&e).sqrt() + d.dot(&d).sqrt() + along;
-        // |u_⊥| < RESOLVED_TURN |d|, compared squared.
-        let resolved = (across.dot(&across)).simd_lt(d.dot(&d) * turn2);
-        let delta = L::select(
-            resolved,
-            div_or_zero(across.dot(&across), sum, 1e-12),
-            splat(0.0),
-        );
-        let pull = t * (k * delta);
-        g.force[j] += pull;
-        g.force[j + 1] -= pull;
-    }
 }
 
 /// Solves the assembled substep for `Δv` and adds it to `g.v`, with kinematic points (the root,
