@@ -17,11 +17,11 @@ use nalgebra::Vector3;
 
 const TFX: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
-    "/../../shared/data/hair/sintel/sintel_hair.tfx"
+    "/../data/sintel/sintel_hair.tfx"
 );
 const BUST: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
-    "/../../shared/data/heads/sintel/sintel_bust.obj"
+    "/../data/sintel/sintel_bust.obj"
 );
 
 #[test]

@@ -1,9 +1,9 @@
-//! The real Sintel groom (Blender Foundation, CC BY 3.0, `../shared/data`): 228 TressFX guide
+//! The real Sintel groom (Blender Foundation, CC BY 3.0, `data/sintel/`): 228 TressFX guide
 //! strands of 32 points and the coarse bust they belong to, Y up, about 50 units tall.
 //!
 //! References: the `.hair` file was converted from the `.tfx` with positions copied unchanged,
 //! so both must give bit-identical curves. Each root lies 0.13–2.3 units from the nearest bust
-//! vertex (SOURCES.md), so the distance to the surface is at most 23 mm after scale 0.01
+//! vertex (`data/sintel/ATTRIBUTION.md`), so the distance to the surface is at most 23 mm after scale 0.01
 //! (measured: 0.14–9.25 mm, median 2.31 mm). Snapped
 //! guides turned into strands must sit where the groom put them (moved by their snap offsets).
 
@@ -18,15 +18,15 @@ use hair_groom::{
 
 const TFX: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
-    "/../../shared/data/hair/sintel/sintel_hair.tfx"
+    "/../data/sintel/sintel_hair.tfx"
 );
 const HAIR: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
-    "/../../shared/data/hair/sintel/sintel_hair.hair"
+    "/../data/sintel/sintel_hair.hair"
 );
 const BUST: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
-    "/../../shared/data/heads/sintel/sintel_bust.obj"
+    "/../data/sintel/sintel_bust.obj"
 );
 
 /// The Sintel files: centimeters, Y up.
@@ -46,7 +46,7 @@ fn tfx_and_hair_give_the_same_228_curves() {
         (info.strands, info.points, info.points_min, info.points_max),
         (228, 7296, 32, 32)
     );
-    // Segments 0.12–0.67 units (SOURCES.md): 31 segments give 3.7–21 cm strands.
+    // Segments 0.12–0.67 units (`data/sintel/ATTRIBUTION.md`): 31 segments give 3.7–21 cm strands.
     assert!(
         info.length_min > 0.031 * 1.2 && info.length_max < 0.31 * 0.67 * 1.01,
         "{info}"

@@ -212,10 +212,10 @@ mod tests {
 
     use super::*;
 
-    /// The Sintel bust (Blender Foundation), in `shared/` beside the workspace: Y up, centimeters.
+    /// The Sintel bust (Blender Foundation), shipped in `data/sintel/`: Y up, centimeters.
     const SINTEL: &str = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../shared/data/heads/sintel/sintel_bust.obj"
+        "/../data/sintel/sintel_bust.obj"
     );
 
     fn write(dir: &tempfile::TempDir, name: &str, text: &[u8]) -> PathBuf {
