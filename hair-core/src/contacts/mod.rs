@@ -103,7 +103,7 @@
 //!   update; with a strain limit or the inextensibility projection on, the contacts are then
 //!   solved together with it after the position update (`coupling`: a few Gauss–Seidel rounds,
 //!   the push-out of a point found inside applied as a position correction its neighbours
-//!   follow without gaining velocity), so the length constraint no longer pulls contacts back
+//!   follow without gaining velocity), so the length constraint neither pulls contacts back
 //!   into the collider nor hands the push-out on as motion.
 //! - **Kinematic points** (roots, pinned points) are never pushed.
 //! - **Deforming meshes** ([`deforming`]): the shape stands exactly at the linearly interpolated
