@@ -1,4 +1,4 @@
-//! The curly and drape cases and the segments axis (issue 19): the two rod truths are converged
+//! The curly and drape cases and the segments axis: the two rod truths are converged
 //! in time and space (the Truths table's `converged`, at the quick bench's sizes), the drape
 //! truth lies on its sphere without going into it, the curly case's curl kept is measured and
 //! the rod keeps its curl, and on the segments axis the rod's error against the truth falls as

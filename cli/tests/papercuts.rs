@@ -1,5 +1,5 @@
-//! Issue 21 (CLI papercuts) and the command half of issue 18 (budgets, output, exit codes),
-//! each row through the real binary. Exit codes as README says: 0 done, 1 failed, 2 bad input.
+//! The command line's papercuts, budgets, output and exit codes, each row through the real
+//! binary. Exit codes as README says: 0 done, 1 failed, 2 bad input.
 
 mod common;
 
@@ -225,7 +225,7 @@ fn export_extension_picks_the_format_and_a_mismatch_is_refused() {
     let o = run(&["-o", "a.usdz"]);
     assert_eq!(code(&o), 2);
     assert!(stderr(&o).contains(".usdc"), "{}", stderr(&o));
-    // Binary USD is written (issue 16): a crate file.
+    // Binary USD is written: a crate file.
     let o = run(&["-o", "a.usdc", "--quiet"]);
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     assert_eq!(
@@ -272,7 +272,7 @@ fn completions_and_man_page_come_from_the_command_definitions() {
     assert!(text.contains("simulate"));
 }
 
-// Issue 18, item 5: output.
+// Output.
 
 #[test]
 fn a_closed_stdout_pipe_ends_the_run_with_exit_1_not_a_panic_and_the_cache_is_written() {
@@ -313,7 +313,7 @@ fn a_full_stdout_ends_the_command_with_exit_1_not_a_panic() {
     assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
 }
 
-// Issue 18, item 6: exit codes (bad input is 2 in every command).
+// Exit codes (bad input is 2 in every command).
 
 #[test]
 fn bad_files_in_groom_cache_and_render_children_exit_2() {
@@ -361,7 +361,7 @@ fn cache_recover_onto_its_own_input_is_refused_also_through_another_path() {
     assert_eq!(std::fs::read(dir.join("a.mcap")).unwrap(), before);
 }
 
-// Issue 18, item 3: budgets before work.
+// Budgets before work.
 
 #[test]
 fn ten_million_hairs_are_refused_by_scene_check_with_the_estimate_and_the_flag() {
@@ -452,7 +452,7 @@ fn huge_child_counts_and_motion_samples_are_refused_not_aborted() {
     }
 }
 
-// Issue 18, item 4: one writer per cache.
+// One writer per cache.
 
 #[test]
 fn a_second_writer_on_the_same_cache_is_refused_with_the_first_ones_pid() {
@@ -506,7 +506,7 @@ fn a_second_writer_on_the_same_cache_is_refused_with_the_first_ones_pid() {
     assert!(dir.join("w.mcap").exists() && !pid_file.exists());
 }
 
-// Issue 21: one frame count everywhere.
+// One frame count everywhere.
 
 /// `simulate --json`'s summary, the text summary and `cache info --json` for one run.
 fn counts_of_a_run(dir: &Path, args: &[&str], cache: &str) -> (u64, u64, String, u64) {
@@ -567,7 +567,7 @@ fn simulate_json_text_summary_and_cache_info_give_one_frame_count() {
     assert_eq!((written, stepped, info), (6, 3, 6));
 }
 
-// Issue 18: --resume refuses a damaged last frame.
+// --resume refuses a damaged last frame.
 
 /// Byte offset of the first occurrence of `needle` in `hay` at or after `from`.
 fn find(hay: &[u8], needle: &[u8], from: usize) -> Option<usize> {
@@ -708,7 +708,7 @@ fn the_snap_distance_error_lists_the_causes_once_in_order_with_an_unapplied_tran
     assert!(e.starts_with("error: ") && e.contains("[guides]"), "{e}");
 }
 
-// Issue 21: `scene init` shows every section, commented, and each one works uncommented.
+// `scene init` shows every section, commented, and each one works uncommented.
 
 /// The scene with the commented block that starts at line `start` (`# [section]`) uncommented
 /// up to the next blank line.
@@ -795,7 +795,7 @@ fn scene_init_shows_every_optional_section_commented_and_each_uncommented_checks
     }
 }
 
-// Issue 21: `scene check` prints everything the run will use.
+// `scene check` prints everything the run will use.
 
 #[test]
 fn scene_check_reports_what_the_run_then_uses_colliders_model_substeps_components_budget() {

@@ -1,4 +1,4 @@
-//! Mutation fuzzing of the scene reader (issue 18, item 7): mutants of the shipped scenes —
+//! Mutation fuzzing of the scene reader: mutants of the shipped scenes —
 //! bytes flipped, deleted or repeated, lines dropped or doubled, numbers replaced by extreme
 //! values — are parsed and built (as `scene check` does) under a small budget, and must give a
 //! scene or an error, never a panic. Seeded, so a failure reproduces; the suite runs a few

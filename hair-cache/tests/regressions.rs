@@ -1,4 +1,4 @@
-//! Damaged caches that crashed a reader (issue 18), kept as files under `tests/regressions/`,
+//! Damaged caches that crashed a reader, kept as files under `tests/regressions/`,
 //! each test named after the failure it pins. Every reader entry point (`summarize`, `open` and
 //! reading every frame, `sample`, `recover`) must answer with an error naming the file, without a
 //! panic and without allocating more than a small multiple of the file.

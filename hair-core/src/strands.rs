@@ -224,7 +224,7 @@ impl StrandSet {
     }
 
     /// Multiplies strand `s`'s free points' masses by `mass` and every point's radius by
-    /// `radius` (per-region material, issue 20). Both factors must be finite, the mass factor
+    /// `radius` (per-region material). Both factors must be finite, the mass factor
     /// > 0 and the radius factor ≥ 0; kinematic points keep mass 0.
     pub fn scale_strand(&mut self, s: usize, mass: f32, radius: f32) -> Result<()> {
         if s >= self.len() {

@@ -10,7 +10,7 @@
 //! random numbers come from a seeded PCG64 stream built from raw integer output, so a seed gives
 //! bit-identical samples on every run and platform.
 //!
-//! **Density** (issue 20's painted density maps) is applied by rejection: each area-weighted
+//! **Density** (a painted density map) is applied by rejection: each area-weighted
 //! candidate is kept with probability `d(x) / d_max`, so the roots kept are distributed with
 //! probability density ∝ area × `d` (von Neumann's acceptance–rejection method), exactly, also
 //! within a triangle where `d` varies (a texture). The count stays the count: candidates are drawn

@@ -1082,7 +1082,7 @@ mod tests {
         StrandInput::uniform(Anchor::Surface(sample), rest, 1e-3, 1e-3, 0.0, 0.0)
     }
 
-    /// Regression (issue 17): three of Sintel's wisps rooted above her right ear started in the
+    /// Regression: three of Sintel's wisps rooted above her right ear started in the
     /// gap between ear and head, narrower than twice the clearance. Lifting pushed their first
     /// point off one wall into the other, and the bust collider held it 0.7–1.1 mm inside for
     /// the whole run. Here: a head (a box) with an ear (a thin slab) 2 mm beside it, and hair
@@ -1133,7 +1133,7 @@ mod tests {
         assert!(err.to_string().contains("tolerance"), "{err}");
     }
 
-    /// Regression (issue 17): a Sintel sim hair rooted on her right ear's rim had its guide's
+    /// Regression: a Sintel sim hair rooted on her right ear's rim had its guide's
     /// shape turned 82° out into the air. On a sphere of radius R the turn between two roots'
     /// normals is the angle θ between the roots seen from the centre, over roots about R·θ
     /// apart. On a 2 cm sphere (sharper than the 3 cm radius allowed) hairs rooted more than

@@ -1,4 +1,4 @@
-//! Trimming a hair to a fraction of its length (painted length maps, issue 20).
+//! Trimming a hair to a fraction of its length (painted length maps).
 //!
 //! A hair painted `f ∈ (0, 1]` keeps its groomed shape from the root up to the arc length
 //! `f · L` and is resampled there to the **same point count**, uniform in arc length, so its

@@ -1,4 +1,4 @@
-//! Paths that hung or exhausted memory in every reader (issue 18): a groom or OBJ mesh at
+//! Paths that hung or exhausted memory in every reader: a groom or OBJ mesh at
 //! `/dev/zero` was read until memory ran out (the OBJ mesh reader aborted), a FIFO blocked the
 //! reader forever, and a directory gave an operating-system error without saying what was wrong.
 //! Each reader must now refuse them by name before reading, and refuse a file above its size

@@ -4,7 +4,7 @@
 //!
 //! A real layer (animated curves with time samples, a mesh, stage metadata) is written with
 //! hairsys's writer, then corrupted two ways: every 8-byte-aligned word overwritten with huge
-//! counts (the values that used to size buffers), and seeded random bursts of flipped bytes. Each
+//! counts (the values a reader sizes buffers from), and seeded random bursts of flipped bytes. Each
 //! mutant is opened and every field of every spec is read. A counting global allocator records
 //! the largest single allocation; it must stay under [`LIMIT_FACTOR`] × the file's size (LZ4's
 //! largest expansion is 255×) plus a small floor.

@@ -40,7 +40,7 @@ pub struct Parents<'a> {
     shape_factors: ShapeFactors<'a>,
 }
 
-/// Per-parent factors of the children's shape (painted maps, issue 20): parent `p`'s children
+/// Per-parent factors of the children's shape (painted maps): parent `p`'s children
 /// have clump factor `clump[p] × shape.clump.factor` and curl radius `curl[p] ×
 /// shape.curl.radius`. `None`: factor 1 for every parent.
 #[derive(Debug, Clone, Copy, Default)]

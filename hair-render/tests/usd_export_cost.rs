@@ -1,4 +1,4 @@
-//! The cost of writing one frame of a million render children × 17 points as USD (issue 16's
+//! The cost of writing one frame of a million render children × 17 points as USD (the
 //! target: `.usdc` in ≤ 1 s on the project's 2-core machine), measured in one process so the
 //! children's generation is not in the figure: the layer is built from the children (moved in,
 //! not copied) and written through a `.partial` file, fsync and rename included.

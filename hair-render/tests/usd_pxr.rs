@@ -153,7 +153,7 @@ fn usda_with_time_samples_opens_in_pixar_usd() {
         },
     ];
     let dir = tempfile::tempdir().unwrap();
-    // Text, and binary through the openusd layer writer (issue 16).
+    // Text, and binary through the openusd layer writer.
     for ext in ["usda", "usdc"] {
         let path = dir.path().join(format!("children.{ext}"));
         let opts = UsdOptions {

@@ -1,4 +1,4 @@
-//! How far a simulated groom is from a reference one, in measures a TD cares about (issue 19):
+//! How far a simulated groom is from a reference one, in measures a TD cares about:
 //! no I/O, no solver, only positions of the same strands laid out the same way (strand `s`
 //! owns points `offsets[s] .. offsets[s + 1]`, as in [`hair_core::StrandSet::offsets`]).
 //!

@@ -1,5 +1,5 @@
 //! Animated guides at run time (seed 001, "Hair Levels": animated guide hairs define the rest
-//! positions; issue 20): each frame the sim hairs' rest shapes follow the guides' pose, and a
+//! positions): each frame the sim hairs' rest shapes follow the guides' pose, and a
 //! sim weight hands the hair between simulation and the animated guides.
 //!
 //! **Rest shapes follow the pose.** A pose (root-local guide shapes, from the scene's keys,

@@ -1,4 +1,4 @@
-//! Painted maps over the scalp (issue 20): one value per hair root, painted by an artist as a
+//! Painted maps over the scalp: one value per hair root, painted by an artist as a
 //! texture over the scalp's UVs or as per-vertex values of the scalp mesh, and sampled where
 //! each hair grows.
 //!

@@ -1,4 +1,4 @@
-//! The quality report of a cached run (issue 17): does it look like hair? Every cached frame is
+//! The quality report of a cached run: does it look like hair? Every cached frame is
 //! measured with [`hair_core::quality::measure`] against the colliders at that frame's pose (the
 //! scene stored in the cache places them), the previous frame (velocity–position mismatch) and
 //! the groom posed on the scalp at that frame; the frames merge into one report for the run.

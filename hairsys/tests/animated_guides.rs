@@ -1,4 +1,4 @@
-//! Animated guides (issue 20): keyed guide poses drive the sim hairs' rest shapes, a sim weight
+//! Animated guides: keyed guide poses drive the sim hairs' rest shapes, a sim weight
 //! hands hair between simulation and the animated guides, hold-outs follow them exactly, the
 //! re-interpolation's work is linear in the points, resuming is exact, bad keys are refused by
 //! name.
@@ -516,11 +516,10 @@ fn share_of_a_frame(lift: bool) -> f64 {
     pose / step
 }
 
-/// The cost of animated guides against a default-scene frame (issue 20: at most 5 %), held
+/// The cost of animated guides against a default-scene frame (the target: at most 5 %), held
 /// without `pose_clearance`; with it (lifting posed hair out of the head, a nearest-point query
 /// per posed point near the scalp per frame, spread over the threads) the share is printed
-/// (4.95–5.37 % on 2026-11-27 at load 3.5–4, 5.65–6.16 % before that day's bounded search;
-/// BENCHMARKS.md).
+/// (4.95–5.37 % at load 3.5–4 with the bounded search, 5.65–6.16 % without; BENCHMARKS.md).
 /// `cargo test --release -p hairsys --test animated_guides -- --ignored --nocapture`
 #[test]
 #[ignore = "timing; run in release (command above)"]

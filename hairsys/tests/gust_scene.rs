@@ -1,4 +1,4 @@
-//! The shipped gust scene (`scenes/gust.toml`, issue 20): a keyed gust on long hair that the
+//! The shipped gust scene (`scenes/gust.toml`): a keyed gust on long hair that the
 //! simulation follows exactly (sim weight 1) and hands back. Held to the shipped scenes' bounds
 //! (`tests/tests/shipped_scenes_look.rs`): no point deeper than 0.5 mm in the head and at most
 //! 0.01 % of point-frames deeper than 0.1 mm — while the hair lies exactly on the keyed pose
@@ -46,7 +46,7 @@ fn the_keyed_gust_stays_out_of_the_head_and_unstretched() {
     assert!(r.strain.stretch.max() <= 0.02, "{:?}", r.strain);
     assert_eq!(r.hairpins.count, 0, "{:?}", r.hairpins);
     // Handed back at frame 30, the hair has fallen back near its groom by frame 48: tips within
-    // 2 cm RMS (measured 2026-11-25: 8.4 mm).
+    // 2 cm RMS (measured: 8.4 mm).
     let last = q.last.drift.as_ref().unwrap();
     assert!(last.tip_rms < 0.02, "{last:?}");
 }
@@ -92,7 +92,7 @@ fn small_gust(sweep: &str, clearance: &str) -> RunQuality {
 /// The regression the shipped scene was held back by: a sweep towards +X turns the hair on the
 /// head's −X side into it, and sim weight 1 followed it there. Lifted, the posed hair stays
 /// outside and unstretched; without the lift the same keys put hair centimetres deep. (Lifted,
-/// measured 2026-11-24: 0.055 % of point-frames inside, deepest 0.61 mm, stretch p99 0.39 %,
+/// measured: 0.055 % of point-frames inside, deepest 0.61 mm, stretch p99 0.39 %,
 /// max 2.4 % — a sweep this hard against the head leaves a few points of the hand-over blend,
 /// frames 6–14, touching it and stretched; the bounds are those figures with a margin.)
 #[test]

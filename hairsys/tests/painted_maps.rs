@@ -1,4 +1,4 @@
-//! Painted maps (issue 20): a map sampled at a root equals the map at the root's UV (texture)
+//! Painted maps: a map sampled at a root equals the map at the root's UV (texture)
 //! or the barycentric blend of its vertex values; map selections pick exactly the hair whose
 //! root value lies in range; a density map puts no root where it is 0, roots per area in
 //! proportion to it elsewhere, and the roots of no map when it is one value everywhere; clump

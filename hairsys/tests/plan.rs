@@ -1,4 +1,4 @@
-//! `hairsys plan` (issue 19, item 5): on a stiff short-hair scene and on a long-hair scene the
+//! `hairsys plan`: on a stiff short-hair scene and on a long-hair scene the
 //! plan picks different settings, and each choice, written into the scene and re-run on the
 //! whole groom (not the probe's patches), meets its tolerance against the plan's reference.
 

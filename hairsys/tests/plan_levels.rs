@@ -1,4 +1,4 @@
-//! How many sim hairs the default head scene needs (issue 19, item 4): render hairs
+//! How many sim hairs the default head scene needs: render hairs
 //! interpolated from N simulated hairs against all 4,000 simulated, error against cost.
 //!
 //! Slow (runs the default scene's 4,000 strands once, then each count): ignored by default.

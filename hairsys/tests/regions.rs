@@ -1,4 +1,4 @@
-//! `[[regions]]` and `[maps.stiffness]` (issue 20, per-region physics): a region's stiffness
+//! `[[regions]]` and `[maps.stiffness]` (per-region physics): a region's stiffness
 //! changes only that region's motion (the other strands bit for bit as without it) and a stiffer
 //! region keeps closer to its groomed shape under gravity; a scene without regions gives the
 //! solver no factors; overlapping regions take each key from the last; a region that names no

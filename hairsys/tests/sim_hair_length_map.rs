@@ -1,4 +1,4 @@
-//! `[maps.length]` on `[sim_hairs]` (issue 20): each sim hair is trimmed to the painted
+//! `[maps.length]` on `[sim_hairs]`: each sim hair is trimmed to the painted
 //! fraction of its length (same point count, cut along its built curve, same mass per length),
 //! and animated guides re-pose the trimmed hair, not the full one: at sim weight 1 the hair sits
 //! exactly on its trimmed animated rest shape, which is the full hair's pose cut at the same

@@ -1,4 +1,4 @@
-//! Time-sampled USD primvars as painted maps (issue 20; `hairsys::scene::map_primvars`): a map
+//! Time-sampled USD primvars as painted maps (`hairsys::scene::map_primvars`): a map
 //! is read once, at the scene's first frame. A groom-time map (length) takes the primvar's
 //! value at the first frame's time code, whichever frame the scene starts at; a map the
 //! animator would expect to follow the shot (goal, stiffness, sim weight) is refused when its

@@ -1,4 +1,4 @@
-//! Painted maps from a USD scalp's primvars (issue 20, `[maps.NAME] primvar = "…"`): a root
+//! Painted maps from a USD scalp's primvars (`[maps.NAME] primvar = "…"`): a root
 //! takes the barycentric blend of its triangle's corner values under each of USD's
 //! interpolations (so a linear field painted per point or per face corner is the field at the
 //! root, and a per-face value the value of the root's face); a primvar that is missing, whose

@@ -1,8 +1,8 @@
 //! `[solver] integrator = "auto"` on the shipped scenes: BDF2 where the stability
 //! bound's explicit substeps cost more and contact is gentle (the default and wind scenes; Sintel
 //! at the finer step of sharply bent grooms), and semi-implicit Euler for each measured reason
-//! elsewhere (`hairsys/src/scene/integrator.rs` and
-//! BENCHMARKS.md, session 10, give the measurements behind each rule). The built scene's solver
+//! elsewhere (`hairsys/src/scene/integrator.rs` gives the measurements behind each rule,
+//! `docs/design/auto-integrator.md` their history). The built scene's solver
 //! takes the chosen integrator and its substeps.
 
 use std::path::PathBuf;

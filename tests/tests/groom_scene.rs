@@ -17,7 +17,7 @@ fn left_out(report: &str) -> usize {
         .sum()
 }
 
-/// Regression (issue 17): three sim hairs rooted above Sintel's right ear started with their
+/// Regression: three sim hairs rooted above Sintel's right ear started with their
 /// first point in the gap between ear and head, which is narrower than twice the clearance:
 /// lifting could not clear them, and the bust collider held that point 0.7–1.1 mm inside for
 /// the whole run (all of the run's inside point-frames). Such hair is left out and counted; no
@@ -54,7 +54,7 @@ fn sintel_wisps_in_the_gap_between_ear_and_head_are_left_out() {
     );
 }
 
-/// Regression (issue 17): a sim hair rooted on the rim of Sintel's right ear, at (84.2, 17.0,
+/// Regression: a sim hair rooted on the rim of Sintel's right ear, at (84.2, 17.0,
 /// 341.8) mm, beside guides rooted on the scalp just above it, had its guides' shapes turned by
 /// 82° — interpolation carries a guide's shape by the rotation between the root normals — so a
 /// guide combed down the head came out 40 mm off the bust behind the ear: the strand seen

@@ -1,7 +1,8 @@
-//! Issue 17: hair folded into hairpins — a turn of more than 90° at one point — where no real
-//! hair would fold (the parity scene folded 1,780 of 20,000 strands, up to 179° at one point).
+//! No hairpins — a turn of more than 90° at one point — where no real hair would fold (with
+//! chord-spring bending the parity scene folds 1,780 of 20,000 strands, up to 179° at one point;
+//! `docs/design/bending-energy.md`).
 //!
-//! Cause. The old bending spring `E = ½ k_b |x_j + l d_j − x_{j+1}|² = 2 k_b l² sin²(θ/2)` has a
+//! Cause. A chord bending spring `E = ½ k_b |x_j + l d_j − x_{j+1}|² = 2 k_b l² sin²(θ/2)` has a
 //! moment `k_b l² sin θ` that peaks at 90° and falls to zero at 180°: past 90° a joint softens,
 //! so a bend concentrates at one vertex and a segment folded straight back is an equilibrium.
 //! The curvature bending (`hair_core::solver::curvature`) has `E = 2 k tan²(θ/2)` with the same
@@ -133,8 +134,8 @@ fn whipped_parity_strand(normal: Vector3<f32>, bend_stiffness: f32) -> f32 {
 
 /// Strands of the parity scene, alone (no other strand, no head), whipped by the head's motion
 /// (upright on the crown, tilted 45° and sideways) with `bend_stiffness` 2 N/m: no turn of more
-/// than 90° at one point. The old chord spring folded the upright one to 99.8° (and at 0.5 N/m,
-/// the scene's value, to 158.5°; measured on main, 2026-11-24).
+/// than 90° at one point. A chord spring folds the upright one to 99.8° (and at 0.5 N/m, the
+/// scene's value, to 158.5°).
 ///
 /// Bound (estimate). The head accelerates by up to `0.5 m · (2π/1 s)² = 19.7 m/s²`, so the strand
 /// feels up to `g' = 22 m/s²` and its weight `W' = ρ g' L = 0.33` N bends it at its root. A heavy

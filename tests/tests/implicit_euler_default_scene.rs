@@ -1,8 +1,8 @@
-//! Issue 22's measurement on the shipped default scene (4,000 strands × 16 segments, head
+//! The accuracy study on the shipped default scene (4,000 strands × 16 segments, head
 //! collider, hair–hair friction, sag-free groom, 1 % strain limit, as shipped): cost per frame and
 //! position error of the implicit integrators (backward Euler and BDF2) at several substep counts, and of the default
-//! semi-implicit kernel at `auto`, against the converged inextensible reference of issue 22's
-//! table (the same scene, semi-implicit Euler with the inextensibility projection at 512
+//! semi-implicit kernel at `auto`, against the study's converged inextensible reference
+//! (the same scene, semi-implicit Euler with the inextensibility projection at 512
 //! substeps). Error: RMS over all points of the distance to the reference, per frame, over 24
 //! frames (`STUDY_FRAMES`); stretch: p99 of `|len/rest − 1|` over all segments of all frames.
 //!
@@ -46,8 +46,8 @@ fn implicit_euler_on_the_default_scene_against_the_inextensible_reference() {
 /// The parity scene with its head mesh collider (20,000 strands × 16 segments, hair whipping round
 /// the head at 5–9 m/s): BDF2 at a few substeps per frame (`PARITY_BDF2_SUBSTEPS`, default 1,2,4)
 /// and the shipped semi-implicit run against the same scene run inextensible at 512 semi-implicit
-/// substeps. Issue 22 asks this scene for max stretch ≤ 1.85 %; the error says what the cheaper
-/// step costs in where the hair goes.
+/// substeps. The scene's target is max stretch ≤ 1.85 %; the error says what the cheaper step
+/// costs in where the hair goes.
 #[test]
 #[ignore = "timing and a long run; run with --ignored --nocapture in release"]
 fn bdf2_on_the_parity_scene_against_the_inextensible_reference() {

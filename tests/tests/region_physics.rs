@@ -1,4 +1,4 @@
-//! Per-strand physical parameters (per-region physics, issue 20): `Solver::with_strand_scales`.
+//! Per-strand physical parameters (per-region physics): `Solver::with_strand_scales`.
 //!
 //! Twelve identical horizontal cantilevers (a SIMD group of eight and one of four) sag under
 //! gravity; strands 2 and 9 — one in each group, so a lane of a group carries a different

@@ -1,4 +1,4 @@
-//! Every shipped scene looks like hair (issue 17): each runs as shipped, measured frame by frame
+//! Every shipped scene looks like hair: each runs as shipped, measured frame by frame
 //! during the run (`SimulateOptions::quality`), and the report is held to bounds a hair artist
 //! would sign:
 //!
@@ -16,8 +16,8 @@
 //!   (`hair_core::quality`: the mean velocity the positions imply against the trapezoid of the
 //!   stored ones) has p99 ≤ 0.25 m/s. Hermite sampling between frames then leaves the path by at
 //!   most 0.096·Δt·0.25 m/s = 1 mm at 24 fps for 99 % of points. A stale velocity — a position
-//!   correction not handed on to the velocity, as the strain limit once did — reads directly:
-//!   it made Sintel's p99 0.67 m/s and a hanging strand's 2.1 m/s.
+//!   correction not handed on to the velocity — reads directly: a strain limit that leaves
+//!   velocities stale makes Sintel's p99 0.67 m/s and a hanging strand's 2.1 m/s.
 //!
 //! Sintel's run leaves 3 of 1.5 million point-frames inside her bust for one frame each (tips
 //! touching as the bust turns), the deepest 0.51 mm: her deepest point is held to the hair
@@ -153,7 +153,7 @@ fn default_groom_does_not_sag_when_the_simulation_starts() {
 ///
 /// Its mesh is given at whole frames and moves linearly between them (as the contacts assume),
 /// so every root's velocity jumps at every frame and its mismatch is exactly half the jump
-/// (measured 2026-11-25 from the cache: equal to the root's `|v₁ − v₀|/2` in every frame, p99
+/// (measured from the cache: equal to the root's `|v₁ − v₀|/2` in every frame, p99
 /// 0.16 m/s at the roots), and the hair it drags inherits the kinks (p99 0.59 m/s over all
 /// points; the same with the collider or the strain limit taken out, so no correction causes
 /// it). Its mismatch is allowed 0.75 m/s: what a piecewise-linear drive gives, not a stale
@@ -202,7 +202,7 @@ fn parity() {
     // moves 1 m in the first frames (linear), so lag and sag look alike there. Its head, like
     // every scalp, moves linearly between the frame's key poses (as the contacts assume): the
     // roots' velocities jump at every frame by up to 1.2 m/s (1 m eased over 11 frames), their
-    // mismatch is half the jump (p99 0.72 m/s at the roots, measured 2026-11-25 from the cache),
+    // mismatch is half the jump (p99 0.72 m/s at the roots, measured from the cache),
     // and 1.5 m strands amplify it to the tips (p99 4.6 m/s there, 1.02 m/s over all points).
     // Allowed 1.5 m/s: what the drive gives, not a stale velocity (see `character`).
     check(
@@ -219,13 +219,13 @@ fn parity() {
 }
 
 /// Sintel: the clean bounds but for the deepest point. The groom leaves out the sim hairs that
-/// started inside the gap between her right ear and head (before: 0.0067 % of point-frames
+/// started inside the gap between her right ear and head (with them: 0.0067 % of point-frames
 /// inside, up to 1.40 mm, and a first segment held 40 % compressed) and the one rooted on that
-/// ear's rim that stood out behind it. Measured 2026-11-25 over 48 frames under semi-implicit
-/// Euler (2,626 substeps per frame): 3 of 1.5 M point-frames deeper than 0.1 mm, the deepest
-/// 0.51 mm, so the deepest is held to the hair radius, 1 mm (a centre line that never enters the
-/// bust), not 0.5 mm. Since 2026-11-28 `"auto"` runs her on BDF2 at 32 substeps per frame
-/// (sharp rest joints, `hairsys::scene::integrator`), 23× faster: 3 point-frames deeper than
+/// ear's rim that stood out behind it. Over 48 frames under semi-implicit Euler (2,626 substeps
+/// per frame): 3 of 1.5 M point-frames deeper than 0.1 mm, the deepest 0.51 mm, so the deepest
+/// is held to the hair radius, 1 mm (a centre line that never enters the bust), not 0.5 mm.
+/// `"auto"` runs her on BDF2 at 32 substeps per frame (sharp rest joints,
+/// `hairsys::scene::integrator`), 23× faster: 3 point-frames deeper than
 /// 0.1 mm (deepest 0.28 mm), 0 hairpins (largest turn 83°), stretch p99 0.32 %, max 1.011 %
 /// against her 1 % limit, 0.16 mm RMS from the semi-implicit run.
 #[test]

@@ -1,10 +1,11 @@
 //! Velocities consistent with positions under the strain limit: the velocity the solver stores
 //! is the one that moved the point, so cubic Hermite samples between cached frames stay on the
-//! path the solver took (issue 17, item 3).
+//! path the solver took.
 //!
-//! The failure these pin: the strain limiter's follow-the-leader pass moved positions without
-//! their velocities, so on the Sintel scene (soft 3 mm segments at a 1 % limit) hair hanging
-//! still was cached with 0.25 m/s downward velocity, and a 60-segment strand with 2 m/s.
+//! The failure these pin: a follow-the-leader pass that moves positions without their
+//! velocities caches hair hanging still on the Sintel scene (soft 3 mm segments at a 1 % limit)
+//! with 0.25 m/s downward velocity, and a 60-segment strand with 2 m/s
+//! (`docs/design/strain-limit.md`).
 
 mod common;
 

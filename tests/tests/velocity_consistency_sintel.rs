@@ -1,9 +1,10 @@
-//! The Sintel scene (soft 3 mm segments at a 1 % strain limit), where issue 17 found cached
-//! velocities of 0.25 m/s on hair that did not move: over its first second the median
-//! velocity–position mismatch between consecutive frames stays well below that (3,000 strands,
-//! on BDF2 at 32 substeps per frame as `"auto"` chooses since 2026-11-28: about a second in
-//! release). `cargo test -p hairsys-tests --test velocity_consistency_sintel -- --nocapture`
-//! prints the figures.
+//! The Sintel scene (soft 3 mm segments at a 1 % strain limit), where a strain limit that
+//! corrects positions without velocities caches 0.25 m/s on hair that does not move: over its
+//! first second the median velocity–position mismatch between consecutive frames stays well
+//! below that (3,000 strands, on BDF2 at 32 substeps per frame as `"auto"` chooses: about a
+//! second in release).
+//! `cargo test -p hairsys-tests --test velocity_consistency_sintel -- --nocapture` prints the
+//! figures.
 
 use hair_core::quality::{measure, Frame, Previous, QualityInput, QualityOptions};
 use hair_core::{QualityReport, Solver};

@@ -1,8 +1,8 @@
-//! Issue 22's measurement of the XPBD integrator on the shipped default scene (4,000 strands ×
+//! The accuracy study of the XPBD integrator on the shipped default scene (4,000 strands ×
 //! 16 segments, head collider, hair–hair friction, sag-free groom, 1 % strain limit, as shipped)
 //! and on the parity scene with its head mesh as collider, back to back with the shipped default
 //! (semi-implicit Euler at `auto`) and the implicit integrator, against the converged
-//! inextensible reference of issue 22's table (the same scene, semi-implicit Euler with the
+//! inextensible reference of the study (the same scene, semi-implicit Euler with the
 //! inextensibility projection at 512 substeps). Error: RMS over all points of the distance to
 //! the reference, per frame, over 24 frames; stretch: p99 of `|len/rest − 1|` over all segments
 //! of all frames; parity: the largest stretch any frame reports and seconds per frame.

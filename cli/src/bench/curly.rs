@@ -1,4 +1,4 @@
-//! The **curly** case: a case that needs twist (issue 19).
+//! The **curly** case: a case that needs twist.
 //!
 //! One physical hair ([`super::physical`]) 15 cm long, shaped at rest as a helix of radius 1 cm
 //! and pitch 2.5 cm (about 2.2 turns) hanging down from its root, released under gravity with
@@ -122,8 +122,8 @@ mod implicit_tests {
 
     /// Implicit Euler and BDF2 hold the curly hair (joints turning 46° at rest) at 32 substeps
     /// per frame with its soft springs, and implicit Euler at 16 with the physical ones, within
-    /// 0.5 % stretch. Before bending took its Gauss–Newton Hessian on sharply bent hair (the
-    /// small-angle Hessian about a straight joint), these runs stretched 3 % and 23 %; the
+    /// 0.5 % stretch, with bending's Gauss–Newton Hessian on sharply bent hair (with the
+    /// small-angle Hessian about a straight joint these runs stretch 3 % and 23 %); the
     /// explicit kernel's converged run stretches 0.14 %.
     #[test]
     fn implicit_integrators_hold_the_curl_at_large_steps() {
@@ -154,10 +154,11 @@ mod implicit_tests {
     }
 }
 
-/// A study, not a test: BDF2's flutter on the curly hair at fine steps (BENCHMARKS.md, session
-/// 16). Prints, every fourth frame, the largest stretch and the strand's energy of BDF2 and
+/// A study, not a test: BDF2's flutter on the curly hair at fine steps (`hair_core::solver`
+/// module `implicit`, "Flutter at fine steps"; its history: `docs/design/implicit-integrators.md`).
+/// Prints, every fourth frame, the largest stretch and the strand's energy of BDF2 and
 /// implicit Euler at the substep counts of `SUBSTEPS` (default 64,128,256,512,1024), run in
-/// `STEPS` collision steps per frame (default 1; each step restarts BDF2 with backward Euler):
+/// `STEPS` collision steps per frame (default 1; each step restarts BDF2):
 /// `STEPS=16 cargo test --release -p hairsys-cli --lib bdf2_flutter -- --ignored --nocapture`.
 #[cfg(test)]
 mod flutter_study {

@@ -1,4 +1,4 @@
-//! The **drape** case: a case that needs collision (issue 19).
+//! The **drape** case: a case that needs collision.
 //!
 //! One physical hair ([`super::physical`]) 25 cm long, its root held 1 mm above the top of a
 //! fixed sphere of radius 5 cm (a `[[colliders]]` sphere, thickness 0, **frictionless**: the

@@ -1,5 +1,4 @@
-//! Where `hairsys plan` lands on the head panel (issue 19, item 5: "show on the chart where it
-//! lands for two tolerances").
+//! Where `hairsys plan` lands on the head panel, for two tolerances.
 //!
 //! [`hairsys::plan::plan`] is run on the bench's head case as a scene file (the same groom,
 //! motion, collider and physical hair the methods run, [`super::cases::head_turn_file`]) over

@@ -12,7 +12,7 @@ use super::tip_moment;
 use super::{BenchError, BenchReport, Outcome, REFERENCE_FACTOR};
 
 /// Largest segment strain the rod's projection may leave before the bench calls it constraint
-/// drift (issue 9's inextensibility test: below 10⁻⁴).
+/// drift (the bound `tests/tests/rod_collision_head_turning.rs` holds the rod to: below 10⁻⁴).
 pub const ROD_STRAIN_LIMIT: f64 = 1e-4;
 
 /// Energy gained against the truth, as a fraction of `Σ m g L`, beyond which a run that

@@ -1,4 +1,4 @@
-//! **Spatial resolution as an axis** (issue 19): the same physical hair in 4, 8, 16, 32 and 64
+//! **Spatial resolution as an axis**: the same physical hair in 4, 8, 16, 32 and 64
 //! segments per strand, every method at its own automatic substeps (`substeps = "auto"`: the
 //! explicit methods half their stability bound, which shrinks as the segments do; implicit Euler
 //! and XPBD their fixed step), against the case's one truth. It answers "what resolution does

@@ -18,15 +18,13 @@
 //! rest shape each time, not a finer one). The case's points are every `factor`-th refined
 //! point, so the two are compared at the same material points.
 //!
-//! **The head (issue 19).** Its truth was first run on the groom's 16 segments and did not
-//! converge: halving the substep moved it by the same 2.4 mm (quick size) from 256 to 4096
-//! substeps per frame, and a 10⁻⁷ m nudge of the start grew to 2.5 mm. The cause was the rod's
-//! quasistatic twist, which turned a round section's material frame onto the plane the strand
-//! bends in, so the styled groom's rest curvature turned with it, set by round-off wherever a
-//! node straightened (the straight, unstyled groom converged at first order). A round section
-//! now keeps its rest twist (`hair_core::rod::twist`), and the truth converges at first order
-//! in the step. The groom's 16 segments still do not resolve the physical wisp in this turn
-//! (32 segments move it 2.3 mm, quick size), so the head truth runs on 32, checked against 64.
+//! **The head.** Its truth converges at first order in the step because a round section keeps
+//! its rest twist (`hair_core::rod::twist`): a twist that turned a round section's material
+//! frame onto the plane the strand bends in would turn the styled groom's rest curvature with
+//! it, set by round-off wherever a node straightens, and no step would converge (how that was
+//! found: `docs/design/bench-truth.md`). The groom's 16 segments do not resolve the physical
+//! wisp in this turn (32 segments move it 2.3 mm, quick size), so the head truth runs on 32,
+//! checked against 64.
 //! At 64 a wisp's 2 mm collision radius would put the new points of the first segment inside
 //! the scalp at rest, where the strand leaves it: those collide as points ([`subdivide`]).
 //!

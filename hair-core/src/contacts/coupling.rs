@@ -6,16 +6,17 @@
 //! it, *before* the position update; the length constraints run *after* it and move points
 //! wherever the segments need them, contacts or not. Where hair lies over a sharp feature — the
 //! Sintel bust's ears, whose rims are a few millimetres thick against 5–10 mm segments — the
-//! two fought: the strain limit pulled a point back into the ear, the next substep's response
-//! pushed it out again, and because the strain limit turns every displacement it makes into
-//! velocity (`Δv = Δx/dt`, `solver::strain_limit`), each push-out was handed on to the point's
-//! neighbours as velocity towards it. At ~2,600 substeps a frame that pumped energy into the
-//! strands: on the shipped Sintel scene 89 strands around her ears moved more than 1 cm in the
-//! first frame (up to 9.4 cm: strands under the ear lobe flung up past their roots), 4 points
-//! ended the frame inside the bust by more than the response could catch, and the frame-end
-//! check that put them back stretched their segments by up to 12.8 %. Lowering
-//! `max_push_speed` to 0.02 m/s alone (less push to hand on) cut that motion to 1.7 cm, which
-//! is how the mechanism was found.
+//! two, run one after the other, fight: the strain limit pulls a point back into the ear, the
+//! next substep's response pushes it out again, and because the strain limit turns every
+//! displacement it makes into velocity (`Δv = Δx/dt`, `solver::strain_limit`), each push-out is
+//! handed on to the point's neighbours as velocity towards it. At ~2,600 substeps a frame that
+//! pumps energy into the strands: on the shipped Sintel scene without this coupling (and without
+//! `detect`'s rule for narrow concave spheres), 89 strands around her ears move more than 1 cm in
+//! the first frame (up to 9.4 cm: strands under the ear lobe flung up past their roots), 4 points
+//! end the frame inside the bust by more than the response can catch, and the frame-end check that
+//! puts them back stretches their segments by up to 12.8 %. Lowering `max_push_speed` to 0.02 m/s
+//! alone (less push to hand on) cuts that motion to 1.7 cm, which singles out the push-out as the
+//! source (`docs/design/contacts.md`).
 //!
 //! # Method
 //! Projected Gauss–Seidel over the two kinds of constraint (Müller et al. 2007, "Position Based
@@ -37,10 +38,10 @@
 //!    `ContactSettings::max_push_speed`), its floor raised by that much,
 //!    and the segments follow in more rounds — as position corrections that leave every
 //!    velocity as it is. The push-out is the correction of an earlier error, not motion (see
-//!    `penalty`); handing it to the neighbours as velocity was the pump above.
+//!    `penalty`); handing it to the neighbours as velocity would be the pump above.
 //!
 //! Without a contact in a group, or without a length constraint, nothing of this runs and the
-//! substep is the same bits as before it existed.
+//! substep is bit for bit the one without this pass.
 //!
 //! # Limits
 //! - The rounds stop at [`ROUNDS`]: where they have not converged (a strand pulled taut across

@@ -47,16 +47,16 @@
 //! where it is wider than the point's query radius less the gap kept (radius plus thickness),
 //! the farthest the point may move within the step: a narrower one confines the point to a
 //! ball for the whole step. In the creases around the Sintel bust's ears the smallest
-//! curvature gives concave radii of 1–4 mm, and points there were held within a millimetre of
-//! where detection found them for a whole frame (2,600 substeps) while their strands swung
-//! around them — 89 strands moved more than 1 cm in the first frame, up to 9.4 cm, folding up
-//! past their roots. There the tangent plane stands in: a point sliding `s` along it within
-//! the step can enter a concave surface of curvature `κ` by `κ s²/2`, which the next step's
-//! detection finds and pushes out. The sphere's centre moves with the collider's material point there
-//! and the plane with the material point at the projection (velocities from the start-of-step
-//! to the end-of-step pose); the projection's velocity is also kept for friction, with the
-//! collider's friction coefficient. Points without a contact get a plane offset so large that the
-//! response never acts on them.
+//! curvature gives concave radii of 1–4 mm, and such spheres would hold points there within a
+//! millimetre of where detection found them for a whole frame (2,600 substeps) while their
+//! strands swing around them — with them (and without `coupling`) 89 strands move more than 1 cm in
+//! the first frame, up to 9.4 cm, folding up past their roots. There the tangent plane stands in: a
+//! point sliding `s` along it within the step can enter a concave surface of curvature `κ` by
+//! `κ s²/2`, which the next step's detection finds and pushes out. The sphere's centre moves with
+//! the collider's material point there and the plane with the material point at the projection
+//! (velocities from the start-of-step to the end-of-step pose); the projection's velocity is also
+//! kept for friction, with the collider's friction coefficient. Points without a contact get a
+//! plane offset so large that the response never acts on them.
 
 use nalgebra::{Isometry3, Matrix3, Point3, UnitQuaternion, Vector3};
 use parry3d::query::{DefaultQueryDispatcher, PointQuery, PointQueryWithLocation};

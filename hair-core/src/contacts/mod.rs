@@ -103,7 +103,7 @@
 //!   update; with a strain limit or the inextensibility projection on, the contacts are then
 //!   solved together with it after the position update (`coupling`: a few Gauss–Seidel rounds,
 //!   the push-out of a point found inside applied as a position correction its neighbours
-//!   follow without gaining velocity), so the length constraint no longer pulls contacts back
+//!   follow without gaining velocity), so the length constraint neither pulls contacts back
 //!   into the collider nor hands the push-out on as motion.
 //! - **Kinematic points** (roots, pinned points) are never pushed.
 //! - **Deforming meshes** ([`deforming`]): the shape stands exactly at the linearly interpolated
@@ -115,9 +115,10 @@
 //!   `benches/deforming.rs`).
 //! - **Scalp as collider** follows the scalp: its body transform as the pose and, when the scalp
 //!   mesh handed to the solver is deformed beyond the body transform (by more than f32 rounding:
-//!   5 µm near the origin, relative 5e-6 of the distance from it), its vertices. A rigid scalp never touches the shape (the same bits as before
-//!   deformation was followed). Hair whose rest shape lies closer to the scalp than its radius
-//!   plus the thickness is pushed off.
+//!   5 µm near the origin, relative 5e-6 of the distance from it), its vertices. A rigid scalp
+//!   never touches the shape (bit for bit a scalp collider that does not follow deformation).
+//!   Hair whose rest shape lies closer to the scalp than its radius plus the thickness is pushed
+//!   off.
 //! - **Shells** (open or non-manifold meshes) have no inside: a point is kept on the side it is on
 //!   at each step's start. A point that crossed a shell before detection saw it stays across.
 //! - **Explicit Euler** moves points with the old velocity; the response is applied to that

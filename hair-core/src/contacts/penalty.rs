@@ -29,12 +29,13 @@
 //!   `push = min(needed, max_push + max(0, needed − found_depth/dt))` in velocity units. Hair
 //!   found deep inside (it started there, a collider was teleported) is eased out over several
 //!   substeps instead of being torn apart, but depth a large step makes after detection is
-//!   corrected within the substep, as a small step's contact would have prevented it. Where it
-//!   comes from, measured on the parity scene's hair at one BDF2 substep per frame: all in the
-//!   BDF2 substep (up to 93 mm; the backward Euler third before it made under 1 mm), whose start
+//!   corrected within the substep, as a small step's contact would have prevented it. On the
+//!   parity scene's hair at one BDF2 substep per frame such depth comes from the BDF2 substep
+//!   (up to 93 mm; the backward Euler third before it makes under 1 mm), whose start
 //!   extrapolates the previous substep's motion (`solver::implicit`) and so carries on an
-//!   approach that contact had stopped. Capping that too left tips 1–7 cm inside the head; with
-//!   the found depth held apart the deepest point is 1.9 mm, as at 18 semi-implicit substeps;
+//!   approach that contact had stopped. Capping that too leaves tips 1–7 cm inside the head;
+//!   with the found depth held apart the deepest point is 1.9 mm, as at 18 semi-implicit
+//!   substeps;
 //! - friction: with `Δ = v_n' − v_n ≥ 0` the normal velocity change kept, the tangential velocity
 //!   relative to the surface, `v_t`, shrinks by at most `μ Δ` (Coulomb: the friction impulse is at
 //!   most μ times the normal impulse), stopping at 0 (static friction) and never reversing.

@@ -18,8 +18,8 @@
 //! 700× past the explicit bound) its round-off makes the next pivots garbage and the run
 //! non-finite; the form above does the band's operations. The forward substitution runs in
 //! the same sweep (the right-hand side's blocks below a finished pivot lose their share at once),
-//! so a second sweep does the back substitution alone. On the default scene this made the strand
-//! phase a sixth cheaper than the band did (`BENCHMARKS.md`, session 22).
+//! so a second sweep does the back substitution alone. On the default scene the strand phase
+//! costs a sixth less than with the band (`docs/design/implicit-integrators.md`).
 //!
 //! # The pivots
 //!

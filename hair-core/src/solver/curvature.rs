@@ -21,31 +21,31 @@
 //! not softer, the further it is bent, and a bend spreads over the joints instead of folding at
 //! one of them.
 //!
-//! # What it replaced
+//! # Why not a chord spring
 //!
-//! Until 2026-11 the chain bent with a *chord spring* per joint, `½ k_b |x_j + l_j d_j −
-//! x_{j+1}|²` (`d_j` the rest direction in the same transported frame), whose energy
-//! `2 k_b l² sin²(θ/2)` gives a moment `k_b l² sin θ` that peaks at 90° and falls to zero at 180°:
-//! past 90° a joint softened, bends concentrated at one vertex and a segment folded straight back
-//! was an equilibrium (issue 17: hairpins of up to 179° in the parity scene). It also acted along
-//! its segment like a second stretch spring of stiffness `k_b`; the curvature energy has no
-//! along-segment part.
+//! The simpler *chord spring* per joint, `½ k_b |x_j + l_j d_j − x_{j+1}|²` (`d_j` the rest
+//! direction in the same transported frame), has the energy `2 k_b l² sin²(θ/2)` and a moment
+//! `k_b l² sin θ` that peaks at 90° and falls to zero at 180°: past 90° a joint softens, bends
+//! concentrate at one vertex and a segment folded straight back is an equilibrium (with it the
+//! parity scene folds into hairpins of up to 179°). It also acts along its segment like a second
+//! stretch spring of stiffness `k_b`; the curvature energy has no along-segment part. The chain
+//! bent with chord springs before this energy: `docs/design/bending-energy.md`.
 //!
 //! # The meaning of `bend_stiffness`
 //!
-//! At small turns the chord spring's joint stiffness was `k_b l²` (`E ≈ ½ k_b l² θ²`), the
-//! curvature energy's is `k_j` (`E ≈ ½ k_j θ²`). To keep every scene's `bend_stiffness = k_b`
-//! (N/m) meaning what it meant, a strand gets the **bending rigidity**
+//! At small turns a chord spring's joint stiffness is `k_b l²` (`E ≈ ½ k_b l² θ²`), the
+//! curvature energy's `k_j` (`E ≈ ½ k_j θ²`). So that `bend_stiffness = k_b` (N/m) means what it
+//! means for a chord spring, a strand gets the **bending rigidity**
 //!
 //! `EI = k_b l̄³` (N·m²), `l̄` = the strand's mean rest segment length,
 //!
 //! the same for all its joints, and joint `j` the stiffness `k_j = EI / l̄_j` (N·m) over its
 //! Voronoi length `l̄_j = (l_{j−1} + l_j)/2` (`l_0` for the root joint, as if a ghost segment of
-//! the same length preceded it). On a uniformly segmented strand `k_j = k_b l²`, the old value, so
-//! small bends are unchanged; on a non-uniform one the rigidity no longer follows the local
-//! segment length (the chord spring's did: `EI_j = k_b l_j³`). The key still scales with the
-//! discretisation through `l̄³` — resampling a strand with twice the points at the same
-//! `bend_stiffness` makes it 8× softer, as before.
+//! the same length preceded it). On a uniformly segmented strand `k_j = k_b l²`, the chord
+//! spring's value, so small bends are the chord spring's; on a non-uniform one the rigidity does
+//! not follow the local segment length (a chord spring's does: `EI_j = k_b l_j³`). The key
+//! scales with the discretisation through `l̄³` — resampling a strand with twice the points at
+//! the same `bend_stiffness` makes it 8× softer, as it does a chord spring.
 //!
 //! # The forces
 //!
@@ -57,8 +57,8 @@
 //! applied as `−g_b / len_j` on point `j + 1` (`+` on point `j`) and `−g_a / len_{j−1}` on point
 //! `j` (`+` on point `j − 1`; none on the kinematic root frame). `K_j` turns with the transported
 //! frame; its torque `m_j × K_j = m_j × κ_j` lies along `a` (both vectors are ⟂ `a`), so only the
-//! reference twist of parallel transport carries it (the kernel's `β`/`S` sums, unchanged from the
-//! chord spring, whose torque entered the same way).
+//! reference twist of parallel transport carries it (the kernel's `β`/`S` sums, which carry a
+//! chord spring's torque the same way).
 //!
 //! **The root joint** (point 0) is the exception: its reference is the first segment's rest
 //! direction `d_0` in the root frame itself, `κ_0 = 2 d_0 × t_0/(1 + d_0·t_0)` against zero rest

@@ -62,7 +62,8 @@
 //! The contact response (`crate::contacts::penalty`), the position update, the inextensibility
 //! projection and the strain limit then run as in the explicit kernel
 //! ([`super::kernel::finish_substep`]): contacts act on the solved velocity, as they act on the
-//! explicit kernel's updated velocity; hair–hair friction acts between steps as before.
+//! explicit kernel's updated velocity; hair–hair friction acts between steps, as it does for the
+//! explicit kernel.
 //!
 //! # The solve
 //!
@@ -93,8 +94,8 @@
 //! linearisation about where the substep starts (here the extrapolated positions), and the same
 //! contact response, kinematic points and strain limit with `2h/3` as the position update's
 //! step. The extrapolation is computed as `y + (y − y_prev)/3`, whose coefficients sum to one
-//! exactly; `(4 y − y_prev)·⅓` in f32 scaled the state by `1 + 3·10⁻⁸` a substep, a drift that
-//! had capped the measured order.
+//! exactly; the textbook `(4 y − y_prev)·⅓` in f32 scales the state by `1 + 3·10⁻⁸` a substep, a
+//! drift that caps the measured order.
 //!
 //! BDF2 needs the state one substep back, which a collision step does not have at its start
 //! (hair–hair friction and the contacts change between steps, and a resumed run starts there).
@@ -111,15 +112,17 @@
 //! zero-stable for `r < 1 + √2`) over `2h/3` (`r = 2`): two solves, a first-order start that
 //! loses `(ωh/3)²/2` of a swing per step, and the stiff modes damped within the step.
 //!
-//! What the midpoint start changed (2026-11-28, against the backward Euler start of `h/3`
-//! that every step used before): the pendulum at h = 1/96 s loses 1.8 % per period instead of
-//! 2.2 % (a full-length backward Euler start: 6.7 %; backward Euler throughout: 13.5 %); the
-//! swinging chain's error at 8, 16, 32, 64 substeps per frame is 4.7, 0.82, 0.17, 0.058 mm
-//! instead of 5.4, 1.06, 0.20, 0.054; the default scene's strand phase is 8 % cheaper for 1.25 mm
-//! RMS over the shot instead of 1.28 (at 4 and 6 substeps per frame 2.31 and 1.55 mm instead of
-//! 2.09 and 1.52); on the bench's curly hair at 32 substeps per frame the slow rise of energy
-//! from frame 24 that both starts show (below, flutter) is a little faster (−2.39 instead of
-//! −2.60 × 10⁻⁷ J at frame 48, settled −2.72; largest stretch 0.18 instead of 0.15 %).
+//! Why the midpoint start rather than the backward Euler third on every step: it takes less of
+//! a swing, and less time for the error `"auto"` asks for. The pendulum at h = 1/96 s loses
+//! 1.8 % per period (with the `h/3` backward Euler start 2.2 %, a full-length backward Euler
+//! start 6.7 %, backward Euler throughout 13.5 %); the swinging chain's error at 8, 16, 32, 64
+//! substeps per frame is 4.7, 0.82, 0.17, 0.058 mm (with the `h/3` start 5.4, 1.06, 0.20,
+//! 0.054); the default scene's strand phase is 8 % cheaper at 1.25 mm RMS over the shot (1.28
+//! with the `h/3` start). It is not better everywhere: at 4 and 6 substeps per frame the default
+//! scene is 2.31 and 1.55 mm off (2.09 and 1.52 with the `h/3` start), and on the bench's curly
+//! hair at 32 substeps per frame the slow rise of energy that both starts show (below, flutter)
+//! is a little faster, its largest stretch 0.18 % against 0.15 %. The full comparison:
+//! `docs/design/implicit-integrators.md`.
 //!
 //! **Contacts and the history.** The contact response changes a point's velocity within a
 //! substep (`crate::contacts::penalty`), and BDF2's next start `y + b (y − y_prev)` extrapolates
@@ -131,22 +134,22 @@
 //! always moved at its present velocity, `(x − h_prev v, v)`: the substep is then a BDF2 step of
 //! a point in uniform motion, first order for that point in that substep only. Resting contact,
 //! whose response only cancels what gravity added, keeps its history: restarting every point
-//! the response touched let free points on a sphere slide off it at two substeps per frame
-//! (`tests/tests/collision_drop_on_sphere.rs`), and the first two cures tried (2026-11-29: the
-//! impulse taken out of the remembered velocity; the extrapolated outward velocity cut) raised
-//! the default scene's stretch or error. Measured (2026-11-29, BENCHMARKS.md, session 24): free
-//! points dropped on a sphere left it at 31 % of the impact speed at one substep per frame and
-//! 3 % at seven, and now stop on it; the default scene at 7 substeps per frame moved from
-//! 1.36 to 1.33 mm RMS against the reference (p99 stretch 0.760 → 0.763 %), the parity scene with
-//! its collider from 52.6 to 48.6 mm at 7 (114.6 → 114.4 at 1).
+//! the response touches lets free points on a sphere slide off it at two substeps per frame
+//! (`tests/tests/collision_drop_on_sphere.rs`), and taking the impulse out of the remembered
+//! velocity, or cutting the extrapolated outward velocity, raises the default scene's stretch or
+//! error. With the restart, free points dropped on a sphere stop on it (without it they leave it
+//! at 31 % of the impact speed at one substep per frame and 3 % at seven); the default scene at
+//! 7 substeps per frame is 1.33 mm RMS from the reference (1.36 without; p99 stretch 0.763 %
+//! against 0.760 %), the parity scene with its collider 48.6 mm at 7 (52.6 without) and 114.4 at
+//! 1 (114.6). The variants measured: `docs/design/implicit-integrators.md`.
 //!
 //! The linearisation's bending matrix is approximate (above), and it multiplies the whole
 //! velocity of the substep: that leaves a first-order term, small against the second-order
 //! one at the steps hair uses (the order measured on a swinging chain is 2.1, 2.5, 2.3 from 4 to
 //! 32 substeps per frame, 1.6 to 64, 1.3 beyond). Evaluating the forces at the predicted end
 //! `x̂ + (2h/3) v̂` instead, so that the approximate matrix multiplies only the correction,
-//! removes that term but was tried and dropped: the stiff cantilever at two substeps per frame
-//! diverged from predictions far along the stiff modes.
+//! would remove that term, but the stiff cantilever at two substeps per frame then diverges from
+//! predictions far along the stiff modes, so the step linearises about its start.
 //!
 //! **Flutter at fine steps (a limit of BDF2 here).** What the approximate matrix leaves out
 //! acts as an explicit force within the substep, and an explicit force can feed a mode a
@@ -165,18 +168,18 @@
 //! BDF2 with fine steps on sharply bent hair should take implicit Euler instead; the scene
 //! layer warns of it (`hairsys::scene::integrator::sharp_joint_warning`).
 //!
-//! **A Newton correction was measured and not adopted.** One simplified Newton iteration per
-//! substep (the residual `M Δv − h f(x + h v', v')` with the forces at the substep's end,
-//! solved with the factor already computed) removes the flutter (the curly hair settles under
-//! BDF2 at 64–512 substeps per frame) but makes large steps worse, where the approximate
-//! matrix is furthest from the true Jacobian: without a safeguard the curly hair blows up at 8
-//! and 16 substeps per frame and stretches up to 77 % at 32; keeping the correction only where
-//! it is under half the first change of velocity stops the blow-ups, but BDF2 at 32 (the step
-//! `"auto"` gives such hair) then stretches 2.1 % instead of 0.15 %. On the default scene it
-//! lets BDF2 take 6 substeps per frame for the error of 8 (1.20 mm against 1.28 mm over the
-//! shot) at 15–31 % more per substep, no net saving. The prototype and its figures:
-//! BENCHMARKS.md, session 17. A complete Jacobian (the bending Hessian's second-derivative
-//! terms, made definite) is what remains to try.
+//! **No Newton correction.** One simplified Newton iteration per substep (the residual
+//! `M Δv − h f(x + h v', v')` with the forces at the substep's end, solved with the factor
+//! already computed) removes the flutter (the curly hair settles under BDF2 at 64–512 substeps
+//! per frame) but makes large steps worse, where the approximate matrix is furthest from the
+//! true Jacobian: without a safeguard the curly hair blows up at 8 and 16 substeps per frame and
+//! stretches up to 77 % at 32; keeping the correction only where it is under half the first
+//! change of velocity stops the blow-ups, but BDF2 at 32 (the step `"auto"` gives such hair)
+//! then stretches 2.1 % instead of 0.15 %. On the default scene it lets BDF2 take 6 substeps per
+//! frame for the error of 8 (1.20 mm against 1.28 mm over the shot) at 15–31 % more per
+//! substep, no net saving, so the substep has none. The prototype and its figures:
+//! `docs/design/implicit-integrators.md`. A complete Jacobian (the bending Hessian's
+//! second-derivative terms, made definite) is the alternative not yet measured.
 
 use super::block_band::solve_in_place;
 use super::blocks::{Mat3, Sym3};
@@ -191,28 +194,28 @@ use crate::mesh::RootFrame;
 
 /// Longest substep `substeps = "auto"` takes with this integrator, s. Stability sets no bound
 /// here; accuracy does: on the default scene (head turn, collider, hair–hair, strain limit) 16
-/// substeps per frame at 24 fps (h = 1/384 s) gave 0.92 mm RMS against the converged
-/// inextensible reference, 8 gave 1.64 mm (issue 22's target is 1.5 mm; the figures are in the
-/// branch notes), and backward Euler's artificial damping of a 1 s swing is 5 % per period
-/// (`exp(−π ω h)`).
+/// substeps per frame at 24 fps (h = 1/384 s) measure 0.92 mm RMS against the converged
+/// inextensible reference over the shot's first 24 frames, 8 measure 1.64 mm, beyond the
+/// default scene's 1.5 mm target; and backward Euler's artificial damping of a 1 s swing is 5 % per
+/// period (`exp(−π ω h)`).
 pub(crate) const AUTO_DT: f64 = 1.0 / 384.0;
 
 /// Longest substep `substeps = "auto"` takes with [`crate::Integrator::Bdf2`], s: the longest
-/// that keeps issue 22's targets (1.5 mm RMS, p99 stretch 1 %) on the default scene. Measured like
-/// [`AUTO_DT`] (`implicit_euler_default_scene`, `STUDY_FRAMES=48`: the whole shot, both turns and
-/// the nod), with the midpoint start of each step (2026-11-29): substeps per frame at 24 fps 6, 7,
-/// 8 gave 1.55, 1.36, 1.25 mm RMS (worst frame 2.36, 2.03, 1.82 mm) with p99 stretch 0.89, 0.76,
-/// 0.67 %; 4 and 5 gave 2.31 and 1.81 mm (2026-11-28; implicit Euler at 16: 1.86 mm, 0.50 %).
-/// 7 keeps both targets over the whole shot; 6 misses the first.
+/// that keeps the default scene's targets (1.5 mm RMS against the converged reference, p99
+/// stretch 1 %). Measured like [`AUTO_DT`] (`implicit_euler_default_scene`, `STUDY_FRAMES=48`:
+/// the whole shot, both turns and the nod): substeps per frame at 24 fps 6, 7, 8 give 1.55, 1.36,
+/// 1.25 mm RMS (worst frame 2.36, 2.03, 1.82 mm) with p99 stretch 0.89, 0.76, 0.67 %; 4 and 5
+/// give 2.31 and 1.81 mm (implicit Euler at 16: 1.86 mm, 0.50 %). 7 keeps both targets over the
+/// whole shot; 6 misses the first. (These figures leave out the contact restart of the module
+/// docs, which takes 7 to 1.33 mm; when each was measured: `docs/design/implicit-integrators.md`.)
 pub(crate) const AUTO_DT_BDF2: f64 = 1.0 / 168.0;
 
 /// Rest turn of a joint (degrees) beyond which a group of strands takes bending's Gauss–Newton
 /// Hessian instead of the small-angle one (module docs). The small-angle form serves the default
 /// groom (joints up to 27°); on the bench's curly hair (46°) implicit Euler with it stretched 3 %
 /// at 32 substeps per frame and needed 64 to stay under 1 %, and with the Gauss–Newton form 0.2 %
-/// at 32. The Gauss–Newton form made the default scene's strand phase a third slower when forced
-/// on it (2026-11-28, one thread), so straighter grooms keep the small-angle form, and their
-/// results are the same bits as before it existed.
+/// at 32. The Gauss–Newton form makes the default scene's strand phase a third slower when forced
+/// on it (one thread), so straighter grooms keep the small-angle form, bit for bit.
 const SHARP_REST_TURN_DEG: f32 = 30.0;
 
 /// Per-thread buffers of the implicit substep, refitted to each group.

@@ -26,9 +26,9 @@
 //! Velocities are corrected by the same kind of projection at the projected positions: every
 //! segment's stretching rate `t_j·(v_{j+1} − v_j)` is removed (`G v = 0`, one more tridiagonal
 //! solve), so the stretching velocity the springs would have turned back is gone, as the seed's
-//! projection does. The usual correction `v += Δx/dt` was tried first and rejected: it divides
-//! the f32 round-off of the positions (about 3·10⁻⁸ m at 0.5 m) by dt, and at 10⁵ substeps per
-//! second that is mm/s of noise per substep — a pendulum stopped converging as the step shrank.
+//! projection does. The usual correction `v += Δx/dt` is not used: it divides the f32 round-off
+//! of the positions (about 3·10⁻⁸ m at 0.5 m) by dt, and at 10⁵ substeps per second that is mm/s
+//! of noise per substep — with it a pendulum stops converging as the step shrinks.
 //! The velocity projection converges at first order like the rest of the step. All impulses are
 //! mass-weighted and equal and opposite along each segment, so a free strand's linear momentum
 //! is conserved.

@@ -128,8 +128,8 @@ pub(crate) fn splat<L: Lane>(f: f32) -> L {
 /// Sets `buf` to `len` default (zero) values, keeping its allocation.
 ///
 /// The stores are a plain loop inlined into the caller, so they run in the caller's (AVX2)
-/// code; `Vec::resize` writes each value through an out-of-line clone, which took a sixth of the
-/// implicit substep on the default scene when its 288-byte blocks were zeroed that way.
+/// code; `Vec::resize` writes each value through an out-of-line clone, which costs a sixth of the
+/// implicit substep on the default scene when its 288-byte blocks are zeroed that way.
 #[inline(always)]
 pub(crate) fn zeroed<T: Copy + Default>(buf: &mut Vec<T>, len: usize) {
     if buf.len() != len {

@@ -220,7 +220,7 @@ impl Solver {
         })
     }
 
-    /// Gives every strand its own multipliers of the parameters (per-region physics, issue 20):
+    /// Gives every strand its own multipliers of the parameters (per-region physics):
     /// strand `s` runs with `scales[s].apply(params)` in every integrator (the mass-spring
     /// kernel, implicit Euler and XPBD; each lane of a SIMD group loads its own strand's
     /// values). The stability bound takes the stiffest strand, and `substeps = auto` is

@@ -64,8 +64,8 @@ impl HairParams {
     }
 }
 
-/// One strand's multipliers of the [`HairParams`] springs and damping (per-region physics,
-/// issue 20): the strand runs with `stretch_stiffness × stretch`, `bend_stiffness × bend`,
+/// One strand's multipliers of the [`HairParams`] springs and damping (per-region physics): the
+/// strand runs with `stretch_stiffness × stretch`, `bend_stiffness × bend`,
 /// `goal_stiffness × goal`, `stretch_damping × damping` and `air_drag × drag`. All 1 (the
 /// default) is the scene's material exactly: `x × 1.0 = x` in floating point, so a solver given
 /// only unit scales advances every strand bit for bit as one given none.

@@ -61,8 +61,8 @@
 //! stored as the unit [`RestDirection`] that describes it
 //! ([`super::curvature::direction_of_curvature`]), and the rest length `l_j = len_j − T_j/k_s`.
 //!
-//! **Rest lengths change** (unlike for the chord spring it replaced, which also acted along its
-//! segment and could carry the along-segment load in its rest vector): the curvature energy
+//! **Rest lengths change** (unlike for a chord spring, which also acts along its segment and can
+//! carry the along-segment load in its rest vector): the curvature energy
 //! exerts no force along a segment, so only a pre-stretch of the stretch spring can hold the
 //! weight below it. The groomed segment is then longer than its rest length by
 //! `T_j/(k_s l_j)` (for 25 cm of 10⁻³ kg/m hair on 200 N/m springs of 1.6 cm, under 0.1 %), which

@@ -12,10 +12,11 @@
 //! ([`super::curvature::transverse_stiffness`]; Gershgorin: it covers both directions). The
 //! curvature energy stiffens as a joint bends (8× at a 90° turn), and on a curved rest shape the
 //! bending forces also carry the twist of the transported frames, both of which this
-//! small-angle estimate leaves out: for a very curly, bend-dominated strand (1 rad per segment,
-//! `k_bend = 10 k_stretch`) the chord-spring bending this bound was first written for was
-//! measured to fail at 0.96 × the bound, inside `auto`'s margin. A goal
-//! spring ties a point to a fixed target and adds `k_goal/m` to `ω²`. The lightest free point
+//! small-angle estimate leaves out, so on a very curly, bend-dominated strand (1 rad per
+//! segment, `k_bend = 10 k_stretch`) the bound may not hold within `auto`'s margin: with
+//! chord-spring bending such a strand fails at 0.96 × the bound
+//! (`docs/design/bending-energy.md`). A goal spring ties a point to a fixed target and adds
+//! `k_goal/m` to `ω²`. The lightest free point
 //! (usually a tip, which carries half a segment) sets the bound. `auto` picks the smallest
 //! substep count whose `dt` is below [`AUTO_SAFETY`] times the bound.
 //!

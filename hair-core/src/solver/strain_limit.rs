@@ -24,10 +24,10 @@
 //! Why hold the stretched ones: shortening a segment pulls its ends in and so stretches its
 //! neighbours, which on a taut strand (hair whipping round a head, every segment near the
 //! limit) are themselves at the limit. With only the over-long segments in the set, each
-//! iteration pushed the excess one segment further along the strand and made the worst segment
-//! *longer* (measured on the parity scene with its collider at 4 implicit substeps per frame,
-//! one group's worst segment beyond its limit: 0.55 % → 1.07 % → 0.53 % → 0.46 %), so the
-//! iterations nearly always ran out (3.4 per call on average) and left the excess to
+//! iteration would push the excess one segment further along the strand and make the worst
+//! segment *longer* (on the parity scene with its collider at 4 implicit substeps per frame, one
+//! group's worst segment beyond its limit: 0.55 % → 1.07 % → 0.53 % → 0.46 %), so the
+//! iterations nearly always run out (3.4 per call on average) and leave the excess to
 //! follow-the-leader. Holding them, each step shortens the strand as a chain: 1.6 iterations per
 //! call on the same run.
 //! For a tridiagonal `G M⁻¹ Gᵀ` with non-positive off-diagonals (no joint folded past 90°) a
@@ -38,45 +38,46 @@
 //! its limit, a last **follow-the-leader** pass root to tip moves far ends only (and their
 //! velocities by the same displacement over dt) to guarantee the limit. Where they converge,
 //! that pass does not run: it would move no point by more than the tolerance (a hundred
-//! thousandth of a segment), and it cost a square root and a division per segment on every
-//! call. Skipping it took 12 % off the parity scene's strand phase with its collider (BDF2,
+//! thousandth of a segment), and it costs a square root and a division per segment on every
+//! call. Skipping it takes 12 % off the parity scene's strand phase with its collider (BDF2,
 //! where the contacts call the limit three times a substep) and 14 % without (semi-implicit
-//! Euler), 2 % off the default scene's (BENCHMARKS.md, session 25); segments may then end
-//! the substep up to that tolerance over their limit.
+//! Euler), 2 % off the default scene's; segments may then end the substep up to that tolerance
+//! over their limit.
 //!
-//! Why a projection and not Gauss–Seidel sweeps: an earlier version ran two Provot sweeps and
-//! then follow-the-leader on positions only. On a long soft strand the sweeps remove little of
-//! the excess (they propagate one segment per sweep), follow-the-leader did nearly all the work,
-//! and because it did not touch velocities the cached velocities of a strand hanging still at
-//! the limit read 0.25 m/s (Sintel scene) to 2 m/s (60 segments of 3 mm) downward. Giving
-//! follow-the-leader's large displacements to the velocities instead pumps energy into the
-//! strand (a one-sided correction is not momentum-conserving: a point is yanked after its
-//! neighbour moved), which blew a hanging strand up to 20 m/s; removing only the stretching
-//! rate of the far end did worse. The projection leaves follow-the-leader far less to do, but
-//! not only round-off: when the active set changes a lot within a substep (hair collapsing
-//! from its groom) four iterations do not converge, and the follow-the-leader velocities that
-//! remain make the motion livelier (see Limits). A velocity projection
-//! (`G v = 0` on the active set, as [`super::inextensible`] does) was tried too: the active set
-//! changes from substep to substep, and it left 3–7 cm/s on a strand that did not move.
+//! Why a projection and not Gauss–Seidel sweeps (two Provot sweeps, then follow-the-leader on
+//! positions only): on a long soft strand the sweeps remove little of the excess (they propagate
+//! one segment per sweep), so follow-the-leader does nearly all the work, and as it does not
+//! touch velocities the cached velocities of a strand hanging still at the limit read 0.25 m/s
+//! (Sintel scene) to 2 m/s (60 segments of 3 mm) downward. Giving follow-the-leader's large
+//! displacements to the velocities instead pumps energy into the strand (a one-sided correction
+//! is not momentum-conserving: a point is yanked after its neighbour moved), which blows a
+//! hanging strand up to 20 m/s; removing only the stretching rate of the far end does worse.
+//! The projection leaves follow-the-leader far less to do, but not only round-off: when the
+//! active set changes a lot within a substep (hair collapsing from its groom) four iterations
+//! do not converge, and the follow-the-leader velocities that remain make the motion livelier
+//! (see Limits). A velocity projection (`G v = 0` on the active set, as [`super::inextensible`]
+//! does) does not fit either: the active set changes from substep to substep, and it leaves
+//! 3–7 cm/s on a strand that does not move. The sweeps this projection replaces and the
+//! variants measured beside it: `docs/design/strain-limit.md`.
 //!
 //! # Limits
-//! The stale velocities of the old scheme were, in effect, a strong numerical damping. Without
-//! it, a strand held at the limit whose bending springs cannot reach their rest shape (a strand
-//! combed out sideways hanging down, 60 segments of 3 mm, `bend_stiffness` 0.05 N/m) keeps a
-//! small motion that air drag does not remove: 2–3 cm/s at the tip at 69 substeps per frame,
-//! 1 cm/s at 1,000 (it shrinks with the substep, so it is a discretisation effect, measured in
-//! the experiments behind `tests/tests/velocity_consistency.rs`). A strand whose bending is
-//! satisfied, or without bending, comes to rest (velocities at the f32 round-off of
-//! `Δx/dt`, ≈ 5·10⁻⁵ m/s).
+//! Stale velocities (positions corrected, velocities not) would act as a strong numerical
+//! damping; the velocities here follow the positions, so a strand held at the limit whose
+//! bending springs cannot reach their rest shape (a strand combed out sideways hanging down,
+//! 60 segments of 3 mm, `bend_stiffness` 0.05 N/m) keeps a small motion that air drag does not
+//! remove: 2–3 cm/s at the tip at 69 substeps per frame, 1 cm/s at 1,000 (it shrinks with the
+//! substep, so it is a discretisation effect, measured in the experiments behind
+//! `tests/tests/velocity_consistency.rs`). A strand whose bending is satisfied, or without
+//! bending, comes to rest (velocities at the f32 round-off of `Δx/dt`, ≈ 5·10⁻⁵ m/s).
 //!
 //! On the Sintel scene's first second (hair collapsing from its groom as the head turns) the
-//! median velocity–position mismatch between frames fell from 0.27 m/s (the stale velocities)
-//! to 0.03 m/s, but the fastest 1 % of points move faster than before (mismatch p99 0.67 m/s
-//! against 0.47, largest 5.2 m/s against 0.85: motion 24 fps does not resolve). Eight
-//! iterations lowered that to p99 0.60, largest 3.3 m/s, at a cost above the old limiter's;
-//! follow-the-leader without velocities lowered it to p99 0.19 but brought stale velocities
-//! back (4 cm/s on a still strand). Neither is shipped; more damping of fast bending motion is
-//! the open question.
+//! median velocity–position mismatch between frames is 0.03 m/s (0.27 m/s with stale
+//! velocities), but the fastest 1 % of points move faster than with stale velocities (mismatch
+//! p99 0.67 m/s against 0.47, largest 5.2 m/s against 0.85: motion 24 fps does not resolve).
+//! Eight iterations lower that to p99 0.60, largest 3.3 m/s, at a cost above the sweeps';
+//! follow-the-leader without velocities lowers it to p99 0.19 but brings stale velocities back
+//! (4 cm/s on a still strand). Neither is used; more damping of fast bending motion is the open
+//! question.
 
 use super::inextensible::ProjectionScratch;
 use super::lanes::{div_or_zero, splat, Lane, V3};

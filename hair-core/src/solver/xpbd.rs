@@ -13,9 +13,9 @@
 //! showed that few iterations per substep with more substeps beat many iterations per large
 //! step. Solving the constraints one at a time (Gauss–Seidel), as XPBD usually does, converges
 //! slowly along a stiff chain: a strand then sags and bends by its iteration count, not by its
-//! stiffness (this integrator's first version swept the bending joints so, and landed 18–49 mm
-//! from the reference on the default scene; issue 22). Deul, Kugelstadt, Weiler and Bender
-//! ("Direct Position-Based Solver for Stiff Rods", CGF 2018) observed that a rod's constraint
+//! stiffness (sweeping the bending joints so puts the default scene 18–49 mm from the reference;
+//! `docs/design/xpbd.md`). Deul, Kugelstadt, Weiler and Bender ("Direct Position-Based Solver
+//! for Stiff Rods", CGF 2018) observed that a rod's constraint
 //! Jacobian is banded, so the whole compliant system can be solved directly in O(n); this
 //! integrator does that for the chain's stretch and curvature constraints.
 //!
@@ -63,9 +63,9 @@
 //! on the default scene (a sag-free groom, curved at rest) it leaves a floor of 3.5 mm RMS
 //! against the reference at every step from 2 to 32 substeps per frame (BENCHMARKS.md). Adding
 //! the local term to `G` and the twist to the corrections alone (O(n) by suffix sums; in
-//! `G W Gᵀ` it would fill the band) made the chord iteration run away on the default scene at 2
+//! `G W Gᵀ` it would fill the band) makes the chord iteration run away on the default scene at 2
 //! and 3 substeps per frame; carrying both in the solve (or a material frame per segment, as
-//! Deul et al.'s Cosserat rods have, which keeps the system banded) is the next step.
+//! Deul et al.'s Cosserat rods have, which keeps the system banded) is the open fix.
 //!
 //! # Accuracy and damping
 //!
@@ -102,8 +102,8 @@ use crate::mesh::RootFrame;
 /// limit; against the converged inextensible reference, `tests/tests/xpbd_default_scene.rs`):
 /// the fewest measured substeps at which the position error has reached this method's floor
 /// (3.49 mm RMS; 3.53 at 8, 3.77 at 4) *and* the p99 of `|len/rest − 1|` is at most 1 % (1.000 %;
-/// 1.18 % at 12, 1.60 % at 8). Issue 22's 1.5 mm is not met at any step (module docs, "The
-/// frame's turn").
+/// 1.18 % at 12, 1.60 % at 8). The 1.5 mm RMS that the implicit integrators hold on this scene
+/// is not met at any step (module docs, "The frame's turn").
 pub(crate) const AUTO_DT: f64 = 1.0 / 384.0;
 
 /// Chord iterations of the direct solve per substep (module docs, step 3), each on the

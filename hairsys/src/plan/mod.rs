@@ -1,6 +1,6 @@
 //! `hairsys plan`: the least model a scene needs for a tolerance, chosen by measurement.
 //!
-//! Issue 19: model, segment count, substeps and sim-hair count are the user's to choose, and the
+//! Model, segment count, substeps and sim-hair count are the user's to choose, and the
 //! bench charts each model against its own converged reference. The plan instead runs short
 //! probes of the scene itself — its groom, colliders, hair–hair and motion, over a few frames —
 //! and measures every candidate against one reference of that scene: the inextensible

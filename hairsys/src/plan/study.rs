@@ -1,4 +1,4 @@
-//! How many sim hairs a scene needs (issue 19, item 4; seed 001, "Hair Levels").
+//! How many sim hairs a scene needs (seed 001, "Hair Levels").
 //!
 //! Every strand of the scene is simulated once (the render hairs' truth). Then, for each count
 //! `N`, only `N` of the strands — spread over the scalp by farthest-point sampling of the roots —

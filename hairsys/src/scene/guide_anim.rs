@@ -1,4 +1,4 @@
-//! Scene keys of animated guides (seed 001, "Hair Levels"; issue 20): keyed guide poses
+//! Scene keys of animated guides (seed 001, "Hair Levels"): keyed guide poses
 //! (`[[guides.pose]]`), the sim weight curve that hands the shot between simulation and the
 //! animated guides (`[guides.sim_weight]`), pinned points (`[[guides.pin]]`) and hold-out
 //! hair that follows the guides exactly (`[guides.hold_out]`). Hair is selected by guide (the

@@ -3,46 +3,46 @@
 //!
 //! # The rule
 //!
-//! Both integrators meet the same accuracy where `"auto"` uses them (issue 22's measure on the
-//! default scene, RMS against the inextensible reference at 512 substeps, 2026-11-29: over the
-//! whole 48-frame shot semi-implicit Euler at its stability bound 0.69 mm, BDF2 at its accuracy
-//! limit of 1/168 s 1.36 mm, both under the 1.5 mm target with p99 stretch under 1 %; implicit
-//! Euler at 1/384 s, 1.21 mm over the first 24 frames, gave 1.86 mm over all 48). What differs is
-//! the cost:
+//! Both integrators meet the same accuracy where `"auto"` uses them (on the default scene, RMS
+//! against the inextensible reference at 512 substeps over the whole 48-frame shot: semi-implicit
+//! Euler at its stability bound 0.69 mm, BDF2 at its accuracy limit of 1/168 s 1.36 mm, both
+//! under the 1.5 mm target with p99 stretch under 1 %; implicit Euler at 1/384 s, 1.21 mm over
+//! the first 24 frames, is 1.86 mm over all 48). What differs is the cost:
 //!
 //! - semi-implicit Euler needs the substeps its **stability bound** asks for
 //!   ([`hair_core::StabilityBound`]): few on long soft segments (the parity scene: 19 per frame),
 //!   many where short segments carry stiff springs (the default scene 165, the character 434);
 //! - BDF2 needs the substeps its **accuracy limit** asks for (7 per frame at 24 fps), whatever
 //!   the stiffness, but each costs [`IMPLICIT_SUBSTEP_COST`] explicit substeps (a banded solve
-//!   per strand instead of a force sweep). It replaced implicit Euler here (16 substeps per
-//!   frame for a slightly larger error, and 5–13× the artificial damping of a swing).
+//!   per strand instead of a force sweep). Implicit Euler does not serve here: it needs 16
+//!   substeps per frame for a slightly larger error, with 5–13× the artificial damping of a
+//!   swing.
 //!
 //! So `"auto"` takes BDF2 when the stability bound's substeps cost more than the accuracy
 //! limit's BDF2 ones, and semi-implicit Euler otherwise (ties go to semi-implicit Euler, the
 //! more accurate of the two per substep). Where a rest joint of the groom turns by more than
 //! [`MAX_IMPLICIT_REST_TURN`], BDF2's substep is [`SHARP_JOINT_BDF2_DT`] instead (32 per frame at
 //! 24 fps), and the cost comparison uses that count. Those grooms take bending's Gauss–Newton
-//! Hessian (`hair_core::solver` module `implicit`, above 30°), which made BDF2 usable there, but
-//! only at the finer step (measured 2026-11-28):
+//! Hessian (`hair_core::solver` module `implicit`, above 30°), with which BDF2 holds them, but
+//! only at the finer step:
 //! - on the bench's curly hair (every joint 46°) BDF2 gains energy at 8 substeps per frame
 //!   (stretch 73 %) and 16 (14 %), and holds the converged run's 0.14 % from 32 (0.16 %);
 //! - on Sintel (5 of 29,090 joints at 71–83°, next to her roots) BDF2 at 8 substeps stays 0.68
-//!   mm RMS from the shipped semi-implicit run (2,626 substeps per frame) but leaves 44
+//!   mm RMS from the semi-implicit run at its bound (2,626 substeps per frame) but leaves 44
 //!   point-frames more than 0.1 mm inside the bust (deepest 1.45 mm; the semi-implicit run: 3,
 //!   0.51 mm); at 32: 0.16 mm RMS, 3 point-frames (0.28 mm), no hairpins, 17× faster
-//!   (84.6 against 1,418 ms per frame). The finer step holds her whole groom, not only the
-//!   strands with a sharp joint: given only to the solver's groups holding one, the rest at 7
-//!   (measured 2026-11-29, BENCHMARKS.md session 27), the strand phase fell 3× but 599
-//!   point-frames of gently bent strands ended more than 1 cm from the converged run (none at
-//!   32 everywhere), up to 33 mm, and the deepest point went to 1.16 mm.
+//!   (84.6 against 1,418 ms per frame). The finer step is for her whole groom, not only the
+//!   strands with a sharp joint: given only to the solver's groups holding one, the rest at 7,
+//!   the strand phase falls 3× but 599 point-frames of gently bent strands end more than 1 cm
+//!   from the converged run (none at 32 everywhere), up to 33 mm, and the deepest point goes to
+//!   1.16 mm.
 //!
-//! Before the Gauss–Newton Hessian (measured 2026-11-25 with implicit Euler at 16 substeps and
-//! the small-angle Hessian) Sintel's five sharp joints folded into hairpins (29 point-frames, up
-//! to 150°; still 26 at 64 substeps), so `"auto"` kept semi-implicit Euler for such grooms; the
-//! default, wind, gust, collision and character grooms turn at most 27–32° per joint and never
-//! took that rule. A fixed substep count on such a groom still keeps semi-implicit Euler where
-//! it is stable (the rule's old form): the count was chosen by hand.
+//! With the small-angle Hessian, Sintel's five sharp joints fold into hairpins under implicit
+//! Euler (29 point-frames at 16 substeps, up to 150°; still 26 at 64). The default, wind, gust,
+//! collision and character grooms turn at most 27–32° per joint and never take this rule. A
+//! fixed substep count on a sharply bent groom keeps semi-implicit Euler where it is stable:
+//! the count was chosen by hand. How the rule for such grooms came to be:
+//! `docs/design/auto-integrator.md`.
 //!
 //! With a fixed substep count it takes semi-implicit Euler where that count is within the
 //! stability bound and BDF2 where it is not (stable far past the bound). Only the
@@ -52,15 +52,14 @@
 //! as the explicit kernel does, but at a few substeps a frame instead of ~150 the springs pull a
 //! pushed-out point back towards its neighbours for a whole substep before the next response. On
 //! the shipped default, wind and collision scenes that stays within the look bounds, but harder
-//! contact does not (measured 2026-11-25 with implicit Euler): a ball at 24 m/s through hanging
-//! hair left points 26.6 mm inside it at 16 implicit substeps and 0.45 mm at 64, none at 256
-//! (semi-implicit Euler: none at its 96); a keyed gust swept into the head left 0.22 % of
-//! point-frames inside (semi-implicit 0.055 %); a shrugging deforming scalp left 4 point-frames
-//! 0.23 mm inside (semi-implicit none). So `"auto"` takes BDF2 only where contact is gentle: no
-//! `[[colliders]]` surface moving more than its thickness plus the thinnest hair's radius in one
-//! BDF2 substep, no deforming collider (the scalp included) and no animated guides
-//! ([`ContactLoad`]). The rigid scalp collider does not count: the hair it carries is rooted on
-//! it and moves with it.
+//! contact does not (measured with implicit Euler): a ball at 24 m/s through hanging hair leaves
+//! points 26.6 mm inside it at 16 implicit substeps and 0.45 mm at 64, none at 256 (semi-implicit
+//! Euler: none at its 96); a keyed gust swept into the head leaves 0.22 % of point-frames inside
+//! (semi-implicit 0.055 %); a shrugging deforming scalp leaves 4 point-frames 0.23 mm inside
+//! (semi-implicit none). So `"auto"` takes BDF2 only where contact is gentle: no `[[colliders]]`
+//! surface moving more than its thickness plus the thinnest hair's radius in one BDF2 substep, no
+//! deforming collider (the scalp included) and no animated guides ([`ContactLoad`]). The rigid
+//! scalp collider does not count: the hair it carries is rooted on it and moves with it.
 //!
 //! The choice is made once, when the scene is built, from the strands at rest (per-region
 //! stiffness included), so a run and its resume take the same integrator.
@@ -72,22 +71,18 @@ use serde::de::{Deserializer, Error as _};
 use serde::ser::Serializer;
 use serde::{Deserialize, Serialize};
 
-/// Strand-phase cost of one BDF2 substep in semi-implicit Euler substeps on the same strands.
-/// Measured 2026-11-28 on this project's 2-core machine on the default scene
-/// (`implicit_euler_default_scene`, strand-phase ms per frame over substeps per frame): 2.9
-/// (a BDF2 substep does a little over one banded solve: each step starts with a backward
-/// Euler third of a substep); an implicit Euler substep 2.0. Measured 2026-11-25 for implicit
-/// Euler on the other shipped scenes: wind demo 3.4, gust 3.4, collision demo 3.1, character
-/// 3.2, parity 2.1. Since the solve works on 3×3 blocks (2026-11-29) a BDF2 substep costs 2.2
-/// on the default scene (2.16–2.34 at 8–6 substeps per frame) and 2.4–2.8 on the parity scene
-/// with its collider at 1–4 substeps per frame, 1.7 at 7 (2026-11-29: strand phase 65.6 ms at
-/// 7 against 99.3 at the 18 semi-implicit substeps). The value stays 3: at 2.2 the scenes that
-/// would move to BDF2 at 7 substeps per frame are those whose bound asks for 16–21 explicit
-/// ones, long soft hair like the parity scene's, and there BDF2 at 7 buys its time with position
-/// error: 0.7× the time at 1.13× the error against the converged reference (52.6 against
-/// 46.4 mm RMS over the shot), so `"auto"` leaves such hair on the more accurate method. Since
-/// BDF2 restarts the history of points a contact stopped (2026-11-29) that error is 48.6 mm
-/// (1.05×); whether `"auto"` should then move such hair is open (BENCHMARKS.md, session 24).
+/// Strand-phase cost of one BDF2 substep in semi-implicit Euler substeps on the same strands, as
+/// `"auto"` weighs it. Measured on a 2-core machine (`implicit_euler_default_scene`,
+/// strand-phase ms per frame over substeps per frame), a BDF2 substep costs 2.2 on the default
+/// scene (2.16–2.34 at 8–6 substeps per frame) and 2.4–2.8 on the parity scene with its collider
+/// at 1–4 substeps per frame, 1.7 at 7 (strand phase 65.6 ms at 7 against 99.3 at the 18
+/// semi-implicit substeps). The value is 3, above those: at 2.2 the scenes that would move to
+/// BDF2 at 7 substeps per frame are those whose bound asks for 16–21 explicit ones, long soft
+/// hair like the parity scene's, and there BDF2 at 7 buys its time with position error: 0.7×
+/// the time at 1.05× the error against the converged reference (48.6 against 46.4 mm RMS over
+/// the shot), so `"auto"` leaves such hair on the more accurate method. Whether so small an
+/// error should still outweigh the time is open. Earlier measurements of this ratio (2.9 for
+/// BDF2 and 2.0–3.4 for implicit Euler before the block solve): `docs/design/auto-integrator.md`.
 pub const IMPLICIT_SUBSTEP_COST: f64 = 3.0;
 
 /// Largest turn of a rest joint (rad) for which `"auto"` takes BDF2 at its accuracy limit's
@@ -98,12 +93,12 @@ pub const MAX_IMPLICIT_REST_TURN: f64 = std::f64::consts::FRAC_PI_4;
 
 /// BDF2's substep under `"auto"` substeps where a rest joint turns by more than
 /// [`MAX_IMPLICIT_REST_TURN`], s: 1/768 s, 32 substeps per frame at 24 fps (module docs: the
-/// coarsest step at which BDF2 held the bench's curly hair and Sintel's bust).
+/// coarsest step at which BDF2 holds the bench's curly hair and Sintel's bust).
 pub const SHARP_JOINT_BDF2_DT: f64 = 1.0 / 768.0;
 
 /// Substeps shorter than this (s) put BDF2 on sharply bent hair where it can flutter (module
 /// docs of `hair_core::solver` module `implicit`): on the bench's curly hair (46° joints) it
-/// settled at 1/1536 s and gained energy, stretching 2–5 %, at 1/3072–1/12288 s (2026-11-28).
+/// settles at 1/1536 s and gains energy, stretching 2–5 %, at 1/3072–1/12288 s.
 /// 1/2048 s lies between; the window's short end moves with the physical damping, so every
 /// shorter substep is warned of.
 pub const BDF2_FLUTTER_DT: f64 = 1.0 / 2048.0;
@@ -344,9 +339,9 @@ impl IntegratorChoice {
 
 /// What a named implicit integrator at substep `dt` (s) risks on hair whose sharpest rest joint
 /// turns by `turn` (rad, beyond [`MAX_IMPLICIT_REST_TURN`]), from the bench's curly hair (46°
-/// joints, 2026-11-28): longer than [`SHARP_JOINT_BDF2_DT`] both implicit integrators stretched
-/// it 11–95 % (1/384 s and longer; 0.2 % at 1/768 s); BDF2 shorter than [`BDF2_FLUTTER_DT`]
-/// fluttered. `None` where neither applies.
+/// joints): longer than [`SHARP_JOINT_BDF2_DT`] both implicit integrators stretch it 11–95 %
+/// (1/384 s and longer; 0.2 % at 1/768 s); BDF2 shorter than [`BDF2_FLUTTER_DT`] flutters.
+/// `None` where neither applies.
 pub fn sharp_joint_warning(integrator: Integrator, dt: f64, turn: f64) -> Option<String> {
     let name = integrator_name(integrator);
     let bent = format!(

@@ -1,5 +1,5 @@
 //! `[maps.NAME] primvar = "…"`: a painted map read from a primvar of the USD scalp's `Mesh`
-//! prim (issue 20), the way a DCC hands over its paint: Blender's USD export writes a vertex
+//! prim, the way a DCC hands over its paint: Blender's USD export writes a vertex
 //! group or a float attribute `density` as `float[] primvars:density` (`interpolation =
 //! "vertex"`), Houdini and Maya write point or vertex attributes the same way.
 //!

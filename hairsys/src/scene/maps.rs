@@ -1,4 +1,4 @@
-//! `[maps.NAME]`: painted maps over the scalp (issue 20), read from a PNG texture over the
+//! `[maps.NAME]`: painted maps over the scalp, read from a PNG texture over the
 //! scalp's UVs or from the OBJ scalp's vertex colours, and sampled at each hair's root (see
 //! [`crate::maps`] for the sampling).
 //!

@@ -1,5 +1,5 @@
 //! `[[regions]]`: named regions of the scalp with their own physical parameters in one
-//! simulation (issue 20, "per-region settings": a stiff short fringe beside long soft back hair),
+//! simulation (per-region settings: a stiff short fringe beside long soft back hair),
 //! and `[maps.stiffness]`, a painted factor of each hair's bending stiffness.
 //!
 //! ```toml
@@ -27,7 +27,7 @@
 //!
 //! `[maps.stiffness]` multiplies each scalp-rooted hair's bending stiffness by the map at its root
 //! (after the regions, so it paints a gradient within them). With neither regions nor that map
-//! the solver gets no factors at all, and runs exactly as before they existed.
+//! the solver gets no factors at all, and runs bit for bit as a scene without them.
 //!
 //! With `substeps = "auto"` the stiffest region sets the substep of the whole run (one solver
 //! steps every strand together), so hair outside a stiff region takes more, shorter substeps.

@@ -1,4 +1,4 @@
-//! A session's `[[regions]]` between frames (issue 20): read a region's parameters, change its
+//! A session's `[[regions]]` between frames: read a region's parameters, change its
 //! springs, damping and drag for the frames to come (an animated region), see
 //! [`crate::scene::regions`].
 //!

@@ -1,4 +1,4 @@
-//! The issue 22 study on the shipped default scene (and the parity scene with its collider):
+//! The accuracy study on the shipped default scene (and the parity scene with its collider):
 //! runs through a `Session` timed frame by frame, their error against a reference run and their
 //! stretch. Shared by `implicit_euler_default_scene.rs` and `xpbd_default_scene.rs`.
 #![allow(dead_code)]
@@ -12,7 +12,7 @@ use hairsys::session::Session;
 
 const PARITY_COLLIDE: &str = include_str!("../../../scenes/parity_collide.toml");
 
-/// Frames each run steps: 24 (issue 22's table), or `STUDY_FRAMES` (up to the scene's 48).
+/// Frames each run steps: 24 (the study's first table), or `STUDY_FRAMES` (up to the scene's 48).
 pub fn frame_count() -> usize {
     std::env::var("STUDY_FRAMES")
         .ok()
@@ -112,7 +112,7 @@ pub fn run(label: &str, scene: &SceneFile) -> Run {
 
 /// Distance of each of `a`'s points from `b`'s same point, per frame, m. The RMS per frame is
 /// taken from these, and their tail beside it: the tail is what an RMS hides, a few strands
-/// going their own way (BENCHMARKS.md, session 27).
+/// going their own way.
 pub fn point_distances(a: &Run, b: &Run) -> Vec<Vec<f64>> {
     a.frames
         .iter()
