@@ -141,8 +141,12 @@ class Session:
         steps: int = 1,
         substeps: int | Literal["auto"] = "auto",
         integrator: Literal[
-            "semi-implicit-euler", "implicit-euler", "bdf2", "xpbd", "explicit-euler"
-        ] = "semi-implicit-euler",
+            "auto", "semi-implicit-euler", "implicit-euler", "bdf2", "xpbd", "explicit-euler"
+        ] = "auto",
+        sag_free: bool = False,
+        scalp_deforms: bool = False,
+        collider_deforms: bool = False,
+        collider_speed: float = 0.0,
         damping_iterations: int = 10,
         gravity: tuple[float, float, float] = (0.0, 0.0, -9.81),
         stretch_stiffness: float = ...,
@@ -183,9 +187,14 @@ class Session:
         render width). scalp_collider makes the scalp collide with its hair (thickness m,
         friction). colliders: see ColliderSpec; their ids are 0, 1, … in order, the scalp
         collider after them. hair_hair_friction (0–1) switches voxel hair–hair friction on.
-        integrator: the mass-spring time integrator (implicit-euler takes 16 substeps per frame
-        at 24 fps with substeps "auto" and is stable at any step; a scene file's "auto" choice
-        between the two is not offered here, where the host drives the colliders).
+        integrator: "auto" (the default) chooses between semi-implicit Euler and BDF2 by the
+        same rule as a scene file's [solver] integrator, from the curves' stiffness, their
+        sharpest rest joint and what the host says will press on them: scalp_deforms (the
+        host deforms the scalp it passes to step, e.g. an armature), collider_deforms (it
+        deforms a mesh collider), collider_speed (fastest collider surface speed, m/s); or
+        name the integrator. sag_free solves rest shapes so the groom is in equilibrium under
+        gravity at the first frame (a scene's [solver] sag_free): hair keeps its groomed shape
+        instead of sagging when the simulation starts; one material only (no strand_scales).
         Raises ArgumentError naming the bad argument.
         """
     def step(

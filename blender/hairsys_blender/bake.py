@@ -112,6 +112,39 @@ def collider_state(obj, depsgraph, triangles=False):
     return pose, verts, tris
 
 
+def deforms(obj):
+    """True when `obj`'s evaluated mesh may change shape over time, not only move rigidly: it has
+    shape keys or a modifier (an armature, a lattice, geometry nodes...)."""
+    return obj.data.shape_keys is not None or len(obj.modifiers) > 0
+
+
+def expected_motion(scene, surface, colliders, first, last, fps):
+    """What the bake will do to the surface and the colliders, as `Session.from_groom`'s
+    `scalp_deforms`, `collider_deforms` and `collider_speed` (m/s: the fastest collider
+    surface point, from the colliders' world matrices at every frame, translation plus turn
+    angle times the collider's reach from its origin), so hairsys chooses its integrator as it
+    would for a scene file with the same motion. Leaves the scene at `first`."""
+    speed = 0.0
+    if colliders and last > first:
+        reach = [float(np.linalg.norm(np.array(o.bound_box, dtype=np.float64), axis=1).max()
+                       * max(o.matrix_world.to_scale())) for o in colliders]
+        previous = None
+        for frame in range(first, last + 1):
+            scene.frame_set(frame)
+            poses = [rigid_part(o.matrix_world) for o in colliders]
+            if previous is not None:
+                for a, b, r in zip(previous, poses, reach):
+                    moved = np.linalg.norm(b[:3, 3] - a[:3, 3])
+                    turn = a[:3, :3].T @ b[:3, :3]
+                    angle = np.arccos(np.clip((np.trace(turn) - 1.0) / 2.0, -1.0, 1.0))
+                    speed = max(speed, (moved + angle * r) * fps)
+            previous = poses
+        scene.frame_set(first)
+    return dict(scalp_deforms=deforms(surface),
+                collider_deforms=any(deforms(o) for o in colliders),
+                collider_speed=speed)
+
+
 class Baker:
     """Bakes `hair_obj` over the scene's frame range into `settings.cache_path`, frame by
     frame (`step()` until it returns False), then `finish()`."""
@@ -146,6 +179,7 @@ class Baker:
                           "thickness": s.collider_thickness, "friction": s.collider_friction})
             self.collider_counts.append(len(cv))
         fps = self.scene.render.fps / self.scene.render.fps_base
+        motion = expected_motion(self.scene, surface, self.colliders, self.first, self.last, fps)
         options = dict(
             fps=fps, first_frame=self.first, substeps=s.substeps if s.substeps > 0 else "auto",
             gravity=tuple(self.scene.gravity) if self.scene.use_gravity else (0.0, 0.0, 0.0),
@@ -154,7 +188,7 @@ class Baker:
             mass_per_length=s.mass_per_length, radius=s.radius,
             max_snap_distance=s.max_snap_distance,
             scalp_collider=s.surface_collision, scalp_thickness=s.surface_thickness,
-            scalp_friction=s.surface_friction, colliders=specs,
+            scalp_friction=s.surface_friction, colliders=specs, **motion,
         )
         if s.threads > 0:
             options["threads"] = s.threads

@@ -1,11 +1,11 @@
 //! `hairsys cache export CACHE -o shot.usdc [--frames A-B] [--shutter …] [--children …]` (and
 //! `render-children export --frames A-B`): a whole cached run as one animated USD file
-//! ([`hairsys::export_shot`]), with a one-line or JSON summary.
+//! ([`hairsys::output::shot_export`]), with a one-line or JSON summary.
 
 use std::path::Path;
 use std::time::Instant;
 
-use hairsys::export_shot::{export_shot, ShotOptions};
+use hairsys::output::shot_export::{export_shot, ShotOptions};
 
 /// Exports `cache` to `out` and prints what was written (nothing when `quiet`, JSON when
 /// `json`); errors are messages for the user.

@@ -1,11 +1,11 @@
 //! `hairsys render-children cards`: the command's arguments and output around
-//! [`hairsys::cards::export_cards`].
+//! [`hairsys::output::cards::export_cards`].
 
 use std::path::PathBuf;
 
 use hair_render::export::cards_obj::ObjUpAxis;
-use hairsys::cards::{export_cards, CardsFormat, CardsOptions};
-use hairsys::children::parse_shutter;
+use hairsys::output::cards::{export_cards, CardsFormat, CardsOptions};
+use hairsys::output::children::parse_shutter;
 
 /// Card output format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]

@@ -9,8 +9,8 @@ use hair_cache::{CacheReader, Compression, Interpolation, Precision, Shutter, Wr
 use hair_core::KernelChoice;
 use hair_render::ChildCount;
 use hairsys::budget::Budget;
-use hairsys::children::{export, parse_shutter, ChildOverrides, ExportOptions, Format};
-use hairsys::export_shot::{ShotChildren, ShotOptions};
+use hairsys::output::children::{export, parse_shutter, ChildOverrides, ExportOptions, Format};
+use hairsys::output::shot_export::{ShotChildren, ShotOptions};
 use hairsys::run::{simulate, SimulateOptions};
 use hairsys::scene::{SceneFile, DEFAULT_SCENE};
 use hairsys_cli::output;
@@ -799,13 +799,13 @@ fn run_preview(a: &PreviewArgs) -> Result<(), Failure> {
                 .map_err(|e| Failure::input(format!("--views {v}: {e}")))
         })
         .collect::<Result<Vec<_>, _>>()?;
-    hairsys::preview::check_output(&a.out).map_err(Failure::input)?;
+    hairsys::output::preview::check_output(&a.out).map_err(Failure::input)?;
     if a.report && a.cache.is_none() {
         return Err(Failure::input(
             "--report measures the frames of a run: give --cache",
         ));
     }
-    let opts = hairsys::preview::PreviewOptions {
+    let opts = hairsys::output::preview::PreviewOptions {
         cache: a.cache.clone(),
         scene: a.scene.clone(),
         frames: a.frames.clone(),
@@ -817,11 +817,11 @@ fn run_preview(a: &PreviewArgs) -> Result<(), Failure> {
         columns: a.columns,
         out: a.out.clone(),
     };
-    let summary = hairsys::preview::preview(&opts).map_err(Failure::input)?;
+    let summary = hairsys::output::preview::preview(&opts).map_err(Failure::input)?;
     let quality = match (&a.cache, a.report) {
-        (Some(cache), true) => Some(
-            hairsys::quality::cache_quality(cache, a.scene.as_deref()).map_err(Failure::input)?,
-        ),
+        (Some(cache), true) => {
+            Some(hairsys::output::quality::cache_quality(cache).map_err(Failure::input)?)
+        }
         _ => None,
     };
     if a.json {

@@ -2,7 +2,7 @@
 //! line per measure, in the units a TD reads (mm, %, degrees, m/s).
 
 use hair_core::QualityReport;
-use hairsys::quality::RunQuality;
+use hairsys::output::quality::RunQuality;
 
 /// The report as lines: penetration, strain, hairpins, velocity mismatch over the run, then the
 /// drift from the groom at the first stepped frame and at the last frame.

@@ -7,6 +7,7 @@
 
 use hair_core::{ColliderShape, Component, FieldKind, RodParams, StrandModel, Substeps};
 use hairsys::budget::{Budget, BYTES_PER_POINT};
+use hairsys::rig::Motion;
 use hairsys::scene::guide_anim::HairSelection;
 use hairsys::scene::integrator::integrator_name;
 use hairsys::scene::maps::MapSummary;
@@ -211,18 +212,21 @@ fn collider(i: usize, c: &SceneCollider) -> ColliderReport {
             None => format!("mesh, {} triangles", mesh.triangles().len()),
         },
     };
-    let motion = match c.motion.keys.as_slice() {
-        [] => "still".to_string(),
-        [k] => format!(
-            "still at translation {:?} m, rotation {:?}°",
-            k.translation, k.rotation_deg
-        ),
-        keys => format!(
-            "{} keys, frames {}–{}",
-            keys.len(),
-            keys[0].frame,
-            keys[keys.len() - 1].frame
-        ),
+    let motion = match &c.motion {
+        Motion::Fixed(pose) => format!("still at {pose}"),
+        Motion::Keyed(m) => match m.keys.as_slice() {
+            [] => "still".to_string(),
+            [k] => format!(
+                "still at translation {:?} m, rotation {:?}°",
+                k.translation, k.rotation_deg
+            ),
+            keys => format!(
+                "{} keys, frames {}–{}",
+                keys.len(),
+                keys[0].frame,
+                keys[keys.len() - 1].frame
+            ),
+        },
     };
     ColliderReport {
         name: if c.name.is_empty() {

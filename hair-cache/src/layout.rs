@@ -31,7 +31,10 @@
 //! 3. **Attachment** named [`LAYOUT_ATTACHMENT_NAME`] (`"hairsys/layout.bin"`), media type
 //!    [`LAYOUT_MEDIA_TYPE`] (`application/octet-stream`), log and create time 0: the strand
 //!    layout, see [Layout attachment](#layout-attachment).
-//! 4. **Chunks** (compression `""`, `"lz4"` or `"zstd"`, see [`crate::Compression`]), each
+//! 4. Optionally, **attachment** named [`crate::rig::RIG_ATTACHMENT_NAME`]
+//!    (`"hairsys/rig.bin"`), same media type and times: the [rig](#rig-attachment) the hair
+//!    hangs on. A cache with it also has the rig channel below.
+//! 5. **Chunks** (compression `""`, `"lz4"` or `"zstd"`, see [`crate::Compression`]), each
 //!    followed by its Message Index record. The first chunk holds the Schema and the Channel
 //!    records before the first frame; every chunk holds one or more consecutive frames.
 //!    - Schema: name [`FRAME_SCHEMA_NAME`] (`"hairsys.Frame"`), encoding
@@ -42,7 +45,12 @@
 //!    - One Message per frame, in increasing frame order: `sequence` = frame number,
 //!      `log_time` = `publish_time` = frame time in nanoseconds ([`frame_time_ns`]), data: the
 //!      [frame payload](#frame-payload).
-//! 5. Data End, then the summary section (Schema, Channel, Statistics, Chunk Indexes,
+//!    - With a rig: Schema [`crate::rig::RIG_SCHEMA_NAME`] (`"hairsys.RigFrame"`, encoding
+//!      `"text/plain"`, data [`crate::rig::RIG_SCHEMA_TEXT`]) and Channel
+//!      [`crate::rig::RIG_TOPIC`] (`"/hairsys/rig"`, message encoding `"hairsys.rig.v1"`), and
+//!      beside every frame message, in the same chunk and at the same `log_time`, one message
+//!      with the [rig frame payload](#rig-frame-payload).
+//! 6. Data End, then the summary section (Schema, Channel, Statistics, Chunk Indexes,
 //!    Attachment Index, Metadata Index), Summary Offsets and the Footer. Readers seek frames by
 //!    `log_time` through the chunk indexes and message indexes.
 //!
@@ -131,6 +139,44 @@
 //! their own range (one fast point coarsens every velocity of its frame). Sampling between frames
 //! ([`crate::sample`]) interpolates the decoded values, so the interpolated result carries this
 //! error too (Hermite sampling also interpolates the quantized velocities as tangents).
+
+//!
+//! # Rig attachment
+//!
+//! What outputs need beside the hair ([`crate::rig`]), `S` strands. Counts are `u32`, flags
+//! `u32` 0 or 1; a *mesh* is `u32 V`, `u32 T`, `f32 positions[3V]` (m, body space), `u32
+//! triangles[3T]` (vertex indices); a *pose* is `f32[7]`: translation `x y z` (m) and rotation
+//! quaternion `i j k w` (unit).
+//!
+//! | field | type | content |
+//! |---|---|---|
+//! | version | `u32` | `1` |
+//! | `P` | `u32` | points (equal to the layout's) |
+//! | rest positions | `f32[3P]` | each point's rest position in its root frame, m |
+//! | inverse masses | `f32[P]` | 1/kg; 0 for points held kinematically (roots, pins) |
+//! | `S` | `u32` | strands (equal to the layout's) |
+//! | anchors | `S` × 36 bytes | `u32` kind, then kind 0 (on the scalp): `u32` triangle, `f32` barycentric weights `[3]`, 12 zero bytes; kind 1 (in the scalp's body space): `f32` origin `[3]` (m), `f32` rotation `i j k w` |
+//! | scalp | flag, then a mesh, flag + `f32 uv[2V]`, flag + `f32 rgb[3V]` (0–1) | the scalp at rest in its body space |
+//! | scalp collider | flag + `f32` thickness m + `f32` friction | when the scalp collides with its own hair |
+//! | `C` | `u32` | colliders |
+//! | colliders | `C` × (`u32` kind, `f32` thickness m, `f32` friction, shape) | kind 0 sphere: `f32` radius; 1 capsule along body z: `f32` half height, `f32` radius; 2: a mesh |
+//! | clump | flag + `f32[S]` | each strand's factor of its children's clump, 0–1 |
+//! | curl | flag + `f32[S]` | each strand's factor of its children's curl radius, 0–1 |
+//!
+//! # Rig frame payload
+//!
+//! Message data on [`crate::rig::RIG_TOPIC`], for the frame of the same `log_time`:
+//!
+//! | field | type | content |
+//! |---|---|---|
+//! | version | `u32` | `1` |
+//! | frame | `u32` | frame number |
+//! | scalp body | pose | the scalp's body to world transform |
+//! | scalp vertices | flag + `f32[3V]` | the deformed scalp (m, body space; `V` of the rig's scalp) when it deforms |
+//! | `C` | `u32` | colliders (equal to the rig's) |
+//! | colliders | `C` × (pose, flag + `f32[3V]`) | each collider's pose and, for a deforming mesh, its vertices (m, body space) |
+//!
+//! Every value is finite; a reader refuses counts that disagree with the rig.
 
 use std::collections::BTreeMap;
 

@@ -13,6 +13,7 @@ use crate::error::CacheError;
 use crate::input;
 use crate::layout::{self, CacheHeader, CacheLayout, Frame, LeReader, MetadataError};
 use crate::records::{self, Records};
+use crate::rig::{self, CacheRig, RigFrame};
 use crate::summary::{CacheSummary, SummaryInput};
 use crate::summary_section::{self, SummaryError, SummarySection};
 use crate::writer::Precision;
@@ -42,6 +43,14 @@ pub struct CacheReader {
     cached_chunk: Option<(usize, Vec<ChunkMessage>)>,
     /// Id of the frame channel (0 without frames).
     frame_channel: u16,
+    /// The cache's rig, if it has one ([`crate::rig`]).
+    rig: Option<CacheRig>,
+    /// Id of the rig channel (0 without one), the frames it holds and their chunks.
+    rig_channel: u16,
+    rig_frames: Vec<u32>,
+    rig_chunks: Vec<usize>,
+    /// The last chunk read for a rig frame: its index and its rig messages.
+    cached_rig_chunk: Option<(usize, Vec<ChunkMessage>)>,
     /// How the frames are stored, from the frame channel's message encoding.
     precision: Precision,
     compression: String,
@@ -93,12 +102,18 @@ impl CacheReader {
             frame_chunks: Vec::new(),
             cached_chunk: None,
             frame_channel: 0,
+            rig: None,
+            rig_channel: 0,
+            rig_frames: Vec::new(),
+            rig_chunks: Vec::new(),
+            cached_rig_chunk: None,
             precision: Precision::F32,
             compression: String::new(),
             buf: Vec::new(),
         };
         reader.read_header_and_layout()?;
         reader.read_frame_list()?;
+        reader.read_rig()?;
         let names: BTreeSet<&str> = reader
             .summary
             .chunk_indexes
@@ -391,10 +406,23 @@ impl CacheReader {
         };
         self.precision = precision;
         self.frame_channel = channel.id;
-        // (log_time, chunk) of every frame message, from the chunks' message indexes.
+        let (frames, chunks) = self.list_messages(channel.id, "frame")?;
+        self.frames = frames;
+        self.frame_chunks = chunks;
+        self.check_message_count(self.frames.len())
+    }
+
+    /// The frames (increasing) logged on channel `channel` and the index of the chunk holding
+    /// each, from the chunks' message indexes; `what` names the messages in errors.
+    fn list_messages(
+        &mut self,
+        channel: u16,
+        what: &str,
+    ) -> Result<(Vec<u32>, Vec<usize>), CacheError> {
+        // (log_time, chunk) of every message, from the chunks' message indexes.
         let mut times = Vec::new();
         for (chunk_number, chunk) in self.summary.chunk_indexes.iter().enumerate() {
-            if !chunk.message_index_offsets.contains_key(&channel.id) {
+            if !chunk.message_index_offsets.contains_key(&channel) {
                 continue;
             }
             let start = chunk
@@ -412,7 +440,7 @@ impl CacheReader {
             for record in Records::new(&self.buf) {
                 let parsed = record.and_then(|(opcode, body)| records::parse(opcode, body));
                 match parsed.map_err(|e| damaged(&self.path, e))? {
-                    Record::MessageIndex(index) if index.channel_id == channel.id => {
+                    Record::MessageIndex(index) if index.channel_id == channel => {
                         times.extend(index.records.iter().map(|r| (r.log_time, chunk_number)));
                     }
                     Record::MessageIndex(_) => {}
@@ -433,7 +461,7 @@ impl CacheReader {
                     damaged(
                         &self.path,
                         format!(
-                            "a frame is logged at {ns} ns, which is no frame time at {fps} fps"
+                            "a {what} is logged at {ns} ns, which is no frame time at {fps} fps"
                         ),
                     )
                 })?;
@@ -442,12 +470,107 @@ impl CacheReader {
             .collect::<Result<Vec<(u32, usize)>, CacheError>>()?;
         frames.sort_unstable();
         if let Some(w) = frames.windows(2).find(|w| w[0].0 == w[1].0) {
-            return Err(self.damaged(format!("frame {} is stored twice", w[0].0)));
+            return Err(self.damaged(format!("{what} {} is stored twice", w[0].0)));
         }
-        self.frame_chunks = frames.iter().map(|f| f.1).collect();
-        let frames: Vec<u32> = frames.into_iter().map(|f| f.0).collect();
-        self.frames = frames;
-        self.check_message_count(self.frames.len())
+        Ok(frames.into_iter().unzip())
+    }
+
+    /// Reads the rig attachment and lists the rig channel's frames, if the cache has a rig.
+    fn read_rig(&mut self) -> Result<(), CacheError> {
+        let Some(attachment) = self
+            .summary
+            .attachment_indexes
+            .iter()
+            .find(|a| a.name == rig::RIG_ATTACHMENT_NAME)
+            .cloned()
+        else {
+            return Ok(());
+        };
+        self.read_record(attachment.offset, attachment.length, op::ATTACHMENT)?;
+        let data = attachment_data(&self.buf[9..]).map_err(|e| damaged(&self.path, e))?;
+        let rig = CacheRig::decode(data, &self.layout)
+            .map_err(|e| damaged(&self.path, format!("rig: {e}")))?;
+        self.rig = Some(rig);
+        if let Some(channel) = self
+            .summary
+            .channels
+            .iter()
+            .find(|c| c.topic == rig::RIG_TOPIC)
+            .cloned()
+        {
+            if channel.message_encoding != rig::RIG_MESSAGE_ENCODING {
+                return Err(self.damaged(format!(
+                    "the rig channel has message encoding {:?}, expected {:?}",
+                    channel.message_encoding,
+                    rig::RIG_MESSAGE_ENCODING
+                )));
+            }
+            self.rig_channel = channel.id;
+            let (frames, chunks) = self.list_messages(channel.id, "rig frame")?;
+            self.rig_frames = frames;
+            self.rig_chunks = chunks;
+        }
+        Ok(())
+    }
+
+    /// The cache's rig (how strands are rooted, the rest scalp, the colliders), if it has one.
+    pub fn rig(&self) -> Option<&CacheRig> {
+        self.rig.as_ref()
+    }
+
+    /// The rig's state at stored frame `frame`: the scalp and the colliders as they were when
+    /// the frame was simulated. `None` for a cache without a rig; an error if the cache has a
+    /// rig but not this frame's state.
+    pub fn read_rig_frame(&mut self, frame: u32) -> Result<Option<RigFrame>, CacheError> {
+        let Some(rig) = &self.rig else {
+            return Ok(None);
+        };
+        let Ok(index) = self.rig_frames.binary_search(&frame) else {
+            return Err(CacheError::NoSuchFrame {
+                path: self.path.clone(),
+                frame,
+                available: format!(
+                    "the rig's state of {} frames (frames without it cannot be exported)",
+                    self.rig_frames.len()
+                ),
+            });
+        };
+        let time_ns = layout::frame_time_ns(frame, self.header.fps).unwrap_or(0);
+        let chunk = self.rig_chunks[index];
+        if self.cached_rig_chunk.as_ref().map(|c| c.0) != Some(chunk) {
+            self.cached_rig_chunk = None;
+            let index = &self.summary.chunk_indexes[chunk];
+            read_range(
+                &self.path,
+                &mut self.file,
+                self.file_len,
+                index.chunk_start_offset,
+                index.chunk_length,
+                &mut self.buf,
+            )?;
+            let mut messages = chunk_messages(&self.buf, Some(self.rig_channel))
+                .map_err(|e| damaged(&self.path, format!("chunk of rig frame {frame}: {e}")))?;
+            messages.sort_by_key(|m| m.0);
+            self.cached_rig_chunk = Some((chunk, messages));
+        }
+        let messages = self.cached_rig_chunk.as_ref().map_or(&[][..], |c| &c.1[..]);
+        let Some(payload) = messages
+            .binary_search_by_key(&time_ns, |m| m.0)
+            .ok()
+            .map(|i| &messages[i].1)
+        else {
+            return Err(self.damaged(format!(
+                "the index lists rig frame {frame} but its chunk does not hold it"
+            )));
+        };
+        let (held, state) = RigFrame::decode(payload, rig)
+            .map_err(|e| damaged(&self.path, format!("rig frame {frame}: {e}")))?;
+        if held != frame {
+            return Err(self.damaged(format!(
+                "the rig message logged at frame {frame}'s time holds frame {held}"
+            )));
+        }
+        Ok(Some(state))
     }
 
     /// Checks the statistics record's message count on the frame channel (all messages when

@@ -19,11 +19,12 @@ use crate::input;
 use crate::layout::{self, CacheHeader, CacheLayout, Frame, MetadataError};
 use crate::reader::{attachment_data, damaged};
 use crate::records::{self, Records};
+use crate::rig::{self, CacheRig, RigFrame};
 use crate::summary::CacheSummary;
 use crate::writer::{CacheWriter, Precision, WriterOptions};
 
 /// The frames recovered from a cache file, and what was lost.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Recovery {
     /// The file read.
     pub path: PathBuf,
@@ -34,6 +35,10 @@ pub struct Recovery {
     /// Every frame of every complete chunk, in file order (increasing frame numbers), decoded
     /// to `f32` whatever their precision.
     pub frames: Vec<Frame>,
+    /// The cache's rig ([`crate::rig`]), if it has one.
+    pub rig: Option<CacheRig>,
+    /// With a rig: the rig's state at each of `frames`, in the same order (empty without).
+    pub rig_frames: Vec<RigFrame>,
     /// How the frames were stored (from the frame channel's message encoding);
     /// [`Precision::F32`] when no chunk declared the frame channel. Pass it in the
     /// [`WriterOptions`] of [`Recovery::write`] or of a resumed run to keep the file's precision.
@@ -81,10 +86,32 @@ impl Recovery {
         options: WriterOptions,
     ) -> Result<CacheSummary, CacheError> {
         let mut writer = CacheWriter::create(path, &self.header, &self.layout, options)?;
-        for frame in &self.frames {
-            writer.write_frame(frame.frame, &frame.positions, &frame.velocities)?;
-        }
+        self.write_into(&mut writer)?;
         writer.finish()
+    }
+
+    /// Writes the recovered rig and frames into `writer` (a new cache, no frame written yet):
+    /// what a resumed run continues from.
+    pub fn write_into(&self, writer: &mut CacheWriter) -> Result<(), CacheError> {
+        match &self.rig {
+            Some(rig) => {
+                writer.attach_rig(rig)?;
+                for (frame, state) in self.frames.iter().zip(&self.rig_frames) {
+                    writer.write_frame_with_rig(
+                        frame.frame,
+                        &frame.positions,
+                        &frame.velocities,
+                        state,
+                    )?;
+                }
+            }
+            None => {
+                for frame in &self.frames {
+                    writer.write_frame(frame.frame, &frame.positions, &frame.velocities)?;
+                }
+            }
+        }
+        Ok(())
     }
 }
 
@@ -123,6 +150,9 @@ pub fn recover(path: impl AsRef<Path>) -> Result<Recovery, CacheError> {
     let mut cache_layout: Option<CacheLayout> = None;
     let mut frame_channel: Option<(u16, Precision)> = None;
     let mut frames: Vec<Frame> = Vec::new();
+    let mut rig: Option<CacheRig> = None;
+    let mut rig_channel: Option<u16> = None;
+    let mut rig_frames: Vec<RigFrame> = Vec::new();
     let mut losses = Vec::new();
     let mut lost_bytes = 0u64;
     let mut pos = magic.len() as u64;
@@ -197,6 +227,17 @@ pub fn recover(path: impl AsRef<Path>) -> Result<Recovery, CacheError> {
                     let l = CacheLayout::decode(data)
                         .map_err(|e| damaged(&path, format!("strand layout: {e}")))?;
                     cache_layout = Some(l);
+                } else if a.name == rig::RIG_ATTACHMENT_NAME {
+                    let Some(l) = &cache_layout else {
+                        return Err(damaged(
+                            &path,
+                            "its rig comes before its strand layout".into(),
+                        ));
+                    };
+                    let data = attachment_data(&body).map_err(|e| damaged(&path, e))?;
+                    let r = CacheRig::decode(data, l)
+                        .map_err(|e| damaged(&path, format!("rig: {e}")))?;
+                    rig = Some(r);
                 }
             }
             op::CHUNK => {
@@ -208,8 +249,12 @@ pub fn recover(path: impl AsRef<Path>) -> Result<Recovery, CacheError> {
                             .into(),
                     });
                 };
-                match chunk_frames(&body, h.fps, l.point_count(), &mut frame_channel) {
-                    Ok(chunk) => {
+                let channels = Channels {
+                    frames: &mut frame_channel,
+                    rig: rig.as_ref().map(|r| (r, &mut rig_channel)),
+                };
+                match chunk_frames(&body, h.fps, l.point_count(), channels) {
+                    Ok((chunk, states)) => {
                         if let (Some(last), Some(first)) = (frames.last(), chunk.first()) {
                             if first.frame <= last.frame {
                                 losses.push(format!(
@@ -222,6 +267,7 @@ pub fn recover(path: impl AsRef<Path>) -> Result<Recovery, CacheError> {
                             }
                         }
                         frames.extend(chunk);
+                        rig_frames.extend(states);
                     }
                     Err(e) => {
                         losses.push(format!(
@@ -276,19 +322,39 @@ pub fn recover(path: impl AsRef<Path>) -> Result<Recovery, CacheError> {
         header,
         layout: cache_layout,
         frames,
+        rig,
+        rig_frames,
         precision: frame_channel.map_or(Precision::F32, |c| c.1),
         warning,
     })
 }
 
-/// The frames of one chunk record body, CRC-checked and decoded; `channel` is the frame
-/// channel's id and precision (from its message encoding) once a chunk has declared it.
+/// The channels a chunk's messages are read from, as far as earlier chunks declared them.
+struct Channels<'a> {
+    /// The frame channel's id and precision (from its message encoding).
+    frames: &'a mut Option<(u16, Precision)>,
+    /// With a rig: the rig and its channel's id.
+    rig: Option<(&'a CacheRig, &'a mut Option<u16>)>,
+}
+
+/// The frames of one chunk record body, CRC-checked and decoded, and with a rig each frame's
+/// rig state (a frame without one fails the chunk).
 fn chunk_frames(
     body: &[u8],
     fps: f64,
     points: usize,
-    channel: &mut Option<(u16, Precision)>,
-) -> Result<Vec<Frame>, String> {
+    channels: Channels,
+) -> Result<(Vec<Frame>, Vec<RigFrame>), String> {
+    let Channels {
+        frames: channel,
+        rig,
+    } = channels;
+    let (rig, rig_channel) = match rig {
+        Some((r, c)) => (Some(r), Some(c)),
+        None => (None, None),
+    };
+    let mut chunk_rig_channel = rig_channel.as_deref().copied().flatten();
+    let mut states: Vec<(u32, RigFrame)> = Vec::new();
     let (chunk_header, data) = match records::parse(op::CHUNK, body)? {
         Record::Chunk { header, data } => (header, data),
         _ => return Err("not a chunk".into()),
@@ -316,6 +382,14 @@ fn chunk_frames(
                     })?;
                 chunk_channel = Some((c.id, precision));
             }
+            Record::Channel(c) if c.topic == rig::RIG_TOPIC => {
+                chunk_rig_channel = Some(c.id);
+            }
+            Record::Message { header, data } if chunk_rig_channel == Some(header.channel_id) => {
+                if let Some(rig) = rig {
+                    states.push(RigFrame::decode(&data, rig)?);
+                }
+            }
             Record::Message { header, data }
                 if chunk_channel.is_some_and(|c| c.0 == header.channel_id) =>
             {
@@ -339,7 +413,21 @@ fn chunk_frames(
         }
     }
     *channel = chunk_channel;
-    Ok(frames)
+    let states = match (rig, rig_channel) {
+        (Some(_), Some(slot)) => {
+            *slot = chunk_rig_channel;
+            let mut out = Vec::with_capacity(frames.len());
+            for f in &frames {
+                match states.iter().position(|(n, _)| *n == f.frame) {
+                    Some(i) => out.push(states.swap_remove(i).1),
+                    None => return Err(format!("frame {} has no rig state", f.frame)),
+                }
+            }
+            out
+        }
+        _ => Vec::new(),
+    };
+    Ok((frames, states))
 }
 
 /// Frames in words: "frames 1–37", "3 frames between 1 and 9", "no frame".

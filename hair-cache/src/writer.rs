@@ -27,6 +27,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::CacheError;
 use crate::foxglove::{self, FoxgloveOptions};
 use crate::layout::{self, CacheHeader, CacheLayout};
+use crate::rig::{self, CacheRig, RigFrame};
 use crate::summary::{CacheSummary, SummaryInput};
 
 /// Chunk compression of a cache.
@@ -186,6 +187,8 @@ pub struct CacheWriter {
     channel: Arc<mcap::Channel<'static>>,
     /// The Foxglove view channel, when enabled.
     view: Option<Arc<mcap::Channel<'static>>>,
+    /// The rig channel and the rig it carries frames of, once [`CacheWriter::attach_rig`] wrote it.
+    rig: Option<(Arc<mcap::Channel<'static>>, CacheRig)>,
     options: WriterOptions,
     layout: CacheLayout,
     fps: f64,
@@ -290,6 +293,7 @@ impl CacheWriter {
             partial,
             channel: Arc::new(channel),
             view,
+            rig: None,
             options,
             layout: layout.clone(),
             fps: header.fps,
@@ -315,16 +319,113 @@ impl CacheWriter {
         self.frames.len()
     }
 
+    /// Whether a rig is attached ([`CacheWriter::attach_rig`]): every frame then takes its
+    /// rig state.
+    pub fn has_rig(&self) -> bool {
+        self.rig.is_some()
+    }
+
+    /// Writes the [rig](crate::rig) of the cache (the attachment [`rig::RIG_ATTACHMENT_NAME`])
+    /// and opens its channel; from then on every frame is written with its [`RigFrame`]
+    /// ([`CacheWriter::write_frame_with_rig`]). Only before the first frame, once, and for a
+    /// rig that matches the layout (one anchor per strand).
+    pub fn attach_rig(&mut self, rig: &CacheRig) -> Result<(), CacheError> {
+        let invalid = |detail: String| CacheError::InvalidInput {
+            path: self.partial.clone(),
+            detail,
+        };
+        if !self.frames.is_empty() || self.rig.is_some() {
+            return Err(invalid(
+                "the rig is attached once, before the first frame".into(),
+            ));
+        }
+        rig.validate(&self.layout)
+            .map_err(|e| invalid(format!("invalid rig: {e}")))?;
+        let mcap = self
+            .mcap
+            .as_mut()
+            .expect("the MCAP writer is present until finish or drop");
+        mcap.attach(&mcap::Attachment {
+            log_time: 0,
+            create_time: 0,
+            name: rig::RIG_ATTACHMENT_NAME.into(),
+            media_type: layout::LAYOUT_MEDIA_TYPE.into(),
+            data: Cow::Owned(rig.encode()),
+        })
+        .map_err(|source| CacheError::Write {
+            path: self.partial.clone(),
+            source,
+        })?;
+        let channel = mcap::Channel {
+            id: 3,
+            topic: rig::RIG_TOPIC.into(),
+            schema: Some(Arc::new(mcap::Schema {
+                id: 3,
+                name: rig::RIG_SCHEMA_NAME.into(),
+                encoding: layout::FRAME_SCHEMA_ENCODING.into(),
+                data: Cow::Borrowed(rig::RIG_SCHEMA_TEXT.as_bytes()),
+            })),
+            message_encoding: rig::RIG_MESSAGE_ENCODING.into(),
+            metadata: Default::default(),
+        };
+        self.rig = Some((Arc::new(channel), rig.clone()));
+        Ok(())
+    }
+
     /// Appends frame `frame` (at `frame / fps` seconds): `positions` in m and `velocities` in
     /// m/s, world space, one per layout point. Frame numbers must increase strictly, starting at
     /// or after the header's `first_frame`. A frame with a wrong point count, a NaN or infinite
-    /// value, or out of order is refused and nothing is written; the writer stays usable.
+    /// value, or out of order is refused and nothing is written; the writer stays usable. A
+    /// cache with a rig takes its frames through [`CacheWriter::write_frame_with_rig`].
     pub fn write_frame(
         &mut self,
         frame: u32,
         positions: &[Vector3<f32>],
         velocities: &[Vector3<f32>],
     ) -> Result<(), CacheError> {
+        self.write(frame, positions, velocities, None)
+    }
+
+    /// Appends frame `frame` as [`CacheWriter::write_frame`] does, with the rig's state at the
+    /// frame (checked against the attached rig; nothing is written if it does not match).
+    pub fn write_frame_with_rig(
+        &mut self,
+        frame: u32,
+        positions: &[Vector3<f32>],
+        velocities: &[Vector3<f32>],
+        rig_frame: &RigFrame,
+    ) -> Result<(), CacheError> {
+        self.write(frame, positions, velocities, Some(rig_frame))
+    }
+
+    fn write(
+        &mut self,
+        frame: u32,
+        positions: &[Vector3<f32>],
+        velocities: &[Vector3<f32>],
+        rig_frame: Option<&RigFrame>,
+    ) -> Result<(), CacheError> {
+        let invalid = |detail: String| CacheError::InvalidInput {
+            path: self.partial.clone(),
+            detail,
+        };
+        match (&self.rig, rig_frame) {
+            (Some((_, rig)), Some(state)) => state
+                .validate(rig)
+                .map_err(|e| invalid(format!("frame {frame}'s rig: {e}")))?,
+            (Some(_), None) => {
+                return Err(invalid(format!(
+                    "frame {frame} has no rig state, but the cache has a rig: write it with \
+                     write_frame_with_rig"
+                )))
+            }
+            (None, Some(_)) => {
+                return Err(invalid(format!(
+                    "frame {frame} has a rig state, but no rig is attached: attach_rig first"
+                )))
+            }
+            (None, None) => {}
+        }
         let expected = self.layout.point_count();
         if positions.len() != expected || velocities.len() != expected {
             return Err(CacheError::PointCount {
@@ -392,6 +493,18 @@ impl CacheWriter {
         })
         .map_err(write_err)?;
         self.open_chunk_bytes += self.payload.len() as u64;
+        if let (Some((channel, _)), Some(state)) = (&self.rig, rig_frame) {
+            let data = state.encode(frame);
+            mcap.write(&mcap::Message {
+                channel: channel.clone(),
+                sequence: frame,
+                log_time: time_ns,
+                publish_time: time_ns,
+                data: Cow::Borrowed(&data),
+            })
+            .map_err(write_err)?;
+            self.open_chunk_bytes += data.len() as u64;
+        }
         if let (Some(view), Some(opts)) = (&self.view, &self.options.foxglove) {
             let json = foxglove::scene_update(&self.layout, positions, time_ns, opts);
             mcap.write(&mcap::Message {

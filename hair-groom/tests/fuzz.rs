@@ -29,7 +29,7 @@ fn budget(n: usize) -> usize {
 }
 
 /// A file of the Sintel groom and bust the repository ships in `data/sintel/`.
-fn sintel(file: &str) -> PathBuf {
+fn sintel_file(file: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../data/sintel")
         .join(file)
@@ -59,12 +59,12 @@ fn small_groom() -> Groom {
 /// Seeds of the groom format with extension `ext`: the Sintel groom (a slice of it for text
 /// formats, which are larger) and the small groom, written by this crate's writers.
 fn groom_seeds(ext: &str, dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let sintel = read_groom(&sintel("sintel_hair.hair"), &sintel_opts()).unwrap();
+    let sintel = read_groom(&sintel_file("sintel_hair.hair"), &sintel_opts()).unwrap();
     let mut seeds = Vec::new();
     match ext {
         "hair" => seeds.push((
             "sintel.hair".into(),
-            std::fs::read(sintel("sintel_hair.hair")).unwrap(),
+            std::fs::read(sintel_file("sintel_hair.hair")).unwrap(),
         )),
         "tfx" => seeds.push((
             "sintel.tfx".into(),
@@ -152,7 +152,7 @@ fn fuzz_obj_mesh(mutants: usize, seed: u64) {
         .collect();
     // Part of the Sintel bust: its first 150 vertices and the faces among them (normals,
     // whose indices differ, dropped).
-    let bust = std::fs::read_to_string(sintel("sintel_bust.obj")).unwrap();
+    let bust = std::fs::read_to_string(sintel_file("sintel_bust.obj")).unwrap();
     let (mut part, mut vertices) = (String::new(), 0);
     for line in bust.lines() {
         let mut words = line.split_whitespace();

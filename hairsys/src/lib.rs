@@ -11,7 +11,9 @@
 //!   deformed vertices, collider poses, animatable parameters, `step()`, flat positions and
 //!   velocities, snapshots for scrubbing, an optional cache).
 //! - [`run`]: the batch run of a scene into a cache (`hairsys simulate`), with [`resume`].
-//! - [`children`] and [`cards`]: render children and hair cards from a cache or a session.
+//! - [`build`]: the one assembly path every door takes (a scene file, a host's arrays).
+//! - [`output`]: render children, the shot export, cards, previews and quality reports, each
+//!   opened from a cache alone ([`output::Shot`]).
 //!
 //! ## Common tasks
 //! | task | where |
@@ -20,10 +22,10 @@
 //! | drive a groom frame by frame on a moving or deforming mesh | [`Session::from_scene`], [`Session::set_scalp_vertices`], [`Session::step`] |
 //! | scrub: go back to an earlier frame | [`Session::snapshot`], [`Session::restore`] |
 //! | continue a killed run | [`run::SimulateOptions::resume`] |
-//! | export render children of a cached frame | [`children::export`] |
+//! | export render children of a cached frame | [`output::children::export`] |
 //! | children of the session's current frame, in memory | [`Session::children`] |
 //! | simulate a host's curves on its mesh, given as arrays | [`Session::from_groom`] |
-//! | hair cards of a strips scene | [`cards::export_cards`] |
+//! | hair cards of a strips scene | [`output::cards::export_cards`] |
 //!
 //! ```no_run
 //! use hairsys::{scene::SceneFile, Session};
@@ -40,16 +42,13 @@
 pub mod accuracy;
 pub mod animated_guides;
 pub mod budget;
-pub mod cards;
-pub mod children;
+pub mod build;
 pub mod error;
-pub mod export_shot;
-pub mod groom_input;
 pub mod maps;
+pub mod output;
 pub mod plan;
-pub mod preview;
-pub mod quality;
 pub mod resume;
+pub mod rig;
 pub mod run;
 pub mod scene;
 pub mod session;

@@ -12,7 +12,7 @@ use hair_core::{Component, FrameReport, KernelChoice, ModelFigures, ProjectionRe
 use serde::Serialize;
 
 use crate::error::Error;
-use crate::quality::{FrameToMeasure, QualityTracker, RunQuality};
+use crate::output::quality::{FrameToMeasure, QualityTracker, RunQuality};
 use crate::resume::{resume, Resumed};
 use crate::scene::SceneFile;
 use crate::session::{FrameView, Session};

@@ -39,7 +39,10 @@ use std::path::Path;
 use std::sync::Arc;
 
 use bytemuck::cast_slice;
-use hair_cache::{CacheHeader, CacheLayout, CacheSummary, CacheWriter, WriterOptions};
+use hair_cache::{
+    CacheHeader, CacheLayout, CacheRig, CacheSummary, CacheWriter, ColliderState, RigFrame,
+    RigScalp, WriterOptions,
+};
 use hair_core::frames::RestDirection;
 use hair_core::{
     ColliderId, Colliders, ForceField, FrameReport, HairError, HairHairSettings, HairParams,
@@ -61,8 +64,16 @@ struct SceneAnimation {
     sim: Simulation,
     /// How the scene names itself in errors (its file).
     origin: String,
-    /// The scene text and hash, stored in caches the session writes.
+    /// The scene's text, hash and directory.
+    source: SceneSource,
+}
+
+/// The scene file a session was built from, as caches the session writes record it.
+#[derive(Debug, Clone)]
+pub(crate) struct SceneSource {
+    /// The scene text as read.
     text: String,
+    /// The scene's hash ([`SceneFile::hash`]).
     hash: String,
     /// The directory the scene's relative paths start from, stored in caches too (as
     /// [`SCENE_DIR_KEY`]) so a cache read from elsewhere still finds the scene's meshes.
@@ -85,6 +96,22 @@ struct Pending {
     guide_pose: Option<Vec<Vec<Vector3<f32>>>>,
     /// The sim weight for the next frame, instead of the scene's curve.
     sim_weight: Option<f32>,
+    /// The scalp's body-space vertices for the next frame, when the host set the scalp: the
+    /// deformed vertices, or `None` for a rigid transform.
+    scalp_vertices: Option<Option<Vec<Vector3<f32>>>>,
+    /// Body-space vertices the host gave deformed mesh colliders for the next frame, by id.
+    collider_vertices: Vec<Option<Vec<Vector3<f32>>>>,
+}
+
+/// What caches a session writes carry beside the hair ([`hair_cache::rig`]): the rig, and the
+/// deformed scalp's and colliders' body-space vertices at the current frame.
+#[derive(Debug, Clone)]
+struct RigTrack {
+    rig: CacheRig,
+    /// The deformed scalp at the current frame (`None`: the rest mesh, moved rigidly).
+    scalp_vertices: Option<Vec<Vector3<f32>>>,
+    /// Each rig collider's deformed vertices at the current frame (`None`: its own mesh).
+    collider_vertices: Vec<Option<Vec<Vector3<f32>>>>,
 }
 
 /// Animated guides of a session: the animation and its scratch.
@@ -110,6 +137,8 @@ pub struct Snapshot {
     scalp: Scalp,
     /// Animated rest shapes and rest directions, with animated guides.
     rest: Option<(Vec<Vector3<f32>>, Vec<RestDirection>)>,
+    /// The deformed scalp's and colliders' vertices that caches record.
+    rig: (Option<Vec<Vector3<f32>>>, Vec<Option<Vec<Vector3<f32>>>>),
 }
 
 impl Snapshot {
@@ -134,6 +163,8 @@ pub struct Session {
     /// Animated guides, for sessions of guided scenes.
     guides: Option<Guides>,
     pending: Pending,
+    /// What caches record beside the hair.
+    rig: RigTrack,
     pool: Option<Arc<rayon::ThreadPool>>,
     recorder: Option<CacheWriter>,
     /// Time spent writing recorded frames.
@@ -166,7 +197,22 @@ impl Session {
     /// A session of an already built scene `sim` (e.g. restricted to other frames, or put in an
     /// interrupted run's state by resume); `scene` names it and `hash` is stored in caches.
     pub fn from_simulation(sim: Simulation, scene: &SceneFile, hash: String) -> Result<Self> {
-        let origin = scene.origin.clone();
+        let source = SceneSource {
+            text: scene.text.clone(),
+            hash,
+            base_dir: std::path::absolute(&scene.base_dir).unwrap_or_default(),
+        };
+        Self::assemble(sim, scene.origin.clone(), Some(source))
+    }
+
+    /// The session of `sim` (named `origin` in errors): the one constructor every door ends in
+    /// ([`crate::build`]). With a `scene`, its keyframes drive what the host does not set;
+    /// without one (a host's groom), whatever the host does not set stays where it was.
+    pub(crate) fn assemble(
+        sim: Simulation,
+        origin: String,
+        scene: Option<SceneSource>,
+    ) -> Result<Self> {
         let solver_error = |source| Error::Solver {
             scene: origin.clone(),
             source,
@@ -198,6 +244,27 @@ impl Session {
                 time: std::time::Duration::ZERO,
             }
         });
+        let rig = RigTrack {
+            rig: CacheRig {
+                anchors: strands.anchors().to_vec(),
+                rest_local: strands.rest_local().to_vec(),
+                inverse_masses: strands.inverse_masses().to_vec(),
+                scalp: sim.rest_mesh().map(|mesh| RigScalp {
+                    mesh: mesh.clone(),
+                    colors: sim.scalp_colors.clone(),
+                }),
+                scalp_collider: sim.scalp_collider.map(|c| (c.thickness, c.friction)),
+                colliders: sim.colliders.iter().map(|c| c.collider.clone()).collect(),
+                clump: sim.child_maps.clump.clone(),
+                curl: sim.child_maps.curl.clone(),
+            },
+            scalp_vertices: sim.scalp_vertices_at(first),
+            collider_vertices: sim
+                .colliders
+                .iter()
+                .map(|c| c.animation.as_ref().map(|a| a.vertices_at(first)))
+                .collect(),
+        };
         Ok(Self {
             strands,
             solver,
@@ -206,15 +273,14 @@ impl Session {
             rest_scalp: sim.rest_mesh().cloned(),
             scalp_collider,
             fps: sim.settings.fps,
-            animation: Some(SceneAnimation {
+            animation: scene.map(|source| SceneAnimation {
                 sim,
-                origin: scene.origin.clone(),
-                text: scene.text.clone(),
-                hash,
-                base_dir: std::path::absolute(&scene.base_dir).unwrap_or_default(),
+                origin,
+                source,
             }),
             guides,
             pending: Pending::default(),
+            rig,
             pool: None,
             recorder: None,
             cache_time: std::time::Duration::ZERO,
@@ -225,65 +291,6 @@ impl Session {
     /// The scene's `[maps.clump]` and `[maps.curl]` per strand, for a session of a scene.
     pub(crate) fn scene_child_maps(&self) -> Option<&crate::scene::maps::ChildMapFactors> {
         self.animation.as_ref().map(|a| &a.sim.child_maps)
-    }
-
-    /// A session of strands a host assembled itself: `strands` at rest on `scalp` (given at
-    /// the solver's frame), stepped by `solver`, colliding with `colliders`. `rest_scalp` is
-    /// the scalp mesh in its body space, needed for [`Session::set_scalp_vertices`];
-    /// `scalp_collider` names the collider that is the scalp, if any.
-    pub fn new(
-        strands: StrandSet,
-        solver: StrandSolver,
-        colliders: Colliders,
-        scalp: Scalp,
-        rest_scalp: Option<TriMesh>,
-        scalp_collider: Option<ColliderId>,
-    ) -> Result<Self> {
-        let fps = match &solver {
-            StrandSolver::MassSpring(s) => s.settings().fps,
-            StrandSolver::Strips(s) => s.solver().settings().fps,
-            StrandSolver::Rod(s) => s.settings().fps,
-        };
-        if let Some(id) = scalp_collider {
-            if id.0 as usize >= colliders.len() {
-                return Err(Error::argument(
-                    "scalp_collider",
-                    format!(
-                        "collider {} does not exist (the set has {})",
-                        id.0,
-                        colliders.len()
-                    ),
-                ));
-            }
-        }
-        if let (Some(rest), Some(mesh)) = (&rest_scalp, &scalp.mesh) {
-            if rest.positions().len() != mesh.positions().len() {
-                return Err(Error::argument(
-                    "rest_scalp",
-                    format!(
-                        "{} vertices, but the scalp has {}: give the same mesh at rest",
-                        rest.positions().len(),
-                        mesh.positions().len()
-                    ),
-                ));
-            }
-        }
-        Ok(Self {
-            strands,
-            solver,
-            colliders,
-            scalp,
-            rest_scalp,
-            scalp_collider,
-            fps,
-            animation: None,
-            guides: None,
-            pending: Pending::default(),
-            pool: None,
-            recorder: None,
-            cache_time: std::time::Duration::ZERO,
-            failed: None,
-        })
     }
 
     /// Runs steps on `pool` (a DCC sizes it so it is not oversubscribed); without one, steps
@@ -350,6 +357,7 @@ impl Session {
         check_isometry("scalp_transform", &body)?;
         let mesh = self.rest_scalp.as_ref().map(|m| m.transformed(&body));
         self.pending.scalp = Some(Scalp { mesh, body });
+        self.pending.scalp_vertices = Some(None);
         Ok(())
     }
 
@@ -397,6 +405,7 @@ impl Session {
             mesh: Some(mesh.transformed(&body)),
             body,
         });
+        self.pending.scalp_vertices = Some(Some(body_space.to_vec()));
         Ok(())
     }
 
@@ -441,6 +450,10 @@ impl Session {
             self.pending.deformed.resize(i + 1, false);
         }
         self.pending.deformed[i] = true;
+        if self.pending.collider_vertices.len() <= i {
+            self.pending.collider_vertices.resize(i + 1, None);
+        }
+        self.pending.collider_vertices[i] = Some(cast_slice(vertices).to_vec());
         Ok(())
     }
 
@@ -544,12 +557,42 @@ impl Session {
     /// Writes the current frame to the cache being recorded, if any.
     fn write_frame(&mut self) -> Result<()> {
         let frame = self.frame();
-        if let Some(w) = &mut self.recorder {
-            let t = std::time::Instant::now();
-            w.write_frame(frame, &self.strands.positions, &self.strands.velocities)?;
-            self.cache_time += t.elapsed();
+        if self.recorder.is_none() {
+            return Ok(());
         }
+        let t = std::time::Instant::now();
+        let state = self.rig_frame();
+        if let Some(w) = &mut self.recorder {
+            let (x, v) = (&self.strands.positions, &self.strands.velocities);
+            if w.has_rig() {
+                w.write_frame_with_rig(frame, x, v, &state)?;
+            } else {
+                w.write_frame(frame, x, v)?;
+            }
+        }
+        self.cache_time += t.elapsed();
         Ok(())
+    }
+
+    /// The scalp and the colliders at the current frame, as caches record them.
+    fn rig_frame(&self) -> RigFrame {
+        RigFrame {
+            scalp_body: self.scalp.body,
+            scalp_vertices: self.rig.scalp_vertices.clone(),
+            colliders: self
+                .rig
+                .collider_vertices
+                .iter()
+                .enumerate()
+                .map(|(i, vertices)| ColliderState {
+                    pose: self
+                        .colliders
+                        .pose(ColliderId(i as u32))
+                        .unwrap_or_else(Isometry3::identity),
+                    vertices: vertices.clone(),
+                })
+                .collect(),
+        }
     }
 
     /// Solves one frame (see [`Session::step`]) without writing it.
@@ -603,6 +646,7 @@ impl Session {
             }
         };
         self.scalp = scalp;
+        self.track_rig(frame, pending.scalp_vertices, pending.collider_vertices);
         if let (Some((before, weights)), Some(g)) = (blend, &self.guides) {
             g.animation.blend_onto(
                 &mut self.strands,
@@ -613,6 +657,33 @@ impl Session {
             );
         }
         Ok(report)
+    }
+
+    /// After stepping to `frame`: the deformed scalp's and colliders' vertices caches record,
+    /// from what the host set (`scalp`, `colliders`) or else the scene's keyframes; what
+    /// neither sets stays as it was.
+    fn track_rig(
+        &mut self,
+        frame: u32,
+        scalp: Option<Option<Vec<Vector3<f32>>>>,
+        colliders: Vec<Option<Vec<Vector3<f32>>>>,
+    ) {
+        let sim = self.animation.as_ref().map(|a| &a.sim);
+        match (scalp, sim) {
+            (Some(v), _) => self.rig.scalp_vertices = v,
+            (None, Some(sim)) => self.rig.scalp_vertices = sim.scalp_vertices_at(frame as f32),
+            (None, None) => {}
+        }
+        for (i, slot) in self.rig.collider_vertices.iter_mut().enumerate() {
+            let keyed = sim
+                .and_then(|s| s.colliders.get(i))
+                .and_then(|c| c.animation.as_ref());
+            match (colliders.get(i).cloned().flatten(), keyed) {
+                (Some(v), _) => *slot = Some(v),
+                (None, Some(a)) => *slot = Some(a.vertices_at(frame as f32)),
+                (None, None) => {}
+            }
+        }
     }
 
     /// Before stepping to `frame`: the animated positions of the frame before, when any hair
@@ -743,6 +814,10 @@ impl Session {
                     self.strands.bend_rest().to_vec(),
                 )
             }),
+            rig: (
+                self.rig.scalp_vertices.clone(),
+                self.rig.collider_vertices.clone(),
+            ),
         }
     }
 
@@ -776,6 +851,8 @@ impl Session {
         self.solver = snapshot.solver.clone();
         self.colliders = snapshot.colliders.clone();
         self.scalp = snapshot.scalp.clone();
+        self.rig.scalp_vertices.clone_from(&snapshot.rig.0);
+        self.rig.collider_vertices.clone_from(&snapshot.rig.1);
         if let Some((rest, bend)) = &snapshot.rest {
             self.strands.rest_local_mut().copy_from_slice(rest);
             self.strands.bend_rest_mut().copy_from_slice(bend);
@@ -789,7 +866,7 @@ impl Session {
     /// [`Session::finish_recording`]): the current frame now, then every step.
     ///
     /// A cache names the scene that made it by a hash (`--resume` compares it). A session a host
-    /// assembled without a scene file ([`Session::new`], [`Session::from_groom`]) is named by
+    /// assembled without a scene file ([`Session::from_groom`]) is named by
     /// what it starts from instead: SHA-256 of the strand layout (offsets, rest lengths, radii),
     /// the current positions and velocities, the fps and the frame number.
     pub fn record(&mut self, path: &Path, options: WriterOptions) -> Result<()> {
@@ -822,7 +899,9 @@ impl Session {
     }
 
     /// Records into `writer` (already holding any earlier frames, e.g. those a resumed run
-    /// takes over): the current frame now, then every step.
+    /// takes over): the current frame now, then every step. A new cache gets the session's
+    /// rig ([`hair_cache::rig`]), so outputs need nothing but the cache; a writer that already
+    /// holds frames keeps whether it has one.
     pub fn record_into(&mut self, mut writer: CacheWriter) -> Result<()> {
         if self.recorder.is_some() {
             return Err(Error::argument(
@@ -830,13 +909,20 @@ impl Session {
                 "this session is already recording a cache: finish it first",
             ));
         }
-        writer.write_frame(
-            self.frame(),
-            &self.strands.positions,
-            &self.strands.velocities,
-        )?;
+        if writer.frame_count() == 0 && !writer.has_rig() {
+            writer.attach_rig(&self.rig.rig)?;
+        }
         self.recorder = Some(writer);
-        Ok(())
+        let written = self.write_frame();
+        if written.is_err() {
+            self.recorder = None;
+        }
+        written
+    }
+
+    /// The rig the caches of this session carry ([`hair_cache::rig`]).
+    pub fn cache_rig(&self) -> &CacheRig {
+        &self.rig.rig
     }
 
     /// Finishes the cache being recorded (index, summary, rename to its final name).
@@ -869,10 +955,10 @@ impl Session {
         }
         let (scene_toml, scene_hash) = match &self.animation {
             Some(a) => {
-                if let Some(dir) = a.base_dir.to_str().filter(|d| !d.is_empty()) {
+                if let Some(dir) = a.source.base_dir.to_str().filter(|d| !d.is_empty()) {
                     extra.insert(SCENE_DIR_KEY.to_string(), dir.to_string());
                 }
-                (a.text.clone(), a.hash.clone())
+                (a.source.text.clone(), a.source.hash.clone())
             }
             None => (String::new(), String::new()),
         };

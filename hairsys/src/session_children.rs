@@ -1,6 +1,6 @@
 //! [`Session::children`]: render children of a session's current frame, in memory.
 //!
-//! The same generation as `hairsys render-children export` ([`crate::children`]), fed from the
+//! The same generation as `hairsys render-children export` ([`crate::output::children`]), fed from the
 //! session instead of a cache: the parents are the session's strands at their current
 //! positions, rooted (mesh samples, root frames, the scalp's UVs) on the session's current
 //! scalp, so a host (the Python module, a DCC's viewport) gets children without writing a cache.
@@ -8,8 +8,8 @@
 
 use hair_render::{ChildBuffers, ChildSettings, Lod};
 
-use crate::children::children_of;
 use crate::error::{Error, Result};
+use crate::output::children::children_of;
 use crate::scene::maps::ChildMapFactors;
 use crate::Session;
 

@@ -2,7 +2,7 @@
 
 use hair_core::{Anchor, HairParams};
 use hair_render::{ChildCount, ChildSettings, Lod};
-use hairsys::groom_input::{GroomArrays, GroomOptions, SimHairs};
+use hairsys::build::groom::{GroomArrays, GroomOptions, SimHairs};
 use hairsys::{Error, Session};
 use nalgebra::{Isometry3, Vector3};
 

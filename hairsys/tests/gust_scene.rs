@@ -9,7 +9,7 @@
 use std::path::Path;
 
 use hair_cache::WriterOptions;
-use hairsys::quality::RunQuality;
+use hairsys::output::quality::RunQuality;
 use hairsys::run::{simulate, SimulateOptions};
 use hairsys::scene::SceneFile;
 

@@ -3,7 +3,7 @@
 
 use hair_cache::WriterOptions;
 use hair_render::preview::View;
-use hairsys::preview::{preview, PreviewOptions};
+use hairsys::output::preview::{preview, PreviewOptions};
 use hairsys::run::{simulate, SimulateOptions};
 use hairsys::scene::{SceneFile, DEFAULT_SCENE};
 

@@ -1,8 +1,8 @@
 //! `Session.from_groom`'s arguments: the arrays (checked for shape and dtype) and the keyword
-//! options, mapped onto [`hairsys::groom_input`].
+//! options, mapped onto [`hairsys::build::groom`].
 
 use hair_core::{Collider, ColliderShape, HairHairSettings, StrandScales, Substeps, TriMesh};
-use hairsys::groom_input::{GroomArrays, GroomOptions, SimHairs};
+use hairsys::build::groom::{GroomArrays, GroomOptions, SimHairs};
 use hairsys::scene::integrator::IntegratorChoice;
 use hairsys::scene::ScalpCollider;
 use nalgebra::{Isometry3, Vector3};
@@ -146,6 +146,10 @@ const KEYS: &[&str] = &[
     "steps",
     "substeps",
     "integrator",
+    "sag_free",
+    "scalp_deforms",
+    "collider_deforms",
+    "collider_speed",
     "damping_iterations",
     "gravity",
     "stretch_stiffness",
@@ -209,6 +213,13 @@ pub fn groom_options(
         }
     }
     let mut o = GroomOptions::default();
+    macro_rules! set {
+        ($target:expr, $key:literal) => {
+            if let Some(v) = value(options, $key)? {
+                $target = v;
+            }
+        };
+    }
     if let Some(n) = value::<usize>(options, "sim_hairs")? {
         o.sim_hairs = SimHairs::Interpolated {
             count: n,
@@ -236,32 +247,20 @@ pub fn groom_options(
         };
     }
     if let Some(v) = value::<String>(options, "integrator")? {
-        o.settings.integrator = match v.parse::<IntegratorChoice>() {
-            Ok(IntegratorChoice::Named(i)) => i,
-            Ok(IntegratorChoice::Auto) => {
-                return Err(argument(
-                    "integrator",
-                    "\"auto\" chooses from a scene file's colliders and guides, which a host \
-                     drives frame by frame here; name one: \"semi-implicit-euler\", \
-                     \"implicit-euler\", \"bdf2\", \"xpbd\" or \"explicit-euler\"",
-                ))
-            }
-            Err(e) => return Err(argument("integrator", &e)),
-        };
+        o.integrator = v
+            .parse::<IntegratorChoice>()
+            .map_err(|e| argument("integrator", &e))?;
     }
+    set!(o.sag_free, "sag_free");
+    set!(o.expected_motion.scalp_deforms, "scalp_deforms");
+    set!(o.expected_motion.collider_deforms, "collider_deforms");
+    set!(o.expected_motion.collider_speed, "collider_speed");
     if let Some(v) = value(options, "damping_iterations")? {
         o.settings.damping_iterations = v;
     }
     let p = &mut o.physics;
     if let Some(v) = value(options, "gravity")? {
         p.gravity = v;
-    }
-    macro_rules! set {
-        ($target:expr, $key:literal) => {
-            if let Some(v) = value(options, $key)? {
-                $target = v;
-            }
-        };
     }
     set!(p.stretch_stiffness, "stretch_stiffness");
     set!(p.bend_stiffness, "bend_stiffness");

@@ -509,7 +509,7 @@ fn the_report_of_a_cached_run_on_a_deforming_scalp_is_the_run_report() {
     .unwrap()
     .quality
     .expect("asked for");
-    let from_cache = hairsys::quality::cache_quality(&cache, None).unwrap();
+    let from_cache = hairsys::output::quality::cache_quality(&cache).unwrap();
     assert_eq!(from_cache.run, run.run);
     assert_eq!(from_cache.last, run.last);
     let p = run.run.penetration.as_ref().expect("the scalp collides");

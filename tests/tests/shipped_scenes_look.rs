@@ -26,7 +26,7 @@
 use std::path::Path;
 
 use hair_cache::WriterOptions;
-use hairsys::quality::{cache_quality, RunQuality};
+use hairsys::output::quality::{cache_quality, RunQuality};
 use hairsys::run::{simulate, SimulateOptions};
 use hairsys::scene::{SceneFile, DEFAULT_SCENE};
 
@@ -34,13 +34,13 @@ fn run(name: &str) -> RunQuality {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../scenes")
         .join(name);
-    run_checked(SceneFile::load(&path).unwrap(), Some(&path), false)
+    run_checked(SceneFile::load(&path).unwrap(), false)
 }
 
 /// Simulates `scene` measuring its quality as it runs; the same report is then measured from
-/// the cache (the scene file `path`, or the scene stored in the cache, places the colliders) and
-/// must agree to the bit when `cross_check`.
-fn run_checked(scene: SceneFile, path: Option<&Path>, cross_check: bool) -> RunQuality {
+/// the cache alone (its rig places the scalp and colliders) and must agree to the bit when
+/// `cross_check`.
+fn run_checked(scene: SceneFile, cross_check: bool) -> RunQuality {
     let dir = tempfile::tempdir().unwrap();
     let cache = dir.path().join("run.mcap");
     let q = simulate(
@@ -60,7 +60,7 @@ fn run_checked(scene: SceneFile, path: Option<&Path>, cross_check: bool) -> RunQ
     .quality
     .expect("asked for");
     if cross_check {
-        let from_cache = cache_quality(&cache, path).unwrap();
+        let from_cache = cache_quality(&cache).unwrap();
         assert_eq!(from_cache.run, q.run);
         assert_eq!(from_cache.last, q.last);
     }
@@ -140,7 +140,7 @@ fn default_groom_does_not_sag_when_the_simulation_starts() {
     let still = format!("{}{}", &DEFAULT_SCENE[..start], &DEFAULT_SCENE[end..])
         .replace("frames = [1, 48]", "frames = [1, 13]");
     let scene = SceneFile::parse(&still, "default, still head", ".".into()).unwrap();
-    let q = run_checked(scene, None, true);
+    let q = run_checked(scene, true);
     check("default, still head", &q, CLEAN);
     let drift = q.last.drift.as_ref().unwrap();
     assert!(drift.rms < 3e-3, "{drift:?}");
@@ -161,7 +161,7 @@ fn default_groom_does_not_sag_when_the_simulation_starts() {
 #[test]
 fn character() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/character.toml");
-    let q = run_checked(SceneFile::load(&path).unwrap(), Some(&path), true);
+    let q = run_checked(SceneFile::load(&path).unwrap(), true);
     check(
         "character",
         &q,

@@ -2,7 +2,7 @@
 //! `simulate` writes a cache of their edge strands, and `render-children cards` turns a cached
 //! frame (three motion samples) into a USD Mesh and an OBJ; scene mistakes give clear errors.
 
-use hairsys::cards::{export_cards, CardsFormat, CardsOptions};
+use hairsys::output::cards::{export_cards, CardsFormat, CardsOptions};
 use hairsys::run::{simulate, SimulateOptions};
 use hairsys::scene::SceneFile;
 

@@ -28,9 +28,7 @@
 //! attracts). Turbulence also takes `size` (m, feature size) and `flow` (feature sizes per
 //! second the pattern drifts).
 
-use hair_core::{
-    Falloff, FieldKind, ForceField, HairError, HairHairSettings, Solver, Strength, VoxelGrid,
-};
+use hair_core::{Falloff, FieldKind, ForceField, HairError, Solver, Strength};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -160,11 +158,6 @@ fn field_message(e: &HairError) -> String {
         }
         other => other.to_string(),
     }
-}
-
-/// Checks that the hair-hair grid of `cell_size` fits in memory over the hair at rest.
-pub fn check_grid(settings: &HairHairSettings, positions: &[Vector3<f32>]) -> Result<(), String> {
-    VoxelGrid::check(settings.cell_size, positions).map_err(|e| format!("[hair_hair] {e}"))
 }
 
 impl Simulation {

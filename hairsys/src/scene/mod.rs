@@ -14,7 +14,8 @@ use hair_core::strips::{HeadShape, StripSolver};
 use hair_core::{
     Anchor, Collider, ColliderId, ColliderShape, Colliders, ContactSettings, HairError,
     HairHairSettings, HairParams, Integrator, KernelChoice, RodParams, RodSolver, RootFrame, Scalp,
-    Solver, SolverSettings, StrandInput, StrandModel, StrandSet, StrandSolver, Substeps, TriMesh,
+    Solver, SolverSettings, StrandInput, StrandModel, StrandScales, StrandSet, StrandSolver,
+    Substeps, TriMesh,
 };
 use hair_groom::{GenerateOptions, ObjOptions, Region, UpAxis};
 
@@ -691,6 +692,36 @@ impl SceneFile {
             .map_err(|e| self.error(e.to_string()))
     }
 
+    /// A [`crate::build::SettleError`] in the scene's words: its sections, keys and fixes.
+    fn settle_message(&self, e: crate::build::SettleError) -> String {
+        use crate::build::SettleError;
+        match e {
+            SettleError::SagFreeWithFactors => {
+                "[solver] sag_free solves rest shapes for one material, but [[regions]] or \
+                 [maps.stiffness] give hair its own: remove sag_free or the regions"
+                    .into()
+            }
+            SettleError::SagFreeModel => {
+                "[solver] sag_free is for the mass-spring model; remove it or set \
+                 model = \"mass-spring\""
+                    .into()
+            }
+            SettleError::Unbalanced {
+                count,
+                total,
+                first,
+            } => format!(
+                "[solver] sag_free: {count} of {total} strands (first: strand {first}) cannot be \
+                 held in their groomed shape by the bending springs without turning a rest \
+                 direction more than 60°; raise [physics] bend_stiffness, shorten the hair or \
+                 groom it to hang"
+            ),
+            SettleError::HairHairGrid(e) => format!("[hair_hair] {e}"),
+            SettleError::Collider { message, .. } => message,
+            SettleError::Anchor(e) | SettleError::SagFree(e) => e.to_string(),
+        }
+    }
+
     fn error(&self, message: String) -> SceneError {
         SceneError {
             file: self.origin.clone(),
@@ -897,18 +928,15 @@ impl SceneFile {
                 .is_some_and(|a| a.has_poses()),
             ..self.collider_motion(&colliders, &strands)
         };
-        let bound = hair_core::StabilityBound::of_scaled(&strands, &s.physics, &scales);
-        let integrator = s.solver.integrator.resolve(
+        let (integrator, bound) = crate::build::choose_integrator(
+            s.solver.integrator,
             s.solver.model,
-            &settings,
-            &bound,
-            integrator::max_rest_turn(&strands),
+            &mut settings,
+            &strands,
+            &s.physics,
+            &scales,
             &contact,
         );
-        settings.integrator = integrator.integrator;
-        if let Some(n) = integrator.substeps_override {
-            settings.substeps = hair_core::Substeps::Fixed(n);
-        }
         self.check_work_budget(&settings, &bound, strands.point_count())?;
         if let Some(c) = &s.contacts {
             c.validate().map_err(|e| err(format!("[contacts] {e}")))?;
@@ -957,8 +985,9 @@ impl SceneFile {
             first_frame: first,
             last_frame: last,
             rest_mesh,
+            scalp_colors: self.scalp_colors().map_err(err)?,
             scalp_animation,
-            motion: s.scalp.motion.clone(),
+            motion: crate::rig::Motion::Keyed(s.scalp.motion.clone()),
             colliders,
             scalp_collider: s.scalp.collider,
             contact_settings: s.contacts.unwrap_or_default(),
@@ -975,58 +1004,12 @@ impl SceneFile {
                 .then(hair_core::Inextensibility::default),
             strips,
             regions,
+            strand_scales: None,
             child_maps,
             maps: map_summaries,
         };
-        let scalp = sim.scalp_at(first as f32);
-        sim.strands
-            .validate_anchors(&scalp)
-            .map_err(|e| err(e.to_string()))?;
-        sim.strands.reset_to_rest(&scalp);
-        if s.solver.sag_free {
-            if !sim.regions.is_empty() {
-                return Err(err(
-                    "[solver] sag_free solves rest shapes for one material, but [[regions]] or \
-                     [maps.stiffness] give hair its own: remove sag_free or the regions"
-                        .into(),
-                ));
-            }
-            if s.solver.model != StrandModel::MassSpring {
-                return Err(err(
-                    "[solver] sag_free is for the mass-spring model; remove it or set \
-                     model = \"mass-spring\""
-                        .into(),
-                ));
-            }
-            let roots = sim.strands.root_frames(&scalp);
-            let supports = sim
-                .resting_supports()
-                .map_err(|e| err(sim.collider_message(&e)))?;
-            let report = hair_core::make_sag_free_supported(
-                &mut sim.strands,
-                &sim.params,
-                &roots,
-                &supports,
-                hair_core::SagFreeLimits::default(),
-            )
-            .map_err(|e| err(e.to_string()))?;
-            if let Some(&first_bad) = report.unbalanced.first() {
-                return Err(err(format!(
-                    "[solver] sag_free: {} of {} strands (first: strand {first_bad}) cannot be held \
-                     in their groomed shape by the bending springs without turning a rest \
-                     direction more than 60°; raise [physics] bend_stiffness, shorten the hair \
-                     or groom it to hang",
-                    report.unbalanced.len(),
-                    sim.strands.len()
-                )));
-            }
-        }
-        if let Some(h) = &sim.hair_hair {
-            fields::check_grid(h, &sim.strands.positions).map_err(err)?;
-        }
-        // Build the colliders once so that every collider error shows at load time.
-        sim.colliders_at(first as f32)
-            .map_err(|e| err(sim.collider_message(&e)))?;
+        sim.settle(s.solver.sag_free)
+            .map_err(|e| err(self.settle_message(e)))?;
         Ok(sim)
     }
 
@@ -1143,14 +1126,41 @@ impl SceneFile {
             out.push(SceneCollider {
                 name: c.name.clone(),
                 collider,
-                motion: c.motion.clone(),
+                motion: crate::rig::Motion::Keyed(c.motion.clone()),
                 animation,
             });
         }
         Ok(out)
     }
 
-    /// The scalp's rest mesh and, for a deforming scalp, its vertices at every frame.
+    /// The per-vertex colors (`v x y z r g b`) of the scene's OBJ scalp, in the vertex order of the
+    /// scalp mesh the scene builds; `None` for another scalp or an OBJ without colors on every vertex.
+    fn scalp_colors(&self) -> Result<Option<Vec<[f32; 3]>>, String> {
+        let ScalpMesh::Obj { path, .. } = &self.scene.scalp.mesh else {
+            return Ok(None);
+        };
+        let path = self.base_dir.join(path);
+        // The same bounded OBJ reader the scalp itself is loaded with (vertices in its order; a
+        // hostile face index is an error, not a panic).
+        let Some(colors) = hair_groom::load_obj_vertex_colors(&path).map_err(|e| {
+            format!(
+                "[scalp.mesh] {}: cannot read its vertex colors ({e})",
+                path.display()
+            )
+        })?
+        else {
+            return Ok(None);
+        };
+        if let Some(i) = colors.iter().position(|c| !c.iter().all(|x| x.is_finite())) {
+            return Err(format!(
+                "[scalp.mesh] {}: vertex {i} has a non-finite color {:?}; fix its `v x y z r g b` line",
+                path.display(),
+                colors[i]
+            ));
+        }
+        Ok(Some(colors))
+    }
+
     /// The scene's `[maps.NAME]`, read and checked against the scalp at rest `mesh`.
     fn scalp_maps(&self, mesh: Option<&TriMesh>) -> Result<maps::ScalpMaps, String> {
         let sections = &self.scene.maps;
@@ -1197,7 +1207,7 @@ impl SceneFile {
             sections,
             &self.base_dir,
             mesh,
-            || crate::children::scalp_colors(self),
+            || self.scalp_colors(),
             |map, name, channel| map_primvars::scalp_primvar(self, map, name, channel),
             &used,
         )
@@ -1317,15 +1327,15 @@ fn named(name: &str) -> String {
     }
 }
 
-/// A collider of the scene: its geometry, thickness, friction and keyframed motion.
+/// A collider of a simulation: its geometry, thickness, friction and rigid motion.
 #[derive(Debug, Clone)]
 pub struct SceneCollider {
     /// The name from the scene file (may be empty).
     pub name: String,
     /// Geometry (meshes loaded), thickness and friction.
     pub collider: Collider,
-    /// Keyframed rigid motion.
-    pub motion: RigidMotion,
+    /// Rigid motion: keyframed in a scene, fixed at a host's first-frame pose.
+    pub motion: crate::rig::Motion,
     /// For a deforming mesh (`kind = "usd"` or `"obj-sequence"`): its body-space vertices at
     /// every frame.
     pub animation: Option<MeshAnimation>,
@@ -1363,10 +1373,14 @@ pub struct Simulation {
     pub first_frame: u32,
     /// Last frame.
     pub last_frame: u32,
-    rest_mesh: Option<TriMesh>,
+    pub(crate) rest_mesh: Option<TriMesh>,
+    /// One RGB colour (0–1) per scalp vertex, if the scalp has vertex colours (an OBJ's
+    /// `v x y z r g b`): the colours of the children's roots.
+    pub scalp_colors: Option<Vec<[f32; 3]>>,
     /// For a deforming scalp: its vertices (body space) at every frame.
-    scalp_animation: Option<MeshAnimation>,
-    motion: RigidMotion,
+    pub(crate) scalp_animation: Option<MeshAnimation>,
+    /// The scalp's rigid motion.
+    pub(crate) motion: crate::rig::Motion,
     /// The `[[colliders]]`, in file order (their [`ColliderId`]s are 0, 1, …).
     pub colliders: Vec<SceneCollider>,
     /// `[scalp.collider]`, if the scalp collides with its hair.
@@ -1393,6 +1407,9 @@ pub struct Simulation {
     pub guide_animation: Option<crate::animated_guides::GuideAnimation>,
     /// `[[regions]]` and `[maps.stiffness]` resolved to strands (empty: one material).
     pub regions: regions::Regions,
+    /// Per-strand factors of the material a host gave with its strands
+    /// ([`crate::build::groom`]); `None` for a scene, whose factors come from `regions`.
+    pub strand_scales: Option<Vec<StrandScales>>,
     /// `[maps.clump]` and `[maps.curl]` at each strand's root: factors of its render children's
     /// clump and curl.
     pub child_maps: maps::ChildMapFactors,
@@ -1426,6 +1443,8 @@ impl Simulation {
                             fix,
                         })?;
                     solver = solver.with_strand_scales(scales, &self.strands)?;
+                } else if let Some(scales) = &self.strand_scales {
+                    solver = solver.with_strand_scales(scales.clone(), &self.strands)?;
                 }
                 self.with_inextensibility(self.with_interactions(solver)?)?
                     .into()
@@ -1608,6 +1627,12 @@ impl Simulation {
             },
             other => other.to_string(),
         }
+    }
+
+    /// The deformed scalp's vertices (body space, m) at (possibly fractional) `frame`, for a
+    /// deforming scalp; `None` for a rigid one.
+    pub fn scalp_vertices_at(&self, frame: f32) -> Option<Vec<Vector3<f32>>> {
+        self.scalp_animation.as_ref().map(|a| a.vertices_at(frame))
     }
 
     /// The scalp at (possibly fractional) `frame`: the rest mesh, deformed to the frame's

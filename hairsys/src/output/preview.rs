@@ -2,23 +2,23 @@
 //! rest state — with its scalp and colliders, from one or more camera presets, as one PNG or a
 //! contact sheet (see [`hair_render::preview`] for how a frame is drawn).
 //!
-//! The scene that made a cache is stored in it, so the scalp and the colliders are placed at
-//! each frame's time exactly as the run saw them. Every tile of a sheet shares one framing (the
+//! A cache carries its rig ([`Shot`]), so the scalp and the colliders are placed at each
+//! frame's time exactly as the run saw them (sub-frames between the recorded frames). Every tile of a sheet shares one framing (the
 //! bounds of all its frames), so motion between frames reads as motion. With `highlight`,
 //! points closer to a collider than their radius and segments stretched beyond
 //! [`PreviewOptions::stretch_limit`] are drawn in red on top.
 
 use std::path::{Path, PathBuf};
 
-use hair_cache::{CacheReader, Interpolation};
-use hair_core::{ColliderShape, TriMesh};
+use hair_cache::Interpolation;
+use hair_core::{ColliderShape, Colliders, Scalp, StrandSet, TriMesh};
 use hair_render::preview::{
     contact_sheet, render_view, Bounds, Highlight, Mesh, PreviewImage, RenderSettings, Rgb, Scene,
     Strands, Tile, View,
 };
 use nalgebra::{Isometry3, Vector3};
 
-use crate::children::open_cache;
+use crate::output::shot::Shot;
 use crate::scene::{SceneFile, Simulation};
 
 /// Skin colour of the scalp, linear RGB.
@@ -31,7 +31,8 @@ const COLLIDER_RGB: Rgb = [0.35, 0.45, 0.6];
 pub struct PreviewOptions {
     /// Cache to read frames from; without it, the scene's rest state.
     pub cache: Option<PathBuf>,
-    /// Scene file: the rest state without `cache`, or a scene overriding the cache's.
+    /// Scene file: the rest state to draw without `cache` (ignored with it: a cache carries
+    /// its scalp and colliders).
     pub scene: Option<PathBuf>,
     /// Frames to draw (fractional = a sub-frame sampled by cubic Hermite with the cached
     /// velocities); empty = the cache's first frame (or the rest state).
@@ -85,33 +86,33 @@ pub fn preview(opts: &PreviewOptions) -> Result<PreviewSummary, String> {
     if opts.views.is_empty() {
         return Err("give at least one view (front, side, back, three-quarter)".into());
     }
-    let (scene, mut reader) = match &opts.cache {
-        Some(cache) => {
-            let (scene, reader) = open_cache(cache, opts.scene.as_deref())?;
-            (scene, Some(reader))
-        }
+    let mut source = match &opts.cache {
+        Some(cache) => Source::Cache(Box::new(
+            Shot::open(cache, None).map_err(|e| e.to_string())?,
+        )),
         None => match &opts.scene {
-            Some(path) => (SceneFile::load(path).map_err(|e| e.to_string())?, None),
+            Some(path) => {
+                let scene = SceneFile::load(path).map_err(|e| e.to_string())?;
+                Source::Rest(Box::new(scene.build().map_err(|e| e.to_string())?))
+            }
             None => return Err(
                 "give --cache (frames of a run) or --scene (its rest state): a preview of what?"
                     .into(),
             ),
         },
     };
-    let sim = scene.build().map_err(|e| e.to_string())?;
-    let frames = match (&reader, opts.frames.is_empty()) {
-        (Some(r), true) => vec![r.frame_numbers().first().copied().unwrap_or(0) as f64],
-        (None, true) => vec![sim.first_frame as f64],
+    let frames = match (&source, opts.frames.is_empty()) {
+        (Source::Cache(shot), true) => {
+            vec![shot.cached_frames().first().copied().unwrap_or(0) as f64]
+        }
+        (Source::Rest(sim), true) => vec![sim.first_frame as f64],
         (_, false) => opts.frames.clone(),
     };
     let mut data = Vec::with_capacity(frames.len());
     for &frame in &frames {
-        let positions = match &mut reader {
-            Some(r) => positions_at(r, frame)?,
-            None => sim.strands.positions.clone(),
-        };
-        data.push(frame_data(&sim, frame, positions, opts)?);
+        data.push(source.frame_data(frame, opts)?);
     }
+    let strands = source.strands();
     let mut bounds: Option<Bounds> = None;
     for d in &data {
         let points = d.positions.iter().copied().chain(
@@ -131,8 +132,8 @@ pub fn preview(opts: &PreviewOptions) -> Result<PreviewSummary, String> {
     let started = std::time::Instant::now();
     let mut images: Vec<(PreviewImage, String)> = Vec::new();
     for d in &data {
-        let strands = Strands::new(&d.positions, sim.strands.offsets())
-            .and_then(|s| s.with_radii(sim.strands.radii()))
+        let strands = Strands::new(&d.positions, strands.offsets())
+            .and_then(|s| s.with_radii(strands.radii()))
             .map_err(|e| e.to_string())?;
         let meshes = d
             .meshes
@@ -190,7 +191,8 @@ fn count(flags: &[bool]) -> usize {
 
 /// Positions at `frame` (fractional: a Hermite sub-frame sample), refusing frames outside the
 /// cache by number.
-fn positions_at(reader: &mut CacheReader, frame: f64) -> Result<Vec<Vector3<f32>>, String> {
+fn positions_at(shot: &mut Shot, frame: f64) -> Result<Vec<Vector3<f32>>, String> {
+    let reader = shot.reader();
     let numbers = reader.frame_numbers();
     let (Some(&first), Some(&last)) = (numbers.first(), numbers.last()) else {
         return Err("the cache holds no frame".into());
@@ -213,45 +215,130 @@ fn positions_at(reader: &mut CacheReader, frame: f64) -> Result<Vec<Vector3<f32>
         .map_err(|e| e.to_string())
 }
 
-/// The scalp and colliders of `sim` at `frame`, and the highlight flags of `positions`.
-fn frame_data(
-    sim: &Simulation,
-    frame: f64,
+/// What a preview draws from: a cache, or a scene's rest state.
+enum Source {
+    /// A cache, with its rig.
+    Cache(Box<Shot>),
+    /// A scene built for its rest state.
+    Rest(Box<Simulation>),
+}
+
+impl Source {
+    fn strands(&self) -> &StrandSet {
+        match self {
+            Source::Cache(shot) => shot.strands(),
+            Source::Rest(sim) => &sim.strands,
+        }
+    }
+
+    /// The strands at `frame` with the scalp and colliders there, and the highlight flags.
+    fn frame_data(&mut self, frame: f64, opts: &PreviewOptions) -> Result<FrameData, String> {
+        let f = frame as f32;
+        let (label, positions, scalp, shapes, colliders) = match self {
+            Source::Cache(shot) => {
+                let positions = positions_at(shot, frame)?;
+                let scalp = shot.scalp_at(frame).map_err(|e| e.to_string())?;
+                // Colliders at the nearest recorded frame.
+                let near = nearest(shot.cached_frames(), frame);
+                let shapes = shot.collider_shapes_at(near).map_err(|e| e.to_string())?;
+                let colliders = match opts.highlight {
+                    true => Some(
+                        shot.colliders_at(near, shot.scalp_collider())
+                            .map_err(|e| e.to_string())?,
+                    ),
+                    false => None,
+                };
+                (
+                    format!("frame {frame}"),
+                    positions,
+                    scalp,
+                    shapes,
+                    colliders,
+                )
+            }
+            Source::Rest(sim) => {
+                let shapes = sim
+                    .colliders
+                    .iter()
+                    .map(|c| {
+                        // A deforming collider is drawn at the frame's vertices.
+                        let shape = match c.mesh_at(f) {
+                            Some(mesh) => ColliderShape::Mesh(mesh),
+                            None => c.collider.shape.clone(),
+                        };
+                        (shape, c.motion.at(f))
+                    })
+                    .collect();
+                let colliders = match opts.highlight {
+                    true => Some(sim.colliders_at(f).map_err(|e| sim.collider_message(&e))?),
+                    false => None,
+                };
+                let positions = sim.strands.positions.clone();
+                (
+                    "rest".to_string(),
+                    positions,
+                    sim.scalp_at(f),
+                    shapes,
+                    colliders,
+                )
+            }
+        };
+        draw_data(
+            self.strands(),
+            label,
+            positions,
+            scalp,
+            &shapes,
+            colliders.as_ref(),
+            opts,
+        )
+    }
+}
+
+/// The stored frame nearest to `frame`.
+fn nearest(frames: &[u32], frame: f64) -> u32 {
+    frames
+        .iter()
+        .copied()
+        .min_by(|a, b| {
+            (f64::from(*a) - frame)
+                .abs()
+                .total_cmp(&(f64::from(*b) - frame).abs())
+        })
+        .unwrap_or(0)
+}
+
+/// One frame ready to draw: the scalp and collider meshes, and with `colliders` the highlight
+/// flags of `positions`.
+fn draw_data(
+    strands: &StrandSet,
+    label: String,
     positions: Vec<Vector3<f32>>,
+    scalp: Scalp,
+    shapes: &[(ColliderShape, Isometry3<f32>)],
+    colliders: Option<&Colliders>,
     opts: &PreviewOptions,
 ) -> Result<FrameData, String> {
-    let f = frame as f32;
     let mut meshes = Vec::new();
-    if let Some(mesh) = sim.scalp_at(f).mesh {
+    if let Some(mesh) = scalp.mesh {
         meshes.push((mesh, SCALP_RGB));
     }
-    for c in &sim.colliders {
-        let pose = c.motion.at(f);
-        // A deforming collider is drawn at the frame's vertices.
-        let shape = match c.mesh_at(f) {
-            Some(mesh) => hair_core::ColliderShape::Mesh(mesh),
-            None => c.collider.shape.clone(),
-        };
-        meshes.push((collider_mesh(&shape, &pose)?, COLLIDER_RGB));
+    for (shape, pose) in shapes {
+        meshes.push((collider_mesh(shape, pose)?, COLLIDER_RGB));
     }
-    let label = if sim.strands.positions.as_ptr() == positions.as_ptr() {
-        "rest".to_string()
-    } else {
-        format!("frame {frame}")
-    };
-    let (inside, stretched) = if opts.highlight {
-        let colliders = sim.colliders_at(f).map_err(|e| sim.collider_message(&e))?;
-        let inside = hair_core::quality::inside_flags(
-            &colliders,
-            &positions,
-            sim.strands.radii(),
-            sim.strands.inverse_masses(),
-            hair_core::QualityOptions::default().contact_tolerance,
-        );
-        let stretched = stretched_flags(sim, &positions, opts.stretch_limit);
-        (inside, stretched)
-    } else {
-        (Vec::new(), Vec::new())
+    let (inside, stretched) = match colliders {
+        Some(colliders) => {
+            let inside = hair_core::quality::inside_flags(
+                colliders,
+                &positions,
+                strands.radii(),
+                strands.inverse_masses(),
+                hair_core::QualityOptions::default().contact_tolerance,
+            );
+            let stretched = stretched_flags(strands, &positions, opts.stretch_limit);
+            (inside, stretched)
+        }
+        None => (Vec::new(), Vec::new()),
     };
     Ok(FrameData {
         label,
@@ -263,12 +350,12 @@ fn frame_data(
 }
 
 /// Per segment (numbered as `StrandSet::segments`): longer than `(1 + limit) ×` its rest length?
-fn stretched_flags(sim: &Simulation, positions: &[Vector3<f32>], limit: f32) -> Vec<bool> {
-    let rest = sim.strands.rest_lengths();
+fn stretched_flags(strands: &StrandSet, positions: &[Vector3<f32>], limit: f32) -> Vec<bool> {
+    let rest = strands.rest_lengths();
     let mut flags = Vec::with_capacity(rest.len());
-    for s in 0..sim.strands.len() {
-        let p = sim.strands.points(s);
-        for (j, seg) in sim.strands.segments(s).enumerate() {
+    for s in 0..strands.len() {
+        let p = strands.points(s);
+        for (j, seg) in strands.segments(s).enumerate() {
             let len = (positions[p.start + j + 1] - positions[p.start + j]).norm();
             flags.push(len > (1.0 + limit) * rest[seg]);
         }

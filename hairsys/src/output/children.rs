@@ -1,16 +1,16 @@
 //! `hairsys render-children export`: render children generated on request from a cached frame (or
 //! sub-frame samples over a shutter, for motion blur) or from the scene's rest state, written as
 //! USD `BasisCurves` (`.usdc` or `.usda`) or Cem Yuksel's `.hair`. A range of frames in one
-//! file is [`crate::export_shot`] with children.
+//! file is [`crate::output::shot_export`] with children.
 //!
-//! The scene that made a cache travels inside it (metadata `scene_toml`), so the children's roots
-//! (mesh samples, root frames) come from that scene: the same scalp, at the sampled time. The
-//! scene's `[children]` section (see [`crate::scene::children`]) gives the child settings; the
-//! command's flags ([`ChildOverrides`]) override it.
+//! From a cache, the children's roots (mesh samples, root frames) come from the cache's rig
+//! ([`Shot`]): the scalp as it was simulated, at the sampled time. The scene's `[children]`
+//! section (see [`crate::scene::children`]) gives the child settings; the command's flags
+//! ([`ChildOverrides`]) override it.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use hair_cache::{CacheReader, Interpolation};
+use hair_cache::Interpolation;
 use hair_core::{Anchor, MeshSample, Scalp, StrandSet};
 use hair_render::export::usd::{self, Motion, MotionSample, UsdOptions};
 use hair_render::{
@@ -21,9 +21,10 @@ use nalgebra::Vector3;
 
 use crate::budget::{Budget, BYTES_PER_CHILD_POINT};
 use crate::error::Error;
+use crate::output::shot::Shot;
 use crate::scene::children::DEFAULT_NEIGHBOURS;
 use crate::scene::maps::ChildMapFactors;
-use crate::scene::{ScalpMesh, SceneFile, Simulation};
+use crate::scene::{SceneFile, Simulation};
 
 /// Output format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -38,7 +39,8 @@ pub enum Format {
 pub struct ExportOptions {
     /// Cache to read frames from; without it, the scene's rest state.
     pub cache: Option<PathBuf>,
-    /// Scene file (needed without `cache`; overrides the scene stored in the cache).
+    /// Scene file: the rest state to export without `cache`; with it, the `[children]`
+    /// settings instead of the stored scene's.
     pub scene: Option<PathBuf>,
     /// Frame to export (with a cache).
     pub frame: Option<u32>,
@@ -156,31 +158,6 @@ pub fn parse_shutter(s: &str) -> Result<(f64, f64), String> {
     Ok((num(a)?, num(b)?))
 }
 
-/// Opens `cache` and the scene that made it: `scene` when given, else the scene stored in the
-/// cache (paths in it relative to the cache's folder).
-pub fn open_cache(cache: &Path, scene: Option<&Path>) -> Result<(SceneFile, CacheReader), String> {
-    let reader = CacheReader::open(cache).map_err(|e| e.to_string())?;
-    let scene = match scene {
-        Some(path) => SceneFile::load(path).map_err(|e| e.to_string())?,
-        None => {
-            // The stored scene's paths start where its file was when the cache was made (if
-            // that directory is still there), else beside the cache.
-            let header = reader.header();
-            let base = header
-                .extra
-                .get(crate::session::SCENE_DIR_KEY)
-                .map(std::path::PathBuf::from)
-                .filter(|d| d.is_dir())
-                .or_else(|| cache.parent().map(Path::to_path_buf))
-                .unwrap_or_default();
-            let origin = format!("{} (scene stored in the cache)", cache.display());
-            SceneFile::parse(&reader.header().scene_toml, &origin, base)
-                .map_err(|e| e.to_string())?
-        }
-    };
-    Ok((scene, reader))
-}
-
 /// Generates and writes the children; `on_sample` is called after each time sample.
 ///
 /// Errors are [`Error::Usage`] (exit code 2) for bad input — options, the scene, the cache
@@ -205,39 +182,48 @@ fn export_inner(
     if opts.motion_samples == 0 {
         return Err("--motion-samples 0: use at least 1 sample".into());
     }
-    let (scene, mut reader) = match &opts.cache {
-        Some(cache) => {
-            let (scene, reader) = open_cache(cache, opts.scene.as_deref())?;
-            (scene, Some(reader))
-        }
+    let mut source = match &opts.cache {
+        Some(cache) => Source::Cache(Box::new(
+            Shot::open(cache, opts.scene.as_deref()).map_err(|e| e.to_string())?,
+        )),
         None => {
             let scene = match &opts.scene {
                 Some(path) => SceneFile::load(path).map_err(|e| e.to_string())?,
                 None => SceneFile::builtin_default(),
             };
-            (scene, None)
+            let sim = scene.build().map_err(|e| e.to_string())?;
+            Source::Rest(Box::new(scene), Box::new(sim))
         }
     };
-    let sim = scene.build().map_err(|e| e.to_string())?;
-    let colors = scalp_colors(&scene)?;
-    let (settings, lod) = child_settings(&scene, &opts.children, opts.display)?;
-    let fps = sim.settings.fps as f64;
-    let frame = match (&reader, opts.frame) {
-        (Some(_), Some(f)) => f,
-        (Some(_), None) => return Err("--cache needs --frame N: the frame to export".into()),
-        (None, Some(_)) => {
+    let (settings, lod) = child_settings(source.scene(), &opts.children, opts.display)?;
+    let frame = match (&source, opts.frame) {
+        (Source::Cache(_), Some(f)) => f,
+        (Source::Cache(_), None) => {
+            return Err("--cache needs --frame N: the frame to export".into())
+        }
+        (Source::Rest(..), Some(_)) => {
             return Err("--frame needs --cache: without a cache the rest state is exported".into())
         }
-        (None, None) => sim.first_frame,
+        (Source::Rest(_, sim), None) => sim.first_frame,
     };
-    check_children_budget(opts, &sim, &settings)?;
+    check_children_memory(
+        &opts.budget,
+        source.strands(),
+        &settings,
+        opts.motion_samples,
+    )?;
+    let fps = source.fps();
     let offsets = shutter_offsets(opts.shutter, opts.motion_samples)?;
-    let cached = reader.as_ref().and_then(|r| {
-        Some((
-            f64::from(*r.frame_numbers().first()?),
-            f64::from(*r.frame_numbers().last()?),
-        ))
-    });
+    let cached = match &source {
+        Source::Cache(shot) => {
+            let numbers = shot.cached_frames();
+            numbers
+                .first()
+                .zip(numbers.last())
+                .map(|(&a, &b)| (f64::from(a), f64::from(b)))
+        }
+        Source::Rest(..) => None,
+    };
     let mut clamped_samples = Vec::new();
     let mut samples: Vec<(f64, ChildBuffers)> = Vec::with_capacity(offsets.len());
     for offset in offsets {
@@ -254,22 +240,16 @@ fn export_inner(
             }
             _ => time_code,
         };
-        let positions = match reader.as_mut() {
-            Some(r) => {
-                r.sample(sampled / fps, Interpolation::Hermite)
-                    .map_err(|e| e.to_string())?
-                    .positions
-            }
-            None => sim.strands.positions.clone(),
-        };
+        let (positions, scalp) = source.at(sampled, time_code)?;
+        let parents = source.parents();
         samples.push((
             time_code,
             children_of(
-                &sim.strands,
+                parents.strands,
                 &positions,
-                &sim.scalp_at(time_code as f32),
-                colors.as_deref(),
-                &sim.child_maps,
+                &scalp,
+                parents.colors,
+                &parents.maps,
                 &settings,
                 lod,
             )
@@ -336,12 +316,12 @@ fn export_inner(
 /// library defaults without one) with `overrides` applied; `display` picks the section's display
 /// level of detail instead of render.
 pub(crate) fn child_settings(
-    scene: &SceneFile,
+    scene: Option<&SceneFile>,
     overrides: &ChildOverrides,
     display: bool,
 ) -> Result<(ChildSettings, Lod), String> {
-    let (base, display_lod) = match &scene.scene.children {
-        Some(section) => section
+    let (base, display_lod) = match scene.and_then(|s| s.scene.children.as_ref().map(|c| (s, c))) {
+        Some((scene, section)) => section
             .settings()
             .map_err(|e| format!("{}: {e}", scene.origin))?,
         None => (ChildSettings::default(), DisplayLod::default()),
@@ -355,29 +335,20 @@ pub(crate) fn child_settings(
     Ok((settings, lod))
 }
 
-/// Refuses children × points × samples over `opts.budget` before any child is generated.
-fn check_children_budget(
-    opts: &ExportOptions,
-    sim: &Simulation,
-    settings: &ChildSettings,
-) -> Result<(), String> {
-    check_children_memory(&opts.budget, sim, settings, opts.motion_samples)
-}
-
-/// Refuses `samples` time samples of the children `settings` give on `sim`'s parents when
-/// children × points × samples is over `budget`, before any child is generated.
+/// Refuses `samples` time samples of the children `settings` give on the parents `strands`
+/// when children × points × samples is over `budget`, before any child is generated.
 pub(crate) fn check_children_memory(
     budget: &Budget,
-    sim: &Simulation,
+    strands: &StrandSet,
     settings: &ChildSettings,
     samples: usize,
 ) -> Result<(), String> {
-    let parents = sim.strands.len();
+    let parents = strands.len();
     let children = match settings.count {
         ChildCount::PerParent(n) => f64::from(n) * parents as f64,
         ChildCount::Total(n) => n as f64,
     };
-    let points_per_child = sim.strands.point_count() as f64 / parents.max(1) as f64;
+    let points_per_child = strands.point_count() as f64 / parents.max(1) as f64;
     let samples = samples as f64;
     let bytes = children * points_per_child * samples * BYTES_PER_CHILD_POINT as f64;
     budget
@@ -401,34 +372,6 @@ fn shutter_offsets((open, close): (f64, f64), n: usize) -> Result<Vec<f64>, Stri
     Ok((0..n)
         .map(|i| open + (close - open) * i as f64 / (n - 1) as f64)
         .collect())
-}
-
-/// The per-vertex colors (`v x y z r g b`) of the scene's OBJ scalp, in the vertex order of the
-/// scalp mesh the scene builds; `None` for another scalp or an OBJ without colors on every vertex.
-pub(crate) fn scalp_colors(scene: &SceneFile) -> Result<Option<Vec<[f32; 3]>>, String> {
-    let ScalpMesh::Obj { path, .. } = &scene.scene.scalp.mesh else {
-        return Ok(None);
-    };
-    let path = scene.base_dir.join(path);
-    // The same bounded OBJ reader the scalp itself is loaded with (vertices in its order; a
-    // hostile face index is an error, not a panic).
-    let Some(colors) = hair_groom::load_obj_vertex_colors(&path).map_err(|e| {
-        format!(
-            "[scalp.mesh] {}: cannot read its vertex colors ({e})",
-            path.display()
-        )
-    })?
-    else {
-        return Ok(None);
-    };
-    if let Some(i) = colors.iter().position(|c| !c.iter().all(|x| x.is_finite())) {
-        return Err(format!(
-            "[scalp.mesh] {}: vertex {i} has a non-finite color {:?}; fix its `v x y z r g b` line",
-            path.display(),
-            colors[i]
-        ));
-    }
-    Ok(Some(colors))
 }
 
 /// Children of `strands` at `positions` (m), rooted on `scalp` (mesh samples, root frames and
@@ -467,4 +410,86 @@ pub(crate) fn children_of(
         })?;
     }
     generate(&parents, settings, lod)
+}
+
+/// Where an export's parents and scalp come from: a cache, or a scene's rest state.
+enum Source {
+    /// A cache, with its rig.
+    Cache(Box<Shot>),
+    /// A scene built for its rest state.
+    Rest(Box<SceneFile>, Box<Simulation>),
+}
+
+/// The parents of an export: their strands (anchors, layout), root colours and child maps.
+struct ParentsOf<'a> {
+    strands: &'a StrandSet,
+    colors: Option<&'a [[f32; 3]]>,
+    maps: ChildMapFactors,
+}
+
+impl Source {
+    /// The scene whose `[children]` settings apply, if there is one.
+    fn scene(&self) -> Option<&SceneFile> {
+        match self {
+            Source::Cache(shot) => shot.scene(),
+            Source::Rest(scene, _) => Some(scene),
+        }
+    }
+
+    fn strands(&self) -> &StrandSet {
+        match self {
+            Source::Cache(shot) => shot.strands(),
+            Source::Rest(_, sim) => &sim.strands,
+        }
+    }
+
+    fn fps(&self) -> f64 {
+        match self {
+            Source::Cache(shot) => shot.fps(),
+            Source::Rest(_, sim) => f64::from(sim.settings.fps),
+        }
+    }
+
+    fn parents(&self) -> ParentsOf<'_> {
+        match self {
+            Source::Cache(shot) => ParentsOf {
+                strands: shot.strands(),
+                colors: shot.rig().scalp.as_ref().and_then(|s| s.colors.as_deref()),
+                maps: ChildMapFactors {
+                    clump: shot.rig().clump.clone(),
+                    curl: shot.rig().curl.clone(),
+                },
+            },
+            Source::Rest(_, sim) => ParentsOf {
+                strands: &sim.strands,
+                colors: sim.scalp_colors.as_deref(),
+                maps: sim.child_maps.clone(),
+            },
+        }
+    }
+
+    /// The parents' positions sampled at (possibly fractional) frame `sampled`, and the scalp
+    /// at `time_code` (the rest state's, without a cache).
+    fn at(
+        &mut self,
+        sampled: f64,
+        time_code: f64,
+    ) -> Result<(Vec<nalgebra::Vector3<f32>>, Scalp), String> {
+        match self {
+            Source::Cache(shot) => {
+                let fps = shot.fps();
+                let positions = shot
+                    .reader()
+                    .sample(sampled / fps, Interpolation::Hermite)
+                    .map_err(|e| e.to_string())?
+                    .positions;
+                let scalp = shot.scalp_at(sampled).map_err(|e| e.to_string())?;
+                Ok((positions, scalp))
+            }
+            Source::Rest(_, sim) => Ok((
+                sim.strands.positions.clone(),
+                sim.scalp_at(time_code as f32),
+            )),
+        }
+    }
 }

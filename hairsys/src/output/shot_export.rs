@@ -7,9 +7,10 @@
 //! generation as `render-children export`). `points`, `velocities` and `extent` carry one time
 //! sample per time code; `widths` (`vertex`), the per-curve `primvars:id` (strand or child index),
 //! the root UV (`primvars:surface_uv_coordinate` and `primvars:st`) and `primvars:displayColor`
-//! (the scalp's vertex colours at the root) are written once. The scene's scalp mesh is the
-//! sibling `Mesh` prim `/scalp`: with time-sampled `points` when it moves (keyed rigid motion
-//! today; any mesh [`crate::scene::Simulation::scalp_at`] returns), else one static value.
+//! (the scalp's vertex colours at the root) are written once. The scalp mesh is the sibling
+//! `Mesh` prim `/scalp`: with time-sampled `points` when it moves or deforms (as the cache's rig
+//! recorded it, [`Shot::scalp_at`]), else one static value. Everything comes from the cache
+//! ([`Shot`]): the scene's mesh files are not read.
 //!
 //! Time codes are frame numbers plus [`ShotOptions::time_offset`] (`timeCodesPerSecond` = the
 //! cache's fps; `startTimeCode` and `endTimeCode` = the first and last time code written): a
@@ -25,7 +26,7 @@
 //!
 //! Because time codes are absolute frame numbers and the prim paths never change, the files of
 //! `--frames 1-60` and `--frames 61-120` are two value clips of one shot: a small stage with
-//! `clips` metadata on `/hair` and `/scalp` stitches them (README, "Whole shots in pieces").
+//! `clips` metadata on `/hair` and `/scalp` stitches them (`docs/usd.md`).
 //!
 //! `.usdc` (binary) or `.usda` (text) by the output's extension, written through
 //! [`hair_groom::formats::usd_write`]. Frames are read one at a time from the cache; the layer
@@ -34,21 +35,19 @@
 
 use std::path::{Path, PathBuf};
 
-use hair_cache::{CacheReader, Interpolation, Shutter};
-use hair_core::Anchor;
+use hair_cache::{Interpolation, Shutter};
+use hair_core::{Anchor, TriMesh};
 use hair_groom::formats::obj::UpAxis;
 use hair_groom::formats::usd_write::{
     Samples, UsdCurvesPrim, UsdEncoding, UsdLayer, UsdMeshPrim, UsdStageInfo,
 };
 use hair_render::buffers::ChildBuffers;
 use hair_render::export::usd::curves_prim;
-use nalgebra::Vector3;
 
 use crate::budget::Budget;
-use crate::children::{
-    check_children_memory, child_settings, children_of, open_cache, scalp_colors, ChildOverrides,
-};
-use crate::scene::{SceneFile, Simulation};
+use crate::output::children::{check_children_memory, child_settings, children_of, ChildOverrides};
+use crate::output::shot::{flat, Shot};
+use crate::scene::maps::ChildMapFactors;
 
 /// Render children instead of the simulated strands.
 #[derive(Debug, Clone, Copy, Default)]
@@ -68,7 +67,8 @@ pub struct ShotOptions {
     pub shutter: Option<Shutter>,
     /// Render children instead of the simulated strands.
     pub children: Option<ShotChildren>,
-    /// Scene overriding the one stored in the cache (roots, scalp, `[children]`).
+    /// Scene file whose `[children]` settings apply instead of those of the scene stored in
+    /// the cache.
     pub scene: Option<PathBuf>,
     /// Memory limit on the children held until written (children × points × samples).
     pub budget: Budget,
@@ -112,9 +112,9 @@ pub fn export_shot(cache: &Path, out: &Path, opts: &ShotOptions) -> Result<ShotS
             out.display()
         ));
     }
-    let (scene, mut reader) = open_cache(cache, opts.scene.as_deref())?;
-    let fps = reader.header().fps;
-    let cached = reader.frame_numbers().to_vec();
+    let mut shot = Shot::open(cache, opts.scene.as_deref()).map_err(|e| e.to_string())?;
+    let fps = shot.fps();
+    let cached = shot.cached_frames().to_vec();
     let chosen: Vec<u32> = cached
         .iter()
         .copied()
@@ -143,13 +143,6 @@ pub fn export_shot(cache: &Path, out: &Path, opts: &ShotOptions) -> Result<ShotS
         times[0] + opts.time_offset,
         times[times.len() - 1] + opts.time_offset,
     );
-    // The scene is needed for children; for strands only its scalp is, and a scene that no
-    // longer builds (its OBJ moved) loses the scalp, not the export.
-    let sim = match (&opts.children, scene.build()) {
-        (_, Ok(sim)) => Some(sim),
-        (Some(_), Err(e)) => return Err(e.to_string()),
-        (None, Err(_)) => None,
-    };
     let stage = UsdStageInfo {
         up_axis: UpAxis::Z,
         meters_per_unit: 1.0,
@@ -158,29 +151,18 @@ pub fn export_shot(cache: &Path, out: &Path, opts: &ShotOptions) -> Result<ShotS
     };
     let mut layer = UsdLayer::new(&stage);
     let offset = opts.time_offset;
-    let (prim, curves, points) = match (&opts.children, &sim) {
-        (Some(request), Some(sim)) => {
-            let (curves, points) =
-                add_children(&mut layer, &mut reader, &scene, sim, request, &times, opts)?;
+    let (prim, curves, points) = match &opts.children {
+        Some(request) => {
+            let (curves, points) = add_children(&mut layer, &mut shot, request, &times, opts)?;
             ("children", curves, points)
         }
-        _ => {
-            let (curves, points) = add_strands(
-                &mut layer,
-                &mut reader,
-                &scene,
-                sim.as_ref(),
-                &times,
-                offset,
-            )?;
+        None => {
+            let (curves, points) = add_strands(&mut layer, &mut shot, &times, offset)?;
             ("hair", curves, points)
         }
     };
     layer.set_default_prim(prim);
-    let scalp_animated = match &sim {
-        Some(sim) => add_scalp(&mut layer, sim, &times, offset),
-        None => None,
-    };
+    let scalp_animated = add_scalp(&mut layer, &mut shot, &times, offset)?;
     layer
         .write(out)
         .map_err(|e| format!("cannot write {}: {e}", out.display()))?;
@@ -223,26 +205,20 @@ fn time_codes(
     (times, dropped)
 }
 
-/// Flat x, y, z.
-fn flat(v: &[Vector3<f32>]) -> Vec<f32> {
-    v.iter().flat_map(|p| [p.x, p.y, p.z]).collect()
-}
-
 /// The simulated strands as `/hair`; returns (curves, points).
 fn add_strands(
     layer: &mut UsdLayer,
-    reader: &mut CacheReader,
-    scene: &SceneFile,
-    sim: Option<&Simulation>,
+    shot: &mut Shot,
     times: &[f64],
     offset: f64,
 ) -> Result<(usize, usize), String> {
-    let fps = reader.header().fps;
-    let layout = reader.layout().clone();
+    let fps = shot.fps();
+    let layout = shot.reader().layout().clone();
     let mut points = Vec::with_capacity(times.len());
     let mut velocities = Vec::with_capacity(times.len());
     for &t in times {
-        let s = reader
+        let s = shot
+            .reader()
             .sample(t / fps, Interpolation::Hermite)
             .map_err(|e| e.to_string())?;
         points.push((t + offset, flat(&s.positions)));
@@ -254,10 +230,7 @@ fn add_strands(
         .map(|w| (w[1] - w[0]) as i32)
         .collect();
     let curves = counts.len();
-    let (root_uv, colors) = match sim {
-        Some(sim) if sim.strands.len() == curves => root_attributes(scene, sim)?,
-        _ => (None, None),
-    };
+    let (root_uv, colors) = root_attributes(shot);
     layer.add_curves(UsdCurvesPrim {
         name: "hair",
         vertex_counts: counts,
@@ -278,15 +251,12 @@ fn add_strands(
 /// Root UV (u, v) and colour (r, g, b) per strand, flat, from the rest scalp at the strands'
 /// surface anchors; `None` where the scalp has no UVs or colours, or a strand is not anchored
 /// on it.
-#[allow(clippy::type_complexity)]
-fn root_attributes(
-    scene: &SceneFile,
-    sim: &Simulation,
-) -> Result<(Option<Vec<f32>>, Option<Vec<f32>>), String> {
-    let Some(mesh) = sim.rest_mesh() else {
-        return Ok((None, None));
+fn root_attributes(shot: &Shot) -> (Option<Vec<f32>>, Option<Vec<f32>>) {
+    let Some(scalp) = &shot.rig().scalp else {
+        return (None, None);
     };
-    let anchors = sim.strands.anchors();
+    let mesh = &scalp.mesh;
+    let anchors = &shot.rig().anchors;
     let samples: Option<Vec<_>> = anchors
         .iter()
         .map(|a| match a {
@@ -295,7 +265,7 @@ fn root_attributes(
         })
         .collect();
     let Some(samples) = samples else {
-        return Ok((None, None));
+        return (None, None);
     };
     let blend = |values: &dyn Fn(u32) -> Vec<f32>, arity: usize| -> Vec<f32> {
         let mut out = Vec::with_capacity(samples.len() * arity);
@@ -319,38 +289,43 @@ fn root_attributes(
             2,
         )
     });
-    let colors = scalp_colors(scene)?
-        .filter(|c| c.len() == mesh.positions().len())
+    let colors = scalp
+        .colors
+        .as_ref()
         .map(|c| blend(&|i| c[i as usize].to_vec(), 3));
-    Ok((uv, colors))
+    (uv, colors)
 }
 
 /// Render children at every time code as `/children`; returns (curves, points per sample).
 fn add_children(
     layer: &mut UsdLayer,
-    reader: &mut CacheReader,
-    scene: &SceneFile,
-    sim: &Simulation,
+    shot: &mut Shot,
     request: &ShotChildren,
     times: &[f64],
     opts: &ShotOptions,
 ) -> Result<(usize, usize), String> {
-    let fps = reader.header().fps;
-    let (settings, lod) = child_settings(scene, &request.overrides, request.display)?;
-    check_children_memory(&opts.budget, sim, &settings, times.len())?;
-    let colors = scalp_colors(scene)?;
+    let fps = shot.fps();
+    let (settings, lod) = child_settings(shot.scene(), &request.overrides, request.display)?;
+    check_children_memory(&opts.budget, shot.strands(), &settings, times.len())?;
+    let maps = ChildMapFactors {
+        clump: shot.rig().clump.clone(),
+        curl: shot.rig().curl.clone(),
+    };
     let mut first: Option<ChildBuffers> = None;
     let mut points = Vec::with_capacity(times.len());
     for &t in times {
-        let s = reader
+        let s = shot
+            .reader()
             .sample(t / fps, Interpolation::Hermite)
             .map_err(|e| e.to_string())?;
+        let scalp = shot.scalp_at(t).map_err(|e| e.to_string())?;
+        let colors = shot.rig().scalp.as_ref().and_then(|s| s.colors.as_deref());
         let children = children_of(
-            &sim.strands,
+            shot.strands(),
             &s.positions,
-            &sim.scalp_at(t as f32),
-            colors.as_deref(),
-            &sim.child_maps,
+            &scalp,
+            colors,
+            &maps,
             &settings,
             lod,
         )
@@ -406,16 +381,26 @@ fn central_differences(points: &[(f64, Vec<f32>)], fps: f64) -> Vec<(f64, Vec<f3
         .collect()
 }
 
-/// The scene's scalp mesh as `/scalp`, animated when it moves over `times` (scene frames,
-/// written at `offset` time codes later); returns whether it
-/// is animated, `None` without a scalp mesh.
-fn add_scalp(layer: &mut UsdLayer, sim: &Simulation, times: &[f64], offset: f64) -> Option<bool> {
-    let rest = sim.rest_mesh()?;
+/// The scalp mesh as `/scalp`, animated when it moves over `times` (scene frames, written at
+/// `offset` time codes later); returns whether it is animated, `None` without a scalp mesh.
+fn add_scalp(
+    layer: &mut UsdLayer,
+    shot: &mut Shot,
+    times: &[f64],
+    offset: f64,
+) -> Result<Option<bool>, String> {
+    let Some(rest) = shot.rest_scalp().cloned() else {
+        return Ok(None);
+    };
     let tris = rest.triangles();
-    let frames: Vec<(f64, Vec<f32>)> = times
-        .iter()
-        .filter_map(|&t| Some((t + offset, flat(sim.scalp_at(t as f32).mesh?.positions()))))
-        .collect();
+    let mut frames: Vec<(f64, Vec<f32>)> = Vec::with_capacity(times.len());
+    for &t in times {
+        let scalp = shot.scalp_at(t).map_err(|e| e.to_string())?;
+        let mesh: Option<TriMesh> = scalp.mesh;
+        if let Some(mesh) = mesh {
+            frames.push((t + offset, flat(mesh.positions())));
+        }
+    }
     let moves = frames.windows(2).any(|w| w[0].1 != w[1].1);
     let points = if moves {
         Samples::Times(frames)
@@ -437,7 +422,7 @@ fn add_scalp(layer: &mut UsdLayer, sim: &Simulation, times: &[f64], offset: f64)
             .map(|uv| uv.iter().flat_map(|t| [t.x, t.y]).collect()),
         colors: None,
     });
-    Some(moves)
+    Ok(Some(moves))
 }
 
 #[cfg(test)]

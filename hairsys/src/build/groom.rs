@@ -1,13 +1,15 @@
-//! [`Session::from_groom`]: a session from a groom and a scalp a host hands over as flat arrays
-//! (a DCC's curves and mesh, no files), for the Python module and the Blender add-on.
+//! The host door of the assembly ([`crate::build`]): a groom and a scalp a host hands over as
+//! flat arrays (a DCC's curves and mesh, no files), for [`Session::from_groom`], the Python
+//! module and the Blender add-on.
 //!
-//! The assembly is the scene's, fed from memory instead of files: the curves are attached to the
-//! scalp by [`hair_groom::snap_to_scalp`] (each root becomes a mesh sample, the rest shape is
-//! stored in its root frame, exactly as `[guides] file = …` does), and either simulated as they
-//! are (one strand per curve, in the host's order, so the host can write the positions back onto
-//! its own curves) or used as guides from which [`hair_groom::interpolate()`] grows more simulation
-//! hairs (as `[sim_hairs]` does). The strand model is mass-spring; colliders, hair–hair and
-//! fields are optional, and the scalp may collide with its own hair (as `[scalp.collider]`).
+//! The curves are attached to the scalp by [`hair_groom::snap_to_scalp`] (each root becomes a
+//! mesh sample, the rest shape is stored in its root frame, exactly as `[guides] file = …` does),
+//! and either simulated as they are (one strand per curve, in the host's order, so the host can
+//! write the positions back onto its own curves) or used as guides from which
+//! [`hair_groom::interpolate()`] grows more simulation hairs (as `[sim_hairs]` does). From there
+//! the assembly is a scene file's: the integrator is chosen by the same rule (`"auto"` by
+//! default, from the strands and what [`ExpectedMotion`] says will press on them), sag-free rest
+//! shapes are solved on request, and the session is made by the same constructor.
 //!
 //! The scalp is given in world space at the first frame with an identity body transform, so a
 //! host that deforms it hands the deformed world-space vertices to
@@ -22,14 +24,17 @@
 //! `[maps.stiffness]` give a scene's strands.
 
 use hair_core::{
-    Anchor, Collider, Colliders, ContactSettings, ForceField, HairHairSettings, HairParams, Scalp,
-    Solver, SolverSettings, StrandInput, StrandScales, StrandSet, TriMesh,
+    Anchor, Collider, ContactSettings, ForceField, HairHairSettings, HairParams, RodParams,
+    SolverSettings, StrandInput, StrandModel, StrandScales, StrandSet, TriMesh,
 };
 use hair_groom::{Distance, Groom, Guide, InterpolateOptions, Region, SnapOptions};
 use nalgebra::{Isometry3, Vector2, Vector3};
 
+use crate::build::{choose_integrator, SettleError};
 use crate::error::{Error, Result};
-use crate::scene::ScalpCollider;
+use crate::rig::Motion;
+use crate::scene::integrator::{ContactLoad, IntegratorChoice};
+use crate::scene::{ScalpCollider, SceneCollider, Simulation};
 use crate::Session;
 
 /// A groom and its scalp as flat arrays (m, Z up, world space at the first frame).
@@ -84,8 +89,18 @@ pub struct GroomOptions {
     pub sim_hairs: SimHairs,
     /// Material and environment.
     pub physics: HairParams,
-    /// Time stepping (fps, steps, substeps, damping iterations).
+    /// Time stepping (fps, steps, substeps, damping iterations); its `integrator` is used only
+    /// when [`Self::integrator`] names one.
     pub settings: SolverSettings,
+    /// `"auto"` (the default: the same rule as a scene file's `[solver] integrator`) or a named
+    /// integrator.
+    pub integrator: IntegratorChoice,
+    /// Solve rest shapes so the groom is a static equilibrium under gravity at the first frame
+    /// (as a scene's `[solver] sag_free`): hair holds its groomed shape instead of sagging when
+    /// the simulation starts. Mass-spring with one material (no `strand_scales`).
+    pub sag_free: bool,
+    /// What the host will do to the scalp and the colliders, for `"auto"`'s contact rule.
+    pub expected_motion: ExpectedMotion,
     /// Frame number of the rest state (the first frame).
     pub first_frame: u32,
     /// Linear density, kg/m.
@@ -117,6 +132,9 @@ impl Default for GroomOptions {
             sim_hairs: SimHairs::Curves,
             physics: HairParams::default(),
             settings: SolverSettings::default(),
+            integrator: IntegratorChoice::Auto,
+            sag_free: false,
+            expected_motion: ExpectedMotion::default(),
             first_frame: 1,
             mass_per_length: 1e-3,
             radius: 1e-3,
@@ -132,103 +150,189 @@ impl Default for GroomOptions {
     }
 }
 
+/// What a host will do to the scalp and the colliders over the shot. A scene file's keyframes
+/// and meshes say this by themselves; a host that drives a session frame by frame says it here,
+/// so `"auto"` takes the integrator a scene with the same motion would take.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ExpectedMotion {
+    /// The host deforms the scalp ([`Session::set_scalp_vertices`] with vertices that are not
+    /// a rigid motion of the rest mesh: an armature, shape keys).
+    pub scalp_deforms: bool,
+    /// The host deforms a mesh collider ([`Session::set_collider_vertices`]).
+    pub collider_deforms: bool,
+    /// Fastest speed of any point of a collider's surface over the shot, m/s (0: still
+    /// colliders).
+    pub collider_speed: f64,
+}
+
 impl Session {
     /// A session of the groom `input` on its scalp (see the module docs), at rest at
     /// `options.first_frame`. Bad arrays are [`Error::Argument`]s naming the argument and the
     /// expected shape; a root farther than `max_snap_distance` from the scalp is refused by
     /// curve index.
     pub fn from_groom(input: &GroomArrays<'_>, options: &GroomOptions) -> Result<Self> {
-        let mesh = scalp_mesh(input)?;
-        let curves = curves(input)?;
-        let weights = goal_weights(input, options)?;
-        let pinned = pinned(input, options)?;
-        let groom =
-            Groom::new(curves).map_err(|e| Error::argument("curve_points", e.to_string()))?;
-        let snapped = hair_groom::snap_to_scalp(
-            &groom,
-            &mesh,
-            &SnapOptions {
-                max_distance: options.max_snap_distance,
-            },
-        )
-        .map_err(|e| Error::argument("curve_points", e.to_string()))?;
-        let (mut inputs, scales) = strand_inputs(
-            &mesh,
-            &snapped.guides,
-            &weights,
-            input.strand_scales,
-            options,
-        )?;
-        if let Some(pinned) = pinned {
-            for (s, p) in inputs.iter_mut().zip(pinned) {
-                s.pinned = p;
-                s.pinned[0] = true;
-            }
+        Session::assemble(simulation(input, options)?, ORIGIN.into(), None)
+    }
+}
+
+/// How a host's groom session names itself in errors.
+const ORIGIN: &str = "groom session";
+
+/// The simulation of the groom `input` on its scalp (see [`Session::from_groom`]).
+pub fn simulation(input: &GroomArrays<'_>, options: &GroomOptions) -> Result<Simulation> {
+    let mesh = scalp_mesh(input)?;
+    let curves = curves(input)?;
+    let weights = goal_weights(input, options)?;
+    let pinned = pinned(input, options)?;
+    let groom = Groom::new(curves).map_err(|e| Error::argument("curve_points", e.to_string()))?;
+    let snapped = hair_groom::snap_to_scalp(
+        &groom,
+        &mesh,
+        &SnapOptions {
+            max_distance: options.max_snap_distance,
+        },
+    )
+    .map_err(|e| Error::argument("curve_points", e.to_string()))?;
+    let (mut inputs, scales) = strand_inputs(
+        &mesh,
+        &snapped.guides,
+        &weights,
+        input.strand_scales,
+        options,
+    )?;
+    if let Some(pinned) = pinned {
+        for (s, p) in inputs.iter_mut().zip(pinned) {
+            s.pinned = p;
+            s.pinned[0] = true;
         }
-        let mut strands = StrandSet::new();
-        for (i, s) in inputs.into_iter().enumerate() {
-            strands
-                .push(s)
-                .map_err(|e| Error::argument("curve_points", format!("strand {i}: {e}")))?;
-        }
-        let scalp = Scalp {
-            mesh: Some(mesh.clone()),
-            body: Isometry3::identity(),
-        };
-        strands.reset_to_rest(&scalp);
-        let solver_error = |source| Error::Solver {
-            scene: "groom session".into(),
-            source,
-        };
-        let mut solver = Solver::new(
-            options.settings,
-            options.physics,
-            &strands,
-            &scalp,
-            options.first_frame,
-        )
-        .map_err(solver_error)?;
-        if let Some(scales) = scales {
-            solver = solver
-                .with_strand_scales(scales, &strands)
-                .map_err(|e| Error::argument("strand_scales", e.to_string()))?;
-        }
-        if let Some(h) = options.hair_hair {
-            solver = solver.with_hair_hair(h, &strands).map_err(solver_error)?;
-        }
-        if !options.fields.is_empty() {
-            solver = solver
-                .with_fields(options.fields.clone())
-                .map_err(solver_error)?;
-        }
-        let mut colliders = Colliders::new();
-        colliders.settings = options.contacts;
-        for (i, (c, pose)) in options.colliders.iter().enumerate() {
-            colliders
-                .insert(c.clone(), *pose)
-                .map_err(|e| Error::argument(format!("colliders[{i}]"), e.to_string()))?;
-        }
-        let scalp_collider = match options.scalp_collider {
-            Some(sc) => Some(
-                colliders
-                    .insert_scalp_rest(
-                        mesh.clone(),
-                        Isometry3::identity(),
-                        sc.thickness,
-                        sc.friction,
-                    )
-                    .map_err(|e| Error::argument("scalp_collider", e.to_string()))?,
+    }
+    let mut strands = StrandSet::new();
+    for (i, s) in inputs.into_iter().enumerate() {
+        strands
+            .push(s)
+            .map_err(|e| Error::argument("curve_points", format!("strand {i}: {e}")))?;
+    }
+    let contact = contact_load(options, &strands);
+    let mut settings = options.settings;
+    let (integrator, _) = choose_integrator(
+        options.integrator,
+        StrandModel::MassSpring,
+        &mut settings,
+        &strands,
+        &options.physics,
+        scales.as_deref().unwrap_or(&[]),
+        &contact,
+    );
+    let colliders = options
+        .colliders
+        .iter()
+        .enumerate()
+        .map(|(i, (collider, pose))| SceneCollider {
+            name: format!("colliders[{i}]"),
+            collider: collider.clone(),
+            motion: Motion::Fixed(*pose),
+            animation: None,
+        })
+        .collect();
+    let mut sim = Simulation {
+        strands,
+        settings,
+        integrator,
+        params: options.physics,
+        first_frame: options.first_frame,
+        last_frame: options.first_frame,
+        rest_mesh: Some(mesh),
+        scalp_colors: None,
+        scalp_animation: None,
+        motion: Motion::Fixed(Isometry3::identity()),
+        colliders,
+        scalp_collider: options.scalp_collider,
+        contact_settings: options.contacts,
+        guides: Vec::new(),
+        guides_report: None,
+        hair_hair: options.hair_hair,
+        fields: options.fields.clone(),
+        model: StrandModel::MassSpring,
+        rod: RodParams::default(),
+        inextensibility: None,
+        strips: None,
+        guide_animation: None,
+        regions: Default::default(),
+        strand_scales: scales,
+        child_maps: Default::default(),
+        maps: Vec::new(),
+    };
+    sim.settle(options.sag_free)
+        .map_err(|e| settle_error(e, options.colliders.len()))?;
+    Ok(sim)
+}
+
+/// `"auto"`'s contact load for a host's session: what the host says it will do, and how far a
+/// moving collider may go in a substep (its thickness plus the thinnest hair's radius).
+fn contact_load(options: &GroomOptions, strands: &StrandSet) -> ContactLoad {
+    let motion = options.expected_motion;
+    let hair = strands
+        .radii()
+        .iter()
+        .copied()
+        .fold(f32::INFINITY, f32::min)
+        .max(0.0);
+    let margin = options
+        .colliders
+        .iter()
+        .map(|(c, _)| f64::from(c.thickness + hair))
+        .fold(f64::INFINITY, f64::min);
+    let speed = if options.colliders.is_empty() {
+        0.0
+    } else {
+        motion.collider_speed
+    };
+    ContactLoad {
+        collider_speed: speed,
+        margin: if speed > 0.0 { margin } else { f64::INFINITY },
+        deforming: motion.scalp_deforms && options.scalp_collider.is_some()
+            || motion.collider_deforms && !options.colliders.is_empty(),
+        animated_guides: false,
+    }
+}
+
+/// A [`SettleError`] in a host's words: the options it gave (`colliders`: how many it gave).
+fn settle_error(e: SettleError, colliders: usize) -> Error {
+    match e {
+        SettleError::SagFreeWithFactors => Error::argument(
+            "sag_free",
+            "solves rest shapes for one material, but strand_scales give curves their own: \
+             leave out sag_free or strand_scales",
+        ),
+        SettleError::SagFreeModel => Error::argument("sag_free", "is for the mass-spring model"),
+        SettleError::Unbalanced {
+            count,
+            total,
+            first,
+        } => Error::argument(
+            "sag_free",
+            format!(
+                "{count} of {total} strands (first: strand {first}) cannot be held in their \
+                 groomed shape by the bending springs without turning a rest direction more \
+                 than 60°: raise bend_stiffness, shorten the hair or groom it to hang"
             ),
-            None => None,
-        };
-        Session::new(
-            strands,
-            solver.into(),
-            colliders,
-            scalp,
-            Some(mesh),
-            scalp_collider,
-        )
+        ),
+        SettleError::HairHairGrid(e) => Error::argument("hair_hair_cell_size", e.to_string()),
+        SettleError::Collider { source, .. } => match source {
+            // The scalp collider comes after the host's colliders.
+            hair_core::HairError::Collider { collider, message } if collider >= colliders => {
+                Error::argument("scalp_collider", message)
+            }
+            hair_core::HairError::Collider { collider, message } => {
+                Error::argument(format!("colliders[{collider}]"), message)
+            }
+            other => Error::argument("colliders", other.to_string()),
+        },
+        SettleError::Anchor(e) => Error::argument("curve_points", e.to_string()),
+        SettleError::SagFree(e) => Error::Solver {
+            scene: ORIGIN.into(),
+            source: e,
+        },
     }
 }
 

@@ -1,6 +1,6 @@
 //! The quality report of a cached run: does it look like hair? Every cached frame is
 //! measured with [`hair_core::quality::measure`] against the colliders at that frame's pose (the
-//! scene stored in the cache places them), the previous frame (velocity–position mismatch) and
+//! cache's rig places them, [`Shot`]), the previous frame (velocity–position mismatch) and
 //! the groom posed on the scalp at that frame; the frames merge into one report for the run.
 //!
 //! Drift from the groom is reported twice: over the run (large while the head moves hair around,
@@ -20,7 +20,7 @@ use hair_core::{Colliders, QualityInput, QualityOptions, QualityReport, RootFram
 use nalgebra::Vector3;
 use serde::Serialize;
 
-use crate::children::open_cache;
+use crate::output::shot::Shot;
 
 /// What [`cache_quality`] (or a run, [`QualityTracker`]) measured.
 #[derive(Debug, Clone, Default, Serialize)]
@@ -136,12 +136,11 @@ impl QualityTracker {
     }
 }
 
-/// Measures every frame of the cache at `cache` (the scene stored in it, or the scene file
-/// `scene`, places the scalp and colliders). Errors name the cache or scene at fault.
-pub fn cache_quality(cache: &Path, scene: Option<&Path>) -> Result<RunQuality, String> {
-    let (scene, mut reader) = open_cache(cache, scene)?;
-    let sim = scene.build().map_err(|e| e.to_string())?;
-    let numbers = reader.frame_numbers().to_vec();
+/// Measures every frame of the cache at `cache`, its scalp and colliders placed by the cache's
+/// rig. Errors name the cache at fault.
+pub fn cache_quality(cache: &Path) -> Result<RunQuality, String> {
+    let mut shot = Shot::open(cache, None).map_err(|e| e.to_string())?;
+    let numbers = shot.cached_frames().to_vec();
     if numbers.len() < 2 {
         return Err(format!(
             "{}: the cache holds {} frame(s); a quality report needs at least two (the first \
@@ -150,30 +149,19 @@ pub fn cache_quality(cache: &Path, scene: Option<&Path>) -> Result<RunQuality, S
             numbers.len()
         ));
     }
-    let cached_points = reader.layout().point_count();
-    if cached_points != sim.strands.point_count() {
-        return Err(format!(
-            "{}: the cache holds {} points but its scene builds {}; give the scene that made \
-             it with --scene",
-            cache.display(),
-            cached_points,
-            sim.strands.point_count()
-        ));
-    }
-    let mut tracker = QualityTracker::new(reader.header().fps);
-    // Built once (a mesh collider's search tree is the costly part) and posed per frame.
-    let mut colliders = sim
-        .colliders_at(numbers[0] as f32)
-        .map_err(|e| sim.collider_message(&e))?;
+    let mut tracker = QualityTracker::new(shot.fps());
+    // Built once (a mesh collider's search tree is the costly part) and placed per frame.
+    let mut colliders = shot
+        .colliders_at(numbers[0], shot.scalp_collider())
+        .map_err(|e| e.to_string())?;
     for &n in &numbers {
-        let frame = reader.read_frame(n).map_err(|e| e.to_string())?;
-        let f = n as f32;
-        let scalp = sim.scalp_at(f);
-        sim.place_colliders(&mut colliders, f)
-            .map_err(|e| sim.collider_message(&e))?;
-        let roots = sim.strands.root_frames(&scalp);
+        let frame = shot.reader().read_frame(n).map_err(|e| e.to_string())?;
+        let scalp = shot.scalp_at(f64::from(n)).map_err(|e| e.to_string())?;
+        shot.place_colliders(&mut colliders, n)
+            .map_err(|e| e.to_string())?;
+        let roots = shot.strands().root_frames(&scalp);
         tracker.add(
-            &sim.strands,
+            shot.strands(),
             &FrameToMeasure {
                 frame: n,
                 positions: &frame.positions,

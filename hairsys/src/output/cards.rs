@@ -4,9 +4,10 @@
 //! `st` per vertex, all samples as `points.timeSamples`, `upAxis = "Z"` declared) or OBJ (the
 //! centre sample; Y up by default, the OBJ convention, see [`hair_render::export::cards_obj`]).
 //!
-//! The strips are grown again from the scene (the one stored in the cache, or `--scene`), and
-//! their edge strands take the cached positions (strip `k` = strands `2k`, `2k + 1`). With
-//! `[scalp.collider]` the rest scalp is the head every card vertex is kept out of.
+//! The strips are grown again from the scene's `[strips]` section (the scene stored in the
+//! cache, or `--scene`) on the cache's rest scalp ([`Shot`]), and their edge strands take the
+//! cached positions (strip `k` = strands `2k`, `2k + 1`). When the scalp is a collider, the rest
+//! scalp is the head every card vertex is kept out of.
 
 use std::path::PathBuf;
 
@@ -16,8 +17,8 @@ use hair_render::export::cards_obj::{export_cards_obj, ObjUpAxis};
 use hair_render::export::cards_usd::{export_cards_usda, CardSample, CardUsdOptions};
 use hair_render::{build_cards, CardMesh, CardSettings};
 
-use crate::children::open_cache;
 use crate::error::Error;
+use crate::output::shot::Shot;
 use crate::scene::SceneFile;
 
 /// Card output format.
@@ -145,43 +146,65 @@ fn build_samples(args: &CardsOptions) -> Result<Samples, String> {
             "--shutter {open},{close}: give OPEN,CLOSE in frames with OPEN ≤ CLOSE"
         ));
     }
-    let (scene, mut reader) = match &args.cache {
+    let (mut shot, scene, sim) = match &args.cache {
         Some(cache) => {
-            let (scene, reader) = open_cache(cache, args.scene.as_deref())?;
-            (scene, Some(reader))
+            let shot = Shot::open(cache, args.scene.as_deref()).map_err(|e| e.to_string())?;
+            (Some(shot), None, None)
         }
         None => {
             let Some(path) = &args.scene else {
                 return Err("give --cache or --scene: the cards of which strips?".into());
             };
-            (SceneFile::load(path).map_err(|e| e.to_string())?, None)
+            let scene = SceneFile::load(path).map_err(|e| e.to_string())?;
+            let sim = scene.build().map_err(|e| e.to_string())?;
+            (None, Some(scene), Some(sim))
         }
     };
-    let sim = scene.build().map_err(|e| e.to_string())?;
-    let (Some(section), Some(mesh)) = (&scene.scene.strips, sim.rest_mesh()) else {
+    let scene = match (&shot, &scene) {
+        (Some(shot), _) => shot.scene(),
+        (None, scene) => scene.as_ref(),
+    };
+    let mesh = match (&shot, &sim) {
+        (Some(shot), _) => shot.rest_scalp(),
+        (None, Some(sim)) => sim.rest_mesh(),
+        (None, None) => None,
+    };
+    let (Some(scene), Some(mesh)) = (scene, mesh) else {
+        return Err(
+            "cards need a scene with [solver] model = \"strips\", a [strips] section and a scalp \
+             mesh"
+                .into(),
+        );
+    };
+    let Some(section) = &scene.scene.strips else {
         return Err(format!(
             "{}: cards need a scene with [solver] model = \"strips\" and a [strips] section",
             scene.origin
         ));
     };
     let mut strips = section.build(mesh)?;
-    let head = match sim.scalp_collider {
-        Some(_) => Some(HeadShape::new(mesh).map_err(|e| e.to_string())?),
-        None => None,
+    let scalp_collides = match (&shot, &sim) {
+        (Some(shot), _) => shot.scalp_collider().is_some(),
+        (None, Some(sim)) => sim.scalp_collider.is_some(),
+        (None, None) => false,
+    };
+    let head = match scalp_collides {
+        true => Some(HeadShape::new(mesh).map_err(|e| e.to_string())?),
+        false => None,
     };
     let settings = CardSettings {
         rows_per_segment: args.rows_per_segment,
         columns: args.columns,
         clearance: args.clearance,
     };
-    let fps = sim.settings.fps as f64;
-    let frame = match (&reader, args.frame) {
-        (Some(_), Some(f)) => f,
-        (Some(_), None) => return Err("--cache needs --frame N: the frame to export".into()),
-        (None, Some(_)) => {
+    let (fps, frame) = match (&shot, &sim, args.frame) {
+        (Some(shot), _, Some(f)) => (shot.fps(), f),
+        (Some(_), _, None) => return Err("--cache needs --frame N: the frame to export".into()),
+        (None, _, Some(_)) => {
             return Err("--frame needs --cache: without a cache the rest state is exported".into())
         }
-        (None, None) => sim.first_frame,
+        (None, Some(sim), None) => (f64::from(sim.settings.fps), sim.first_frame),
+        (None, None, None) => unreachable!("a rest export has a scene"),
     };
     let n = args.motion_samples;
     let offsets: Vec<f64> = if n == 1 {
@@ -194,8 +217,9 @@ fn build_samples(args: &CardsOptions) -> Result<Samples, String> {
     let mut samples: Vec<(f64, CardMesh)> = Vec::with_capacity(n);
     for offset in offsets {
         let time_code = frame as f64 + offset;
-        if let Some(r) = reader.as_mut() {
-            let positions = r
+        if let Some(shot) = shot.as_mut() {
+            let positions = shot
+                .reader()
                 .sample(time_code / fps, Interpolation::Hermite)
                 .map_err(|e| e.to_string())?
                 .positions;
@@ -209,7 +233,11 @@ fn build_samples(args: &CardsOptions) -> Result<Samples, String> {
             }
             strips.strands.positions = positions;
         }
-        let scalp = sim.scalp_at(time_code as f32);
+        let scalp = match (shot.as_mut(), &sim) {
+            (Some(shot), _) => shot.scalp_at(time_code).map_err(|e| e.to_string())?,
+            (None, Some(sim)) => sim.scalp_at(time_code as f32),
+            (None, None) => unreachable!("a rest export has a scene"),
+        };
         let cards =
             build_cards(&strips, &scalp, &settings, head.as_ref()).map_err(|e| e.to_string())?;
         samples.push((time_code, cards));

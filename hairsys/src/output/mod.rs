@@ -1,0 +1,19 @@
+//! Outputs of a simulation, each opened from a cache alone through one [`Shot`] (or built from a
+//! scene's rest state where no cache is given):
+//!
+//! | output | command | module |
+//! |---|---|---|
+//! | render children of a frame, with motion-blur samples | `hairsys render-children export` | [`children`] |
+//! | a whole run (strands or children) as one animated USD file | `hairsys cache export` | [`shot_export`] |
+//! | hair cards of the strip model | `hairsys render-children cards` | [`cards`] |
+//! | pictures of frames with the scalp and colliders | `hairsys preview` | [`preview`] |
+//! | penetration, stretch, hairpins and velocities of every frame | `hairsys preview --report` | [`quality`] |
+
+pub mod cards;
+pub mod children;
+pub mod preview;
+pub mod quality;
+pub mod shot;
+pub mod shot_export;
+
+pub use shot::{Shot, ShotError};
