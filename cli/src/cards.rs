@@ -28,10 +28,12 @@ pub enum ObjUpAxisArg {
 /// Arguments of `render-children cards`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct CardsArgs {
-    /// Cache to read (the scene stored in it gives the strips); without it, the rest state.
+    /// Cache to read (its rig gives the scalp, the scene stored in it the [strips] section);
+    /// without it, the rest state.
     #[arg(long)]
     pub cache: Option<PathBuf>,
-    /// Scene file: the rest state to export without --cache, or a scene overriding the cache's.
+    /// Scene file: the rest state to export without --cache; with --cache, its [strips]
+    /// section instead of the stored scene's.
     #[arg(long)]
     pub scene: Option<PathBuf>,
     /// Frame to export (with --cache).

@@ -162,11 +162,12 @@ enum RenderCommand {
 
 #[derive(clap::Args)]
 struct ExportArgs {
-    /// Cache to read (the scene stored in it gives the roots). One of --cache, --scene or
-    /// --default-scene is required.
+    /// Cache to read (its rig gives the roots and the scalp: the scene's files are not read).
+    /// One of --cache, --scene or --default-scene is required.
     #[arg(long, required_unless_present_any = ["scene", "default_scene"])]
     cache: Option<PathBuf>,
-    /// Scene file: the rest state to export without --cache, or a scene overriding the cache's.
+    /// Scene file: the rest state to export without --cache; with --cache, its [children]
+    /// settings instead of those of the scene stored in the cache.
     #[arg(long)]
     scene: Option<PathBuf>,
     /// Export the rest state of the built-in default scene (see `hairsys scene init`).
@@ -311,18 +312,22 @@ enum GroomCommand {
         #[arg(short, long)]
         out: PathBuf,
     },
-    /// Print a groom file's strands, points, lengths and bounds (in meters, Z up, after --scale
-    /// and --up-axis).
+    /// Print a groom file's strands, points, lengths and bounds (in meters, Z up) and the units
+    /// they were read in: a USD stage's own `metersPerUnit` and `upAxis`; for files without
+    /// units (.hair, .tfx, .obj) 1 m per unit, Z up, unless --scale and --up-axis say otherwise,
+    /// with the likely right --scale when the strands come out implausible for hair.
     Info {
         /// Groom file; the format comes from the extension.
         file: PathBuf,
-        /// Meters per file unit (the Sintel sample: 0.01). A scale that makes the longest strand
-        /// shorter than 1 mm or longer than 10 m is refused as implausible for hair.
-        #[arg(long, default_value_t = 1.0)]
-        scale: f32,
-        /// The file's up axis; Y-up files are turned to Z up.
-        #[arg(long, value_enum, default_value_t = UpAxisArg::Z)]
-        up_axis: UpAxisArg,
+        /// Meters per file unit (the Sintel sample: 0.01), replacing a USD stage's. A given
+        /// scale that makes the longest strand shorter than 1 mm or longer than 10 m is refused
+        /// as implausible for hair.
+        #[arg(long)]
+        scale: Option<f32>,
+        /// The file's up axis (Y-up files are turned to Z up), replacing a USD stage's
+        /// [default: the stage's; z for other files].
+        #[arg(long, value_enum)]
+        up_axis: Option<UpAxisArg>,
         /// Print JSON instead of text.
         #[arg(long)]
         json: bool,
@@ -748,10 +753,10 @@ impl From<hairsys::Error> for Failure {
 /// Arguments of `preview`.
 #[derive(clap::Args)]
 struct PreviewArgs {
-    /// Cache to draw frames of (the scene stored in it places the scalp and colliders).
+    /// Cache to draw frames of (its rig places the scalp and colliders as the run saw them).
     #[arg(long)]
     cache: Option<PathBuf>,
-    /// Scene file: its rest state without --cache, or a scene overriding the cache's.
+    /// Scene file: its rest state, drawn without --cache.
     #[arg(long)]
     scene: Option<PathBuf>,
     /// Frames to draw, comma-separated; fractional frames are sub-frame samples (cubic Hermite
@@ -1103,25 +1108,82 @@ fn export_guides(scene: &Path, out: &Path, budget: Budget) -> Result<(), Failure
     Ok(())
 }
 
-/// `groom info`: a groom file's summary.
-fn groom_info(file: &Path, scale: f32, up_axis: UpAxisArg, json: bool) -> Result<(), Failure> {
-    let up_axis = match up_axis {
+/// `groom info`: a groom file's summary, with the units it was read in.
+fn groom_info(
+    file: &Path,
+    scale: Option<f32>,
+    up_axis: Option<UpAxisArg>,
+    json: bool,
+) -> Result<(), Failure> {
+    let up = up_axis.map(|a| match a {
         UpAxisArg::Y => hair_groom::UpAxis::Y,
         UpAxisArg::Z => hair_groom::UpAxis::Z,
+    });
+    let named = |e: hair_groom::GroomError| {
+        let e = e.to_string();
+        // Name the file even when the reader's message does not.
+        let name = file.display().to_string();
+        Failure::input(if e.contains(&name) {
+            e
+        } else {
+            format!("{name}: {e}")
+        })
     };
-    let groom = hair_groom::read_groom(file, &hair_groom::ImportOptions { scale, up_axis })
-        .map_err(|e| {
-            let e = e.to_string();
-            // Name the file even when the reader's message does not.
-            let name = file.display().to_string();
-            Failure::input(if e.contains(&name) {
-                e
-            } else {
-                format!("{name}: {e}")
-            })
-        })?;
+    let is_usd = matches!(
+        hair_groom::GroomFormat::of(file),
+        Ok(hair_groom::GroomFormat::Usd)
+    );
+    let (groom, units) = if is_usd {
+        // The stage's own units, replaced only where a flag is given.
+        let stage =
+            hair_groom::read_usd(file, &hair_groom::UsdReadOptions::default()).map_err(named)?;
+        if scale.is_none() && up.is_none() {
+            let units = Units {
+                meters_per_unit: stage.meters_per_unit,
+                up_axis: stage.up_axis,
+                source: "the stage's metersPerUnit and upAxis",
+            };
+            (stage.groom, units)
+        } else {
+            let opts = hair_groom::ImportOptions {
+                scale: scale.unwrap_or(stage.meters_per_unit as f32),
+                up_axis: up.unwrap_or(stage.up_axis),
+            };
+            let groom = hair_groom::read_groom(file, &opts).map_err(named)?;
+            let units = Units {
+                meters_per_unit: f64::from(opts.scale),
+                up_axis: opts.up_axis,
+                source: "--scale and --up-axis over the stage's",
+            };
+            (groom, units)
+        }
+    } else {
+        let opts = hair_groom::ImportOptions {
+            scale: scale.unwrap_or(1.0),
+            up_axis: up.unwrap_or(hair_groom::UpAxis::Z),
+        };
+        let groom = hair_groom::read_groom(file, &opts).map_err(named)?;
+        let source = match scale {
+            Some(_) => "--scale and --up-axis",
+            None => "assumed: the file has no units",
+        };
+        let units = Units {
+            meters_per_unit: f64::from(opts.scale),
+            up_axis: opts.up_axis,
+            source,
+        };
+        (groom, units)
+    };
     let info = hair_groom::groom_info(&groom);
-    check_scale(file, scale, info.length_max).map_err(Failure::input)?;
+    // A scale the user gave is a claim to check; an assumed one is only reported on.
+    if let Some(scale) = scale {
+        check_scale(file, scale, info.length_max).map_err(Failure::input)?;
+    }
+    let likely = likely_scale(units.meters_per_unit, info.length_max);
+    let up_name = match units.up_axis {
+        hair_groom::UpAxis::Y => "y",
+        hair_groom::UpAxis::Z => "z",
+    };
     if json {
         let (lo, hi) = info.bounds;
         let doc = json!({
@@ -1131,6 +1193,13 @@ fn groom_info(file: &Path, scale: f32, up_axis: UpAxisArg, json: bool) -> Result
             "points_per_strand": [info.points_min, info.points_max],
             "length_m": { "min": info.length_min, "mean": info.length_mean, "max": info.length_max },
             "bounds_m": [[lo.x, lo.y, lo.z], [hi.x, hi.y, hi.z]],
+            "units": {
+                "meters_per_unit": units.meters_per_unit,
+                "up_axis": up_name,
+                "source": units.source,
+                "plausible": likely.is_none(),
+                "likely_scale": likely,
+            },
         });
         outln!(
             "{}",
@@ -1139,8 +1208,42 @@ fn groom_info(file: &Path, scale: f32, up_axis: UpAxisArg, json: bool) -> Result
     } else {
         outln!("{}", file.display());
         outln!("{}", info.to_string().trim_end());
+        outln!(
+            "units    {} m per unit, {} up ({})",
+            units.meters_per_unit,
+            up_name.to_uppercase(),
+            units.source
+        );
+        if let Some(s) = likely {
+            outln!(
+                "note     the longest strand is {:.3e} m, implausible for hair (1 mm – 10 m): \
+                 the file's units are likely {s:e} m (read it with --scale {s:e})",
+                info.length_max
+            );
+        }
     }
     Ok(())
+}
+
+/// The units a groom was read in, and where they came from.
+struct Units {
+    /// Meters per file unit.
+    meters_per_unit: f64,
+    /// The up axis converted from.
+    up_axis: hair_groom::UpAxis,
+    /// Where they came from, in words.
+    source: &'static str,
+}
+
+/// The meters per unit (a power of ten times `scale`) that make the longest strand about 30 cm,
+/// when at `scale` it (`longest`, m) is implausible for hair; `None` when it is plausible.
+fn likely_scale(scale: f64, longest: f64) -> Option<f64> {
+    let (lo, hi) = PLAUSIBLE_LONGEST_STRAND;
+    if (lo..=hi).contains(&longest) || !(longest > 0.0 && longest.is_finite()) {
+        return None;
+    }
+    let decades = (longest / 0.3).log10().round() as i32;
+    Some(scale * 10f64.powi(-decades))
 }
 
 /// Shortest and longest plausible length of the longest strand of a groom, m: from stubble
@@ -1156,14 +1259,12 @@ fn check_scale(file: &Path, scale: f32, longest: f64) -> Result<(), String> {
     if (lo..=hi).contains(&longest) {
         return Ok(());
     }
-    let hint = if longest > 0.0 && longest.is_finite() {
-        let decades = (longest / 0.3).log10().round() as i32;
-        format!(
-            "; the file's units are likely off by 10^{decades}: try --scale {:.0e}",
-            f64::from(scale) * 10f64.powi(-decades)
-        )
-    } else {
-        String::new()
+    let hint = match likely_scale(f64::from(scale), longest) {
+        Some(s) => {
+            let decades = (f64::from(scale) / s).log10().round() as i32;
+            format!("; the file's units are likely off by 10^{decades}: try --scale {s:.0e}")
+        }
+        None => String::new(),
     };
     Err(format!(
         "{}: --scale {scale:e} makes the longest strand {longest:e} m, outside the {lo} m – \

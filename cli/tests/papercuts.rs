@@ -900,3 +900,47 @@ fn an_absurd_scale_with_finite_coordinates_is_refused_naming_the_flag_and_a_fix(
     );
     assert_eq!(code(&o), 0, "{}", stderr(&o));
 }
+
+#[test]
+fn groom_info_reads_a_stage_in_its_own_units_and_informs_on_unitless_files() {
+    let dir = tempdir("groom-info-units");
+    // A Blender-style stage in centimetres: one 20 cm strand.
+    let usda = "#usda 1.0\n(\n    metersPerUnit = 0.01\n    upAxis = \"Z\"\n)\n\
+        def BasisCurves \"hair\"\n{\n    int[] curveVertexCounts = [3]\n    \
+        point3f[] points = [(0, 0, 0), (0, 0, 10), (0, 0, 20)]\n    uniform token type = \"linear\"\n}\n";
+    std::fs::write(dir.join("cm.usda"), usda).unwrap();
+    let o = hairsys(&["groom", "info", "cm.usda", "--json"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let longest = doc["length_m"]["max"].as_f64().unwrap();
+    assert!((longest - 0.2).abs() < 1e-6, "{longest} m, not 0.2 m");
+    assert!((doc["units"]["meters_per_unit"].as_f64().unwrap() - 0.01).abs() < 1e-9);
+    assert_eq!(doc["units"]["plausible"], true);
+    // An explicit --scale replaces the stage's.
+    let o = hairsys(
+        &["groom", "info", "cm.usda", "--scale", "0.001", "--json"],
+        &dir,
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!((doc["length_m"]["max"].as_f64().unwrap() - 0.02).abs() < 1e-6);
+
+    // Sintel's .hair is in centimetres with no units in the file: read as meters, it is
+    // reported (not refused) with the scale that was likely meant.
+    let hair = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../data/sintel/sintel_hair.hair"
+    );
+    let o = hairsys(&["groom", "info", hair, "--up-axis", "y"], &dir);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(text.contains("strands  228"), "{text}");
+    assert!(
+        text.contains("assumed") && text.contains("--scale 1e-2"),
+        "{text}"
+    );
+    let o = hairsys(&["groom", "info", hair, "--up-axis", "y", "--json"], &dir);
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(doc["units"]["plausible"], false);
+    assert!((doc["units"]["likely_scale"].as_f64().unwrap() - 0.01).abs() < 1e-12);
+}

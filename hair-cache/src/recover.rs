@@ -90,9 +90,8 @@ impl Recovery {
         writer.finish()
     }
 
-    /// Writes the recovered rig and frames into `writer` (a new cache, no frame written yet):
-    /// what a resumed run continues from.
-    pub fn write_into(&self, writer: &mut CacheWriter) -> Result<(), CacheError> {
+    /// Writes the recovered rig and frames into `writer` (a new cache, no frame written yet).
+    fn write_into(&self, writer: &mut CacheWriter) -> Result<(), CacheError> {
         match &self.rig {
             Some(rig) => {
                 writer.attach_rig(rig)?;

@@ -11,7 +11,7 @@
 
 use std::path::Path;
 
-use hair_cache::{Frame, Precision, RecoveryWarning};
+use hair_cache::{CacheRig, Frame, Precision, RecoveryWarning, RigFrame};
 
 use crate::error::Error;
 use crate::scene::Simulation;
@@ -24,6 +24,9 @@ pub struct Resumed {
     pub warning: Option<RecoveryWarning>,
     /// How the interrupted run stored its frames; the resumed run keeps it.
     pub precision: Precision,
+    /// The interrupted run's rig, if its cache had one, and the rig's state at each of
+    /// `frames`.
+    pub rig: Option<(CacheRig, Vec<RigFrame>)>,
 }
 
 impl Resumed {
@@ -108,6 +111,7 @@ pub fn resume(cache: &Path, scene_hash: &str, sim: &mut Simulation) -> Result<Re
     sim.strands.velocities.copy_from_slice(&last.velocities);
     sim.first_frame = last.frame;
     Ok(Resumed {
+        rig: recovery.rig.map(|rig| (rig, recovery.rig_frames)),
         frames: recovery.frames,
         warning: recovery.warning,
         precision: recovery.precision,

@@ -209,8 +209,19 @@ pub fn simulate(
     // A resumed run first writes the frames it takes over; the last of them is the state it
     // continues from, written by the session like a first frame.
     if let Some(resumed) = &resumed {
-        for f in &resumed.frames[..resumed.frames.len() - 1] {
-            writer.write_frame(f.frame, &f.positions, &f.velocities)?;
+        let taken = &resumed.frames[..resumed.frames.len() - 1];
+        match &resumed.rig {
+            Some((rig, states)) => {
+                writer.attach_rig(rig)?;
+                for (f, state) in taken.iter().zip(states) {
+                    writer.write_frame_with_rig(f.frame, &f.positions, &f.velocities, state)?;
+                }
+            }
+            None => {
+                for f in taken {
+                    writer.write_frame(f.frame, &f.positions, &f.velocities)?;
+                }
+            }
         }
     }
     session.record_into(writer)?;

@@ -518,6 +518,7 @@ impl Session {
     ) -> Result<(FrameReport, R, std::time::Duration)> {
         let report = self.advance()?;
         let mut recorder = self.recorder.take();
+        let state = recorder.as_ref().map(|_| self.rig_frame());
         let view = FrameView {
             frame: self.frame(),
             strands: &self.strands,
@@ -529,13 +530,10 @@ impl Session {
             rayon::join(
                 || {
                     let t = std::time::Instant::now();
-                    let written = recorder.as_mut().map(|w| {
-                        w.write_frame(
-                            view.frame,
-                            &view.strands.positions,
-                            &view.strands.velocities,
-                        )
-                    });
+                    let written = recorder
+                        .as_mut()
+                        .zip(state.as_ref())
+                        .map(|(w, state)| record_frame(w, view.frame, view.strands, state));
                     (written, t.elapsed())
                 },
                 || beside(&view),
@@ -563,12 +561,7 @@ impl Session {
         let t = std::time::Instant::now();
         let state = self.rig_frame();
         if let Some(w) = &mut self.recorder {
-            let (x, v) = (&self.strands.positions, &self.strands.velocities);
-            if w.has_rig() {
-                w.write_frame_with_rig(frame, x, v, &state)?;
-            } else {
-                w.write_frame(frame, x, v)?;
-            }
+            record_frame(w, frame, &self.strands, &state)?;
         }
         self.cache_time += t.elapsed();
         Ok(())
@@ -1003,7 +996,22 @@ impl SceneAnimation {
     }
 }
 
-/// Refuses a non-finite transform, naming `argument`.
+/// Writes frame `frame` of `strands` into `writer`, with the rig's `state` when the cache has
+/// a rig.
+fn record_frame(
+    writer: &mut CacheWriter,
+    frame: u32,
+    strands: &StrandSet,
+    state: &RigFrame,
+) -> std::result::Result<(), hair_cache::CacheError> {
+    let (x, v) = (&strands.positions, &strands.velocities);
+    if writer.has_rig() {
+        writer.write_frame_with_rig(frame, x, v, state)
+    } else {
+        writer.write_frame(frame, x, v)
+    }
+}
+
 /// A sim weight must be in [0, 1].
 fn check_weight(argument: &str, w: f32) -> Result<()> {
     if w.is_finite() && (0.0..=1.0).contains(&w) {
@@ -1016,6 +1024,7 @@ fn check_weight(argument: &str, w: f32) -> Result<()> {
     }
 }
 
+/// Refuses a non-finite transform, naming `argument`.
 fn check_isometry(argument: &str, iso: &Isometry3<f32>) -> Result<()> {
     let finite = iso.translation.vector.iter().all(|c| c.is_finite())
         && iso.rotation.coords.iter().all(|c| c.is_finite());

@@ -1,5 +1,5 @@
 //! Resuming a collider scene (`hairsys simulate --resume`) continues from the last stored frame's
-//! positions and velocities with a fresh solver and a fresh collider set, as `cli/src/resume.rs`
+//! positions and velocities with a fresh solver and a fresh collider set, as `hairsys::resume`
 //! does. Contact detection keeps state between steps (per point: a lower bound of its distance
 //! to each collider and the mesh triangle it projected on last, a warm start); the resumed run
 //! starts without it. The test pins that this state changes only the cost, not a single bit of

@@ -1,5 +1,5 @@
 //! The bench's charts, PNG through plotters' bitmap backend. Text is drawn with ab_glyph from the
-//! bundled DejaVu Sans (`cli/assets/`, Bitstream Vera licence beside it), so no system font
+//! DejaVu Sans that `hair-render` bundles ([`hair_render::preview::FONT`]), so no system font
 //! library is needed.
 
 use std::path::Path;
@@ -17,11 +17,7 @@ static FONT: Once = Once::new();
 fn font() {
     FONT.call_once(|| {
         // The font is compiled in and known to parse; a failure would only lose the labels.
-        let _ = register_font(
-            "sans-serif",
-            FontStyle::Normal,
-            include_bytes!("../../assets/DejaVuSans.ttf"),
-        );
+        let _ = register_font("sans-serif", FontStyle::Normal, hair_render::preview::FONT);
     });
 }
 

@@ -69,7 +69,7 @@ pub use error::{PreviewError, Result};
 pub use image::{PreviewImage, MAX_SIDE};
 pub use scene::{Bounds, Highlight, Mesh, Rgb, Scene, StrandBuffers, Strands};
 pub use shading::{HairLook, Light, RenderSettings};
-pub use sheet::{contact_sheet, Tile, GAP, LABEL_HEIGHT};
+pub use sheet::{contact_sheet, Tile, FONT, GAP, LABEL_HEIGHT};
 
 use camera::Projection;
 use canvas::{bin_by_band, Canvas};

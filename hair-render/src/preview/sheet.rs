@@ -23,7 +23,9 @@ const SHEET_RGBA: [u8; 4] = [32, 32, 36, 255];
 /// Label color (sRGB).
 const TEXT_RGB: [u8; 3] = [235, 235, 235];
 
-static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+/// DejaVu Sans (TrueType), bundled in `hair-render/assets/` with its Bitstream Vera licence:
+/// the one font the labels of previews and the bench's charts are drawn in.
+pub static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
 
 /// One tile of a contact sheet.
 #[derive(Debug, Clone, Copy)]
