@@ -75,14 +75,7 @@ pub(crate) struct SceneSource {
     text: String,
     /// The scene's hash ([`SceneFile::hash`]).
     hash: String,
-    /// The directory the scene's relative paths start from, stored in caches too (as
-    /// [`SCENE_DIR_KEY`]) so a cache read from elsewhere still finds the scene's meshes.
-    base_dir: std::path::PathBuf,
 }
-
-/// Key of [`CacheHeader::extra`] holding the absolute directory of the scene file that made a
-/// cache (absent for a session a host assembled).
-pub const SCENE_DIR_KEY: &str = "scene_dir";
 
 /// What the host set for the next frame.
 #[derive(Debug, Clone, Default)]
@@ -200,7 +193,6 @@ impl Session {
         let source = SceneSource {
             text: scene.text.clone(),
             hash,
-            base_dir: std::path::absolute(&scene.base_dir).unwrap_or_default(),
         };
         Self::assemble(sim, scene.origin.clone(), Some(source))
     }
@@ -947,12 +939,7 @@ impl Session {
             );
         }
         let (scene_toml, scene_hash) = match &self.animation {
-            Some(a) => {
-                if let Some(dir) = a.source.base_dir.to_str().filter(|d| !d.is_empty()) {
-                    extra.insert(SCENE_DIR_KEY.to_string(), dir.to_string());
-                }
-                (a.source.text.clone(), a.source.hash.clone())
-            }
+            Some(a) => (a.source.text.clone(), a.source.hash.clone()),
             None => (String::new(), String::new()),
         };
         CacheHeader {

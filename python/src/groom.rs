@@ -252,9 +252,9 @@ pub fn groom_options(
             .map_err(|e| argument("integrator", &e))?;
     }
     set!(o.sag_free, "sag_free");
-    set!(o.expected_motion.scalp_deforms, "scalp_deforms");
-    set!(o.expected_motion.collider_deforms, "collider_deforms");
-    set!(o.expected_motion.collider_speed, "collider_speed");
+    o.expected_motion.scalp_deforms = value(options, "scalp_deforms")?;
+    o.expected_motion.collider_deforms = value(options, "collider_deforms")?;
+    o.expected_motion.collider_speed = value(options, "collider_speed")?;
     if let Some(v) = value(options, "damping_iterations")? {
         o.settings.damping_iterations = v;
     }

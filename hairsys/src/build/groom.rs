@@ -152,17 +152,19 @@ impl Default for GroomOptions {
 
 /// What a host will do to the scalp and the colliders over the shot. A scene file's keyframes
 /// and meshes say this by themselves; a host that drives a session frame by frame says it here,
-/// so `"auto"` takes the integrator a scene with the same motion would take.
+/// so `"auto"` takes the integrator a scene with the same motion would take. What the host does
+/// not say (`None`) is taken at its hardest: a scalp collider that may deform, colliders that
+/// may deform and move at any speed.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ExpectedMotion {
-    /// The host deforms the scalp ([`Session::set_scalp_vertices`] with vertices that are not
-    /// a rigid motion of the rest mesh: an armature, shape keys).
-    pub scalp_deforms: bool,
-    /// The host deforms a mesh collider ([`Session::set_collider_vertices`]).
-    pub collider_deforms: bool,
+    /// Whether the host deforms the scalp ([`Session::set_scalp_vertices`] with vertices that
+    /// are not a rigid motion of the rest mesh: an armature, shape keys).
+    pub scalp_deforms: Option<bool>,
+    /// Whether the host deforms a mesh collider ([`Session::set_collider_vertices`]).
+    pub collider_deforms: Option<bool>,
     /// Fastest speed of any point of a collider's surface over the shot, m/s (0: still
     /// colliders).
-    pub collider_speed: f64,
+    pub collider_speed: Option<f64>,
 }
 
 impl Session {
@@ -282,17 +284,18 @@ fn contact_load(options: &GroomOptions, strands: &StrandSet) -> ContactLoad {
         .iter()
         .map(|(c, _)| f64::from(c.thickness + hair))
         .fold(f64::INFINITY, f64::min);
-    let speed = if options.colliders.is_empty() {
-        0.0
-    } else {
-        motion.collider_speed
+    let colliders = !options.colliders.is_empty();
+    let speed = match motion.collider_speed {
+        Some(v) if colliders => v,
+        _ => 0.0,
     };
     ContactLoad {
         collider_speed: speed,
         margin: if speed > 0.0 { margin } else { f64::INFINITY },
-        deforming: motion.scalp_deforms && options.scalp_collider.is_some()
-            || motion.collider_deforms && !options.colliders.is_empty(),
+        deforming: motion.scalp_deforms.unwrap_or(true) && options.scalp_collider.is_some()
+            || motion.collider_deforms.unwrap_or(true) && colliders,
         animated_guides: false,
+        unknown_collider_speed: colliders && motion.collider_speed.is_none(),
     }
 }
 

@@ -116,6 +116,8 @@ pub struct ContactLoad {
     pub deforming: bool,
     /// The hair follows animated guides (`[[guides.pose]]`).
     pub animated_guides: bool,
+    /// A host poses colliders frame by frame without saying how fast they move.
+    pub unknown_collider_speed: bool,
 }
 
 impl ContactLoad {
@@ -123,6 +125,8 @@ impl ContactLoad {
     fn too_hard(&self, dt: f64) -> Option<String> {
         if self.deforming {
             Some("a collider deforms".into())
+        } else if self.unknown_collider_speed {
+            Some("colliders move as the host poses them, at a speed it did not give".into())
         } else if self.animated_guides {
             Some("animated guides press the hair into its colliders".into())
         } else if self.collider_speed * dt > self.margin {
