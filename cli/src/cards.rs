@@ -28,11 +28,11 @@ pub enum ObjUpAxisArg {
 /// Arguments of `render-children cards`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct CardsArgs {
-    /// Cache to read (its rig gives the scalp, the scene stored in it the [strips] section);
+    /// Cache to read (its rig gives the scalp, the scene stored in it the `[strips]` section);
     /// without it, the rest state.
     #[arg(long)]
     pub cache: Option<PathBuf>,
-    /// Scene file: the rest state to export without --cache; with --cache, its [strips]
+    /// Scene file: the rest state to export without --cache; with --cache, its `[strips]`
     /// section instead of the stored scene's.
     #[arg(long)]
     pub scene: Option<PathBuf>,

@@ -325,7 +325,7 @@ impl CacheWriter {
         self.rig.is_some()
     }
 
-    /// Writes the [rig](crate::rig) of the cache (the attachment [`rig::RIG_ATTACHMENT_NAME`])
+    /// Writes the [`rig`] of the cache (the attachment [`rig::RIG_ATTACHMENT_NAME`])
     /// and opens its channel; from then on every frame is written with its [`RigFrame`]
     /// ([`CacheWriter::write_frame_with_rig`]). Only before the first frame, once, and for a
     /// rig that matches the layout (one anchor per strand).

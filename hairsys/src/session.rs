@@ -101,10 +101,16 @@ struct Pending {
 #[derive(Debug, Clone)]
 struct RigTrack {
     rig: CacheRig,
-    /// The deformed scalp at the current frame (`None`: the rest mesh, moved rigidly).
-    scalp_vertices: Option<Vec<Vector3<f32>>>,
-    /// Each rig collider's deformed vertices at the current frame (`None`: its own mesh).
-    collider_vertices: Vec<Option<Vec<Vector3<f32>>>>,
+    deformed: Deformed,
+}
+
+/// The body-space vertices (m) of the deformed scalp and colliders at the current frame.
+#[derive(Debug, Clone, Default)]
+struct Deformed {
+    /// The deformed scalp (`None`: the rest mesh, moved rigidly).
+    scalp: Option<Vec<Vector3<f32>>>,
+    /// Each rig collider's deformed vertices (`None`: its own mesh).
+    colliders: Vec<Option<Vec<Vector3<f32>>>>,
 }
 
 /// Animated guides of a session: the animation and its scratch.
@@ -131,7 +137,7 @@ pub struct Snapshot {
     /// Animated rest shapes and rest directions, with animated guides.
     rest: Option<(Vec<Vector3<f32>>, Vec<RestDirection>)>,
     /// The deformed scalp's and colliders' vertices that caches record.
-    rig: (Option<Vec<Vector3<f32>>>, Vec<Option<Vec<Vector3<f32>>>>),
+    rig: Deformed,
 }
 
 impl Snapshot {
@@ -250,12 +256,14 @@ impl Session {
                 clump: sim.child_maps.clump.clone(),
                 curl: sim.child_maps.curl.clone(),
             },
-            scalp_vertices: sim.scalp_vertices_at(first),
-            collider_vertices: sim
-                .colliders
-                .iter()
-                .map(|c| c.animation.as_ref().map(|a| a.vertices_at(first)))
-                .collect(),
+            deformed: Deformed {
+                scalp: sim.scalp_vertices_at(first),
+                colliders: sim
+                    .colliders
+                    .iter()
+                    .map(|c| c.animation.as_ref().map(|a| a.vertices_at(first)))
+                    .collect(),
+            },
         };
         Ok(Self {
             strands,
@@ -563,10 +571,11 @@ impl Session {
     fn rig_frame(&self) -> RigFrame {
         RigFrame {
             scalp_body: self.scalp.body,
-            scalp_vertices: self.rig.scalp_vertices.clone(),
+            scalp_vertices: self.rig.deformed.scalp.clone(),
             colliders: self
                 .rig
-                .collider_vertices
+                .deformed
+                .colliders
                 .iter()
                 .enumerate()
                 .map(|(i, vertices)| ColliderState {
@@ -655,11 +664,11 @@ impl Session {
     ) {
         let sim = self.animation.as_ref().map(|a| &a.sim);
         match (scalp, sim) {
-            (Some(v), _) => self.rig.scalp_vertices = v,
-            (None, Some(sim)) => self.rig.scalp_vertices = sim.scalp_vertices_at(frame as f32),
+            (Some(v), _) => self.rig.deformed.scalp = v,
+            (None, Some(sim)) => self.rig.deformed.scalp = sim.scalp_vertices_at(frame as f32),
             (None, None) => {}
         }
-        for (i, slot) in self.rig.collider_vertices.iter_mut().enumerate() {
+        for (i, slot) in self.rig.deformed.colliders.iter_mut().enumerate() {
             let keyed = sim
                 .and_then(|s| s.colliders.get(i))
                 .and_then(|c| c.animation.as_ref());
@@ -799,10 +808,7 @@ impl Session {
                     self.strands.bend_rest().to_vec(),
                 )
             }),
-            rig: (
-                self.rig.scalp_vertices.clone(),
-                self.rig.collider_vertices.clone(),
-            ),
+            rig: self.rig.deformed.clone(),
         }
     }
 
@@ -836,8 +842,7 @@ impl Session {
         self.solver = snapshot.solver.clone();
         self.colliders = snapshot.colliders.clone();
         self.scalp = snapshot.scalp.clone();
-        self.rig.scalp_vertices.clone_from(&snapshot.rig.0);
-        self.rig.collider_vertices.clone_from(&snapshot.rig.1);
+        self.rig.deformed.clone_from(&snapshot.rig);
         if let Some((rest, bend)) = &snapshot.rest {
             self.strands.rest_local_mut().copy_from_slice(rest);
             self.strands.bend_rest_mut().copy_from_slice(bend);
