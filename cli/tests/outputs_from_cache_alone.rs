@@ -6,28 +6,9 @@
 
 mod common;
 
-use std::fmt::Write as _;
 use std::path::Path;
 
-use common::{hairsys, tempdir};
-
-/// A 10 cm square at z = 0, 4 × 4 quads, coloured by position (`v x y z r g b`).
-fn scalp_obj() -> String {
-    let mut obj = String::new();
-    for j in 0..5 {
-        for i in 0..5 {
-            let (x, y) = (0.025 * i as f32, 0.025 * j as f32);
-            let _ = writeln!(obj, "v {x} {y} 0 {} {} 0.25", x / 0.1, y / 0.1);
-        }
-    }
-    for j in 0..4 {
-        for i in 0..4 {
-            let v = 1 + i + 5 * j;
-            let _ = writeln!(obj, "f {} {} {} {}", v, v + 1, v + 6, v + 5);
-        }
-    }
-    obj
-}
+use common::{colored_square_obj, hairsys, tempdir};
 
 /// A tetrahedron of edge about `size` m around the origin, its apex raised by `lift` m.
 fn tetrahedron(size: f32, lift: f32) -> String {
@@ -152,7 +133,7 @@ fn every_output_works_the_same_after_the_scene_and_its_meshes_are_moved_away() {
     let dir = tempdir("outputs-from-cache");
     let meshes = dir.join("meshes");
     std::fs::create_dir_all(&meshes).unwrap();
-    std::fs::write(meshes.join("scalp.obj"), scalp_obj()).unwrap();
+    std::fs::write(meshes.join("scalp.obj"), colored_square_obj()).unwrap();
     std::fs::write(meshes.join("rock.obj"), tetrahedron(0.02, 0.0)).unwrap();
     for f in 1..=5 {
         let lift = 0.004 * f as f32;

@@ -5,29 +5,9 @@
 
 mod common;
 
-use std::fmt::Write as _;
 use std::process::Command;
 
-use common::{hairsys, tempdir};
-
-/// A flat 10 cm square at z = 0 (normal +z), 4 × 4 quads, colored linearly:
-/// `(r, g, b) = (x / 0.1, y / 0.1, 0.25)`, so any point inside has exactly that color.
-fn colored_square() -> String {
-    let mut obj = String::from("# colored scalp\n");
-    for j in 0..5 {
-        for i in 0..5 {
-            let (x, y) = (0.025 * i as f32, 0.025 * j as f32);
-            let _ = writeln!(obj, "v {x} {y} 0 {} {} 0.25", x / 0.1, y / 0.1);
-        }
-    }
-    for j in 0..4 {
-        for i in 0..4 {
-            let v = 1 + i + 5 * j;
-            let _ = writeln!(obj, "f {} {} {} {}", v, v + 1, v + 6, v + 5);
-        }
-    }
-    obj
-}
+use common::{colored_square_obj, hairsys, tempdir};
 
 const SCENE: &str = r#"
 [scene]
@@ -70,7 +50,7 @@ print("ok", path, len(rgb), "colors, worst", worst)
 #[test]
 fn obj_scalp_vertex_colors_color_the_children_roots() {
     let dir = tempdir("render-colors");
-    std::fs::write(dir.join("scalp.obj"), colored_square()).unwrap();
+    std::fs::write(dir.join("scalp.obj"), colored_square_obj()).unwrap();
     std::fs::write(dir.join("scene.toml"), SCENE).unwrap();
     // Interpolated children sit on the scalp with its color there (exact for a linear color);
     // simple children take their parent root's color, at most the 5 mm spread away: 0.05.

@@ -300,6 +300,17 @@ impl CacheReader {
     /// Decompresses chunk `chunk` (index in the summary's chunk indexes), checks its CRC and
     /// returns its frame messages (`log_time`, payload) sorted by time. `frame` is for errors.
     fn read_chunk(&mut self, chunk: usize, frame: u32) -> Result<Vec<ChunkMessage>, CacheError> {
+        self.read_channel_chunk(chunk, self.frame_channel, &format!("frame {frame}"))
+    }
+
+    /// The messages of channel `channel` in chunk `chunk`, sorted by time; `what` names the
+    /// message read in errors.
+    fn read_channel_chunk(
+        &mut self,
+        chunk: usize,
+        channel: u16,
+        what: &str,
+    ) -> Result<Vec<ChunkMessage>, CacheError> {
         let index = &self.summary.chunk_indexes[chunk];
         read_range(
             &self.path,
@@ -309,8 +320,8 @@ impl CacheReader {
             index.chunk_length,
             &mut self.buf,
         )?;
-        let mut messages = chunk_messages(&self.buf, Some(self.frame_channel))
-            .map_err(|e| damaged(&self.path, format!("chunk of frame {frame}: {e}")))?;
+        let mut messages = chunk_messages(&self.buf, Some(channel))
+            .map_err(|e| damaged(&self.path, format!("chunk of {what}: {e}")))?;
         messages.sort_by_key(|m| m.0);
         Ok(messages)
     }
@@ -522,9 +533,9 @@ impl CacheReader {
     /// the frame was simulated. `None` for a cache without a rig; an error if the cache has a
     /// rig but not this frame's state.
     pub fn read_rig_frame(&mut self, frame: u32) -> Result<Option<RigFrame>, CacheError> {
-        let Some(rig) = &self.rig else {
+        if self.rig.is_none() {
             return Ok(None);
-        };
+        }
         let Ok(index) = self.rig_frames.binary_search(&frame) else {
             return Err(CacheError::NoSuchFrame {
                 path: self.path.clone(),
@@ -539,21 +550,14 @@ impl CacheReader {
         let chunk = self.rig_chunks[index];
         if self.cached_rig_chunk.as_ref().map(|c| c.0) != Some(chunk) {
             self.cached_rig_chunk = None;
-            let index = &self.summary.chunk_indexes[chunk];
-            read_range(
-                &self.path,
-                &mut self.file,
-                self.file_len,
-                index.chunk_start_offset,
-                index.chunk_length,
-                &mut self.buf,
-            )?;
-            let mut messages = chunk_messages(&self.buf, Some(self.rig_channel))
-                .map_err(|e| damaged(&self.path, format!("chunk of rig frame {frame}: {e}")))?;
-            messages.sort_by_key(|m| m.0);
+            let messages =
+                self.read_channel_chunk(chunk, self.rig_channel, &format!("rig frame {frame}"))?;
             self.cached_rig_chunk = Some((chunk, messages));
         }
         let messages = self.cached_rig_chunk.as_ref().map_or(&[][..], |c| &c.1[..]);
+        let Some(rig) = &self.rig else {
+            return Ok(None);
+        };
         let Some(payload) = messages
             .binary_search_by_key(&time_ns, |m| m.0)
             .ok()

@@ -26,3 +26,25 @@ pub fn tempdir(name: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
+
+/// A flat 10 cm square OBJ at z = 0 (normal +z), 4 × 4 quads, with per-vertex colours
+/// (`v x y z r g b`) linear in position: `(r, g, b) = (x / 0.1, y / 0.1, 0.25)`, so any point
+/// inside has exactly that colour.
+#[allow(dead_code)] // each test binary compiles this module; not all of them use every helper
+pub fn colored_square_obj() -> String {
+    use std::fmt::Write as _;
+    let mut obj = String::from("# colored scalp\n");
+    for j in 0..5 {
+        for i in 0..5 {
+            let (x, y) = (0.025 * i as f32, 0.025 * j as f32);
+            let _ = writeln!(obj, "v {x} {y} 0 {} {} 0.25", x / 0.1, y / 0.1);
+        }
+    }
+    for j in 0..4 {
+        for i in 0..4 {
+            let v = 1 + i + 5 * j;
+            let _ = writeln!(obj, "f {} {} {} {}", v, v + 1, v + 6, v + 5);
+        }
+    }
+    obj
+}
