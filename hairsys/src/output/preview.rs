@@ -238,12 +238,10 @@ impl Source {
             Source::Cache(shot) => {
                 let positions = positions_at(shot, frame)?;
                 let scalp = shot.scalp_at(frame).map_err(|e| e.to_string())?;
-                // Colliders at the nearest recorded frame.
-                let near = nearest(shot.cached_frames(), frame);
-                let shapes = shot.collider_shapes_at(near).map_err(|e| e.to_string())?;
+                let shapes = shot.collider_shapes_at(frame).map_err(|e| e.to_string())?;
                 let colliders = match opts.highlight {
                     true => Some(
-                        shot.colliders_at(near, shot.scalp_collider())
+                        shot.colliders_at(frame, shot.scalp_collider())
                             .map_err(|e| e.to_string())?,
                     ),
                     false => None,
@@ -293,19 +291,6 @@ impl Source {
             opts,
         )
     }
-}
-
-/// The stored frame nearest to `frame`.
-fn nearest(frames: &[u32], frame: f64) -> u32 {
-    frames
-        .iter()
-        .copied()
-        .min_by(|a, b| {
-            (f64::from(*a) - frame)
-                .abs()
-                .total_cmp(&(f64::from(*b) - frame).abs())
-        })
-        .unwrap_or(0)
 }
 
 /// One frame ready to draw: the scalp and collider meshes, and with `colliders` the highlight

@@ -152,12 +152,12 @@ pub fn cache_quality(cache: &Path) -> Result<RunQuality, String> {
     let mut tracker = QualityTracker::new(shot.fps());
     // Built once (a mesh collider's search tree is the costly part) and placed per frame.
     let mut colliders = shot
-        .colliders_at(numbers[0], shot.scalp_collider())
+        .colliders_at(f64::from(numbers[0]), shot.scalp_collider())
         .map_err(|e| e.to_string())?;
     for &n in &numbers {
         let frame = shot.reader().read_frame(n).map_err(|e| e.to_string())?;
         let scalp = shot.scalp_at(f64::from(n)).map_err(|e| e.to_string())?;
-        shot.place_colliders(&mut colliders, n)
+        shot.place_colliders(&mut colliders, f64::from(n))
             .map_err(|e| e.to_string())?;
         let roots = shot.strands().root_frames(&scalp);
         tracker.add(

@@ -13,7 +13,7 @@
 
 use std::path::{Path, PathBuf};
 
-use hair_cache::{CacheReader, CacheRig, RigFrame};
+use hair_cache::{CacheReader, CacheRig, ColliderState, RigFrame};
 use hair_core::{Colliders, Scalp, StrandInput, StrandSet, TriMesh};
 use nalgebra::{Isometry3, Vector3};
 
@@ -163,6 +163,54 @@ impl Shot {
         (a, b, s)
     }
 
+    /// The rig's state at (possibly fractional) `frame`: a stored frame's exactly; between two,
+    /// body transforms interpolated linearly in translation and spherically in rotation and
+    /// deformed vertices linearly (see the module docs).
+    fn state_at(&mut self, frame: f64) -> Result<RigFrame, ShotError> {
+        let (a, b, s) = self.around(frame);
+        let start = self.state(a)?;
+        if s == 0.0 {
+            return Ok(start);
+        }
+        let end = self.state(b)?;
+        let blend = |p: Option<Vec<Vector3<f32>>>,
+                     q: Option<Vec<Vector3<f32>>>,
+                     rest: Option<&[Vector3<f32>]>| match (p, q, rest) {
+            (None, None, _) | (_, _, None) => None,
+            (p, q, Some(rest)) => {
+                let p = p.as_deref().unwrap_or(rest);
+                let q = q.as_deref().unwrap_or(rest);
+                Some(p.iter().zip(q).map(|(x, y)| x.lerp(y, s)).collect())
+            }
+        };
+        let scalp_vertices = blend(
+            start.scalp_vertices,
+            end.scalp_vertices,
+            self.rest_scalp().map(|m| m.positions()),
+        );
+        let colliders = start
+            .colliders
+            .into_iter()
+            .zip(end.colliders)
+            .zip(&self.rig.colliders)
+            .map(|((p, q), c)| {
+                let rest = match &c.shape {
+                    hair_core::ColliderShape::Mesh(m) => Some(m.positions()),
+                    _ => None,
+                };
+                ColliderState {
+                    pose: p.pose.lerp_slerp(&q.pose, s),
+                    vertices: blend(p.vertices, q.vertices, rest),
+                }
+            })
+            .collect();
+        Ok(RigFrame {
+            scalp_body: start.scalp_body.lerp_slerp(&end.scalp_body, s),
+            scalp_vertices,
+            colliders,
+        })
+    }
+
     /// The scalp at (possibly fractional) `frame`, as it was simulated (see the module docs).
     pub fn scalp_at(&mut self, frame: f64) -> Result<Scalp, ShotError> {
         if self.reader.frame_numbers().is_empty() {
@@ -171,30 +219,19 @@ impl Shot {
                 body: Isometry3::identity(),
             });
         }
-        let (a, b, s) = self.around(frame);
-        let start = self.state(a)?;
-        let (body, vertices) = if s == 0.0 {
-            (start.scalp_body, start.scalp_vertices)
-        } else {
-            let end = self.state(b)?;
-            let body = start.scalp_body.lerp_slerp(&end.scalp_body, s);
-            let rest = self.rest_scalp().map(|m| m.positions());
-            let vertices = match (start.scalp_vertices, end.scalp_vertices, rest) {
-                (None, None, _) | (_, _, None) => None,
-                (p, q, Some(rest)) => {
-                    let p = p.as_deref().unwrap_or(rest);
-                    let q = q.as_deref().unwrap_or(rest);
-                    Some(p.iter().zip(q).map(|(x, y)| x.lerp(y, s)).collect())
-                }
-            };
-            (body, vertices)
-        };
-        let mesh = match (self.rest_scalp(), vertices) {
+        let state = self.state_at(frame)?;
+        self.scalp_of(&state)
+    }
+
+    /// The scalp of the rig's `state`.
+    fn scalp_of(&self, state: &RigFrame) -> Result<Scalp, ShotError> {
+        let body = state.scalp_body;
+        let mesh = match (self.rest_scalp(), &state.scalp_vertices) {
             (None, _) => None,
             (Some(rest), None) => Some(rest.transformed(&body)),
             (Some(rest), Some(v)) => {
                 let mut m = rest.clone();
-                m.set_positions(&v)
+                m.set_positions(v)
                     .map_err(|e| self.rig_error(e.to_string()))?;
                 Some(m.transformed(&body))
             }
@@ -203,14 +240,14 @@ impl Shot {
     }
 
     /// The colliders (the rig's, then the scalp as a collider when `with_scalp` is given with
-    /// its thickness and friction) placed at stored frame `frame`, with no motion into it: for
-    /// measuring a frame.
+    /// its thickness and friction) placed at (possibly fractional) `frame`, with no motion into
+    /// it: for measuring a frame.
     pub fn colliders_at(
         &mut self,
-        frame: u32,
+        frame: f64,
         with_scalp: Option<(f32, f32)>,
     ) -> Result<Colliders, ShotError> {
-        let state = self.state(frame)?;
+        let state = self.state_at(frame)?;
         let mut set = Colliders::new();
         let err = |e: hair_core::HairError| self.rig_error(e.to_string());
         for (c, s) in self.rig.colliders.iter().zip(&state.colliders) {
@@ -223,7 +260,7 @@ impl Shot {
             set.insert_scalp_rest(rest.clone(), state.scalp_body, thickness, friction)
                 .map_err(err)?;
             if state.scalp_vertices.is_some() {
-                let scalp = self.scalp_at(f64::from(frame))?;
+                let scalp = self.scalp_of(&state)?;
                 set.place_scalp(&scalp)
                     .map_err(|e| self.rig_error(e.to_string()))?;
             }
@@ -231,10 +268,10 @@ impl Shot {
         Ok(set)
     }
 
-    /// Puts the colliders of `set` (made by [`Shot::colliders_at`]) at stored frame `frame`,
-    /// with no motion into it: poses, deformed vertices and the scalp.
-    pub fn place_colliders(&mut self, set: &mut Colliders, frame: u32) -> Result<(), ShotError> {
-        let state = self.state(frame)?;
+    /// Puts the colliders of `set` (made by [`Shot::colliders_at`]) at (possibly fractional)
+    /// `frame`, with no motion into it: poses, deformed vertices and the scalp.
+    pub fn place_colliders(&mut self, set: &mut Colliders, frame: f64) -> Result<(), ShotError> {
+        let state = self.state_at(frame)?;
         for (i, s) in state.colliders.iter().enumerate() {
             let id = hair_core::ColliderId(i as u32);
             set.set_pose(id, s.pose)
@@ -244,17 +281,18 @@ impl Shot {
                     .map_err(|e| self.rig_error(e.to_string()))?;
             }
         }
-        let scalp = self.scalp_at(f64::from(frame))?;
+        let scalp = self.scalp_of(&state)?;
         set.place_scalp(&scalp)
             .map_err(|e| self.rig_error(e.to_string()))
     }
 
-    /// Each rig collider's shape at stored frame `frame` (deformed where it deforms) and pose.
+    /// Each rig collider's shape at (possibly fractional) `frame` (deformed where it deforms)
+    /// and pose.
     pub fn collider_shapes_at(
         &mut self,
-        frame: u32,
+        frame: f64,
     ) -> Result<Vec<(hair_core::ColliderShape, Isometry3<f32>)>, ShotError> {
-        let state = self.state(frame)?;
+        let state = self.state_at(frame)?;
         let mut out = Vec::with_capacity(state.colliders.len());
         for (c, s) in self.rig.colliders.iter().zip(&state.colliders) {
             let shape = match (&c.shape, &s.vertices) {
