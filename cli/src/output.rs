@@ -39,14 +39,9 @@ pub fn block(text: &str) {
     }
 }
 
-/// Whether a write to stdout has failed (the reader went away or the disk is full).
-pub fn failed() -> bool {
-    FAILED.lock().unwrap_or_else(|e| e.into_inner()).is_some()
-}
-
 /// The exit code after `code`: unchanged if stdout took everything, else 1 (with the error on
 /// stderr) when the command had succeeded.
-pub fn finish(code: i32) -> i32 {
+pub fn finish(code: u8) -> u8 {
     write("");
     let failed = FAILED.lock().unwrap_or_else(|e| e.into_inner()).take();
     match failed {

@@ -9,9 +9,14 @@
 //! - [`mean_curvature`] and [`curl_kept`]: the mean turning per unit length, `κ = φ / l̄` at each
 //!   interior point (`φ` the angle between its two segments, `l̄` their mean length), and its
 //!   ratio to the reference's (1 = the curl kept; below 1 the hair straightened);
-//! - shape drift at rest is [`position_rms`] of a groom that should not move against its start.
+//! - shape drift at rest is [`position_rms`] of a groom that should not move against its start;
+//! - over a shot, [`shot_errors`]: the worst frame's position RMS, the RMS over every frame, and
+//!   the worst frame's tip RMS.
 //!
-//! Penetration needs the collider's geometry and stays with the caller (the bench's `Solid`).
+//! These are the one measure of accuracy: `hairsys plan` compares its candidates with them, the
+//! bench (`hairsys-bench`) its methods against their truths, and the accuracy studies their
+//! integrators against a converged reference. Penetration needs the collider's geometry and
+//! stays with the caller (the bench's `Solid`).
 
 use nalgebra::Vector3;
 
@@ -89,6 +94,38 @@ pub fn curl_kept(run: &[Vector3<f32>], reference: &[Vector3<f32>], offsets: &[u3
     (k_ref > 1e-9).then(|| mean_curvature(run, offsets) / k_ref)
 }
 
+/// A run's error against a reference over a shot (the same strands and frames), m.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+pub struct ShotErrors {
+    /// Largest per-frame [`position_rms`], m: what a tolerance bounds.
+    pub rms_max: f32,
+    /// RMS distance over every frame and every free point, m.
+    pub rms: f32,
+    /// Largest per-frame [`tip_rms`], m.
+    pub tip_max: f32,
+}
+
+/// [`ShotErrors`] of `run` against `reference`, frame by frame (the frames' points laid out as
+/// `offsets` says, free where `inverse_mass > 0`).
+pub fn shot_errors(
+    run: &[Vec<Vector3<f32>>],
+    reference: &[Vec<Vector3<f32>>],
+    offsets: &[u32],
+    inverse_mass: &[f32],
+) -> ShotErrors {
+    let mut out = ShotErrors::default();
+    let mut sum_sq = 0.0f64;
+    for (a, b) in run.iter().zip(reference) {
+        let rms = position_rms(a, b, inverse_mass);
+        sum_sq += rms * rms;
+        out.rms_max = out.rms_max.max(rms as f32);
+        out.tip_max = out.tip_max.max(tip_rms(a, b, offsets) as f32);
+    }
+    // Every frame has the same free points, so the RMS over all is the RMS of the frames'.
+    out.rms = (sum_sq / run.len().max(1) as f64).sqrt() as f32;
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -145,5 +182,19 @@ mod tests {
         let rms = position_rms(&a, &b, &[0.0, 1.0, 1.0]);
         assert!((rms - 12.5f64.sqrt()).abs() < 1e-12);
         assert!((tip_rms(&a, &b, &[0, 3]) - 4.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn shot_errors_take_the_worst_frame_and_the_rms_of_all() {
+        let rest = vec![v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0)];
+        let off = |d: f32| vec![v(0.0, 0.0, 0.0), v(1.0, d, 0.0)];
+        let e = shot_errors(
+            &[off(3.0), off(4.0)],
+            &[rest.clone(), rest],
+            &[0, 2],
+            &[0.0, 1.0],
+        );
+        assert_eq!((e.rms_max, e.tip_max), (4.0, 4.0));
+        assert!((e.rms - 12.5f32.sqrt()).abs() < 1e-6, "{}", e.rms);
     }
 }

@@ -40,11 +40,9 @@
 //! ```
 
 pub mod accuracy;
-pub mod animated_guides;
 pub mod budget;
 pub mod build;
 pub mod error;
-pub mod maps;
 pub mod output;
 pub mod plan;
 pub mod resume;
@@ -52,7 +50,6 @@ pub mod rig;
 pub mod run;
 pub mod scene;
 pub mod session;
-pub mod session_children;
 
 pub use error::{Error, Result};
 pub use session::{FrameView, Session, Snapshot};

@@ -13,8 +13,8 @@ use std::path::Path;
 
 use hair_cache::{CacheRig, Frame, Precision, RecoveryWarning, RigFrame};
 
+use crate::build::Simulation;
 use crate::error::Error;
-use crate::scene::Simulation;
 
 /// What was taken over from the interrupted run.
 pub struct Resumed {

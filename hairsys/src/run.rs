@@ -245,7 +245,7 @@ pub fn simulate(
                     roots: view.roots,
                 },
             )
-            .map_err(|e| Error::Output(format!("the quality report: {e}")))
+            .map_err(Error::from)
     };
     if let Some(tracker) = &mut quality {
         let t0 = Instant::now();

@@ -55,7 +55,7 @@ goal_tip = 1.0
     )
 }
 
-fn load(dir: &Path, text: &str) -> Result<hairsys::scene::Simulation, String> {
+fn load(dir: &Path, text: &str) -> Result<hairsys::build::Simulation, String> {
     let path = dir.join("scene.toml");
     std::fs::write(&path, text).unwrap();
     let scene = SceneFile::load(&path).map_err(|e| e.to_string())?;
@@ -64,7 +64,7 @@ fn load(dir: &Path, text: &str) -> Result<hairsys::scene::Simulation, String> {
 
 /// Root UV and goal weights of each strand of a built scene.
 fn roots_and_goals(
-    sim: &hairsys::scene::Simulation,
+    sim: &hairsys::build::Simulation,
 ) -> Vec<(Vector2<f32>, Vector3<f32>, Vec<f32>)> {
     let scalp = sim.scalp_at(sim.first_frame as f32);
     let mesh = scalp.mesh.as_ref().unwrap();
@@ -383,7 +383,7 @@ fn unused_and_unsupported_maps_are_refused_by_name() {
 }
 
 /// The root UV of every scalp-rooted strand of `sim`.
-fn root_uvs(sim: &hairsys::scene::Simulation) -> Vec<Vector2<f32>> {
+fn root_uvs(sim: &hairsys::build::Simulation) -> Vec<Vector2<f32>> {
     let mesh = sim.rest_mesh().unwrap();
     sim.strands
         .anchors()
@@ -474,9 +474,11 @@ fn roots_per_area_follow_the_painted_density() {
             1.0
         }
     });
-    let texture =
-        hairsys::maps::Texture::read_png(&dir.path().join("d.png"), hairsys::maps::Channel::R)
-            .unwrap();
+    let texture = hairsys::rig::maps::Texture::read_png(
+        &dir.path().join("d.png"),
+        hairsys::rig::maps::Channel::R,
+    )
+    .unwrap();
     let hair = |count: usize, seed: u64, map: &str| {
         hair_scene(map)
             .replace("count = 300", &format!("count = {count}"))
@@ -582,9 +584,11 @@ fn clump_and_curl_maps_scale_each_parents_children_by_the_value_at_its_root() {
         }
     };
     write_png(&dir.path().join("c.png"), 96, 8, move |u, _| band(u));
-    let texture =
-        hairsys::maps::Texture::read_png(&dir.path().join("c.png"), hairsys::maps::Channel::R)
-            .unwrap();
+    let texture = hairsys::rig::maps::Texture::read_png(
+        &dir.path().join("c.png"),
+        hairsys::rig::maps::Channel::R,
+    )
+    .unwrap();
     let maps = "[maps.clump]\ntexture = \"c.png\"\n\n[maps.curl]\ntexture = \"c.png\"\n";
     let painted = hairsys::Session::from_scene(&{
         let path = dir.path().join("painted.toml");

@@ -63,7 +63,7 @@ fn frames_and_sub_frames_of_a_cache_make_one_sheet() {
 
     let mut outside = options(Some(cache), dir.path().join("x.png"));
     outside.frames = vec![9.0];
-    let e = preview(&outside).unwrap_err();
+    let e = preview(&outside).unwrap_err().to_string();
     assert!(e.contains("frame 9") && e.contains("frames 1–6"), "{e}");
 }
 
@@ -94,6 +94,8 @@ fn highlight_counts_hair_inside_a_collider() {
 #[test]
 fn a_preview_of_nothing_is_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let e = preview(&options(None, dir.path().join("a.png"))).unwrap_err();
+    let e = preview(&options(None, dir.path().join("a.png")))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("--cache") && e.contains("--scene"), "{e}");
 }

@@ -69,7 +69,7 @@ fn run(scene: &SceneFile) -> Vec<[f32; 3]> {
 }
 
 /// Mean distance of the region's tips from their groomed rest positions, m.
-fn mean_tip_offset(sim: &hairsys::scene::Simulation, at: &[[f32; 3]], strands: &[usize]) -> f64 {
+fn mean_tip_offset(sim: &hairsys::build::Simulation, at: &[[f32; 3]], strands: &[usize]) -> f64 {
     let rest = &sim.strands.positions;
     let sum: f64 = strands
         .iter()
@@ -309,13 +309,13 @@ fn a_stiffness_map_scales_each_hairs_bending_by_its_root_value() {
     let scales = sim.regions.scales(&sim.params, sim.strands.len()).unwrap();
     let fringe = &sim.regions.regions[0].strands;
     let mesh = sim.rest_mesh().unwrap();
-    let map = hairsys::maps::ScalpMap::new(
+    let map = hairsys::rig::maps::ScalpMap::new(
         "stiffness",
-        hairsys::maps::MapSource::Texture {
+        hairsys::rig::maps::MapSource::Texture {
             path: dir.path().join("stiff.png"),
-            texture: hairsys::maps::Texture::read_png(
+            texture: hairsys::rig::maps::Texture::read_png(
                 &dir.path().join("stiff.png"),
-                hairsys::maps::Channel::R,
+                hairsys::rig::maps::Channel::R,
             )
             .unwrap(),
         },
@@ -357,12 +357,12 @@ fn a_length_map_trims_each_hair_to_its_painted_fraction_along_its_groomed_curve(
     )
     .build()
     .unwrap();
-    let length = |sim: &hairsys::scene::Simulation, s: usize| -> f32 {
+    let length = |sim: &hairsys::build::Simulation, s: usize| -> f32 {
         sim.strands.rest_lengths()[sim.strands.segments(s)]
             .iter()
             .sum()
     };
-    let mass = |sim: &hairsys::scene::Simulation, s: usize| -> f32 {
+    let mass = |sim: &hairsys::build::Simulation, s: usize| -> f32 {
         // Free points only (the root's is not kept), compared as a ratio below.
         sim.strands.masses()[sim.strands.points(s)].iter().sum()
     };

@@ -8,7 +8,7 @@
 use std::path::Path;
 
 use hair_core::{Anchor, RootFrame, StrandSet, TriMesh};
-use hairsys::maps::{Channel, Texture};
+use hairsys::rig::maps::{Channel, Texture};
 use hairsys::scene::SceneFile;
 use hairsys::Session;
 use nalgebra::Vector3;

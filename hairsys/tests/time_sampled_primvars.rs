@@ -85,7 +85,7 @@ goal_tip = 1.0
     )
 }
 
-fn build(dir: &Path, text: &str) -> Result<hairsys::scene::Simulation, String> {
+fn build(dir: &Path, text: &str) -> Result<hairsys::build::Simulation, String> {
     std::fs::write(dir.join("scalp.usda"), scalp_usda()).unwrap();
     let path = dir.join("scene.toml");
     std::fs::write(&path, text).unwrap();
@@ -94,7 +94,7 @@ fn build(dir: &Path, text: &str) -> Result<hairsys::scene::Simulation, String> {
 }
 
 /// Each strand's rest length, m.
-fn lengths(sim: &hairsys::scene::Simulation) -> Vec<f32> {
+fn lengths(sim: &hairsys::build::Simulation) -> Vec<f32> {
     (0..sim.strands.len())
         .map(|s| {
             sim.strands.rest_lengths()[sim.strands.segments(s)]

@@ -100,7 +100,7 @@ goal_tip = 1.0
     )
 }
 
-fn build(dir: &Path, text: &str) -> Result<hairsys::scene::Simulation, String> {
+fn build(dir: &Path, text: &str) -> Result<hairsys::build::Simulation, String> {
     std::fs::write(dir.join("scalp.usda"), scalp_usda()).unwrap();
     let path = dir.join("scene.toml");
     std::fs::write(&path, text).unwrap();
@@ -109,7 +109,7 @@ fn build(dir: &Path, text: &str) -> Result<hairsys::scene::Simulation, String> {
 }
 
 /// Each strand's root position and its goal weights after the root.
-fn roots_and_goals(sim: &hairsys::scene::Simulation) -> Vec<(Vector3<f32>, Vec<f32>)> {
+fn roots_and_goals(sim: &hairsys::build::Simulation) -> Vec<(Vector3<f32>, Vec<f32>)> {
     let scalp = sim.scalp_at(sim.first_frame as f32);
     let mesh = scalp.mesh.as_ref().unwrap();
     let strands = &sim.strands;

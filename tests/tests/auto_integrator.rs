@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use hair_core::Integrator;
 use hairsys::scene::SceneFile;
 
-fn build(name: &str) -> hairsys::scene::Simulation {
+fn build(name: &str) -> hairsys::build::Simulation {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../scenes")
         .join(name);

@@ -34,7 +34,7 @@ fn dir_with(name: &str, files: &[(&str, &str)]) -> PathBuf {
 }
 
 /// Builds `HAIR` plus `extra` in `dir`.
-fn build(extra: &str, dir: &Path) -> Result<hairsys::scene::Simulation, String> {
+fn build(extra: &str, dir: &Path) -> Result<hairsys::build::Simulation, String> {
     let text = format!("{HAIR}\n{extra}");
     SceneFile::parse(&text, "bad.toml", dir.to_path_buf())
         .and_then(|s| s.build())
@@ -45,7 +45,7 @@ fn obj_collider(path: &str) -> String {
     format!("[[colliders]]\nname = \"mesh\"\nshape = {{ kind = \"obj\", path = \"{path}\" }}\n")
 }
 
-fn expect_error(result: Result<hairsys::scene::Simulation, String>, needles: &[&str]) {
+fn expect_error(result: Result<hairsys::build::Simulation, String>, needles: &[&str]) {
     let err = match result {
         Ok(_) => panic!("expected an error containing {needles:?}"),
         Err(e) => e,

@@ -7,7 +7,8 @@ mod common;
 
 use common::solver_at_first_frame;
 use hair_core::{Collider, Colliders};
-use hairsys::scene::{SceneFile, Simulation};
+use hairsys::build::Simulation;
+use hairsys::scene::SceneFile;
 use nalgebra::Isometry3;
 
 const SCENE: &str = r#"

@@ -18,7 +18,8 @@ mod common;
 use std::path::PathBuf;
 
 use common::collide::{run_with_colliders, turning_head_scene, SPRING_PHYSICS};
-use hairsys::scene::{SceneFile, Simulation};
+use hairsys::build::Simulation;
+use hairsys::scene::SceneFile;
 use nalgebra::Vector3;
 
 type State = (Vec<Vector3<f32>>, Vec<Vector3<f32>>);

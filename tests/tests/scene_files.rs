@@ -7,7 +7,8 @@ mod common;
 use std::path::PathBuf;
 
 use common::*;
-use hairsys::scene::{SceneFile, Simulation};
+use hairsys::build::Simulation;
+use hairsys::scene::SceneFile;
 
 fn load(name: &str) -> Simulation {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))

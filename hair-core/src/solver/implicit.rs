@@ -159,7 +159,7 @@
 //! bench's curly hair (Gauss–Newton bending, 46° joints) flutters under BDF2: it settles at 64
 //! substeps per frame and from 1,024, but at 128–512 its energy climbs from frame 5 and its
 //! segments stretch 2–5 % for the rest of the run, where implicit Euler settles at every count
-//! (`cli/src/bench/curly.rs`, `flutter_study`). It is not BDF2's second root (restarting
+//! (`bench/src/curly.rs`, `flutter_study`). It is not BDF2's second root (restarting
 //! BDF2 with backward Euler every 8 substeps flutters alike) and it grows with the matrix's
 //! error (the small-angle Hessian flutters from 64). The bench's straighter hair (drape, head
 //! turn, cantilever, chain) holds at every count up to 512. `integrator = "auto"` stays outside

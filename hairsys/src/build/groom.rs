@@ -31,11 +31,11 @@ use hair_groom::{Distance, Groom, Guide, InterpolateOptions, Region, SnapOptions
 use nalgebra::{Isometry3, Vector2, Vector3};
 
 use crate::build::{choose_integrator, SettleError};
+use crate::build::{SceneCollider, Simulation};
 use crate::error::{Error, Result};
 use crate::rig::Motion;
 use crate::scene::integrator::{ContactLoad, IntegratorChoice};
-use crate::scene::{ScalpCollider, SceneCollider, Simulation};
-use crate::Session;
+use crate::scene::ScalpCollider;
 
 /// A groom and its scalp as flat arrays (m, Z up, world space at the first frame).
 #[derive(Debug, Clone, Copy)]
@@ -167,18 +167,8 @@ pub struct ExpectedMotion {
     pub collider_speed: Option<f64>,
 }
 
-impl Session {
-    /// A session of the groom `input` on its scalp (see the module docs), at rest at
-    /// `options.first_frame`. Bad arrays are [`Error::Argument`]s naming the argument and the
-    /// expected shape; a root farther than `max_snap_distance` from the scalp is refused by
-    /// curve index.
-    pub fn from_groom(input: &GroomArrays<'_>, options: &GroomOptions) -> Result<Self> {
-        Session::assemble(simulation(input, options)?, ORIGIN.into(), None)
-    }
-}
-
 /// How a host's groom session names itself in errors.
-const ORIGIN: &str = "groom session";
+pub(crate) const ORIGIN: &str = "groom session";
 
 /// The simulation of the groom `input` on its scalp (see [`Session::from_groom`]).
 pub fn simulation(input: &GroomArrays<'_>, options: &GroomOptions) -> Result<Simulation> {

@@ -4,7 +4,7 @@
 //!
 //! | door | what it reads | module |
 //! |---|---|---|
-//! | a scene file (`hairsys simulate`, [`crate::Session::from_scene`]) | the TOML schema of [`crate::scene`] and the files it names | [`SceneFile::build`](crate::scene::SceneFile::build) |
+//! | a scene file (`hairsys simulate`, [`crate::Session::from_scene`]) | the TOML schema of [`crate::scene`] and the files it names | [`SceneFile::build`](crate::scene::SceneFile::build) in `scene_file` |
 //! | a host's arrays (Python, the Blender add-on, a C++ plugin) | a groom and a scalp as flat arrays | [`groom`] |
 //!
 //! Each door turns its input into strands at rest on the scalp (generated, snapped guides,
@@ -28,9 +28,11 @@ use hair_core::{
 };
 
 use crate::scene::integrator::{self, ContactLoad, IntegratorChoice, ResolvedIntegrator};
-use crate::scene::Simulation;
-
 pub mod groom;
+mod scene_file;
+mod simulation;
+
+pub use simulation::{SceneCollider, Simulation};
 
 /// Resolves `choice` for `strands` of `model` run with `params` (strand `s` with
 /// `scales[s]`, empty for one material) under the contact load `contact`, and writes the

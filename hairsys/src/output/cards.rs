@@ -9,6 +9,7 @@
 //! cached positions (strip `k` = strands `2k`, `2k + 1`). When the scalp is a collider, the rest
 //! scalp is the head every card vertex is kept out of.
 
+use super::OutputError;
 use std::path::PathBuf;
 
 use hair_cache::Interpolation;
@@ -17,7 +18,6 @@ use hair_render::export::cards_obj::{export_cards_obj, ObjUpAxis};
 use hair_render::export::cards_usd::{export_cards_usda, CardSample, CardUsdOptions};
 use hair_render::{build_cards, CardMesh, CardSettings};
 
-use crate::error::Error;
 use crate::output::shot::Shot;
 use crate::scene::SceneFile;
 
@@ -74,21 +74,20 @@ pub struct CardsSummary {
     pub time_samples: usize,
 }
 
-/// Builds and writes the cards of `args`. Bad input (options, scene, cache) is
-/// [`Error::Usage`] (exit code 2); a file that cannot be written is [`Error::Output`] (exit
-/// code 1), as for every other command's output.
-pub fn export_cards(args: &CardsOptions) -> Result<CardsSummary, Error> {
+/// Builds and writes the cards of `args`. A file that cannot be written is an
+/// [`OutputError::Write`]; every other error is about what was asked or read.
+pub fn export_cards(args: &CardsOptions) -> Result<CardsSummary, OutputError> {
     let Samples {
         meshes: samples,
         represented_hairs,
         fps,
         frame,
-    } = build_samples(args).map_err(Error::Usage)?;
+    } = build_samples(args)?;
     let centre = &samples[samples.len() / 2].1;
     let time_samples = match args.format {
         CardsFormat::Obj => {
             export_cards_obj(&args.out, centre, args.up_axis)
-                .map_err(|e| Error::Output(e.to_string()))?;
+                .map_err(|e| OutputError::export(&args.out, e))?;
             1
         }
         CardsFormat::Usd => {
@@ -109,7 +108,7 @@ pub fn export_cards(args: &CardsOptions) -> Result<CardsSummary, Error> {
                 ..CardUsdOptions::default()
             };
             export_cards_usda(&args.out, centre, &motion, &opts)
-                .map_err(|e| Error::Output(e.to_string()))?;
+                .map_err(|e| OutputError::export(&args.out, e))?;
             samples.len()
         }
     };
@@ -136,27 +135,31 @@ struct Samples {
 }
 
 /// The cards of `args` at each motion sample; errors are bad input.
-fn build_samples(args: &CardsOptions) -> Result<Samples, String> {
+fn build_samples(args: &CardsOptions) -> Result<Samples, OutputError> {
     if args.motion_samples == 0 {
-        return Err("--motion-samples 0: use at least 1 sample".into());
+        return Err(OutputError::request(
+            "--motion-samples 0: use at least 1 sample",
+        ));
     }
     let (open, close) = args.shutter;
     if !(open.is_finite() && close.is_finite() && open <= close) {
-        return Err(format!(
+        return Err(OutputError::Request(format!(
             "--shutter {open},{close}: give OPEN,CLOSE in frames with OPEN ≤ CLOSE"
-        ));
+        )));
     }
     let (mut shot, scene, sim) = match &args.cache {
         Some(cache) => {
-            let shot = Shot::open(cache, args.scene.as_deref()).map_err(|e| e.to_string())?;
+            let shot = Shot::open(cache, args.scene.as_deref())?;
             (Some(shot), None, None)
         }
         None => {
             let Some(path) = &args.scene else {
-                return Err("give --cache or --scene: the cards of which strips?".into());
+                return Err(OutputError::request(
+                    "give --cache or --scene: the cards of which strips?",
+                ));
             };
-            let scene = SceneFile::load(path).map_err(|e| e.to_string())?;
-            let sim = scene.build().map_err(|e| e.to_string())?;
+            let scene = SceneFile::load(path)?;
+            let sim = scene.build()?;
             (None, Some(scene), Some(sim))
         }
     };
@@ -170,26 +173,25 @@ fn build_samples(args: &CardsOptions) -> Result<Samples, String> {
         (None, None) => None,
     };
     let (Some(scene), Some(mesh)) = (scene, mesh) else {
-        return Err(
+        return Err(OutputError::request(
             "cards need a scene with [solver] model = \"strips\", a [strips] section and a scalp \
-             mesh"
-                .into(),
-        );
-    };
-    let Some(section) = &scene.scene.strips else {
-        return Err(format!(
-            "{}: cards need a scene with [solver] model = \"strips\" and a [strips] section",
-            scene.origin
+             mesh",
         ));
     };
-    let mut strips = section.build(mesh)?;
+    let Some(section) = &scene.scene.strips else {
+        return Err(OutputError::Request(format!(
+            "{}: cards need a scene with [solver] model = \"strips\" and a [strips] section",
+            scene.origin
+        )));
+    };
+    let mut strips = section.build(mesh).map_err(OutputError::Request)?;
     let scalp_collides = match (&shot, &sim) {
         (Some(shot), _) => shot.scalp_collider().is_some(),
         (None, Some(sim)) => sim.scalp_collider.is_some(),
         (None, None) => false,
     };
     let head = match scalp_collides {
-        true => Some(HeadShape::new(mesh).map_err(|e| e.to_string())?),
+        true => Some(HeadShape::new(mesh)?),
         false => None,
     };
     let settings = CardSettings {
@@ -199,9 +201,15 @@ fn build_samples(args: &CardsOptions) -> Result<Samples, String> {
     };
     let (fps, frame) = match (&shot, &sim, args.frame) {
         (Some(shot), _, Some(f)) => (shot.fps(), f),
-        (Some(_), _, None) => return Err("--cache needs --frame N: the frame to export".into()),
+        (Some(_), _, None) => {
+            return Err(OutputError::request(
+                "--cache needs --frame N: the frame to export",
+            ))
+        }
         (None, _, Some(_)) => {
-            return Err("--frame needs --cache: without a cache the rest state is exported".into())
+            return Err(OutputError::request(
+                "--frame needs --cache: without a cache the rest state is exported",
+            ))
         }
         (None, Some(sim), None) => (f64::from(sim.settings.fps), sim.first_frame),
         (None, None, None) => unreachable!("a rest export has a scene"),
@@ -220,26 +228,24 @@ fn build_samples(args: &CardsOptions) -> Result<Samples, String> {
         if let Some(shot) = shot.as_mut() {
             let positions = shot
                 .reader()
-                .sample(time_code / fps, Interpolation::Hermite)
-                .map_err(|e| e.to_string())?
+                .sample(time_code / fps, Interpolation::Hermite)?
                 .positions;
             if positions.len() != strips.strands.point_count() {
-                return Err(format!(
+                return Err(OutputError::Request(format!(
                     "the cache has {} points per frame but the scene's strips have {}; export \
                      with the scene that made the cache",
                     positions.len(),
                     strips.strands.point_count()
-                ));
+                )));
             }
             strips.strands.positions = positions;
         }
         let scalp = match (shot.as_mut(), &sim) {
-            (Some(shot), _) => shot.scalp_at(time_code).map_err(|e| e.to_string())?,
+            (Some(shot), _) => shot.scalp_at(time_code)?,
             (None, Some(sim)) => sim.scalp_at(time_code as f32),
             (None, None) => unreachable!("a rest export has a scene"),
         };
-        let cards =
-            build_cards(&strips, &scalp, &settings, head.as_ref()).map_err(|e| e.to_string())?;
+        let cards = build_cards(&strips, &scalp, &settings, head.as_ref())?;
         samples.push((time_code, cards));
     }
     Ok(Samples {

@@ -8,6 +8,7 @@
 //! section (see [`crate::scene::children`]) gives the child settings; the command's flags
 //! ([`ChildOverrides`]) override it.
 
+use super::OutputError;
 use std::path::PathBuf;
 
 use hair_cache::Interpolation;
@@ -20,11 +21,11 @@ use hair_render::{
 use nalgebra::Vector3;
 
 use crate::budget::{Budget, BYTES_PER_CHILD_POINT};
-use crate::error::Error;
+use crate::build::Simulation;
 use crate::output::shot::Shot;
 use crate::scene::children::DEFAULT_NEIGHBOURS;
 use crate::scene::maps::ChildMapFactors;
-use crate::scene::{SceneFile, Simulation};
+use crate::scene::SceneFile;
 
 /// Output format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -87,7 +88,7 @@ pub struct ChildOverrides {
 
 impl ChildOverrides {
     /// `base` with every given override applied.
-    pub fn apply(&self, mut base: ChildSettings) -> Result<ChildSettings, String> {
+    pub fn apply(&self, mut base: ChildSettings) -> Result<ChildSettings, OutputError> {
         if let Some(c) = self.count {
             base.count = c;
         }
@@ -97,12 +98,13 @@ impl ChildOverrides {
         };
         base.mode = match (self.interpolated, self.neighbours, current) {
             (Some(false), Some(_), _) => {
-                return Err("--neighbours applies to --mode interpolated only".into())
+                return Err(OutputError::request("--neighbours applies to --mode interpolated only"))
             }
             (Some(false), None, _) => ChildMode::Simple,
             (None, Some(_), None) => {
-                return Err("--neighbours needs interpolated children: add --mode interpolated (or                             mode = \"interpolated\" in the scene's [children])"
-                    .into())
+                return Err(OutputError::request(
+                    "--neighbours needs interpolated children: add --mode interpolated (or mode = \"interpolated\" in the scene's [children])",
+                ))
             }
             (_, Some(n), _) => ChildMode::Interpolated { neighbours: n },
             (Some(true), None, n) => ChildMode::Interpolated {
@@ -158,40 +160,26 @@ pub fn parse_shutter(s: &str) -> Result<(f64, f64), String> {
     Ok((num(a)?, num(b)?))
 }
 
-/// Generates and writes the children; `on_sample` is called after each time sample.
-///
-/// Errors are [`Error::Usage`] (exit code 2) for bad input — options, the scene, the cache
-/// read — and [`Error::Output`] (exit code 1) when the output cannot be written.
-pub fn export(opts: &ExportOptions, on_sample: impl FnMut()) -> Result<ExportSummary, Error> {
-    let mut written = false;
-    let result = export_inner(opts, on_sample, &mut written);
-    result.map_err(|e| {
-        if written {
-            Error::Output(e)
-        } else {
-            Error::Usage(e)
-        }
-    })
-}
-
-fn export_inner(
+/// Generates and writes the children; `on_sample` is called after each time sample. A file
+/// that cannot be written is an [`OutputError::Write`]; every other error is about what was
+/// asked or read.
+pub fn export(
     opts: &ExportOptions,
     mut on_sample: impl FnMut(),
-    writing: &mut bool,
-) -> Result<ExportSummary, String> {
+) -> Result<ExportSummary, OutputError> {
     if opts.motion_samples == 0 {
-        return Err("--motion-samples 0: use at least 1 sample".into());
+        return Err(OutputError::request(
+            "--motion-samples 0: use at least 1 sample",
+        ));
     }
     let mut source = match &opts.cache {
-        Some(cache) => Source::Cache(Box::new(
-            Shot::open(cache, opts.scene.as_deref()).map_err(|e| e.to_string())?,
-        )),
+        Some(cache) => Source::Cache(Box::new(Shot::open(cache, opts.scene.as_deref())?)),
         None => {
             let scene = match &opts.scene {
-                Some(path) => SceneFile::load(path).map_err(|e| e.to_string())?,
+                Some(path) => SceneFile::load(path)?,
                 None => SceneFile::builtin_default(),
             };
-            let sim = scene.build().map_err(|e| e.to_string())?;
+            let sim = scene.build()?;
             Source::Rest(Box::new(scene), Box::new(sim))
         }
     };
@@ -199,10 +187,14 @@ fn export_inner(
     let frame = match (&source, opts.frame) {
         (Source::Cache(_), Some(f)) => f,
         (Source::Cache(_), None) => {
-            return Err("--cache needs --frame N: the frame to export".into())
+            return Err(OutputError::request(
+                "--cache needs --frame N: the frame to export",
+            ))
         }
         (Source::Rest(..), Some(_)) => {
-            return Err("--frame needs --cache: without a cache the rest state is exported".into())
+            return Err(OutputError::request(
+                "--frame needs --cache: without a cache the rest state is exported",
+            ))
         }
         (Source::Rest(_, sim), None) => sim.first_frame,
     };
@@ -252,8 +244,7 @@ fn export_inner(
                 &parents.maps,
                 &settings,
                 lod,
-            )
-            .map_err(|e| e.to_string())?,
+            )?,
         ));
         on_sample();
     }
@@ -263,11 +254,10 @@ fn export_inner(
         samples[centre].1.point_count(),
     );
     let out = &opts.out;
-    *writing = true;
     match opts.format {
         Format::Hair => {
             hair_render::export::hair::export_hair(out, &samples[centre].1)
-                .map_err(|e| e.to_string())?;
+                .map_err(|e| OutputError::export(out, e))?;
         }
         Format::Usd => {
             let usd_opts = UsdOptions {
@@ -296,7 +286,7 @@ fn export_inner(
                 let (_, frame_children) = samples.swap_remove(centre);
                 usd::export_usd(out, frame_children, &Motion::None, &usd_opts)
             }
-            .map_err(|e| e.to_string())?;
+            .map_err(|e| OutputError::export(out, e))?;
         }
     }
     Ok(ExportSummary {
@@ -319,11 +309,11 @@ pub(crate) fn child_settings(
     scene: Option<&SceneFile>,
     overrides: &ChildOverrides,
     display: bool,
-) -> Result<(ChildSettings, Lod), String> {
+) -> Result<(ChildSettings, Lod), OutputError> {
     let (base, display_lod) = match scene.and_then(|s| s.scene.children.as_ref().map(|c| (s, c))) {
         Some((scene, section)) => section
             .settings()
-            .map_err(|e| format!("{}: {e}", scene.origin))?,
+            .map_err(|e| OutputError::Request(format!("{}: {e}", scene.origin)))?,
         None => (ChildSettings::default(), DisplayLod::default()),
     };
     let settings = overrides.apply(base)?;
@@ -342,7 +332,7 @@ pub(crate) fn check_children_memory(
     strands: &StrandSet,
     settings: &ChildSettings,
     samples: usize,
-) -> Result<(), String> {
+) -> Result<(), OutputError> {
     let parents = strands.len();
     let children = match settings.count {
         ChildCount::PerParent(n) => f64::from(n) * parents as f64,
@@ -358,13 +348,13 @@ pub(crate) fn check_children_memory(
             ),
             bytes,
         )
-        .map_err(|e| e.to_string())
+        .map_err(OutputError::from)
 }
 
 /// Offsets (frames) of `n` samples evenly over the shutter, both ends included; the centre for 1.
-fn shutter_offsets((open, close): (f64, f64), n: usize) -> Result<Vec<f64>, String> {
+fn shutter_offsets((open, close): (f64, f64), n: usize) -> Result<Vec<f64>, OutputError> {
     if !(open.is_finite() && close.is_finite() && open <= close) {
-        return Err(format!("--shutter {open},{close}: give OPEN,CLOSE in frames with OPEN ≤ CLOSE, e.g. -0.25,0.25"));
+        return Err(OutputError::Request(format!("--shutter {open},{close}: give OPEN,CLOSE in frames with OPEN ≤ CLOSE, e.g. -0.25,0.25")));
     }
     if n == 1 {
         return Ok(vec![0.5 * (open + close)]);
@@ -474,16 +464,15 @@ impl Source {
         &mut self,
         sampled: f64,
         time_code: f64,
-    ) -> Result<(Vec<nalgebra::Vector3<f32>>, Scalp), String> {
+    ) -> Result<(Vec<nalgebra::Vector3<f32>>, Scalp), OutputError> {
         match self {
             Source::Cache(shot) => {
                 let fps = shot.fps();
                 let positions = shot
                     .reader()
-                    .sample(sampled / fps, Interpolation::Hermite)
-                    .map_err(|e| e.to_string())?
+                    .sample(sampled / fps, Interpolation::Hermite)?
                     .positions;
-                let scalp = shot.scalp_at(sampled).map_err(|e| e.to_string())?;
+                let scalp = shot.scalp_at(sampled)?;
                 Ok((positions, scalp))
             }
             Source::Rest(_, sim) => Ok((

@@ -16,4 +16,7 @@ pub mod quality;
 pub mod shot;
 pub mod shot_export;
 
+mod error;
+
+pub use error::OutputError;
 pub use shot::{Shot, ShotError};

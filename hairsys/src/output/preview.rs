@@ -8,18 +8,20 @@
 //! points closer to a collider than their radius and segments stretched beyond
 //! [`PreviewOptions::stretch_limit`] are drawn in red on top.
 
+use super::OutputError;
 use std::path::{Path, PathBuf};
 
 use hair_cache::Interpolation;
 use hair_core::{ColliderShape, Colliders, Scalp, StrandSet, TriMesh};
 use hair_render::preview::{
-    contact_sheet, render_view, Bounds, Highlight, Mesh, PreviewImage, RenderSettings, Rgb, Scene,
-    Strands, Tile, View,
+    contact_sheet, render_view, Bounds, Highlight, Mesh, PreviewError, PreviewImage,
+    RenderSettings, Rgb, Scene, Strands, Tile, View,
 };
 use nalgebra::{Isometry3, Vector3};
 
+use crate::build::Simulation;
 use crate::output::shot::Shot;
-use crate::scene::{SceneFile, Simulation};
+use crate::scene::SceneFile;
 
 /// Skin colour of the scalp, linear RGB.
 const SCALP_RGB: Rgb = [0.62, 0.42, 0.33];
@@ -82,23 +84,22 @@ struct FrameData {
 }
 
 /// Draws the frames of `opts` and writes the PNG.
-pub fn preview(opts: &PreviewOptions) -> Result<PreviewSummary, String> {
+pub fn preview(opts: &PreviewOptions) -> Result<PreviewSummary, OutputError> {
     if opts.views.is_empty() {
-        return Err("give at least one view (front, side, back, three-quarter)".into());
+        return Err(OutputError::request(
+            "give at least one view (front, side, back, three-quarter)",
+        ));
     }
     let mut source = match &opts.cache {
-        Some(cache) => Source::Cache(Box::new(
-            Shot::open(cache, None).map_err(|e| e.to_string())?,
-        )),
+        Some(cache) => Source::Cache(Box::new(Shot::open(cache, None)?)),
         None => match &opts.scene {
             Some(path) => {
-                let scene = SceneFile::load(path).map_err(|e| e.to_string())?;
-                Source::Rest(Box::new(scene.build().map_err(|e| e.to_string())?))
+                let scene = SceneFile::load(path)?;
+                Source::Rest(Box::new(scene.build()?))
             }
-            None => return Err(
-                "give --cache (frames of a run) or --scene (its rest state): a preview of what?"
-                    .into(),
-            ),
+            None => return Err(OutputError::request(
+                "give --cache (frames of a run) or --scene (its rest state): a preview of what?",
+            )),
         },
     };
     let frames = match (&source, opts.frames.is_empty()) {
@@ -133,15 +134,13 @@ pub fn preview(opts: &PreviewOptions) -> Result<PreviewSummary, String> {
     let mut images: Vec<(PreviewImage, String)> = Vec::new();
     for d in &data {
         let strands = Strands::new(&d.positions, strands.offsets())
-            .and_then(|s| s.with_radii(strands.radii()))
-            .map_err(|e| e.to_string())?;
+            .and_then(|s| s.with_radii(strands.radii()))?;
         let meshes = d
             .meshes
             .iter()
             .enumerate()
             .map(|(i, (m, rgb))| Mesh::from_trimesh(i, m, *rgb))
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(|e| e.to_string())?;
+            .collect::<Result<Vec<_>, _>>()?;
         let highlight = match opts.highlight {
             true => Highlight {
                 points: Some(&d.inside),
@@ -155,8 +154,12 @@ pub fn preview(opts: &PreviewOptions) -> Result<PreviewSummary, String> {
             highlight,
         };
         for view in &opts.views {
-            let image = render_view(&scene, *view, bounds.as_ref(), &settings)
-                .map_err(|e| format!("{}, {view}: {e}", d.label))?;
+            let image = render_view(&scene, *view, bounds.as_ref(), &settings).map_err(|e| {
+                OutputError::View {
+                    at: format!("{}, {view}", d.label),
+                    source: e,
+                }
+            })?;
             images.push((image, format!("{}, {view}", d.label)));
         }
     }
@@ -170,10 +173,13 @@ pub fn preview(opts: &PreviewOptions) -> Result<PreviewSummary, String> {
                 .map(|(image, label)| Tile { image, label })
                 .collect();
             debug_assert_eq!(tiles.len(), n);
-            contact_sheet(&tiles, columns).map_err(|e| e.to_string())?
+            contact_sheet(&tiles, columns)?
         }
     };
-    image.write_png(&opts.out).map_err(|e| e.to_string())?;
+    image.write_png(&opts.out).map_err(|e| match e {
+        PreviewError::Write { message, .. } => OutputError::write(&opts.out, message),
+        other => OutputError::Preview(other),
+    })?;
     Ok(PreviewSummary {
         out: opts.out.display().to_string(),
         tiles: data.len() * opts.views.len(),
@@ -191,28 +197,28 @@ fn count(flags: &[bool]) -> usize {
 
 /// Positions at `frame` (fractional: a Hermite sub-frame sample), refusing frames outside the
 /// cache by number.
-fn positions_at(shot: &mut Shot, frame: f64) -> Result<Vec<Vector3<f32>>, String> {
+fn positions_at(shot: &mut Shot, frame: f64) -> Result<Vec<Vector3<f32>>, OutputError> {
     let reader = shot.reader();
     let numbers = reader.frame_numbers();
     let (Some(&first), Some(&last)) = (numbers.first(), numbers.last()) else {
-        return Err("the cache holds no frame".into());
+        return Err(OutputError::request("the cache holds no frame"));
     };
     if !(frame.is_finite() && frame >= first as f64 && frame <= last as f64) {
-        return Err(format!(
+        return Err(OutputError::Request(format!(
             "frame {frame} is outside the cache (frames {first}–{last})"
-        ));
+        )));
     }
     if frame.fract() == 0.0 {
         return reader
             .read_frame(frame as u32)
             .map(|f| f.positions)
-            .map_err(|e| e.to_string());
+            .map_err(OutputError::from);
     }
     let fps = reader.header().fps;
     reader
         .sample(frame / fps, Interpolation::Hermite)
         .map(|s| s.positions)
-        .map_err(|e| e.to_string())
+        .map_err(OutputError::from)
 }
 
 /// What a preview draws from: a cache, or a scene's rest state.
@@ -232,18 +238,15 @@ impl Source {
     }
 
     /// The strands at `frame` with the scalp and colliders there, and the highlight flags.
-    fn frame_data(&mut self, frame: f64, opts: &PreviewOptions) -> Result<FrameData, String> {
+    fn frame_data(&mut self, frame: f64, opts: &PreviewOptions) -> Result<FrameData, OutputError> {
         let f = frame as f32;
         let (label, positions, scalp, shapes, colliders) = match self {
             Source::Cache(shot) => {
                 let positions = positions_at(shot, frame)?;
-                let scalp = shot.scalp_at(frame).map_err(|e| e.to_string())?;
-                let shapes = shot.collider_shapes_at(frame).map_err(|e| e.to_string())?;
+                let scalp = shot.scalp_at(frame)?;
+                let shapes = shot.collider_shapes_at(frame)?;
                 let colliders = match opts.highlight {
-                    true => Some(
-                        shot.colliders_at(frame, shot.scalp_collider())
-                            .map_err(|e| e.to_string())?,
-                    ),
+                    true => Some(shot.colliders_at(frame, shot.scalp_collider())?),
                     false => None,
                 };
                 (
@@ -268,7 +271,10 @@ impl Source {
                     })
                     .collect();
                 let colliders = match opts.highlight {
-                    true => Some(sim.colliders_at(f).map_err(|e| sim.collider_message(&e))?),
+                    true => Some(
+                        sim.colliders_at(f)
+                            .map_err(|e| OutputError::Request(sim.collider_message(&e)))?,
+                    ),
                     false => None,
                 };
                 let positions = sim.strands.positions.clone();
@@ -303,7 +309,7 @@ fn draw_data(
     shapes: &[(ColliderShape, Isometry3<f32>)],
     colliders: Option<&Colliders>,
     opts: &PreviewOptions,
-) -> Result<FrameData, String> {
+) -> Result<FrameData, OutputError> {
     let mut meshes = Vec::new();
     if let Some(mesh) = scalp.mesh {
         meshes.push((mesh, SCALP_RGB));
@@ -349,23 +355,22 @@ fn stretched_flags(strands: &StrandSet, positions: &[Vector3<f32>], limit: f32) 
 }
 
 /// A triangle mesh of an analytic collider (or the collider's own mesh), placed at `pose`.
-fn collider_mesh(shape: &ColliderShape, pose: &Isometry3<f32>) -> Result<TriMesh, String> {
-    let err = |e: hair_core::HairError| e.to_string();
+fn collider_mesh(shape: &ColliderShape, pose: &Isometry3<f32>) -> Result<TriMesh, OutputError> {
     let mesh = match shape {
-        ColliderShape::Sphere { radius } => TriMesh::uv_sphere(*radius, 32, 16).map_err(err)?,
+        ColliderShape::Sphere { radius } => TriMesh::uv_sphere(*radius, 32, 16)?,
         ColliderShape::Capsule {
             half_height,
             radius,
         } => {
             // A sphere split at its equator, the halves moved apart along z.
-            let sphere = TriMesh::uv_sphere(*radius, 32, 16).map_err(err)?;
+            let sphere = TriMesh::uv_sphere(*radius, 32, 16)?;
             let moved: Vec<Vector3<f32>> = sphere
                 .positions()
                 .iter()
                 .map(|v| v + Vector3::z() * half_height.copysign(v.z))
                 .collect();
             let mut capsule = sphere.clone();
-            capsule.set_positions(&moved).map_err(err)?;
+            capsule.set_positions(&moved)?;
             capsule
         }
         ColliderShape::Mesh(mesh) => mesh.clone(),
@@ -374,13 +379,15 @@ fn collider_mesh(shape: &ColliderShape, pose: &Isometry3<f32>) -> Result<TriMesh
 }
 
 /// The PNG path's folder exists? (A clear error before any work.)
-pub fn check_output(out: &Path) -> Result<(), String> {
+pub fn check_output(out: &Path) -> Result<(), OutputError> {
     match out.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() && !dir.is_dir() => Err(format!(
-            "{}: the folder {} does not exist",
-            out.display(),
-            dir.display()
-        )),
+        Some(dir) if !dir.as_os_str().is_empty() && !dir.is_dir() => {
+            Err(OutputError::Request(format!(
+                "{}: the folder {} does not exist",
+                out.display(),
+                dir.display()
+            )))
+        }
         _ => Ok(()),
     }
 }

@@ -13,6 +13,7 @@
 //! exact parry projection only for points that may have reached a collider since the previous
 //! frame ([`PenetrationMemory`]); see BENCHMARKS.md.
 
+use super::OutputError;
 use std::path::Path;
 
 use hair_core::quality::{measure_remembered, Frame, PenetrationMemory, Previous, Reference};
@@ -82,7 +83,7 @@ impl QualityTracker {
     }
 
     /// Measures `f` (the first frame is only remembered: it is the groom before any step).
-    pub fn add(&mut self, strands: &StrandSet, f: &FrameToMeasure) -> Result<(), String> {
+    pub fn add(&mut self, strands: &StrandSet, f: &FrameToMeasure) -> Result<(), OutputError> {
         if let Some(seen) = &self.previous {
             let input = QualityInput {
                 frame: Frame {
@@ -104,8 +105,13 @@ impl QualityTracker {
                     rest_local: strands.rest_local(),
                 }),
             };
-            let report = measure_remembered(&input, &self.options, &mut self.memory)
-                .map_err(|e| format!("frame {}: {e}", f.frame))?;
+            let report =
+                measure_remembered(&input, &self.options, &mut self.memory).map_err(|source| {
+                    OutputError::Quality {
+                        frame: f.frame,
+                        source,
+                    }
+                })?;
             self.result.run.merge(&report);
             if self.stepped == 0 {
                 self.result.first_step = report.clone();
@@ -138,27 +144,24 @@ impl QualityTracker {
 
 /// Measures every frame of the cache at `cache`, its scalp and colliders placed by the cache's
 /// rig. Errors name the cache at fault.
-pub fn cache_quality(cache: &Path) -> Result<RunQuality, String> {
-    let mut shot = Shot::open(cache, None).map_err(|e| e.to_string())?;
+pub fn cache_quality(cache: &Path) -> Result<RunQuality, OutputError> {
+    let mut shot = Shot::open(cache, None)?;
     let numbers = shot.cached_frames().to_vec();
     if numbers.len() < 2 {
-        return Err(format!(
+        return Err(OutputError::Request(format!(
             "{}: the cache holds {} frame(s); a quality report needs at least two (the first \
              and a stepped one)",
             cache.display(),
             numbers.len()
-        ));
+        )));
     }
     let mut tracker = QualityTracker::new(shot.fps());
     // Built once (a mesh collider's search tree is the costly part) and placed per frame.
-    let mut colliders = shot
-        .colliders_at(f64::from(numbers[0]), shot.scalp_collider())
-        .map_err(|e| e.to_string())?;
+    let mut colliders = shot.colliders_at(f64::from(numbers[0]), shot.scalp_collider())?;
     for &n in &numbers {
-        let frame = shot.reader().read_frame(n).map_err(|e| e.to_string())?;
-        let scalp = shot.scalp_at(f64::from(n)).map_err(|e| e.to_string())?;
-        shot.place_colliders(&mut colliders, f64::from(n))
-            .map_err(|e| e.to_string())?;
+        let frame = shot.reader().read_frame(n)?;
+        let scalp = shot.scalp_at(f64::from(n))?;
+        shot.place_colliders(&mut colliders, f64::from(n))?;
         let roots = shot.strands().root_frames(&scalp);
         tracker.add(
             shot.strands(),

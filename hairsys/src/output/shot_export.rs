@@ -33,6 +33,7 @@
 //! holds every time sample in memory until it is written (points + velocities: 24 bytes per
 //! point per sample), which [`crate::budget::Budget`] bounds for children.
 
+use super::OutputError;
 use std::path::{Path, PathBuf};
 
 use hair_cache::{Interpolation, Shutter};
@@ -105,14 +106,18 @@ pub struct ShotSummary {
 
 /// Writes `cache` (the frames and samples `opts` asks for) to `out` as one animated USD file
 /// (see the module docs). Errors name the file, the option and the fix.
-pub fn export_shot(cache: &Path, out: &Path, opts: &ShotOptions) -> Result<ShotSummary, String> {
+pub fn export_shot(
+    cache: &Path,
+    out: &Path,
+    opts: &ShotOptions,
+) -> Result<ShotSummary, OutputError> {
     if UsdEncoding::of(out).is_none() {
-        return Err(format!(
+        return Err(OutputError::Request(format!(
             "{}: the output's extension names no USD format; use .usdc (binary) or .usda (text)",
             out.display()
-        ));
+        )));
     }
-    let mut shot = Shot::open(cache, opts.scene.as_deref()).map_err(|e| e.to_string())?;
+    let mut shot = Shot::open(cache, opts.scene.as_deref())?;
     let fps = shot.fps();
     let cached = shot.cached_frames().to_vec();
     let chosen: Vec<u32> = cached
@@ -125,18 +130,18 @@ pub fn export_shot(cache: &Path, out: &Path, opts: &ShotOptions) -> Result<ShotS
             (Some(a), Some(b)) => format!("it holds frames {a}-{b}"),
             _ => "it holds no frame".to_string(),
         };
-        return Err(format!(
+        return Err(OutputError::Request(format!(
             "{}: no cached frame in the range asked for; {have}",
             cache.display()
-        ));
+        )));
     };
     let (lo, hi) = (f64::from(cached[0]), f64::from(cached[cached.len() - 1]));
     if !opts.time_offset.is_finite() {
-        return Err(format!(
+        return Err(OutputError::Request(format!(
             "time offset {}: give a finite number of frames, e.g. 1000 for a shot starting at \
              frame 1001",
             opts.time_offset
-        ));
+        )));
     }
     let (times, dropped) = time_codes(&chosen, opts.shutter.as_ref(), (lo, hi));
     let time_range = (
@@ -163,9 +168,7 @@ pub fn export_shot(cache: &Path, out: &Path, opts: &ShotOptions) -> Result<ShotS
     };
     layer.set_default_prim(prim);
     let scalp_animated = add_scalp(&mut layer, &mut shot, &times, offset)?;
-    layer
-        .write(out)
-        .map_err(|e| format!("cannot write {}: {e}", out.display()))?;
+    layer.write(out).map_err(|e| OutputError::write(out, e))?;
     let bytes = std::fs::metadata(out).map(|m| m.len()).unwrap_or(0);
     Ok(ShotSummary {
         frames: (first, last),
@@ -211,16 +214,13 @@ fn add_strands(
     shot: &mut Shot,
     times: &[f64],
     offset: f64,
-) -> Result<(usize, usize), String> {
+) -> Result<(usize, usize), OutputError> {
     let fps = shot.fps();
     let layout = shot.reader().layout().clone();
     let mut points = Vec::with_capacity(times.len());
     let mut velocities = Vec::with_capacity(times.len());
     for &t in times {
-        let s = shot
-            .reader()
-            .sample(t / fps, Interpolation::Hermite)
-            .map_err(|e| e.to_string())?;
+        let s = shot.reader().sample(t / fps, Interpolation::Hermite)?;
         points.push((t + offset, flat(&s.positions)));
         velocities.push((t + offset, flat(&s.velocities)));
     }
@@ -303,7 +303,7 @@ fn add_children(
     request: &ShotChildren,
     times: &[f64],
     opts: &ShotOptions,
-) -> Result<(usize, usize), String> {
+) -> Result<(usize, usize), OutputError> {
     let fps = shot.fps();
     let (settings, lod) = child_settings(shot.scene(), &request.overrides, request.display)?;
     check_children_memory(&opts.budget, shot.strands(), &settings, times.len())?;
@@ -314,11 +314,8 @@ fn add_children(
     let mut first: Option<ChildBuffers> = None;
     let mut points = Vec::with_capacity(times.len());
     for &t in times {
-        let s = shot
-            .reader()
-            .sample(t / fps, Interpolation::Hermite)
-            .map_err(|e| e.to_string())?;
-        let scalp = shot.scalp_at(t).map_err(|e| e.to_string())?;
+        let s = shot.reader().sample(t / fps, Interpolation::Hermite)?;
+        let scalp = shot.scalp_at(t)?;
         let colors = shot.rig().scalp.as_ref().and_then(|s| s.colors.as_deref());
         let children = children_of(
             shot.strands(),
@@ -328,19 +325,18 @@ fn add_children(
             &maps,
             &settings,
             lod,
-        )
-        .map_err(|e| e.to_string())?;
+        )?;
         if let Some(c) = &first {
             // Compares the curves' point counts only: `first` has given up its points.
             c.check_same_topology(&children)
-                .map_err(|e| format!("children at time code {t}: {e}"))?;
+                .map_err(|e| OutputError::Request(format!("children at time code {t}: {e}")))?;
         }
         let (frame_points, rest) = take_points(children);
         points.push((t + opts.time_offset, frame_points));
         // The first time code's curves (less their points) carry the topology and per-curve data.
         first.get_or_insert(rest);
     }
-    let first = first.ok_or("no time code to export")?;
+    let first = first.ok_or_else(|| OutputError::request("no time code to export"))?;
     let sizes = (first.curve_count(), points[0].1.len() / 3);
     let velocities = central_differences(&points, fps);
     layer.add_curves(curves_prim(
@@ -388,14 +384,14 @@ fn add_scalp(
     shot: &mut Shot,
     times: &[f64],
     offset: f64,
-) -> Result<Option<bool>, String> {
+) -> Result<Option<bool>, OutputError> {
     let Some(rest) = shot.rest_scalp().cloned() else {
         return Ok(None);
     };
     let tris = rest.triangles();
     let mut frames: Vec<(f64, Vec<f32>)> = Vec::with_capacity(times.len());
     for &t in times {
-        let scalp = shot.scalp_at(t).map_err(|e| e.to_string())?;
+        let scalp = shot.scalp_at(t)?;
         let mesh: Option<TriMesh> = scalp.mesh;
         if let Some(mesh) = mesh {
             frames.push((t + offset, flat(mesh.positions())));

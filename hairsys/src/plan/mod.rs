@@ -43,10 +43,11 @@ pub mod write;
 
 use hair_core::{Integrator, StrandModel, Substeps};
 
+use crate::accuracy::ShotErrors;
 use crate::scene::SceneFile;
 use crate::Error;
 use probe::{Method, ProbeRun};
-use trace::{errors, Errors};
+use trace::errors;
 
 /// What `plan` is asked for.
 #[derive(Debug, Clone)]
@@ -100,7 +101,7 @@ pub struct Candidate {
     /// Simulated hairs in the full scene (the rest interpolated as render hairs).
     pub sim_hairs: usize,
     /// Measured error against the reference (zero when the probe failed).
-    pub errors: Errors,
+    pub errors: ShotErrors,
     /// Predicted CPU time of the full run's steps (all frames, all sim hairs; every thread's
     /// time summed), s.
     pub predicted_seconds: f64,
@@ -128,7 +129,7 @@ pub struct Plan {
     /// The reference method.
     pub reference: Method,
     /// Error of the reference at half its substeps against itself: its own accuracy.
-    pub reference_check: Errors,
+    pub reference_check: ShotErrors,
     /// The scene's own settings, as probed.
     pub scene_method: Candidate,
     /// Every candidate measured, cheapest prediction first.
@@ -314,7 +315,7 @@ pub fn plan(
                     method: *method,
                     substeps_run: method.substeps.unwrap_or(0),
                     sim_hairs: full.len(),
-                    errors: Errors::default(),
+                    errors: ShotErrors::default(),
                     predicted_seconds: f64::INFINITY,
                     verdict: Verdict::Failed(e.to_string()),
                 };
@@ -363,7 +364,7 @@ pub fn plan(
             method: reference,
             substeps_run: reference_run.substeps,
             sim_hairs: full.len(),
-            errors: Errors::default(),
+            errors: ShotErrors::default(),
             predicted_seconds: reference_run.seconds * scale,
             verdict: Verdict::Within,
         });

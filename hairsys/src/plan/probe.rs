@@ -16,9 +16,10 @@
 use hair_core::{HairError, HairParams, Integrator, StrandInput, StrandSet, Substeps};
 use nalgebra::Vector3;
 
+use crate::build::Simulation;
 use crate::plan::levels::farthest_points;
 use crate::plan::trace::Trace;
-use crate::scene::{SceneFile, Simulation};
+use crate::scene::SceneFile;
 use crate::{Error, Session};
 
 /// One way of running the scene: what `plan` varies.

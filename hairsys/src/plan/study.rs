@@ -7,9 +7,10 @@
 //! hairs against the full run, against the measured cost of the `N`-hair run, gives the curve;
 //! its knee ([`knee`]) is where more sim hairs stop paying.
 
+use crate::accuracy::ShotErrors;
 use crate::plan::levels::{farthest_points, render_from};
 use crate::plan::probe;
-use crate::plan::trace::{errors, Errors};
+use crate::plan::trace::errors;
 use crate::plan::verify::run_all;
 use crate::scene::SceneFile;
 use crate::Error;
@@ -22,7 +23,7 @@ pub struct LevelRow {
     /// CPU time of the run's steps per frame (every thread's summed), ms.
     pub ms_per_frame: f64,
     /// Error of every strand as a render hair against the full run.
-    pub errors: Errors,
+    pub errors: ShotErrors,
 }
 
 /// Runs the study on `scene` over `frames` for the counts `counts` (capped at the scene's
@@ -63,7 +64,7 @@ pub fn sim_hair_levels(
     rows.push(LevelRow {
         sim_hairs: full.len(),
         ms_per_frame: full_run.seconds * 1e3 / steps,
-        errors: Errors::default(),
+        errors: ShotErrors::default(),
     });
     Ok(rows)
 }
@@ -100,9 +101,9 @@ mod tests {
         LevelRow {
             sim_hairs: 0,
             ms_per_frame: ms,
-            errors: Errors {
+            errors: ShotErrors {
                 rms_max: err,
-                ..Errors::default()
+                ..ShotErrors::default()
             },
         }
     }

@@ -6,13 +6,16 @@
 //! directly comparable points. The rest shape is kept in root-local coordinates, so
 //! [`Trace::posed_rest`] places it with each frame's root frame (a turning or deforming scalp).
 //!
-//! The error of a candidate against the reference ([`Errors`]) is taken per frame over every
-//! sample point (root excluded: it is pinned) — the root mean square distance — and over the
-//! tips — the RMS tip distance, the silhouette a TD sees. The plan's tolerance bounds the worst
-//! frame's position RMS.
+//! The error of a candidate against the reference ([`errors`]) is the library's one accuracy
+//! measure ([`crate::accuracy::shot_errors`]), taken per frame over every sample point (root
+//! excluded: it is pinned) — the root mean square distance — and over the tips — the RMS tip
+//! distance, the silhouette a TD sees. The plan's tolerance bounds the worst frame's position
+//! RMS.
 
 use hair_core::{RootFrame, StrandSet};
 use nalgebra::Vector3;
+
+use crate::accuracy::{shot_errors, ShotErrors};
 
 /// Positions of a set of strands over a run of frames, resampled at fixed arc-length fractions.
 #[derive(Debug, Clone)]
@@ -99,48 +102,20 @@ fn resample_into(
     }
 }
 
-/// Error of a candidate against the reference over a probe, m.
-#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
-pub struct Errors {
-    /// Largest per-frame RMS distance over every sample point but the roots, m: what the
-    /// tolerance bounds.
-    pub rms_max: f32,
-    /// RMS distance over every frame and sample point but the roots, m.
-    pub rms: f32,
-    /// Largest per-frame RMS tip distance, m.
-    pub tip_max: f32,
-}
-
-/// Errors of `candidate` against `reference` (the same strands and frames).
+/// Errors of `candidate` against `reference` (the same strands and frames): the shared
+/// measure ([`crate::accuracy::shot_errors`]) over every sample point but the roots.
 ///
 /// Panics if the traces do not describe the same strands and frames (a programming error: both
 /// come from probes of one strand selection).
-pub fn errors(candidate: &[Vec<Vector3<f32>>], reference: &Trace) -> Errors {
+pub fn errors(candidate: &[Vec<Vector3<f32>>], reference: &Trace) -> ShotErrors {
     assert_eq!(candidate.len(), reference.frames.len(), "the same frames");
     let n = reference.points_per_strand;
-    let mut out = Errors::default();
-    let mut sum_all = 0.0f64;
-    let mut count_all = 0usize;
+    let offsets: Vec<u32> = (0..=reference.strands).map(|s| (s * n) as u32).collect();
+    let free: Vec<f32> = (0..reference.strands * n)
+        .map(|i| if i % n == 0 { 0.0 } else { 1.0 })
+        .collect();
     for (a, b) in candidate.iter().zip(&reference.frames) {
         assert_eq!(a.len(), b.len(), "the same strands");
-        let (mut sum, mut tips) = (0.0f64, 0.0f64);
-        for s in 0..reference.strands {
-            for j in 1..n {
-                let d2 = (a[s * n + j] - b[s * n + j]).norm_squared() as f64;
-                sum += d2;
-                if j == n - 1 {
-                    tips += d2;
-                }
-            }
-        }
-        let points = reference.strands * (n - 1);
-        out.rms_max = out.rms_max.max((sum / points as f64).sqrt() as f32);
-        out.tip_max = out
-            .tip_max
-            .max((tips / reference.strands as f64).sqrt() as f32);
-        sum_all += sum;
-        count_all += points;
     }
-    out.rms = (sum_all / count_all.max(1) as f64).sqrt() as f32;
-    out
+    shot_errors(candidate, &reference.frames, &offsets, &free)
 }

@@ -9,9 +9,10 @@
 
 use hair_core::{Integrator, Substeps};
 
+use crate::accuracy::ShotErrors;
 use crate::plan::levels::render_from;
 use crate::plan::probe::{self, Method, ProbeRun};
-use crate::plan::trace::{errors, Errors};
+use crate::plan::trace::errors;
 use crate::scene::SceneFile;
 use crate::Error;
 
@@ -47,7 +48,7 @@ pub fn rerun(
     reference: Method,
     frames: (u32, u32),
     samples: usize,
-) -> Result<Errors, Error> {
+) -> Result<ShotErrors, Error> {
     let reference = run_all(original, Some(reference), frames, samples)?;
     let run = run_all(chosen, None, frames, samples)?;
     let same_strands = run.trace.strands == reference.trace.strands

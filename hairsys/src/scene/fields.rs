@@ -32,7 +32,7 @@ use hair_core::{Falloff, FieldKind, ForceField, HairError, Solver, Strength};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-use crate::scene::Simulation;
+use crate::build::Simulation;
 
 /// Field types of `[[fields]] type`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

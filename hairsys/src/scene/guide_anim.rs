@@ -8,7 +8,7 @@
 //! sim weight curve.
 //!
 //! This module parses and checks the keys and turns them into an
-//! [`crate::animated_guides::GuideAnimation`]; applying it each frame is the runtime's.
+//! [`crate::rig::animated_guides::GuideAnimation`]; applying it each frame is the runtime's.
 
 use std::path::{Path, PathBuf};
 
@@ -17,7 +17,7 @@ use hair_groom::{GuideBlend, SimHair};
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
-use crate::animated_guides::{GuideAnimation, PoseKey, PoseLift, WeightCurve};
+use crate::rig::animated_guides::{GuideAnimation, PoseKey, PoseLift, WeightCurve};
 use crate::scene::maps::{MapSelection, ScalpMaps};
 use crate::scene::motion::Interpolation;
 use crate::scene::RegionSection;
@@ -285,7 +285,9 @@ pub fn build(
             }
             if let Some(map) = maps.get("sim_weight") {
                 for (i, (f, h)) in sim_factor.iter_mut().zip(hairs).enumerate() {
-                    let v = map.at(mesh, &h.root, &format!("sim hair {i}"))?;
+                    let v = map
+                        .at(mesh, &h.root, &format!("sim hair {i}"))
+                        .map_err(|e| e.to_string())?;
                     if !(0.0..=1.0).contains(&v) {
                         return Err(format!(
                             "[maps.sim_weight] is {v} at sim hair {i}: a sim weight factor is \
@@ -398,7 +400,10 @@ fn selection(
     if let Some(m) = &s.map {
         let map = maps.selected(m, what)?;
         for (i, (c, h)) in chosen.iter_mut().zip(hairs).enumerate() {
-            *c |= m.contains(map.at(mesh, &h.root, &format!("sim hair {i}"))?);
+            *c |= m.contains(
+                map.at(mesh, &h.root, &format!("sim hair {i}"))
+                    .map_err(|e| e.to_string())?,
+            );
         }
     }
     if !chosen.iter().any(|&c| c) {

@@ -12,7 +12,7 @@ use hair_groom::{
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-use crate::animated_guides::GuideAnimation;
+use crate::rig::animated_guides::GuideAnimation;
 use crate::scene::guide_anim::{
     self, AnimationKeys, HairSelection, PinSection, PoseSection, SimWeightSection,
 };

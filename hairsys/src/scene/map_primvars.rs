@@ -39,11 +39,11 @@
 //! The primvar is read by [`hair_groom::UsdMeshSource::primvar`], which follows USD's
 //! interpolations (`constant`, `uniform`, `vertex`, `varying`, `faceVarying`, indexed or not)
 //! to one value at each corner of each scalp triangle; each root then takes the blend of its
-//! triangle's three corner values by its barycentric weights ([`crate::maps`]). Only a USD
+//! triangle's three corner values by its barycentric weights ([`crate::rig::maps`]). Only a USD
 //! scalp has primvars: a primvar map on any other scalp is refused, naming the scalp and what
 //! to use instead.
 
-use crate::maps::Channel;
+use crate::rig::maps::Channel;
 
 use super::{ScalpMesh, SceneFile};
 

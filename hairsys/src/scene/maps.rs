@@ -1,6 +1,6 @@
 //! `[maps.NAME]`: painted maps over the scalp, read from a PNG texture over the
 //! scalp's UVs or from the OBJ scalp's vertex colours, and sampled at each hair's root (see
-//! [`crate::maps`] for the sampling).
+//! [`crate::rig::maps`] for the sampling).
 //!
 //! ```toml
 //! [maps.goal]                 # scales every surface-rooted hair's goal weights
@@ -64,7 +64,7 @@ use std::path::{Path, PathBuf};
 use hair_core::{Anchor, MeshSample, StrandInput, StrandSet, TriMesh};
 use serde::{Deserialize, Serialize};
 
-use crate::maps::{Channel, MapDensity, MapSource, ScalpMap, Texture};
+use crate::rig::maps::{Channel, MapDensity, MapSource, ScalpMap, Texture};
 
 /// Map names with a purpose that hairsys applies, with that purpose in words.
 pub const APPLIED: [(&str, &str); 7] = [
@@ -284,7 +284,10 @@ impl ScalpMaps {
                     MapSource::Vertex(rgb.iter().map(|v| v[c]).collect())
                 }
             };
-            maps.insert(name.clone(), ScalpMap::new(name, source, mesh)?);
+            maps.insert(
+                name.clone(),
+                ScalpMap::new(name, source, mesh).map_err(|e| e.to_string())?,
+            );
             sources.insert(name.clone(), describe(s, channel));
         }
         Ok(Self { maps, sources })
@@ -294,7 +297,7 @@ impl ScalpMaps {
     /// name the map: a negative value, or 0 everywhere.
     pub fn density<'a>(&'a self, mesh: &'a TriMesh) -> Result<Option<MapDensity<'a>>, String> {
         self.get("density")
-            .map(|m| MapDensity::new(m, mesh))
+            .map(|m| MapDensity::new(m, mesh).map_err(|e| e.to_string()))
             .transpose()
     }
 
@@ -316,7 +319,9 @@ impl ScalpMaps {
                 let Anchor::Surface(sample) = strands.anchors()[s] else {
                     continue;
                 };
-                let v = map.at(mesh, &sample, &format!("strand {s}"))?;
+                let v = map
+                    .at(mesh, &sample, &format!("strand {s}"))
+                    .map_err(|e| e.to_string())?;
                 if !(0.0..=1.0).contains(&v) {
                     return Err(format!(
                         "[maps.{name}] is {v} at strand {s}: a {name} factor is in [0, 1] (1 = \
@@ -349,7 +354,9 @@ impl ScalpMaps {
                     let Anchor::Surface(sample) = anchor else {
                         continue;
                     };
-                    let v = map.at(mesh, sample, &format!("strand {s}"))?;
+                    let v = map
+                        .at(mesh, sample, &format!("strand {s}"))
+                        .map_err(|e| e.to_string())?;
                     roots += 1;
                     range = Some(range.map_or([v, v], |[lo, hi]| [lo.min(v), hi.max(v)]));
                 }
@@ -450,7 +457,9 @@ impl ScalpMaps {
             let Anchor::Surface(sample) = input.anchor else {
                 continue;
             };
-            let g = map.at(mesh, &sample, &format!("{what} {i}"))?;
+            let g = map
+                .at(mesh, &sample, &format!("{what} {i}"))
+                .map_err(|e| e.to_string())?;
             if !(0.0..=1.0).contains(&g) {
                 return Err(format!(
                     "[maps.goal] is {g} at {what} {i}: a goal weight scale is in [0, 1]; \
@@ -471,7 +480,7 @@ fn length_fraction(
     sample: &MeshSample,
     hair: &str,
 ) -> Result<f32, String> {
-    let f = map.at(mesh, sample, hair)?;
+    let f = map.at(mesh, sample, hair).map_err(|e| e.to_string())?;
     if !(f > 0.0 && f <= 1.0) {
         return Err(format!(
             "[maps.length] is {f} at {hair}: a length fraction is in (0, 1] (1 = the full \

@@ -207,7 +207,9 @@ impl Regions {
                 let Anchor::Surface(sample) = strands.anchors()[s] else {
                     continue;
                 };
-                let v = map.at(mesh, &sample, &format!("strand {s}"))?;
+                let v = map
+                    .at(mesh, &sample, &format!("strand {s}"))
+                    .map_err(|e| e.to_string())?;
                 if !(v.is_finite() && v >= 0.0) {
                     return Err(format!(
                         "[maps.stiffness] is {v} at strand {s}: a stiffness factor is ≥ 0 \
@@ -382,7 +384,10 @@ fn select(
             .ok_or_else(|| format!("{what} map: a painted map needs a scalp mesh"))?;
         for (i, c) in chosen.iter_mut().enumerate() {
             if let Some(sample) = surface(i) {
-                *c |= m.contains(map.at(mesh, &sample, &format!("strand {i}"))?);
+                *c |= m.contains(
+                    map.at(mesh, &sample, &format!("strand {i}"))
+                        .map_err(|e| e.to_string())?,
+                );
             }
         }
     }

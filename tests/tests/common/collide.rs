@@ -5,7 +5,8 @@
 use std::path::PathBuf;
 
 use hair_core::{Colliders, FrameReport, Scalp, StrandSet, TriMesh};
-use hairsys::scene::{SceneFile, Simulation};
+use hairsys::build::Simulation;
+use hairsys::scene::SceneFile;
 use nalgebra::{Isometry3, Point3, Vector3};
 use parry3d::math::Vector;
 use parry3d::query::PointQuery;

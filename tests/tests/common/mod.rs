@@ -11,7 +11,7 @@ use hair_core::{
     Anchor, HairError, HairParams, Integrator, RootFrame, Scalp, Solver, SolverSettings,
     StrandInput, StrandSet, Substeps,
 };
-use hairsys::scene::Simulation;
+use hairsys::build::Simulation;
 use nalgebra::{DMatrix, UnitQuaternion, Vector3};
 
 /// Standard gravity used by every test, m/s² (magnitude of `HairParams::default().gravity`).
