@@ -29,7 +29,7 @@ use error::CliError;
 
 /// A Blender-style hair system: guide hairs, mass-spring simulation, MCAP point caches.
 #[derive(Parser)]
-#[command(name = "hairsys", version, about, long_about = None)]
+#[command(name = "hairsys", version, long_about = None)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

@@ -5,7 +5,7 @@
 //! The `hairsys` command, the Python module and the Blender add-on all go through it.
 //!
 //! - [`scene`]: the scene model (TOML, versioned by its keys, unknown keys refused, errors that
-//!   name the file, the key and the fix) and its assembly into a [`scene::Simulation`]: strands
+//!   name the file, the key and the fix) and its assembly into a [`build::Simulation`]: strands
 //!   from guides or generated hair, the strand model, colliders, scalp, fields, hair–hair.
 //! - [`Session`]: the one front door a host drives frame by frame (scalp as a transform or
 //!   deformed vertices, collider poses, animatable parameters, `step()`, flat positions and

@@ -1,5 +1,5 @@
 //! The host door of the assembly ([`crate::build`]): a groom and a scalp a host hands over as
-//! flat arrays (a DCC's curves and mesh, no files), for [`Session::from_groom`], the Python
+//! flat arrays (a DCC's curves and mesh, no files), for [`Session::from_groom`](crate::Session::from_groom), the Python
 //! module and the Blender add-on.
 //!
 //! The curves are attached to the scalp by [`hair_groom::snap_to_scalp`] (each root becomes a
@@ -13,7 +13,7 @@
 //!
 //! The scalp is given in world space at the first frame with an identity body transform, so a
 //! host that deforms it hands the deformed world-space vertices to
-//! [`Session::set_scalp_vertices`] with [`Isometry3::identity`] every frame.
+//! [`Session::set_scalp_vertices`](crate::Session::set_scalp_vertices) with [`Isometry3::identity`] every frame.
 //!
 //! Goal (pin) weights may be given per point of the curves; with interpolated hairs each hair's
 //! weight at a fraction of its length is the blend (by the interpolation's guide weights) of its
@@ -157,10 +157,10 @@ impl Default for GroomOptions {
 /// may deform and move at any speed.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ExpectedMotion {
-    /// Whether the host deforms the scalp ([`Session::set_scalp_vertices`] with vertices that
+    /// Whether the host deforms the scalp ([`Session::set_scalp_vertices`](crate::Session::set_scalp_vertices) with vertices that
     /// are not a rigid motion of the rest mesh: an armature, shape keys).
     pub scalp_deforms: Option<bool>,
-    /// Whether the host deforms a mesh collider ([`Session::set_collider_vertices`]).
+    /// Whether the host deforms a mesh collider ([`Session::set_collider_vertices`](crate::Session::set_collider_vertices)).
     pub collider_deforms: Option<bool>,
     /// Fastest speed of any point of a collider's surface over the shot, m/s (0: still
     /// colliders).
@@ -170,7 +170,7 @@ pub struct ExpectedMotion {
 /// How a host's groom session names itself in errors.
 pub(crate) const ORIGIN: &str = "groom session";
 
-/// The simulation of the groom `input` on its scalp (see [`Session::from_groom`]).
+/// The simulation of the groom `input` on its scalp (see [`Session::from_groom`](crate::Session::from_groom)).
 pub fn simulation(input: &GroomArrays<'_>, options: &GroomOptions) -> Result<Simulation> {
     let mesh = scalp_mesh(input)?;
     let curves = curves(input)?;

@@ -287,7 +287,7 @@ impl Simulation {
     }
 
     /// Refuses a run over frames `first..=last` that leaves the frames a deforming scalp or
-    /// collider was read for (see [`deforming`]).
+    /// collider was read for (see [`crate::scene::deforming`]).
     pub fn check_deforming_frames(&self, first: u32, last: u32) -> Result<(), String> {
         let scalp = self
             .scalp_animation

@@ -27,7 +27,7 @@
 //! linearly, the motion the contact model assumes within a frame (`hair_core::contacts`).
 //!
 //! # How the frames reach the solver
-//! - Scalp: [`super::Simulation::scalp_at`] puts the frame's vertices on the rest mesh (then the
+//! - Scalp: [`Simulation::scalp_at`](crate::build::Simulation::scalp_at) puts the frame's vertices on the rest mesh (then the
 //!   scalp's rigid `[scalp.motion]`, if keyed, on top): roots are evaluated on their mesh samples
 //!   of that mesh, and the scalp collider follows it (`Colliders::insert_scalp`'s deformation).
 //! - Colliders: each frame's vertices are the collider's body-space vertices at the frame's end

@@ -154,7 +154,7 @@ pub enum SubstepsValue {
 
 /// `[solver]`.
 ///
-/// Not [`SolverSettings`] itself, on purpose: the frame rate comes from `[scene] fps`,
+/// Not [`SolverSettings`](hair_core::SolverSettings) itself, on purpose: the frame rate comes from `[scene] fps`,
 /// `substeps` is spelled `"auto"` or a count (checked with a range in the error), the kernel
 /// copy is a run option rather than part of the scene, and the section also chooses the strand
 /// model and its projections (`model`, `inextensibility`, `sag_free`).
@@ -235,7 +235,7 @@ pub struct ScalpCollider {
 
 /// `[[colliders]]`: one collider.
 ///
-/// Not [`Collider`] itself: the file names an OBJ path (relative to the scene file) where the
+/// Not [`Collider`](hair_core::Collider) itself: the file names an OBJ path (relative to the scene file) where the
 /// library holds the loaded mesh, and adds a name and keyframed motion.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -354,11 +354,11 @@ fn one() -> f32 {
     1.0
 }
 
-/// `[hair]`: hair generated on the scalp (see [`GenerateOptions`]).
+/// `[hair]`: hair generated on the scalp (see [`GenerateOptions`](hair_groom::GenerateOptions)).
 ///
-/// Not [`GenerateOptions`] itself, on purpose: `count`, `length` and `segments` are required
+/// Not [`GenerateOptions`](hair_groom::GenerateOptions) itself, on purpose: `count`, `length` and `segments` are required
 /// here (a scene that grows hair says how much), and `region` is an optional cone table where
-/// the library has the [`Region`] enum.
+/// the library has the [`Region`](hair_groom::Region) enum.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct HairSection {
@@ -404,7 +404,7 @@ fn default_density() -> f32 {
 }
 
 /// A cone of surface normals: `{ direction = [x, y, z], max_angle_deg = a }` (absent = the whole
-/// scalp, [`Region::All`]; TOML has no spelling for an enum's unit variant beside a table).
+/// scalp, [`Region::All`](hair_groom::Region::All); TOML has no spelling for an enum's unit variant beside a table).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RegionSection {

@@ -32,8 +32,8 @@
 //! Steps run on the rayon pool the host gives ([`Session::set_thread_pool`]; a DCC sizes it so
 //! it is not oversubscribed), else on rayon's global pool; the result does not depend on the
 //! thread count. A step that fails (blow-up, bad collider) leaves the session failed: the next
-//! step returns [`Error::Failed`] until a snapshot is restored. Nothing in a session panics on
-//! host input; bad arguments are [`Error::Argument`]s naming the argument and what is expected.
+//! step returns [`Error::Failed`](crate::Error::Failed) until a snapshot is restored. Nothing in a session panics on
+//! host input; bad arguments are [`Error::Argument`](crate::Error::Argument)s naming the argument and what is expected.
 
 use std::sync::Arc;
 
