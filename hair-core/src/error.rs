@@ -47,14 +47,55 @@ pub enum HairError {
         frame: u32,
         /// Strand in which it was detected first (lowest index).
         strand: usize,
-        /// "non-finite position" or "energy ... exceeded ...".
-        cause: String,
+        /// What was detected.
+        cause: Blowup,
         /// Substep length in use, seconds.
         dt: f64,
         /// Predicted stable limit 2/ω, seconds.
         bound: f64,
         /// Substeps per step that `substeps = "auto"` would choose.
         auto_substeps: u32,
+    },
+}
+
+/// What showed that a strand left the solver's stability region.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum Blowup {
+    /// A point's position or velocity is NaN or infinite.
+    #[error("non-finite position or velocity at point {point}")]
+    NonFinite {
+        /// The first free point that is not finite (index in its strand).
+        point: usize,
+    },
+    /// The strand's kinetic and stretch energy per unit mass passed its limit.
+    #[error("energy ran away ({specific:.3e} J/kg, limit {limit:.3e} J/kg)")]
+    Energy {
+        /// Energy per unit mass, J/kg.
+        specific: f64,
+        /// The limit, J/kg.
+        limit: f64,
+    },
+    /// The rod model produced a non-finite position.
+    #[error(
+        "rod model: non-finite position at substep {substep} (the bound is the stiffest bending \
+         on the lightest node)"
+    )]
+    RodNonFinite {
+        /// The substep of the frame, from 1.
+        substep: u32,
+    },
+    /// The rod model's projection failed to converge.
+    #[error(
+        "rod model: the projection did not converge (residual {residual:.3e} after {iterations} \
+         iterations, limit rod.projection_iterations = {limit})"
+    )]
+    RodProjection {
+        /// The residual left, m.
+        residual: f64,
+        /// Iterations done.
+        iterations: u32,
+        /// The iteration limit (`rod.projection_iterations`).
+        limit: u32,
     },
 }
 
