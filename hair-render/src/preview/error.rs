@@ -51,16 +51,27 @@ pub enum PreviewError {
         fix: &'static str,
     },
     /// Writing a PNG failed; the partial file was removed.
-    #[error("cannot write {path}: {message}")]
+    #[error("cannot write {}: {source}", .path.display())]
     Write {
         /// The file that was being written.
         path: PathBuf,
         /// The underlying I/O or encoder error.
-        message: String,
+        source: PngWriteError,
     },
     /// Encoding a PNG to a caller's stream failed.
     #[error("cannot encode the PNG stream: {0}")]
-    Encode(String),
+    Encode(#[from] png::EncodingError),
+}
+
+/// Why a PNG file could not be written.
+#[derive(Debug, Error)]
+pub enum PngWriteError {
+    /// The operating system refused to create, write, sync or rename the file.
+    #[error(transparent)]
+    Io(#[from] std::io::Error),
+    /// The PNG encoder failed.
+    #[error("cannot encode the PNG stream: {0}")]
+    Encode(#[from] png::EncodingError),
 }
 
 /// Result with [`PreviewError`].
