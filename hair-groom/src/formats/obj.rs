@@ -11,6 +11,7 @@ use std::path::Path;
 
 use hair_core::{HairError, TriMesh};
 use nalgebra::Vector2;
+use thiserror::Error;
 
 use super::{check_options, to_world};
 use crate::error::GroomError;
@@ -139,15 +140,14 @@ pub fn load_obj_vertex_colors(path: &Path) -> Result<Option<Vec<[f32; 3]>>, Groo
 /// device or a FIFO), must be UTF-8, and its face indices are checked before tobj resolves them.
 fn parse(path: &Path) -> Result<Vec<tobj::Model>, GroomError> {
     let bytes = super::read_bytes(path)?;
-    let unparsable = |reason: String| GroomError::ObjParse {
+    let unparsable = |reason: ObjParseError| GroomError::ObjParse {
         path: path.to_path_buf(),
         reason,
     };
     let text = std::str::from_utf8(&bytes).map_err(|e| {
-        unparsable(format!(
-            "byte {} is not UTF-8 text (an OBJ file is text; this looks like a binary file)",
-            e.valid_up_to()
-        ))
+        unparsable(ObjParseError::NotUtf8 {
+            byte: e.valid_up_to(),
+        })
     })?;
     check_face_indices(text).map_err(unparsable)?;
     let load = tobj::LoadOptions {
@@ -160,7 +160,7 @@ fn parse(path: &Path) -> Result<Vec<tobj::Model>, GroomError> {
     let (models, _materials) = tobj::load_obj_buf(&mut text.as_bytes(), &load, |_| {
         Err(tobj::LoadError::OpenFileFailed)
     })
-    .map_err(|e| unparsable(e.to_string()))?;
+    .map_err(|e| unparsable(ObjParseError::Tobj(e)))?;
     Ok(models)
 }
 
@@ -168,7 +168,7 @@ fn parse(path: &Path) -> Result<Vec<tobj::Model>, GroomError> {
 /// defined above it (1-based, or negative: relative to the last one). tobj 4.0.5 resolves
 /// indices without that check and multiplies them unchecked (`vt * 2`), which overflows on an
 /// index such as `-2147483648`.
-fn check_face_indices(text: &str) -> Result<(), String> {
+fn check_face_indices(text: &str) -> Result<(), ObjParseError> {
     // Vertices, texture coordinates and normals defined so far.
     let mut counts = [0i64; 3];
     const KINDS: [&str; 3] = ["vertex", "texture coordinate", "normal"];
@@ -186,14 +186,12 @@ fn check_face_indices(text: &str) -> Result<(), String> {
                             continue;
                         };
                         if i == 0 || i.unsigned_abs() > counts[k] as u64 {
-                            return Err(format!(
-                                "line {}: face index `{index}` refers to no {} (the file \
-                                 defines {} above this line; indices start at 1, negative ones \
-                                 count back from the last)",
-                                n + 1,
-                                KINDS[k],
-                                counts[k]
-                            ));
+                            return Err(ObjParseError::FaceIndex {
+                                line: n + 1,
+                                index: i,
+                                kind: KINDS[k],
+                                defined: counts[k],
+                            });
                         }
                     }
                 }
@@ -202,6 +200,35 @@ fn check_face_indices(text: &str) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// Why an OBJ file cannot be parsed.
+#[derive(Debug, Error)]
+pub enum ObjParseError {
+    /// The file is not UTF-8 text.
+    #[error("byte {byte} is not UTF-8 text (an OBJ file is text; this looks like a binary file)")]
+    NotUtf8 {
+        /// Offset of the first byte that is not UTF-8.
+        byte: usize,
+    },
+    /// A face index refers to no vertex, texture coordinate or normal defined above it.
+    #[error(
+        "line {line}: face index `{index}` refers to no {kind} (the file defines {defined} above \
+         this line; indices start at 1, negative ones count back from the last)"
+    )]
+    FaceIndex {
+        /// The 1-based line of the face.
+        line: usize,
+        /// The index as written.
+        index: i64,
+        /// `"vertex"`, `"texture coordinate"` or `"normal"`.
+        kind: &'static str,
+        /// How many of them the file defines above the line.
+        defined: i64,
+    },
+    /// The OBJ parser (tobj) refused the file.
+    #[error(transparent)]
+    Tobj(tobj::LoadError),
 }
 
 #[cfg(test)]
