@@ -9,7 +9,7 @@
 
 use std::path::Path;
 
-use hair_core::{HairError, TriMesh};
+use hair_core::{MeshError, TriMesh};
 use nalgebra::Vector2;
 use thiserror::Error;
 
@@ -96,11 +96,14 @@ pub fn load_obj(path: &Path, opts: &ObjOptions) -> Result<TriMesh, GroomError> {
     if !all_have_uvs {
         return Ok(mesh);
     }
-    if let Some(i) = uvs.iter().position(|uv| !uv.iter().all(|c| c.is_finite())) {
-        return Err(with_file(HairError::Mesh(format!(
-            "vertex {i} has a non-finite texture coordinate {:?}; fix or remove the `vt` line",
-            uvs[i].as_slice()
-        ))));
+    if let Some(vertex) = uvs.iter().position(|uv| !uv.iter().all(|c| c.is_finite())) {
+        return Err(with_file(
+            MeshError::NonFiniteUv {
+                vertex,
+                uv: uvs[vertex].into(),
+            }
+            .into(),
+        ));
     }
     mesh.with_uvs(uvs).map_err(with_file)
 }
@@ -122,13 +125,14 @@ pub fn load_obj_vertex_colors(path: &Path) -> Result<Option<Vec<[f32; 3]>>, Groo
                 .map(|c| [c[0], c[1], c[2]]),
         );
     }
-    if let Some(i) = colors.iter().position(|c| !c.iter().all(|x| x.is_finite())) {
+    if let Some(vertex) = colors.iter().position(|c| !c.iter().all(|x| x.is_finite())) {
         return Err(GroomError::ObjMesh {
             path: path.to_path_buf(),
-            source: HairError::Mesh(format!(
-                "vertex {i} has a non-finite colour {:?}; fix its `v x y z r g b` line",
-                colors[i]
-            )),
+            source: MeshError::NonFiniteColor {
+                vertex,
+                color: colors[vertex],
+            }
+            .into(),
         });
     }
     Ok(Some(colors))
