@@ -6,7 +6,7 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use super::error::{parameter, PngWriteError, PreviewError, Result};
+use super::error::{parameter, PngWriteError, PreviewError, PreviewInputError, Result};
 
 /// Largest image side, pixels (a 16k × 16k RGBA image is 1 GiB).
 pub const MAX_SIDE: u32 = 16_384;
@@ -48,10 +48,12 @@ impl PreviewImage {
     pub fn from_rgba(width: u32, height: u32, pixels: Vec<u8>) -> Result<Self> {
         check_size("image size", width, height)?;
         if pixels.len() != 4 * width as usize * height as usize {
-            return Err(PreviewError::Input(format!(
-                "{} bytes for a {width} × {height} RGBA image: give 4 per pixel",
-                pixels.len()
-            )));
+            return Err(PreviewInputError::Pixels {
+                bytes: pixels.len(),
+                width,
+                height,
+            }
+            .into());
         }
         Ok(Self {
             width,
