@@ -200,12 +200,12 @@ impl<'a> Parents<'a> {
     /// [`ShapeFactors`]). A factor of 1 leaves the children as without it, bit for bit; 0
     /// removes that parent's clumping or curl.
     pub fn with_shape_factors(mut self, factors: ShapeFactors<'a>) -> Result<Self> {
-        for (what, list) in [
-            ("clump factors", factors.clump),
-            ("curl factors", factors.curl),
+        for (what, per_parent, list) in [
+            ("clump", "clump factors", factors.clump),
+            ("curl", "curl factors", factors.curl),
         ] {
             let Some(list) = list else { continue };
-            self.check_len(what, list.len())?;
+            self.check_len(per_parent, list.len())?;
             if let Some(p) = list.iter().position(|f| !(0.0..=1.0).contains(f)) {
                 return Err(RenderError::Parent {
                     parent: p,
