@@ -13,7 +13,7 @@ use thiserror::Error;
 use crate::formats::obj::ObjParseError;
 use crate::input_file::InputFileError;
 use crate::reinterpolate::PoseError;
-use crate::sampling::DensityError;
+use crate::sampling::{DensityError, Region};
 
 /// Everything `hair-groom` can refuse.
 #[derive(Debug, Error)]
@@ -60,8 +60,8 @@ pub enum GroomError {
          point `direction` at the part of the mesh that should grow hair"
     )]
     EmptyRegion {
-        /// The region, printed.
-        region: String,
+        /// The region.
+        region: Region,
     },
     /// A groom file (`.hair`, `.tfx`, OBJ curves, `.usda`) is malformed: wrong magic, truncated,
     /// counts that disagree with its size, a non-finite coordinate, a curve with fewer than 2

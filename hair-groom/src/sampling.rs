@@ -392,9 +392,7 @@ impl AreaTable {
             cumulative.push(total);
         }
         let Some(last_inside) = last_inside.filter(|_| total > 0.0) else {
-            return Err(GroomError::EmptyRegion {
-                region: region.to_string(),
-            });
+            return Err(GroomError::EmptyRegion { region: *region });
         };
         Ok(Self {
             cumulative,

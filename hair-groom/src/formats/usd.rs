@@ -391,16 +391,19 @@ pub(super) fn world_transform(
     stage: &Stage,
     prim_path: &str,
     time: TimeCode,
-) -> Result<Matrix4<f32>, String> {
+) -> Result<Matrix4<f32>, PrimError> {
     let mut m = gf::Matrix4d::IDENTITY;
-    let mut p = sdf::path(prim_path).map_err(|e| format!("{e:#}"))?;
+    let mut p = sdf::path(prim_path).map_err(|error| PrimError::Path { error })?;
     loop {
         if p == sdf::Path::abs_root() {
             break;
         }
         let x = AnyXformable(stage.prim(p.clone()));
         // Row vectors: world = local · parent · grandparent …
-        let at = |e: anyhow::Error| format!("{} xformOps: {e:#}", p.as_str());
+        let at = |error| PrimError::XformOps {
+            prim: p.as_str().to_string(),
+            error,
+        };
         m = m * x.local_to_parent_transform(time).map_err(at)?;
         if x.resets_xform_stack().map_err(at)? {
             break;
@@ -730,6 +733,19 @@ pub(crate) enum PrimError {
     /// `openusd` could not read an attribute.
     #[error("attribute {name}: {error:#}")]
     Attribute { name: String, error: anyhow::Error },
+    /// A prim path does not parse.
+    #[error("{error:#}")]
+    Path { error: anyhow::Error },
+    /// `openusd` could not read the xformOps of a prim (the prim or an ancestor).
+    #[error("{prim} xformOps: {error:#}")]
+    XformOps { prim: String, error: anyhow::Error },
+    /// `openusd` could not read the time samples of an xformOp.
+    #[error("{prim} {op}: {error:#}")]
+    XformOpTimes {
+        prim: String,
+        op: String,
+        error: anyhow::Error,
+    },
     /// `openusd` could not list the prim's properties.
     #[error("cannot list the prim's properties: {error:#}")]
     Properties { error: anyhow::Error },

@@ -133,7 +133,7 @@ impl UsdMeshSource {
             sampled("faceVertexCounts")?.len() > 1 || sampled("faceVertexIndices")?.len() > 1;
         let mut times = sampled("points")?;
         let mut animated = times.len() > 1;
-        for op_times in xform_sample_times(&stage, &prim_path).map_err(&fail)? {
+        for op_times in xform_sample_times(&stage, &prim_path).map_err(fail_on)? {
             animated |= op_times.len() > 1;
             times.extend(op_times);
         }
@@ -610,24 +610,29 @@ fn wind<T: Copy>([a, b, c]: [T; 3], flip: bool) -> [T; 3] {
 
 /// Time sample times of every xformOp on the prim at `prim_path` and its ancestors (up to a
 /// `!resetXformStack!`), one list per op.
-fn xform_sample_times(stage: &Stage, prim_path: &str) -> Result<Vec<Vec<f64>>, String> {
+fn xform_sample_times(stage: &Stage, prim_path: &str) -> Result<Vec<Vec<f64>>, PrimError> {
     let mut out = Vec::new();
-    let mut p = sdf::path(prim_path).map_err(|e| format!("{e:#}"))?;
+    let mut p = sdf::path(prim_path).map_err(|error| PrimError::Path { error })?;
     while p != sdf::Path::abs_root() {
         let prim = stage.prim(p.clone());
         let x = AnyXformable(prim.clone());
-        let at = |e: anyhow::Error| format!("{} xformOps: {e:#}", p.as_str());
+        let at = |error| PrimError::XformOps {
+            prim: p.as_str().to_string(),
+            error,
+        };
         let order = x.xform_op_order().map_err(at)?.unwrap_or_default();
         for op in order.iter() {
             let op = op.strip_prefix("!invert!").unwrap_or(op);
             if op.starts_with('!') {
                 continue;
             }
-            out.push(
-                prim.attribute(op)
-                    .time_sample_times()
-                    .map_err(|e| format!("{} {op}: {e:#}", p.as_str()))?,
-            );
+            out.push(prim.attribute(op).time_sample_times().map_err(|error| {
+                PrimError::XformOpTimes {
+                    prim: p.as_str().to_string(),
+                    op: op.to_string(),
+                    error,
+                }
+            })?);
         }
         if x.resets_xform_stack().map_err(at)? {
             break;
