@@ -6,6 +6,9 @@ use std::path::PathBuf;
 
 use thiserror::Error;
 
+use crate::layout::FormatError;
+use crate::rig::RigError;
+
 /// Everything reading or writing a cache can refuse or detect.
 #[derive(Debug, Error)]
 pub enum CacheError {
@@ -42,6 +45,40 @@ pub enum CacheError {
         path: PathBuf,
         /// What is wrong and what to use instead.
         detail: String,
+    },
+    /// The writer's header is invalid; nothing was written.
+    #[error("cannot write cache `{}`: {source}", .path.display())]
+    InvalidHeader {
+        /// The cache's path.
+        path: PathBuf,
+        /// What is wrong with the header.
+        source: FormatError,
+    },
+    /// The writer's strand layout is invalid; nothing was written.
+    #[error("cannot write cache `{}`: invalid strand layout: {source}", .path.display())]
+    InvalidLayout {
+        /// The cache's path.
+        path: PathBuf,
+        /// What is wrong with the layout.
+        source: FormatError,
+    },
+    /// The rig given to the writer does not match its layout; it was not attached.
+    #[error("cannot write cache `{}`: invalid rig: {source}", .path.display())]
+    InvalidRig {
+        /// The file being written (`<path>.partial`).
+        path: PathBuf,
+        /// What is wrong with the rig.
+        source: RigError,
+    },
+    /// A frame's rig state does not match the cache's rig; the frame was not written.
+    #[error("cannot write cache `{}`: frame {frame}'s rig: {source}", .path.display())]
+    InvalidRigFrame {
+        /// The file being written (`<path>.partial`).
+        path: PathBuf,
+        /// The frame refused.
+        frame: u32,
+        /// What is wrong with its rig state.
+        source: RigError,
     },
     /// A file operation failed.
     #[error(

@@ -181,6 +181,7 @@
 use std::collections::BTreeMap;
 
 use hair_core::StrandSet;
+use thiserror::Error;
 
 use crate::writer::Precision;
 use nalgebra::Vector3;
@@ -307,45 +308,45 @@ impl CacheLayout {
 
     /// Checks the invariants of the [layout attachment](self#layout-attachment); the error says
     /// what is wrong.
-    pub(crate) fn validate(&self) -> Result<(), String> {
+    pub(crate) fn validate(&self) -> Result<(), FormatError> {
         let Some(&first) = self.offsets.first() else {
-            return Err("the layout has no offsets; build it with CacheLayout::of".into());
+            return Err(FormatError::NoOffsets);
         };
         if first != 0 {
-            return Err(format!("offsets[0] is {first}; it must be 0"));
+            return Err(FormatError::FirstOffset { first });
         }
-        if let Some(s) = self.offsets.windows(2).position(|w| w[1] <= w[0]) {
-            return Err(format!(
-                "strand {s} has no point (offsets[{s}] = {}, offsets[{}] = {}); offsets must \
-                 strictly increase",
-                self.offsets[s],
-                s + 1,
-                self.offsets[s + 1]
-            ));
+        if let Some(strand) = self.offsets.windows(2).position(|w| w[1] <= w[0]) {
+            return Err(FormatError::EmptyStrand {
+                strand,
+                start: self.offsets[strand],
+                end: self.offsets[strand + 1],
+            });
         }
         let (strands, points) = (self.strand_count(), self.point_count());
         if self.rest_lengths.len() != points - strands {
-            return Err(format!(
-                "{} rest lengths for {points} points in {strands} strands; there must be one per \
-                 segment ({})",
-                self.rest_lengths.len(),
-                points - strands
-            ));
+            return Err(FormatError::RestLengthCount {
+                found: self.rest_lengths.len(),
+                points,
+                strands,
+            });
         }
         if self.radii.len() != points {
-            return Err(format!(
-                "{} radii for {points} points; there must be one per point",
-                self.radii.len()
-            ));
+            return Err(FormatError::RadiusCount {
+                found: self.radii.len(),
+                points,
+            });
         }
-        if let Some(j) = self.rest_lengths.iter().position(|l| !l.is_finite()) {
-            return Err(format!(
-                "rest length of segment {j} is {}",
-                self.rest_lengths[j]
-            ));
+        if let Some(segment) = self.rest_lengths.iter().position(|l| !l.is_finite()) {
+            return Err(FormatError::RestLength {
+                segment,
+                value: self.rest_lengths[segment],
+            });
         }
-        if let Some(i) = self.radii.iter().position(|r| !r.is_finite()) {
-            return Err(format!("radius of point {i} is {}", self.radii[i]));
+        if let Some(point) = self.radii.iter().position(|r| !r.is_finite()) {
+            return Err(FormatError::Radius {
+                point,
+                value: self.radii[point],
+            });
         }
         Ok(())
     }
@@ -367,20 +368,21 @@ impl CacheLayout {
     }
 
     /// Parses and validates attachment bytes.
-    pub(crate) fn decode(bytes: &[u8]) -> Result<Self, String> {
+    pub(crate) fn decode(bytes: &[u8]) -> Result<Self, FormatError> {
         let mut r = LeReader::new(bytes);
         let strands = r.u32()? as usize;
         let points = r.u32()? as usize;
         if points < strands {
-            return Err(format!("{points} points for {strands} strands"));
+            return Err(FormatError::FewerPoints { points, strands });
         }
         let expected = 8 + 4 * (strands + 1) + 4 * (points - strands) + 4 * points;
         if bytes.len() != expected {
-            return Err(format!(
-                "layout attachment has {} bytes; {strands} strands and {points} points need \
-                 {expected}",
-                bytes.len()
-            ));
+            return Err(FormatError::LayoutLength {
+                len: bytes.len(),
+                strands,
+                points,
+                expected,
+            });
         }
         let offsets = (0..=strands)
             .map(|_| r.u32())
@@ -398,10 +400,10 @@ impl CacheLayout {
         };
         layout.validate()?;
         if layout.point_count() != points {
-            return Err(format!(
-                "layout says {points} points but its last offset is {}",
-                layout.point_count()
-            ));
+            return Err(FormatError::LastOffset {
+                points,
+                last: layout.point_count(),
+            });
         }
         Ok(layout)
     }
@@ -425,21 +427,17 @@ pub struct CacheHeader {
 
 impl CacheHeader {
     /// Checks the header; the error says what is wrong and what to use instead.
-    pub(crate) fn validate(&self) -> Result<(), String> {
+    pub(crate) fn validate(&self) -> Result<(), FormatError> {
         if !(self.fps.is_finite() && self.fps > 0.0 && self.fps <= 1e6) {
-            return Err(format!(
-                "fps is {}; use a frame rate in (0, 1e6] frames per second",
-                self.fps
-            ));
+            return Err(FormatError::Fps { fps: self.fps });
         }
         if self.scene_hash.is_empty() || !self.scene_hash.chars().all(|c| c.is_ascii_hexdigit()) {
-            return Err(format!(
-                "scene hash {:?} is not a hex string; pass the hex digits of the scene's hash",
-                self.scene_hash
-            ));
+            return Err(FormatError::SceneHash {
+                hash: self.scene_hash.clone(),
+            });
         }
         if self.extra.contains_key("") {
-            return Err("an extra metadata key is empty; give every extra value a name".into());
+            return Err(FormatError::EmptyExtraKey);
         }
         Ok(())
     }
@@ -473,12 +471,20 @@ pub(crate) struct MetadataCounts {
 }
 
 /// Why a metadata map could not be read.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Error)]
 pub(crate) enum MetadataError {
     /// `format_version` is missing or not [`FORMAT_VERSION`]; holds the value found.
+    #[error("format version {0:?}, expected {FORMAT_VERSION}")]
     Version(String),
-    /// A key is missing or malformed.
-    Key(String),
+    /// A key is missing.
+    #[error("metadata key `{key}` is missing")]
+    Missing { key: &'static str },
+    /// A value does not parse.
+    #[error("metadata `{key}` = {value:?} is not valid")]
+    Invalid { key: &'static str, value: String },
+    /// The values parse but are not a valid header.
+    #[error(transparent)]
+    Header(#[from] FormatError),
 }
 
 /// Parses a metadata map into a header and the counts it declares.
@@ -491,14 +497,12 @@ pub(crate) fn header_from_metadata(
     if version != FORMAT_VERSION.to_string() {
         return Err(MetadataError::Version(version.to_string()));
     }
-    let get = |key: &str| {
-        map.get(key)
-            .ok_or_else(|| MetadataError::Key(format!("metadata key `{key}` is missing")))
-    };
-    fn parse<T: std::str::FromStr>(key: &str, value: &str) -> Result<T, MetadataError> {
-        value
-            .parse()
-            .map_err(|_| MetadataError::Key(format!("metadata `{key}` = {value:?} is not valid")))
+    let get = |key: &'static str| map.get(key).ok_or(MetadataError::Missing { key });
+    fn parse<T: std::str::FromStr>(key: &'static str, value: &str) -> Result<T, MetadataError> {
+        value.parse().map_err(|_| MetadataError::Invalid {
+            key,
+            value: value.to_string(),
+        })
     }
     let header = CacheHeader {
         fps: parse(KEY_FPS, get(KEY_FPS)?)?,
@@ -510,7 +514,7 @@ pub(crate) fn header_from_metadata(
             .filter_map(|(k, v)| Some((k.strip_prefix(EXTRA_PREFIX)?.to_string(), v.clone())))
             .collect(),
     };
-    header.validate().map_err(MetadataError::Key)?;
+    header.validate()?;
     let counts = MetadataCounts {
         strands: parse(KEY_STRAND_COUNT, get(KEY_STRAND_COUNT)?)?,
         points: parse(KEY_POINT_COUNT, get(KEY_POINT_COUNT)?)?,
@@ -581,38 +585,42 @@ pub(crate) fn encode_frame(
 
 /// Reads the header shared by both frame encodings (version, frame, time, point count) and
 /// checks it and the payload length (`expected_len` bytes) against a layout of `points` points.
-/// Returns the frame number and time (s); `what` names the encoding in errors.
+/// Returns the frame number and time (s); `encoding` names the encoding in errors.
 fn decode_frame_header(
     r: &mut LeReader,
-    what: &str,
+    encoding: &'static str,
     points: usize,
     expected_len: usize,
-) -> Result<(u32, f64), String> {
+) -> Result<(u32, f64), FormatError> {
     let len = r.bytes.len();
     let version = r.u32()?;
     if version != FORMAT_VERSION {
-        return Err(format!(
-            "{what} payload has format version {version}, expected {FORMAT_VERSION}"
-        ));
+        return Err(FormatError::FrameVersion { encoding, version });
     }
     let frame = r.u32()?;
     let time = r.f64()?;
     let count = r.u32()? as usize;
     if count != points {
-        return Err(format!(
-            "frame {frame} has {count} points, the layout {points}"
-        ));
+        return Err(FormatError::FramePoints {
+            frame,
+            count,
+            points,
+        });
     }
     if len != expected_len {
-        return Err(format!(
-            "{what} {frame} payload has {len} bytes, {points} points need {expected_len}"
-        ));
+        return Err(FormatError::FrameLength {
+            encoding,
+            frame,
+            len,
+            points,
+            expected: expected_len,
+        });
     }
     Ok((frame, time))
 }
 
 /// Parses a frame payload of a cache with `points` points.
-pub(crate) fn decode_frame(bytes: &[u8], points: usize) -> Result<Frame, String> {
+pub(crate) fn decode_frame(bytes: &[u8], points: usize) -> Result<Frame, FormatError> {
     let mut r = LeReader::new(bytes);
     let (frame, time) = decode_frame_header(&mut r, "frame", points, frame_payload_len(points))?;
     let vectors = |data: &[u8]| -> Vec<Vector3<f32>> {
@@ -711,7 +719,7 @@ pub(crate) fn encode_frame_q16(
 
 /// Parses a [quantized frame payload](self#quantized-frame-payload) of a cache with `points`
 /// points.
-pub(crate) fn decode_frame_q16(bytes: &[u8], points: usize) -> Result<Frame, String> {
+pub(crate) fn decode_frame_q16(bytes: &[u8], points: usize) -> Result<Frame, FormatError> {
     let mut r = LeReader::new(bytes);
     let (frame, time) = decode_frame_header(
         &mut r,
@@ -730,10 +738,12 @@ pub(crate) fn decode_frame_q16(bytes: &[u8], points: usize) -> Result<Frame, Str
         ("velocity", bounds[2], bounds[3]),
     ] {
         if (0..3).any(|a| !(min[a].is_finite() && max[a].is_finite() && min[a] <= max[a])) {
-            return Err(format!(
-                "quantized frame {frame} has {quantity} bounds {min:?}..{max:?}; they must be \
-                 finite with min <= max"
-            ));
+            return Err(FormatError::QuantizedBounds {
+                frame,
+                quantity,
+                min,
+                max,
+            });
         }
     }
     let vectors = |data: &[u8], min: [f32; 3], max: [f32; 3]| -> Vec<Vector3<f32>> {
@@ -763,7 +773,7 @@ pub(crate) fn decode_frame_as(
     precision: Precision,
     bytes: &[u8],
     points: usize,
-) -> Result<Frame, String> {
+) -> Result<Frame, FormatError> {
     match precision {
         Precision::F32 => decode_frame(bytes, points),
         Precision::Quantized16 => decode_frame_q16(bytes, points),
@@ -783,24 +793,22 @@ impl<'a> LeReader<'a> {
     }
 
     /// The next `n` bytes.
-    pub(crate) fn take(&mut self, n: usize) -> Result<&'a [u8], String> {
+    pub(crate) fn take(&mut self, n: usize) -> Result<&'a [u8], Truncated> {
         let end = self
             .pos
             .checked_add(n)
             .filter(|&end| end <= self.bytes.len())
-            .ok_or_else(|| {
-                format!(
-                    "record ends after {} bytes, {n} more needed at byte {}",
-                    self.bytes.len(),
-                    self.pos
-                )
+            .ok_or(Truncated {
+                len: self.bytes.len(),
+                needed: n,
+                at: self.pos,
             })?;
         let out = &self.bytes[self.pos..end];
         self.pos = end;
         Ok(out)
     }
 
-    fn array<const N: usize>(&mut self) -> Result<[u8; N], String> {
+    fn array<const N: usize>(&mut self) -> Result<[u8; N], Truncated> {
         let mut out = [0; N];
         out.copy_from_slice(self.take(N)?);
         Ok(out)
@@ -812,24 +820,198 @@ impl<'a> LeReader<'a> {
     }
 
     /// The next `u32`.
-    pub(crate) fn u32(&mut self) -> Result<u32, String> {
+    pub(crate) fn u32(&mut self) -> Result<u32, Truncated> {
         self.array().map(u32::from_le_bytes)
     }
 
     /// The next `u64`.
-    pub(crate) fn u64(&mut self) -> Result<u64, String> {
+    pub(crate) fn u64(&mut self) -> Result<u64, Truncated> {
         self.array().map(u64::from_le_bytes)
     }
 
     /// The next `f32`.
-    pub(crate) fn f32(&mut self) -> Result<f32, String> {
+    pub(crate) fn f32(&mut self) -> Result<f32, Truncated> {
         self.array().map(f32::from_le_bytes)
     }
 
     /// The next `f64`.
-    pub(crate) fn f64(&mut self) -> Result<f64, String> {
+    pub(crate) fn f64(&mut self) -> Result<f64, Truncated> {
         self.array().map(f64::from_le_bytes)
     }
+}
+
+/// Bytes that end before the value being read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
+#[error("record ends after {len} bytes, {needed} more needed at byte {at}")]
+pub struct Truncated {
+    /// Length of the bytes, bytes.
+    pub len: usize,
+    /// Bytes the value needs.
+    pub needed: usize,
+    /// Offset of the value, bytes.
+    pub at: usize,
+}
+
+/// Why a layout attachment, a header or a frame payload breaks the format this page specifies.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum FormatError {
+    /// The bytes end before a value.
+    #[error(transparent)]
+    Truncated(#[from] Truncated),
+    /// The layout has no offsets at all.
+    #[error("the layout has no offsets; build it with CacheLayout::of")]
+    NoOffsets,
+    /// The first offset is not 0.
+    #[error("offsets[0] is {first}; it must be 0")]
+    FirstOffset {
+        /// The first offset found.
+        first: u32,
+    },
+    /// Offsets do not strictly increase: a strand has no point.
+    #[error(
+        "strand {strand} has no point (offsets[{strand}] = {start}, offsets[{}] = {end}); \
+         offsets must strictly increase",
+        .strand + 1
+    )]
+    EmptyStrand {
+        /// The strand.
+        strand: usize,
+        /// Its first point's offset.
+        start: u32,
+        /// The next strand's first point's offset.
+        end: u32,
+    },
+    /// Not one rest length per segment.
+    #[error(
+        "{found} rest lengths for {points} points in {strands} strands; there must be one per \
+         segment ({})",
+        .points - .strands
+    )]
+    RestLengthCount {
+        /// Number of rest lengths given.
+        found: usize,
+        /// Number of points of the layout.
+        points: usize,
+        /// Number of strands of the layout.
+        strands: usize,
+    },
+    /// Not one radius per point.
+    #[error("{found} radii for {points} points; there must be one per point")]
+    RadiusCount {
+        /// Number of radii given.
+        found: usize,
+        /// Number of points of the layout.
+        points: usize,
+    },
+    /// A rest length is not finite.
+    #[error("rest length of segment {segment} is {value}")]
+    RestLength {
+        /// The segment.
+        segment: usize,
+        /// Its rest length, m.
+        value: f32,
+    },
+    /// A radius is not finite.
+    #[error("radius of point {point} is {value}")]
+    Radius {
+        /// The point.
+        point: usize,
+        /// Its radius, m.
+        value: f32,
+    },
+    /// The attachment declares fewer points than strands.
+    #[error("{points} points for {strands} strands")]
+    FewerPoints {
+        /// Number of points declared.
+        points: usize,
+        /// Number of strands declared.
+        strands: usize,
+    },
+    /// The attachment's length does not match the counts it declares.
+    #[error(
+        "layout attachment has {len} bytes; {strands} strands and {points} points need \
+         {expected}"
+    )]
+    LayoutLength {
+        /// Length of the attachment, bytes.
+        len: usize,
+        /// Number of strands declared.
+        strands: usize,
+        /// Number of points declared.
+        points: usize,
+        /// Length those counts need, bytes.
+        expected: usize,
+    },
+    /// The declared point count is not the last offset.
+    #[error("layout says {points} points but its last offset is {last}")]
+    LastOffset {
+        /// Number of points declared.
+        points: usize,
+        /// The last offset.
+        last: usize,
+    },
+    /// The frame rate is not finite or not in (0, 10⁶].
+    #[error("fps is {fps}; use a frame rate in (0, 1e6] frames per second")]
+    Fps {
+        /// The frame rate given, frames per second.
+        fps: f64,
+    },
+    /// The scene hash is empty or not hex digits.
+    #[error("scene hash {hash:?} is not a hex string; pass the hex digits of the scene's hash")]
+    SceneHash {
+        /// The hash given.
+        hash: String,
+    },
+    /// An extra metadata key is empty.
+    #[error("an extra metadata key is empty; give every extra value a name")]
+    EmptyExtraKey,
+    /// A frame payload has another format version.
+    #[error("{encoding} payload has format version {version}, expected {FORMAT_VERSION}")]
+    FrameVersion {
+        /// `"frame"` or `"quantized frame"`.
+        encoding: &'static str,
+        /// The version found.
+        version: u32,
+    },
+    /// A frame payload's point count is not the layout's.
+    #[error("frame {frame} has {count} points, the layout {points}")]
+    FramePoints {
+        /// The frame.
+        frame: u32,
+        /// Number of points it declares.
+        count: usize,
+        /// Number of points of the layout.
+        points: usize,
+    },
+    /// A frame payload's length does not match its point count.
+    #[error("{encoding} {frame} payload has {len} bytes, {points} points need {expected}")]
+    FrameLength {
+        /// `"frame"` or `"quantized frame"`.
+        encoding: &'static str,
+        /// The frame.
+        frame: u32,
+        /// Length of the payload, bytes.
+        len: usize,
+        /// Number of points of the layout.
+        points: usize,
+        /// Length those points need, bytes.
+        expected: usize,
+    },
+    /// A quantized frame's bounds are not finite or a minimum is above its maximum.
+    #[error(
+        "quantized frame {frame} has {quantity} bounds {min:?}..{max:?}; they must be finite \
+         with min <= max"
+    )]
+    QuantizedBounds {
+        /// The frame.
+        frame: u32,
+        /// `"position"` (m) or `"velocity"` (m/s).
+        quantity: &'static str,
+        /// The per-axis minima.
+        min: [f32; 3],
+        /// The per-axis maxima.
+        max: [f32; 3],
+    },
 }
 
 #[cfg(test)]
@@ -861,14 +1043,18 @@ mod tests {
     fn truncated_layout_is_refused() {
         let bytes = layout().encode();
         let err = CacheLayout::decode(&bytes[..bytes.len() - 1]).unwrap_err();
-        assert!(err.contains("bytes"), "{err}");
+        assert!(err.to_string().contains("bytes"), "{err}");
     }
 
     #[test]
     fn empty_strand_is_refused() {
         let mut l = layout();
         l.offsets = vec![0, 3, 3, 5];
-        assert!(l.validate().unwrap_err().contains("strand 1 has no point"));
+        assert!(l
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("strand 1 has no point"));
     }
 
     #[test]
@@ -934,7 +1120,10 @@ mod tests {
         // A min above its max is refused.
         let mut bad = out.clone();
         bad[20..24].copy_from_slice(&5.0f32.to_le_bytes());
-        assert!(decode_frame_q16(&bad, 2).unwrap_err().contains("bounds"));
+        assert!(decode_frame_q16(&bad, 2)
+            .unwrap_err()
+            .to_string()
+            .contains("bounds"));
     }
 
     #[test]

@@ -3,6 +3,7 @@
 //! decompressing only the chunk that holds it.
 
 use std::collections::BTreeSet;
+use std::fmt;
 use std::fs::File;
 use std::io::{Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
@@ -12,7 +13,7 @@ use mcap::records::{op, Record};
 use crate::error::CacheError;
 use crate::input;
 use crate::layout::{self, CacheHeader, CacheLayout, Frame, LeReader, MetadataError};
-use crate::records::{self, Records};
+use crate::records::{self, RecordError, Records};
 use crate::rig::{self, CacheRig, RigFrame};
 use crate::summary::{CacheSummary, SummaryInput};
 use crate::summary_section::{self, SummaryError, SummarySection};
@@ -326,7 +327,7 @@ impl CacheReader {
         Ok(messages)
     }
 
-    fn damaged(&self, detail: String) -> CacheError {
+    fn damaged(&self, detail: impl fmt::Display) -> CacheError {
         damaged(&self.path, detail)
     }
 
@@ -351,7 +352,7 @@ impl CacheReader {
         self.read_record(meta.offset, meta.length, op::METADATA)?;
         let map = match records::parse(op::METADATA, &self.buf[9..]) {
             Ok(Record::Metadata(m)) => m.metadata,
-            Ok(_) => return Err(self.damaged("the metadata index points to another record".into())),
+            Ok(_) => return Err(self.damaged("the metadata index points to another record")),
             Err(e) => return Err(self.damaged(e)),
         };
         let (header, counts) = match layout::header_from_metadata(&map) {
@@ -363,7 +364,7 @@ impl CacheReader {
                     supported: layout::FORMAT_VERSION,
                 })
             }
-            Err(MetadataError::Key(detail)) => return Err(self.damaged(detail)),
+            Err(e) => return Err(self.damaged(e)),
         };
         let Some(attachment) = self
             .summary
@@ -439,7 +440,7 @@ impl CacheReader {
             let start = chunk
                 .chunk_start_offset
                 .checked_add(chunk.chunk_length)
-                .ok_or_else(|| damaged(&self.path, "a chunk index overflows".into()))?;
+                .ok_or_else(|| damaged(&self.path, "a chunk index overflows"))?;
             read_range(
                 &self.path,
                 &mut self.file,
@@ -458,7 +459,7 @@ impl CacheReader {
                     _ => {
                         return Err(damaged(
                             &self.path,
-                            "a chunk's message index region holds another record".into(),
+                            "a chunk's message index region holds another record",
                         ))
                     }
                 }
@@ -639,7 +640,7 @@ fn read_summary(path: &Path, file: &mut File, file_len: u64) -> Result<SummarySe
             path: path.to_path_buf(),
             detail: detail.into(),
         },
-        SummaryError::Damaged(detail) => damaged(path, detail),
+        SummaryError::Damaged(damage) => damaged(path, damage),
         SummaryError::Io(source) => CacheError::Io {
             path: path.to_path_buf(),
             action: "read",
@@ -649,14 +650,14 @@ fn read_summary(path: &Path, file: &mut File, file_len: u64) -> Result<SummarySe
 }
 
 /// The data of an attachment record body (header, `u64` length, data, `u32` CRC), CRC checked.
-pub(crate) fn attachment_data(body: &[u8]) -> Result<&[u8], String> {
+pub(crate) fn attachment_data(body: &[u8]) -> Result<&[u8], RecordError> {
     match records::parse(op::ATTACHMENT, body) {
         Ok(Record::Attachment { data, .. }) => match data {
             std::borrow::Cow::Borrowed(data) => Ok(data),
-            std::borrow::Cow::Owned(_) => Err("the layout attachment was copied".into()),
+            std::borrow::Cow::Owned(_) => Err(RecordError::AttachmentCopied),
         },
-        Ok(_) => Err("the attachment index points to another record".into()),
-        Err(e) => Err(format!("layout attachment: {e}")),
+        Ok(_) => Err(RecordError::NotAttachment),
+        Err(e) => Err(RecordError::Attachment(Box::new(e))),
     }
 }
 
@@ -669,24 +670,24 @@ fn time_to_ns(time: f64) -> Option<u64> {
 /// The messages (`log_time`, payload) of a whole chunk record (`record`: opcode, length and
 /// body, as the chunk index locates it), decompressed and CRC-checked; only those of channel
 /// `channel` if it is given.
-fn chunk_messages(record: &[u8], channel: Option<u16>) -> Result<Vec<ChunkMessage>, String> {
+fn chunk_messages(record: &[u8], channel: Option<u16>) -> Result<Vec<ChunkMessage>, RecordError> {
     let mut r = LeReader::new(record);
     let (opcode, length) = r
         .take(1)
         .and_then(|op| Ok((op[0], r.u64()?)))
-        .map_err(|_| "the index points to no chunk")?;
+        .map_err(|_| RecordError::NoChunk)?;
     if opcode != op::CHUNK {
-        return Err("the index points to no chunk".into());
+        return Err(RecordError::NoChunk);
     }
     if length != r.remaining() as u64 {
-        return Err(format!(
-            "the chunk record is {length} bytes long but its index gives it {}",
-            r.remaining()
-        ));
+        return Err(RecordError::ChunkLength {
+            length,
+            indexed: r.remaining(),
+        });
     }
     let (header, data) = match records::parse(op::CHUNK, &record[9..])? {
         Record::Chunk { header, data } => (header, data),
-        _ => return Err("the index points to no chunk".into()),
+        _ => return Err(RecordError::NoChunk),
     };
     // Every length inside the chunk is used only after its CRC has checked.
     let content = records::chunk_content(&header, &data)?;
@@ -745,9 +746,10 @@ fn read_up_to(file: &mut File, buf: &mut [u8]) -> std::io::Result<usize> {
     Ok(filled)
 }
 
-pub(crate) fn damaged(path: &Path, detail: String) -> CacheError {
+/// A [`CacheError::Damaged`] of `path` for `detail` (a typed error of the format or a sentence).
+pub(crate) fn damaged(path: &Path, detail: impl fmt::Display) -> CacheError {
     CacheError::Damaged {
         path: path.to_path_buf(),
-        detail,
+        detail: detail.to_string(),
     }
 }

@@ -23,11 +23,105 @@
 //! what its compressed bytes really decode to; never by a number a damaged header claims.
 
 use std::borrow::Cow;
-use std::io::Read;
+use std::io::{self, Read};
+use std::num::TryFromIntError;
 
 use mcap::records::{op, ChunkHeader, Record};
+use thiserror::Error;
 
-use crate::layout::LeReader;
+use crate::layout::{LeReader, Truncated};
+
+/// Why a record, or a chunk of records, cannot be read.
+#[derive(Debug, Error)]
+pub(crate) enum RecordError {
+    /// The bytes end inside a record's opcode or length.
+    #[error(transparent)]
+    Truncated(#[from] Truncated),
+    /// A field of the record does not lie in its body.
+    #[error("{} record: {source}", name(*.opcode))]
+    Field { opcode: u8, source: FieldError },
+    /// `mcap` refused the record after its fields were checked.
+    #[error("{} record: {source}", name(*.opcode))]
+    Mcap { opcode: u8, source: mcap::McapError },
+    /// A record's length runs past the region that holds it.
+    #[error("a {} record claims {len} bytes but only {remaining} follow it", name(*.opcode))]
+    Overrun {
+        opcode: u8,
+        len: u64,
+        remaining: usize,
+    },
+    /// An uncompressed chunk's size is not its data's.
+    #[error("an uncompressed chunk declares {declared} bytes but holds {held}")]
+    UncompressedSize { declared: u64, held: usize },
+    /// The decoder of a compressed chunk could not start.
+    #[error("{codec} chunk: {source}")]
+    Decoder {
+        codec: &'static str,
+        source: io::Error,
+    },
+    /// A chunk is compressed with a codec a hairsys cache does not use.
+    #[error("chunk compression {compression:?} is not one a hairsys cache uses (none, lz4, zstd)")]
+    Compression { compression: String },
+    /// A chunk's CRC does not match its content.
+    #[error("chunk CRC mismatch: stored {stored:#010x}, computed {computed:#010x}")]
+    Crc { stored: u32, computed: u32 },
+    /// A chunk declares more bytes than its compressed data can expand to.
+    #[error(
+        "a {codec} chunk of {compressed} compressed bytes claims {declared} bytes uncompressed, \
+         more than {codec} can expand it to ({most})"
+    )]
+    Expansion {
+        codec: &'static str,
+        compressed: usize,
+        declared: u64,
+        most: u64,
+    },
+    /// A chunk's compressed data does not decode.
+    #[error("{codec} chunk data: {source}")]
+    Data {
+        codec: &'static str,
+        source: io::Error,
+    },
+    /// A chunk's data decodes to another size than it declares (`None`: more).
+    #[error(
+        "a {codec} chunk declares {declared} bytes uncompressed but its data decodes to {}",
+        .decoded.map_or_else(|| "more".to_string(), |n| n.to_string())
+    )]
+    DecodedSize {
+        codec: &'static str,
+        declared: u64,
+        decoded: Option<usize>,
+    },
+    /// An index points to a record that is no chunk.
+    #[error("the index points to no chunk")]
+    NoChunk,
+    /// A chunk record's length is not the one its index gives.
+    #[error("the chunk record is {length} bytes long but its index gives it {indexed}")]
+    ChunkLength { length: u64, indexed: usize },
+    /// An attachment index points to a record that is no attachment.
+    #[error("the attachment index points to another record")]
+    NotAttachment,
+    /// The attachment's data was copied instead of borrowed from the record.
+    #[error("the layout attachment was copied")]
+    AttachmentCopied,
+    /// The attachment record is damaged.
+    #[error("layout attachment: {0}")]
+    Attachment(Box<RecordError>),
+}
+
+/// Why a field of a record body does not lie in the body.
+#[derive(Debug, Error)]
+pub(crate) enum FieldError {
+    /// The body ends inside the field.
+    #[error(transparent)]
+    Truncated(#[from] Truncated),
+    /// A length does not fit in memory.
+    #[error(transparent)]
+    Length(#[from] TryFromIntError),
+    /// A map or array is not tiled by whole entries.
+    #[error("a map or array of {len} bytes does not hold whole {entry}-byte entries")]
+    PartialEntries { len: usize, entry: usize },
+}
 
 /// One field of a record body, in the MCAP specification's types.
 #[derive(Clone, Copy)]
@@ -103,13 +197,13 @@ pub(crate) fn name(opcode: u8) -> String {
 /// Checks that `body` holds every field of a record with opcode `opcode`: each length prefix
 /// fits in the bytes after it. Bytes after the last field are allowed (the specification lets
 /// records grow new fields at their end).
-pub(crate) fn check(opcode: u8, body: &[u8]) -> Result<(), String> {
+pub(crate) fn check(opcode: u8, body: &[u8]) -> Result<(), RecordError> {
     let mut r = LeReader::new(body);
-    let length = |r: &mut LeReader, n: u64| -> Result<(), String> {
-        r.take(usize::try_from(n).map_err(|e| e.to_string())?)
-            .map(|_| ())
+    let length = |r: &mut LeReader, n: u64| -> Result<(), FieldError> {
+        r.take(usize::try_from(n)?)?;
+        Ok(())
     };
-    let walk = |r: &mut LeReader| -> Result<(), String> {
+    let walk = |r: &mut LeReader| -> Result<(), FieldError> {
         for field in fields(opcode) {
             match *field {
                 Field::U8 => length(r, 1)?,
@@ -137,9 +231,7 @@ pub(crate) fn check(opcode: u8, body: &[u8]) -> Result<(), String> {
                 Field::Fixed(entry) => {
                     let n = r.u32()? as usize;
                     if !n.is_multiple_of(entry) {
-                        return Err(format!(
-                            "a map or array of {n} bytes does not hold whole {entry}-byte entries"
-                        ));
+                        return Err(FieldError::PartialEntries { len: n, entry });
                     }
                     r.take(n)?;
                 }
@@ -148,13 +240,13 @@ pub(crate) fn check(opcode: u8, body: &[u8]) -> Result<(), String> {
         }
         Ok(())
     };
-    walk(&mut r).map_err(|e| format!("{} record: {e}", name(opcode)))
+    walk(&mut r).map_err(|source| RecordError::Field { opcode, source })
 }
 
 /// Parses a record body with `mcap` after [`check`]ing it; the record borrows from `body`.
-pub(crate) fn parse(opcode: u8, body: &[u8]) -> Result<Record<'_>, String> {
+pub(crate) fn parse(opcode: u8, body: &[u8]) -> Result<Record<'_>, RecordError> {
     check(opcode, body)?;
-    mcap::parse_record(opcode, body).map_err(|e| format!("{} record: {e}", name(opcode)))
+    mcap::parse_record(opcode, body).map_err(|source| RecordError::Mcap { opcode, source })
 }
 
 /// The records `(opcode, body)` of a byte region, one after another. A record whose length runs
@@ -171,27 +263,27 @@ impl<'a> Records<'a> {
 }
 
 impl<'a> Iterator for Records<'a> {
-    type Item = Result<(u8, &'a [u8]), String>;
+    type Item = Result<(u8, &'a [u8]), RecordError>;
 
     fn next(&mut self) -> Option<Self::Item> {
         if self.bytes.is_empty() {
             return None;
         }
         let mut r = LeReader::new(self.bytes);
-        let record = r.take(1).and_then(|opcode| {
+        let mut record = || -> Result<_, RecordError> {
+            let opcode = r.take(1)?[0];
             let len = r.u64()?;
             let body = usize::try_from(len)
                 .ok()
                 .filter(|&len| len <= r.remaining())
-                .ok_or_else(|| {
-                    format!(
-                        "a {} record claims {len} bytes but only {} follow it",
-                        name(opcode[0]),
-                        r.remaining()
-                    )
+                .ok_or(RecordError::Overrun {
+                    opcode,
+                    len,
+                    remaining: r.remaining(),
                 })?;
-            Ok((opcode[0], r.take(body)?))
-        });
+            Ok((opcode, r.take(body)?))
+        };
+        let record = record();
         match record {
             Ok((opcode, body)) => {
                 self.bytes = &self.bytes[9 + body.len()..];
@@ -222,20 +314,23 @@ const ZSTD_MIN_WINDOW_LOG: u32 = 23;
 pub(crate) fn chunk_content<'a>(
     header: &ChunkHeader,
     data: &'a [u8],
-) -> Result<Cow<'a, [u8]>, String> {
+) -> Result<Cow<'a, [u8]>, RecordError> {
     let declared = header.uncompressed_size;
     let content = match header.compression.as_str() {
         "" => {
             if declared != data.len() as u64 {
-                return Err(format!(
-                    "an uncompressed chunk declares {declared} bytes but holds {}",
-                    data.len()
-                ));
+                return Err(RecordError::UncompressedSize {
+                    declared,
+                    held: data.len(),
+                });
             }
             Cow::Borrowed(data)
         }
         "lz4" => {
-            let decoder = lz4::Decoder::new(data).map_err(|e| format!("lz4 chunk: {e}"))?;
+            let decoder = lz4::Decoder::new(data).map_err(|source| RecordError::Decoder {
+                codec: "lz4",
+                source,
+            })?;
             Cow::Owned(decompress(
                 "lz4",
                 decoder,
@@ -245,13 +340,14 @@ pub(crate) fn chunk_content<'a>(
             )?)
         }
         "zstd" => {
-            let mut decoder = zstd::stream::read::Decoder::with_buffer(data)
-                .map_err(|e| format!("zstd chunk: {e}"))?;
+            let zstd_error = |source| RecordError::Decoder {
+                codec: "zstd",
+                source,
+            };
+            let mut decoder = zstd::stream::read::Decoder::with_buffer(data).map_err(zstd_error)?;
             let window_log = (u64::BITS - declared.leading_zeros())
                 .clamp(ZSTD_MIN_WINDOW_LOG, ZSTD_MAX_WINDOW_LOG);
-            decoder
-                .window_log_max(window_log)
-                .map_err(|e| format!("zstd chunk: {e}"))?;
+            decoder.window_log_max(window_log).map_err(zstd_error)?;
             Cow::Owned(decompress(
                 "zstd",
                 decoder,
@@ -261,18 +357,18 @@ pub(crate) fn chunk_content<'a>(
             )?)
         }
         other => {
-            return Err(format!(
-                "chunk compression {other:?} is not one a hairsys cache uses (none, lz4, zstd)"
-            ))
+            return Err(RecordError::Compression {
+                compression: other.to_string(),
+            })
         }
     };
     if header.uncompressed_crc != 0 {
-        let crc = crc32fast::hash(&content);
-        if crc != header.uncompressed_crc {
-            return Err(format!(
-                "chunk CRC mismatch: stored {:#010x}, computed {crc:#010x}",
-                header.uncompressed_crc
-            ));
+        let computed = crc32fast::hash(&content);
+        if computed != header.uncompressed_crc {
+            return Err(RecordError::Crc {
+                stored: header.uncompressed_crc,
+                computed,
+            });
         }
     }
     Ok(content)
@@ -282,18 +378,20 @@ pub(crate) fn chunk_content<'a>(
 /// `compressed` bytes of `codec` can expand to (`max_ratio`) and growing the output only as bytes
 /// come out of the decoder.
 fn decompress(
-    codec: &str,
+    codec: &'static str,
     decoder: impl Read,
     declared: u64,
     compressed: usize,
     max_ratio: u64,
-) -> Result<Vec<u8>, String> {
+) -> Result<Vec<u8>, RecordError> {
     let most = (compressed as u64).saturating_mul(max_ratio);
     if declared > most {
-        return Err(format!(
-            "a {codec} chunk of {compressed} compressed bytes claims {declared} bytes \
-             uncompressed, more than {codec} can expand it to ({most})"
-        ));
+        return Err(RecordError::Expansion {
+            codec,
+            compressed,
+            declared,
+            most,
+        });
     }
     // Frames of moving hair barely compress: the compressed size is a good first guess.
     let guess = (compressed as u64).saturating_mul(2).saturating_add(4096);
@@ -301,15 +399,17 @@ fn decompress(
     decoder
         .take(declared.saturating_add(1))
         .read_to_end(&mut out)
-        .map_err(|e| format!("{codec} chunk data: {e}"))?;
+        .map_err(|source| RecordError::Data { codec, source })?;
     let decoded = match (out.len() as u64).cmp(&declared) {
         std::cmp::Ordering::Equal => return Ok(out),
-        std::cmp::Ordering::Greater => "more".to_string(),
-        std::cmp::Ordering::Less => out.len().to_string(),
+        std::cmp::Ordering::Greater => None,
+        std::cmp::Ordering::Less => Some(out.len()),
     };
-    Err(format!(
-        "a {codec} chunk declares {declared} bytes uncompressed but its data decodes to {decoded}"
-    ))
+    Err(RecordError::DecodedSize {
+        codec,
+        declared,
+        decoded,
+    })
 }
 
 #[cfg(test)]
@@ -358,7 +458,7 @@ mod tests {
         let mut body = metadata("hairsys", &[("fps", "24")]);
         // The name's length: 4 GiB − 1.
         body[..4].copy_from_slice(&u32::MAX.to_le_bytes());
-        let err = parse(op::METADATA, &body).unwrap_err();
+        let err = parse(op::METADATA, &body).unwrap_err().to_string();
         assert!(
             err.starts_with("metadata record") && err.contains("more needed"),
             "{err}"
@@ -376,7 +476,7 @@ mod tests {
         let mut body = 1u16.to_le_bytes().to_vec();
         body.extend(17u32.to_le_bytes());
         body.extend([0u8; 17]);
-        let err = parse(op::MESSAGE_INDEX, &body).unwrap_err();
+        let err = parse(op::MESSAGE_INDEX, &body).unwrap_err().to_string();
         assert!(err.contains("whole 16-byte entries"), "{err}");
     }
 
@@ -388,8 +488,8 @@ mod tests {
         bytes.extend(long);
         let records: Vec<_> = Records::new(&bytes).collect();
         assert_eq!(records.len(), 2);
-        assert_eq!(records[0], Ok((op::DATA_END, &[0u8; 4][..])));
-        let err = records[1].clone().unwrap_err();
+        assert_eq!(records[0].as_ref().unwrap(), &(op::DATA_END, &[0u8; 4][..]));
+        let err = records[1].as_ref().unwrap_err().to_string();
         assert!(
             err.contains("claims 1099511627776 bytes but only 4"),
             "{err}"
@@ -422,23 +522,28 @@ mod tests {
             // A size field of 1 TiB: refused from the compressed length, nothing allocated.
             let mut huge = header.clone();
             huge.uncompressed_size = 1 << 40;
-            let err = chunk_content(&huge, data).unwrap_err();
+            let err = chunk_content(&huge, data).unwrap_err().to_string();
             assert!(err.contains("more than"), "{codec}: {err}");
             // A size field a little too large or too small: the data decides.
             for size in [content.len() as u64 + 1, content.len() as u64 - 1] {
                 let mut off = header.clone();
                 off.uncompressed_size = size;
-                let err = chunk_content(&off, data).unwrap_err();
+                let err = chunk_content(&off, data).unwrap_err().to_string();
                 assert!(err.contains("decodes to"), "{codec}: {err}");
             }
             let mut crc = header.clone();
             crc.uncompressed_crc ^= 1;
-            assert!(chunk_content(&crc, data).unwrap_err().contains("CRC"));
+            assert!(chunk_content(&crc, data)
+                .unwrap_err()
+                .to_string()
+                .contains("CRC"));
         }
         let header = chunk_header("", &content);
         assert!(chunk_content(&header, &content).is_ok());
         assert!(chunk_content(&header, &content[1..]).is_err());
-        let err = chunk_content(&chunk_header("brotli", &content), &content).unwrap_err();
+        let err = chunk_content(&chunk_header("brotli", &content), &content)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("\"brotli\""), "{err}");
     }
 }

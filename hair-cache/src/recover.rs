@@ -13,13 +13,14 @@ use std::io::{BufReader, Read};
 use std::path::{Path, PathBuf};
 
 use mcap::records::{op, Record};
+use thiserror::Error;
 
 use crate::error::CacheError;
 use crate::input;
-use crate::layout::{self, CacheHeader, CacheLayout, Frame, MetadataError};
+use crate::layout::{self, CacheHeader, CacheLayout, FormatError, Frame, MetadataError};
 use crate::reader::{attachment_data, damaged};
-use crate::records::{self, Records};
-use crate::rig::{self, CacheRig, RigFrame};
+use crate::records::{self, RecordError, Records};
+use crate::rig::{self, CacheRig, RigError, RigFrame};
 use crate::summary::CacheSummary;
 use crate::writer::{CacheWriter, Precision, WriterOptions};
 
@@ -208,7 +209,7 @@ pub fn recover(path: impl AsRef<Path>) -> Result<Recovery, CacheError> {
                                     found,
                                     supported: layout::FORMAT_VERSION,
                                 },
-                                MetadataError::Key(detail) => damaged(&path, detail),
+                                other => damaged(&path, other),
                             })?;
                         header = Some(h);
                         counts = Some(c);
@@ -228,10 +229,7 @@ pub fn recover(path: impl AsRef<Path>) -> Result<Recovery, CacheError> {
                     cache_layout = Some(l);
                 } else if a.name == rig::RIG_ATTACHMENT_NAME {
                     let Some(l) = &cache_layout else {
-                        return Err(damaged(
-                            &path,
-                            "its rig comes before its strand layout".into(),
-                        ));
+                        return Err(damaged(&path, "its rig comes before its strand layout"));
                     };
                     let data = attachment_data(&body).map_err(|e| damaged(&path, e))?;
                     let r = CacheRig::decode(data, l)
@@ -343,7 +341,7 @@ fn chunk_frames(
     fps: f64,
     points: usize,
     channels: Channels,
-) -> Result<(Vec<Frame>, Vec<RigFrame>), String> {
+) -> Result<(Vec<Frame>, Vec<RigFrame>), ChunkError> {
     let Channels {
         frames: channel,
         rig,
@@ -356,7 +354,7 @@ fn chunk_frames(
     let mut states: Vec<(u32, RigFrame)> = Vec::new();
     let (chunk_header, data) = match records::parse(op::CHUNK, body)? {
         Record::Chunk { header, data } => (header, data),
-        _ => return Err("not a chunk".into()),
+        _ => return Err(ChunkError::NotAChunk),
     };
     // Every length inside the chunk is used only after its CRC has checked.
     let content = records::chunk_content(&chunk_header, &data)?;
@@ -372,12 +370,9 @@ fn chunk_frames(
             Record::Channel(c) if c.topic == layout::FRAME_TOPIC => {
                 let precision =
                     Precision::from_message_encoding(&c.message_encoding).ok_or_else(|| {
-                        format!(
-                            "the frame channel has message encoding {:?}, expected {:?} or {:?}",
-                            c.message_encoding,
-                            layout::FRAME_MESSAGE_ENCODING,
-                            layout::FRAME_Q16_MESSAGE_ENCODING
-                        )
+                        ChunkError::Encoding {
+                            encoding: c.message_encoding.clone(),
+                        }
                     })?;
                 chunk_channel = Some((c.id, precision));
             }
@@ -395,16 +390,16 @@ fn chunk_frames(
                 let precision = chunk_channel.map_or(Precision::F32, |c| c.1);
                 let frame = layout::decode_frame_as(precision, &data, points)?;
                 if layout::frame_time_ns(frame.frame, fps) != Some(header.log_time) {
-                    return Err(format!(
-                        "frame {} is logged at {} ns, not at its time",
-                        frame.frame, header.log_time
-                    ));
+                    return Err(ChunkError::Time {
+                        frame: frame.frame,
+                        log_time: header.log_time,
+                    });
                 }
                 if frames
                     .last()
                     .is_some_and(|f: &Frame| f.frame >= frame.frame)
                 {
-                    return Err(format!("frame {} is out of order", frame.frame));
+                    return Err(ChunkError::Order { frame: frame.frame });
                 }
                 frames.push(frame);
             }
@@ -419,7 +414,7 @@ fn chunk_frames(
             for f in &frames {
                 match states.iter().position(|(n, _)| *n == f.frame) {
                     Some(i) => out.push(states.swap_remove(i).1),
-                    None => return Err(format!("frame {} has no rig state", f.frame)),
+                    None => return Err(ChunkError::NoRigState { frame: f.frame }),
                 }
             }
             out
@@ -430,6 +425,39 @@ fn chunk_frames(
 }
 
 /// Frames in words: "frames 1–37", "3 frames between 1 and 9", "no frame".
+/// Why a chunk of a `.partial` file cannot be recovered.
+#[derive(Debug, Error)]
+enum ChunkError {
+    /// A record of the chunk, or the chunk itself, is damaged.
+    #[error(transparent)]
+    Record(#[from] RecordError),
+    /// A frame payload breaks the format.
+    #[error(transparent)]
+    Frame(#[from] FormatError),
+    /// A rig frame payload is refused.
+    #[error(transparent)]
+    Rig(#[from] RigError),
+    /// The record is no chunk.
+    #[error("not a chunk")]
+    NotAChunk,
+    /// The chunk's frame channel has an unknown message encoding.
+    #[error(
+        "the frame channel has message encoding {encoding:?}, expected {:?} or {:?}",
+        layout::FRAME_MESSAGE_ENCODING,
+        layout::FRAME_Q16_MESSAGE_ENCODING
+    )]
+    Encoding { encoding: String },
+    /// A frame is logged at another time than its own (`log_time`, ns).
+    #[error("frame {frame} is logged at {log_time} ns, not at its time")]
+    Time { frame: u32, log_time: u64 },
+    /// A frame does not come after the one before it.
+    #[error("frame {frame} is out of order")]
+    Order { frame: u32 },
+    /// The cache has a rig but the chunk holds no rig state for a frame.
+    #[error("frame {frame} has no rig state")]
+    NoRigState { frame: u32 },
+}
+
 fn frames_text(frames: &[Frame]) -> String {
     match (frames.first(), frames.last()) {
         (Some(a), Some(b)) if frames.len() as u64 == u64::from(b.frame - a.frame) + 1 => {

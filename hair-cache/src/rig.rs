@@ -13,10 +13,13 @@
 //! Both are optional: a cache without them still holds the hair, and a reader that does not know
 //! them reads the frames as before.
 
-use hair_core::{Anchor, Collider, ColliderShape, MeshSample, RootFrame, TriMesh};
-use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector2, Vector3};
+use std::fmt;
 
-use crate::layout::{CacheLayout, LeReader};
+use hair_core::{Anchor, Collider, ColliderShape, HairError, MeshSample, RootFrame, TriMesh};
+use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector2, Vector3};
+use thiserror::Error;
+
+use crate::layout::{CacheLayout, LeReader, Truncated};
 
 /// Name of the attachment holding the [`CacheRig`].
 pub const RIG_ATTACHMENT_NAME: &str = "hairsys/rig.bin";
@@ -92,61 +95,63 @@ pub struct RigFrame {
 impl CacheRig {
     /// Checks the rig against `layout`: one anchor and factor per strand, one rest position and
     /// inverse mass per point (finite; inverse masses ≥ 0), anchors on the scalp's triangles.
-    pub fn validate(&self, layout: &CacheLayout) -> Result<(), String> {
+    pub fn validate(&self, layout: &CacheLayout) -> Result<(), RigError> {
         let (strands, points) = (layout.strand_count(), layout.point_count());
-        for (name, n) in [
-            ("rest positions", self.rest_local.len()),
-            ("inverse masses", self.inverse_masses.len()),
+        for (field, found) in [
+            (RigField::RestPositions, self.rest_local.len()),
+            (RigField::InverseMasses, self.inverse_masses.len()),
         ] {
-            if n != points {
-                return Err(format!(
-                    "{n} {name} for {points} points: give one per point"
-                ));
+            if found != points {
+                return Err(RigError::PerPoint {
+                    field,
+                    found,
+                    points,
+                });
             }
         }
-        if let Some(i) = self
+        if let Some(point) = self
             .rest_local
             .iter()
             .position(|p| !p.iter().all(|c| c.is_finite()))
         {
-            return Err(format!("point {i}'s rest position is not finite"));
+            return Err(RigError::RestPosition { point });
         }
-        if let Some(i) = self
+        if let Some(point) = self
             .inverse_masses
             .iter()
             .position(|m| !(m.is_finite() && *m >= 0.0))
         {
-            return Err(format!(
-                "point {i}'s inverse mass {} is not a finite value ≥ 0",
-                self.inverse_masses[i]
-            ));
+            return Err(RigError::InverseMass {
+                point,
+                value: self.inverse_masses[point],
+            });
         }
         if self.anchors.len() != strands {
-            return Err(format!(
-                "{} anchors for {strands} strands: give one per strand",
-                self.anchors.len()
-            ));
+            return Err(RigError::PerStrand {
+                field: RigField::Anchors,
+                found: self.anchors.len(),
+                strands,
+            });
         }
-        for (name, f) in [("clump", &self.clump), ("curl", &self.curl)] {
+        for (field, f) in [(RigField::Clump, &self.clump), (RigField::Curl, &self.curl)] {
             if let Some(f) = f {
                 if f.len() != strands {
-                    return Err(format!(
-                        "{} {name} factors for {strands} strands: give one per strand",
-                        f.len()
-                    ));
+                    return Err(RigError::PerStrand {
+                        field,
+                        found: f.len(),
+                        strands,
+                    });
                 }
             }
         }
-        for (s, a) in self.anchors.iter().enumerate() {
+        for (strand, a) in self.anchors.iter().enumerate() {
             if let Anchor::Surface(sample) = a {
                 let Some(scalp) = &self.scalp else {
-                    return Err(format!(
-                        "strand {s} is rooted on the scalp, but the rig has no scalp mesh"
-                    ));
+                    return Err(RigError::NoScalpForAnchor { strand });
                 };
                 sample
                     .validate(&scalp.mesh)
-                    .map_err(|e| format!("strand {s}: {e}"))?;
+                    .map_err(|source| RigError::Anchor { strand, source })?;
             }
         }
         if let Some(RigScalp {
@@ -155,11 +160,10 @@ impl CacheRig {
         }) = &self.scalp
         {
             if c.len() != mesh.positions().len() {
-                return Err(format!(
-                    "{} scalp colours for {} vertices: give one per vertex",
-                    c.len(),
-                    mesh.positions().len()
-                ));
+                return Err(RigError::ColorCount {
+                    found: c.len(),
+                    vertices: mesh.positions().len(),
+                });
             }
         }
         Ok(())
@@ -255,23 +259,21 @@ impl CacheRig {
     /// Reads the attachment's bytes and checks them against `layout` ([`CacheRig::validate`]),
     /// every count against the bytes left before it is used, and every value as the library's
     /// constructors do.
-    pub fn decode(bytes: &[u8], layout: &CacheLayout) -> Result<Self, String> {
+    pub fn decode(bytes: &[u8], layout: &CacheLayout) -> Result<Self, RigError> {
         let mut r = LeReader::new(bytes);
         let version = r.u32()?;
         if version != RIG_VERSION {
-            return Err(format!(
-                "rig version {version}; this hairsys reads version {RIG_VERSION}"
-            ));
+            return Err(RigError::Version { version });
         }
-        let points = count(&mut r, 16, "points")?;
-        let rest_local = floats(&mut r, points, 3, "rest positions")?
+        let points = count(&mut r, 16, RigField::Points)?;
+        let rest_local = floats(&mut r, points, 3, RigField::RestPositions)?
             .chunks_exact(3)
             .map(|c| Vector3::new(c[0], c[1], c[2]))
             .collect();
-        let inverse_masses = floats(&mut r, points, 1, "inverse masses")?;
-        let strands = count(&mut r, 32, "anchors")?;
+        let inverse_masses = floats(&mut r, points, 1, RigField::InverseMasses)?;
+        let strands = count(&mut r, 32, RigField::Anchors)?;
         let mut anchors = Vec::with_capacity(strands);
-        for s in 0..strands {
+        for strand in 0..strands {
             let kind = r.u32()?;
             anchors.push(match kind {
                 0 => {
@@ -283,34 +285,34 @@ impl CacheRig {
                 1 => {
                     let origin = Vector3::from(f32s::<3>(&mut r)?);
                     let rotation = unit_quaternion(f32s::<4>(&mut r)?)
-                        .ok_or_else(|| format!("strand {s}'s root frame is no rotation"))?;
+                        .ok_or(RigError::RootRotation { strand })?;
                     if !origin.iter().all(|c| c.is_finite()) {
-                        return Err(format!("strand {s}'s root is not finite"));
+                        return Err(RigError::RootOrigin { strand });
                     }
                     Anchor::Body(RootFrame { origin, rotation })
                 }
-                k => return Err(format!("strand {s} has anchor kind {k}, not 0 or 1")),
+                kind => return Err(RigError::AnchorKind { strand, kind }),
             });
         }
-        let scalp = match flag(&mut r, "scalp")? {
+        let scalp = match flag(&mut r, RigField::Scalp)? {
             false => None,
             true => {
-                let mesh = get_mesh(&mut r, "scalp")?;
+                let mesh = get_mesh(&mut r, RigMesh::Scalp)?;
                 let v = mesh.positions().len();
-                let mesh = match flag(&mut r, "scalp UVs")? {
+                let mesh = match flag(&mut r, RigField::ScalpUvs)? {
                     false => mesh,
                     true => {
-                        let uvs = floats(&mut r, v, 2, "scalp UVs")?
+                        let uvs = floats(&mut r, v, 2, RigField::ScalpUvs)?
                             .chunks_exact(2)
                             .map(|c| Vector2::new(c[0], c[1]))
                             .collect();
-                        mesh.with_uvs(uvs).map_err(|e| format!("scalp UVs: {e}"))?
+                        mesh.with_uvs(uvs).map_err(RigError::ScalpUvs)?
                     }
                 };
-                let colors = match flag(&mut r, "scalp colours")? {
+                let colors = match flag(&mut r, RigField::ScalpColours)? {
                     false => None,
                     true => Some(
-                        floats(&mut r, v, 3, "scalp colours")?
+                        floats(&mut r, v, 3, RigField::ScalpColours)?
                             .chunks_exact(3)
                             .map(|c| [c[0], c[1], c[2]])
                             .collect(),
@@ -319,7 +321,7 @@ impl CacheRig {
                 Some(RigScalp { mesh, colors })
             }
         };
-        let scalp_collider = match flag(&mut r, "scalp collider")? {
+        let scalp_collider = match flag(&mut r, RigField::ScalpCollider)? {
             false => None,
             true => {
                 let [thickness, friction] = f32s::<2>(&mut r)?;
@@ -328,18 +330,18 @@ impl CacheRig {
                     && friction.is_finite()
                     && friction >= 0.0)
                 {
-                    return Err(format!(
-                        "the scalp collider's thickness {thickness} and friction {friction} \
-                         must be finite and ≥ 0"
-                    ));
+                    return Err(RigError::ScalpCollider {
+                        thickness,
+                        friction,
+                    });
                 }
                 if scalp.is_none() {
-                    return Err("the rig has a scalp collider but no scalp mesh".into());
+                    return Err(RigError::ScalpColliderWithoutScalp);
                 }
                 Some((thickness, friction))
             }
         };
-        let n = count(&mut r, 12, "colliders")?;
+        let n = count(&mut r, 12, RigField::Colliders)?;
         let mut colliders = Vec::with_capacity(n);
         for i in 0..n {
             let kind = r.u32()?;
@@ -353,29 +355,36 @@ impl CacheRig {
                         radius,
                     }
                 }
-                2 => ColliderShape::Mesh(get_mesh(&mut r, &format!("collider {i}"))?),
-                k => return Err(format!("collider {i} has shape kind {k}, not 0, 1 or 2")),
+                2 => ColliderShape::Mesh(get_mesh(&mut r, RigMesh::Collider(i))?),
+                kind => return Err(RigError::ShapeKind { collider: i, kind }),
             };
             let collider = Collider {
                 shape,
                 thickness,
                 friction,
             };
-            collider.validate(i).map_err(|e| e.to_string())?;
+            collider.validate(i).map_err(RigError::Collider)?;
             colliders.push(collider);
         }
         let mut factors = [None, None];
-        for (slot, name) in factors.iter_mut().zip(["clump", "curl"]) {
-            if flag(&mut r, name)? {
-                let f = floats(&mut r, strands, 1, name)?;
-                if let Some(i) = f.iter().position(|x| !(0.0..=1.0).contains(x)) {
-                    return Err(format!("strand {i}'s {name} factor {} is not in 0–1", f[i]));
+        for (slot, field) in factors.iter_mut().zip([RigField::Clump, RigField::Curl]) {
+            if flag(&mut r, field)? {
+                let f = floats(&mut r, strands, 1, field)?;
+                if let Some(strand) = f.iter().position(|x| !(0.0..=1.0).contains(x)) {
+                    return Err(RigError::Factor {
+                        strand,
+                        field,
+                        value: f[strand],
+                    });
                 }
                 *slot = Some(f);
             }
         }
         if r.remaining() != 0 {
-            return Err(format!("{} bytes after the rig", r.remaining()));
+            return Err(RigError::Trailing {
+                bytes: r.remaining(),
+                payload: "rig",
+            });
         }
         let [clump, curl] = factors;
         let rig = Self {
@@ -395,28 +404,27 @@ impl CacheRig {
 
 impl RigFrame {
     /// Checks the frame against `rig`: vertex counts of the deformed meshes, finite values.
-    pub fn validate(&self, rig: &CacheRig) -> Result<(), String> {
-        check_pose(&self.scalp_body, "the scalp's transform")?;
+    pub fn validate(&self, rig: &CacheRig) -> Result<(), RigError> {
+        check_pose(&self.scalp_body, RigMesh::Scalp)?;
         if let Some(v) = &self.scalp_vertices {
             let Some(scalp) = &rig.scalp else {
-                return Err("scalp vertices are given, but the rig has no scalp mesh".into());
+                return Err(RigError::ScalpVerticesWithoutScalp);
             };
-            check_vertices(v, scalp.mesh.positions().len(), "the scalp")?;
+            check_vertices(v, scalp.mesh.positions().len(), RigMesh::Scalp)?;
         }
         if self.colliders.len() != rig.colliders.len() {
-            return Err(format!(
-                "{} collider states for {} colliders",
-                self.colliders.len(),
-                rig.colliders.len()
-            ));
+            return Err(RigError::ColliderStateCount {
+                found: self.colliders.len(),
+                colliders: rig.colliders.len(),
+            });
         }
         for (i, (state, c)) in self.colliders.iter().zip(&rig.colliders).enumerate() {
-            check_pose(&state.pose, &format!("collider {i}'s pose"))?;
+            check_pose(&state.pose, RigMesh::Collider(i))?;
             if let Some(v) = &state.vertices {
                 let ColliderShape::Mesh(mesh) = &c.shape else {
-                    return Err(format!("collider {i} is no mesh, but vertices are given"));
+                    return Err(RigError::VerticesWithoutMesh { collider: i });
                 };
-                check_vertices(v, mesh.positions().len(), &format!("collider {i}"))?;
+                check_vertices(v, mesh.positions().len(), RigMesh::Collider(i))?;
             }
         }
         Ok(())
@@ -438,19 +446,17 @@ impl RigFrame {
     }
 
     /// Reads a payload of `rig`'s frame; returns the frame number it holds and the frame.
-    pub fn decode(bytes: &[u8], rig: &CacheRig) -> Result<(u32, Self), String> {
+    pub fn decode(bytes: &[u8], rig: &CacheRig) -> Result<(u32, Self), RigError> {
         let mut r = LeReader::new(bytes);
         let version = r.u32()?;
         if version != RIG_VERSION {
-            return Err(format!(
-                "rig frame version {version}; this hairsys reads version {RIG_VERSION}"
-            ));
+            return Err(RigError::FrameVersion { version });
         }
         let frame = r.u32()?;
         let scalp_body = get_pose(&mut r)?;
         let scalp_points = rig.scalp.as_ref().map_or(0, |s| s.mesh.positions().len());
-        let scalp_vertices = get_vertices(&mut r, scalp_points, "scalp")?;
-        let n = count(&mut r, 32, "collider states")?;
+        let scalp_vertices = get_vertices(&mut r, scalp_points, RigMesh::Scalp)?;
+        let n = count(&mut r, 32, RigField::ColliderStates)?;
         let mut colliders = Vec::with_capacity(n);
         for i in 0..n {
             let pose = get_pose(&mut r)?;
@@ -458,11 +464,14 @@ impl RigFrame {
                 Some(ColliderShape::Mesh(m)) => m.positions().len(),
                 _ => 0,
             };
-            let vertices = get_vertices(&mut r, points, &format!("collider {i}"))?;
+            let vertices = get_vertices(&mut r, points, RigMesh::Collider(i))?;
             colliders.push(ColliderState { pose, vertices });
         }
         if r.remaining() != 0 {
-            return Err(format!("{} bytes after the rig frame", r.remaining()));
+            return Err(RigError::Trailing {
+                bytes: r.remaining(),
+                payload: "rig frame",
+            });
         }
         let out = Self {
             scalp_body,
@@ -516,26 +525,27 @@ fn put_vertices(out: &mut Vec<u8>, vertices: Option<&[Vector3<f32>]>) {
 
 /// A `u32` count of items of at least `min_bytes` each, refused when the bytes left cannot
 /// hold them (so nothing is allocated from a damaged count).
-fn count(r: &mut LeReader, min_bytes: usize, what: &str) -> Result<usize, String> {
-    let n = r.u32()? as usize;
-    if n.saturating_mul(min_bytes) > r.remaining() {
-        return Err(format!(
-            "{n} {what} declared, but only {} bytes are left",
-            r.remaining()
-        ));
+fn count(r: &mut LeReader, min_bytes: usize, field: RigField) -> Result<usize, RigError> {
+    let count = r.u32()? as usize;
+    if count.saturating_mul(min_bytes) > r.remaining() {
+        return Err(RigError::Count {
+            field,
+            count,
+            remaining: r.remaining(),
+        });
     }
-    Ok(n)
+    Ok(count)
 }
 
-fn flag(r: &mut LeReader, what: &str) -> Result<bool, String> {
+fn flag(r: &mut LeReader, field: RigField) -> Result<bool, RigError> {
     match r.u32()? {
         0 => Ok(false),
         1 => Ok(true),
-        v => Err(format!("the {what} flag is {v}, not 0 or 1")),
+        value => Err(RigError::Flag { field, value }),
     }
 }
 
-fn f32s<const N: usize>(r: &mut LeReader) -> Result<[f32; N], String> {
+fn f32s<const N: usize>(r: &mut LeReader) -> Result<[f32; N], Truncated> {
     let mut out = [0.0; N];
     for x in &mut out {
         *x = r.f32()?;
@@ -544,42 +554,44 @@ fn f32s<const N: usize>(r: &mut LeReader) -> Result<[f32; N], String> {
 }
 
 /// `n × per` finite `f32`s (bounds checked before anything is allocated).
-fn floats(r: &mut LeReader, n: usize, per: usize, what: &str) -> Result<Vec<f32>, String> {
+fn floats(r: &mut LeReader, n: usize, per: usize, field: RigField) -> Result<Vec<f32>, RigError> {
     let len = n
         .checked_mul(per)
         .and_then(|c| c.checked_mul(4))
-        .ok_or_else(|| format!("{what}: {n} values overflow"))?;
-    let bytes = r.take(len).map_err(|e| format!("{what}: {e}"))?;
+        .ok_or(RigError::ValuesOverflow { field, count: n })?;
+    let bytes = r
+        .take(len)
+        .map_err(|source| RigError::FieldTruncated { field, source })?;
     let values: Vec<f32> = bytes
         .chunks_exact(4)
         .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
         .collect();
-    if let Some(i) = values.iter().position(|x| !x.is_finite()) {
-        return Err(format!("{what}: value {i} is not finite"));
+    if let Some(index) = values.iter().position(|x| !x.is_finite()) {
+        return Err(RigError::NonFinite { field, index });
     }
     Ok(values)
 }
 
-fn get_mesh(r: &mut LeReader, what: &str) -> Result<TriMesh, String> {
-    let v = count(r, 4, &format!("{what} vertices"))?;
+fn get_mesh(r: &mut LeReader, mesh: RigMesh) -> Result<TriMesh, RigError> {
+    let v = count(r, 4, RigField::Vertices(mesh))?;
     let t = r.u32()? as usize;
-    let positions = floats(r, v, 3, &format!("{what} vertices"))?
+    let positions = floats(r, v, 3, RigField::Vertices(mesh))?
         .chunks_exact(3)
         .map(|c| Vector3::new(c[0], c[1], c[2]))
         .collect();
     let len = t
         .checked_mul(12)
-        .ok_or_else(|| format!("{what}: {t} triangles overflow"))?;
+        .ok_or(RigError::TrianglesOverflow { mesh, count: t })?;
     let triangles = r
         .take(len)
-        .map_err(|e| format!("{what} triangles: {e}"))?
+        .map_err(|source| RigError::TrianglesTruncated { mesh, source })?
         .chunks_exact(12)
         .map(|b| {
             let i = |k: usize| u32::from_le_bytes([b[k], b[k + 1], b[k + 2], b[k + 3]]);
             [i(0), i(4), i(8)]
         })
         .collect();
-    TriMesh::new(positions, triangles).map_err(|e| format!("{what} mesh: {e}"))
+    TriMesh::new(positions, triangles).map_err(|source| RigError::Mesh { mesh, source })
 }
 
 fn unit_quaternion([i, j, k, w]: [f32; 4]) -> Option<UnitQuaternion<f32>> {
@@ -588,11 +600,11 @@ fn unit_quaternion([i, j, k, w]: [f32; 4]) -> Option<UnitQuaternion<f32>> {
     (norm.is_finite() && (norm - 1.0).abs() < 1e-3).then(|| UnitQuaternion::new_unchecked(q))
 }
 
-fn get_pose(r: &mut LeReader) -> Result<Isometry3<f32>, String> {
+fn get_pose(r: &mut LeReader) -> Result<Isometry3<f32>, RigError> {
     let t = f32s::<3>(r)?;
-    let rotation = unit_quaternion(f32s::<4>(r)?).ok_or("a pose's rotation is no rotation")?;
+    let rotation = unit_quaternion(f32s::<4>(r)?).ok_or(RigError::PoseRotation)?;
     if !t.iter().all(|c| c.is_finite()) {
-        return Err("a pose's translation is not finite".into());
+        return Err(RigError::PoseTranslation);
     }
     Ok(Isometry3::from_parts(
         Translation3::from(Vector3::from(t)),
@@ -603,39 +615,390 @@ fn get_pose(r: &mut LeReader) -> Result<Isometry3<f32>, String> {
 fn get_vertices(
     r: &mut LeReader,
     points: usize,
-    what: &str,
-) -> Result<Option<Vec<Vector3<f32>>>, String> {
-    if !flag(r, &format!("{what} vertices"))? {
+    mesh: RigMesh,
+) -> Result<Option<Vec<Vector3<f32>>>, RigError> {
+    if !flag(r, RigField::Vertices(mesh))? {
         return Ok(None);
     }
     Ok(Some(
-        floats(r, points, 3, &format!("{what} vertices"))?
+        floats(r, points, 3, RigField::Vertices(mesh))?
             .chunks_exact(3)
             .map(|c| Vector3::new(c[0], c[1], c[2]))
             .collect(),
     ))
 }
 
-fn check_pose(pose: &Isometry3<f32>, what: &str) -> Result<(), String> {
+fn check_pose(pose: &Isometry3<f32>, mesh: RigMesh) -> Result<(), RigError> {
     let finite = pose.translation.vector.iter().all(|c| c.is_finite())
         && pose.rotation.coords.iter().all(|c| c.is_finite());
     if finite {
         Ok(())
     } else {
-        Err(format!("{what} is not finite"))
+        Err(RigError::Pose { mesh })
     }
 }
 
-fn check_vertices(v: &[Vector3<f32>], expected: usize, what: &str) -> Result<(), String> {
+fn check_vertices(v: &[Vector3<f32>], expected: usize, mesh: RigMesh) -> Result<(), RigError> {
     if v.len() != expected {
-        return Err(format!(
-            "{} vertices for {what}, whose mesh has {expected}",
-            v.len()
-        ));
+        return Err(RigError::VertexCount {
+            mesh,
+            found: v.len(),
+            expected,
+        });
     }
     match v.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
-        Some(i) => Err(format!("{what}'s vertex {i} is not finite")),
+        Some(vertex) => Err(RigError::Vertex { mesh, vertex }),
         None => Ok(()),
+    }
+}
+
+/// A mesh of the rig, as errors name it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RigMesh {
+    /// The scalp.
+    Scalp,
+    /// The mesh collider with this index.
+    Collider(usize),
+}
+
+impl RigMesh {
+    /// The mesh in a sentence: "the scalp", "collider 3".
+    fn in_sentence(self) -> String {
+        match self {
+            RigMesh::Scalp => "the scalp".into(),
+            RigMesh::Collider(i) => format!("collider {i}"),
+        }
+    }
+}
+
+impl fmt::Display for RigMesh {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RigMesh::Scalp => f.write_str("scalp"),
+            RigMesh::Collider(i) => write!(f, "collider {i}"),
+        }
+    }
+}
+
+/// A field of the rig attachment or a rig frame, as errors name it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RigField {
+    /// The point count.
+    Points,
+    /// The points' rest positions.
+    RestPositions,
+    /// The points' inverse masses.
+    InverseMasses,
+    /// The strands' anchors.
+    Anchors,
+    /// The scalp mesh.
+    Scalp,
+    /// The scalp's UVs.
+    ScalpUvs,
+    /// The scalp's vertex colours.
+    ScalpColours,
+    /// The scalp's collider settings.
+    ScalpCollider,
+    /// The colliders.
+    Colliders,
+    /// A rig frame's collider states.
+    ColliderStates,
+    /// The strands' clump factors.
+    Clump,
+    /// The strands' curl factors.
+    Curl,
+    /// A mesh's vertices.
+    Vertices(RigMesh),
+}
+
+impl fmt::Display for RigField {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let name = match self {
+            RigField::Points => "points",
+            RigField::RestPositions => "rest positions",
+            RigField::InverseMasses => "inverse masses",
+            RigField::Anchors => "anchors",
+            RigField::Scalp => "scalp",
+            RigField::ScalpUvs => "scalp UVs",
+            RigField::ScalpColours => "scalp colours",
+            RigField::ScalpCollider => "scalp collider",
+            RigField::Colliders => "colliders",
+            RigField::ColliderStates => "collider states",
+            RigField::Clump => "clump",
+            RigField::Curl => "curl",
+            RigField::Vertices(mesh) => return write!(f, "{mesh} vertices"),
+        };
+        f.write_str(name)
+    }
+}
+
+/// Why a [`CacheRig`] or a [`RigFrame`] is refused, written or read.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum RigError {
+    /// The bytes end before a value.
+    #[error(transparent)]
+    Truncated(#[from] Truncated),
+    /// The attachment has another version.
+    #[error("rig version {version}; this hairsys reads version {RIG_VERSION}")]
+    Version {
+        /// The version found.
+        version: u32,
+    },
+    /// The frame payload has another version.
+    #[error("rig frame version {version}; this hairsys reads version {RIG_VERSION}")]
+    FrameVersion {
+        /// The version found.
+        version: u32,
+    },
+    /// Not one value per point.
+    #[error("{found} {field} for {points} points: give one per point")]
+    PerPoint {
+        /// The values.
+        field: RigField,
+        /// Number of values given.
+        found: usize,
+        /// Number of points of the layout.
+        points: usize,
+    },
+    /// Not one value per strand.
+    #[error("{found} {} for {strands} strands: give one per strand", per_strand(*.field))]
+    PerStrand {
+        /// The values.
+        field: RigField,
+        /// Number of values given.
+        found: usize,
+        /// Number of strands of the layout.
+        strands: usize,
+    },
+    /// A rest position is not finite.
+    #[error("point {point}'s rest position is not finite")]
+    RestPosition {
+        /// The point.
+        point: usize,
+    },
+    /// An inverse mass is negative or not finite.
+    #[error("point {point}'s inverse mass {value} is not a finite value ≥ 0")]
+    InverseMass {
+        /// The point.
+        point: usize,
+        /// Its inverse mass, 1/kg.
+        value: f32,
+    },
+    /// A strand is rooted on the scalp of a rig without one.
+    #[error("strand {strand} is rooted on the scalp, but the rig has no scalp mesh")]
+    NoScalpForAnchor {
+        /// The strand.
+        strand: usize,
+    },
+    /// A strand's mesh sample does not fit the scalp.
+    #[error("strand {strand}: {source}")]
+    Anchor {
+        /// The strand.
+        strand: usize,
+        /// What the sample's check said.
+        source: HairError,
+    },
+    /// Not one colour per scalp vertex.
+    #[error("{found} scalp colours for {vertices} vertices: give one per vertex")]
+    ColorCount {
+        /// Number of colours given.
+        found: usize,
+        /// Number of scalp vertices.
+        vertices: usize,
+    },
+    /// A strand's root frame holds no rotation.
+    #[error("strand {strand}'s root frame is no rotation")]
+    RootRotation {
+        /// The strand.
+        strand: usize,
+    },
+    /// A strand's root is not finite.
+    #[error("strand {strand}'s root is not finite")]
+    RootOrigin {
+        /// The strand.
+        strand: usize,
+    },
+    /// An anchor kind is unknown.
+    #[error("strand {strand} has anchor kind {kind}, not 0 or 1")]
+    AnchorKind {
+        /// The strand.
+        strand: usize,
+        /// The kind found.
+        kind: u32,
+    },
+    /// The scalp's UVs do not fit its mesh.
+    #[error("scalp UVs: {0}")]
+    ScalpUvs(#[source] HairError),
+    /// The scalp collider's thickness or friction is negative or not finite.
+    #[error(
+        "the scalp collider's thickness {thickness} and friction {friction} must be finite and ≥ 0"
+    )]
+    ScalpCollider {
+        /// Thickness, m.
+        thickness: f32,
+        /// Friction coefficient.
+        friction: f32,
+    },
+    /// The rig has a scalp collider but no scalp.
+    #[error("the rig has a scalp collider but no scalp mesh")]
+    ScalpColliderWithoutScalp,
+    /// A collider's shape kind is unknown.
+    #[error("collider {collider} has shape kind {kind}, not 0, 1 or 2")]
+    ShapeKind {
+        /// The collider.
+        collider: usize,
+        /// The kind found.
+        kind: u32,
+    },
+    /// A collider is refused by the library's check.
+    #[error(transparent)]
+    Collider(HairError),
+    /// A strand's clump or curl factor is not in 0–1.
+    #[error("strand {strand}'s {field} factor {value} is not in 0–1")]
+    Factor {
+        /// The strand.
+        strand: usize,
+        /// [`RigField::Clump`] or [`RigField::Curl`].
+        field: RigField,
+        /// The factor found.
+        value: f32,
+    },
+    /// Bytes follow the last field.
+    #[error("{bytes} bytes after the {payload}")]
+    Trailing {
+        /// Number of bytes left.
+        bytes: usize,
+        /// `"rig"` or `"rig frame"`.
+        payload: &'static str,
+    },
+    /// A count is larger than the bytes left can hold.
+    #[error("{count} {field} declared, but only {remaining} bytes are left")]
+    Count {
+        /// What is counted.
+        field: RigField,
+        /// The count declared.
+        count: usize,
+        /// Bytes left.
+        remaining: usize,
+    },
+    /// A flag is neither 0 nor 1.
+    #[error("the {field} flag is {value}, not 0 or 1")]
+    Flag {
+        /// What the flag says is present.
+        field: RigField,
+        /// The value found.
+        value: u32,
+    },
+    /// A count of values overflows the address space.
+    #[error("{field}: {count} values overflow")]
+    ValuesOverflow {
+        /// The values.
+        field: RigField,
+        /// Number of items declared.
+        count: usize,
+    },
+    /// The bytes end inside a field's values.
+    #[error("{field}: {source}")]
+    FieldTruncated {
+        /// The values.
+        field: RigField,
+        /// Where the bytes end.
+        source: Truncated,
+    },
+    /// A value is not finite.
+    #[error("{field}: value {index} is not finite")]
+    NonFinite {
+        /// The values.
+        field: RigField,
+        /// Index of the first bad value.
+        index: usize,
+    },
+    /// A mesh's triangle count overflows the address space.
+    #[error("{mesh}: {count} triangles overflow")]
+    TrianglesOverflow {
+        /// The mesh.
+        mesh: RigMesh,
+        /// Number of triangles declared.
+        count: usize,
+    },
+    /// The bytes end inside a mesh's triangles.
+    #[error("{mesh} triangles: {source}")]
+    TrianglesTruncated {
+        /// The mesh.
+        mesh: RigMesh,
+        /// Where the bytes end.
+        source: Truncated,
+    },
+    /// A mesh is refused by [`TriMesh::new`].
+    #[error("{mesh} mesh: {source}")]
+    Mesh {
+        /// The mesh.
+        mesh: RigMesh,
+        /// What the mesh's check said.
+        source: HairError,
+    },
+    /// A pose's rotation is not a unit quaternion.
+    #[error("a pose's rotation is no rotation")]
+    PoseRotation,
+    /// A pose's translation is not finite.
+    #[error("a pose's translation is not finite")]
+    PoseTranslation,
+    /// A frame's scalp transform or collider pose is not finite.
+    #[error("{} is not finite", pose_name(*.mesh))]
+    Pose {
+        /// The scalp or the collider.
+        mesh: RigMesh,
+    },
+    /// A rig frame gives scalp vertices for a rig without a scalp.
+    #[error("scalp vertices are given, but the rig has no scalp mesh")]
+    ScalpVerticesWithoutScalp,
+    /// A rig frame has not one state per collider.
+    #[error("{found} collider states for {colliders} colliders")]
+    ColliderStateCount {
+        /// Number of states given.
+        found: usize,
+        /// Number of colliders of the rig.
+        colliders: usize,
+    },
+    /// A rig frame gives vertices for a collider that is no mesh.
+    #[error("collider {collider} is no mesh, but vertices are given")]
+    VerticesWithoutMesh {
+        /// The collider.
+        collider: usize,
+    },
+    /// A deformed mesh has not one vertex per rest vertex.
+    #[error("{found} vertices for {}, whose mesh has {expected}", .mesh.in_sentence())]
+    VertexCount {
+        /// The mesh.
+        mesh: RigMesh,
+        /// Number of vertices given.
+        found: usize,
+        /// Number of vertices of its rest mesh.
+        expected: usize,
+    },
+    /// A deformed vertex is not finite.
+    #[error("{}'s vertex {vertex} is not finite", .mesh.in_sentence())]
+    Vertex {
+        /// The mesh.
+        mesh: RigMesh,
+        /// The first bad vertex.
+        vertex: usize,
+    },
+}
+
+/// A per-strand field in a count: "anchors", "clump factors".
+fn per_strand(field: RigField) -> String {
+    match field {
+        RigField::Clump | RigField::Curl => format!("{field} factors"),
+        other => other.to_string(),
+    }
+}
+
+/// The pose of `mesh` in a sentence: "the scalp's transform", "collider 3's pose".
+fn pose_name(mesh: RigMesh) -> String {
+    match mesh {
+        RigMesh::Scalp => "the scalp's transform".into(),
+        RigMesh::Collider(i) => format!("collider {i}'s pose"),
     }
 }
 
@@ -745,6 +1108,7 @@ mod tests {
         huge[4..8].copy_from_slice(&u32::MAX.to_le_bytes());
         assert!(CacheRig::decode(&huge, &layout())
             .unwrap_err()
+            .to_string()
             .contains("declared"));
     }
 

@@ -136,8 +136,33 @@ pub fn interpolate(a: &Frame, b: &Frame, time: f64, interpolation: Interpolation
 
 /// A shutter that is not a valid sample set.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("invalid shutter: {0}")]
-pub struct InvalidShutter(pub String);
+pub enum InvalidShutter {
+    /// A bound is not finite.
+    #[error(
+        "invalid shutter: the interval ({open}, {close}) is not finite; give finite frame offsets \
+         such as (-0.5, 0.5)"
+    )]
+    NotFinite {
+        /// Shutter open, frames relative to the frame.
+        open: f64,
+        /// Shutter close, frames relative to the frame.
+        close: f64,
+    },
+    /// The shutter opens after it closes.
+    #[error(
+        "invalid shutter: the shutter opens at {open} after it closes at {close}; give open ≤ \
+         close"
+    )]
+    Reversed {
+        /// Shutter open, frames relative to the frame.
+        open: f64,
+        /// Shutter close, frames relative to the frame.
+        close: f64,
+    },
+    /// No sample is asked for.
+    #[error("invalid shutter: 0 samples; ask for at least one sample")]
+    NoSamples,
+}
 
 /// Motion-blur sample set: `samples` times over the shutter interval `[open, close]`, in frames
 /// relative to a frame (e.g. `(−0.5, 0.5)`).
@@ -156,20 +181,13 @@ impl Shutter {
     /// `open > close` and `samples == 0`.
     pub fn new(open: f64, close: f64, samples: usize) -> Result<Self, InvalidShutter> {
         if !(open.is_finite() && close.is_finite()) {
-            return Err(InvalidShutter(format!(
-                "the interval ({open}, {close}) is not finite; give finite frame offsets such as \
-                 (-0.5, 0.5)"
-            )));
+            return Err(InvalidShutter::NotFinite { open, close });
         }
         if open > close {
-            return Err(InvalidShutter(format!(
-                "the shutter opens at {open} after it closes at {close}; give open ≤ close"
-            )));
+            return Err(InvalidShutter::Reversed { open, close });
         }
         if samples == 0 {
-            return Err(InvalidShutter(
-                "0 samples; ask for at least one sample".into(),
-            ));
+            return Err(InvalidShutter::NoSamples);
         }
         Ok(Self {
             open,

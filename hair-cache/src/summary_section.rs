@@ -12,8 +12,9 @@ use std::fs::File;
 use std::io::{self, Read, Seek, SeekFrom};
 
 use mcap::records::{op, AttachmentIndex, Channel, ChunkIndex, MetadataIndex, Record, Statistics};
+use thiserror::Error;
 
-use crate::records::{self, Records};
+use crate::records::{self, RecordError, Records};
 
 /// Footer record length: opcode, `u64` length, then `summary_start`, `summary_offset_start`
 /// (`u64` each) and `summary_crc` (`u32`).
@@ -42,9 +43,30 @@ pub(crate) enum SummaryError {
     /// The file has no footer or no summary section: truncated, or its writer was killed.
     Incomplete(&'static str),
     /// The footer or a summary record is inconsistent.
-    Damaged(String),
+    Damaged(SummaryDamage),
     /// Reading failed.
     Io(io::Error),
+}
+
+/// How the footer or the summary section is inconsistent.
+#[derive(Debug, Error)]
+pub(crate) enum SummaryDamage {
+    /// The footer places the summary or its offsets outside the file's data.
+    #[error(
+        "its footer places the summary at byte {summary_start} and the summary offsets at byte \
+         {offsets_start}, outside bytes {MAGIC_LEN}..{footer_at}"
+    )]
+    Footer {
+        summary_start: u64,
+        offsets_start: u64,
+        footer_at: u64,
+    },
+    /// The summary's CRC does not match its bytes.
+    #[error("summary CRC mismatch: stored {stored:#010x}, computed {computed:#010x}")]
+    Crc { stored: u32, computed: u32 },
+    /// A summary record is damaged.
+    #[error(transparent)]
+    Record(#[from] RecordError),
 }
 
 /// Reads the summary section of `file` (`file_len` bytes, starting with the MCAP magic).
@@ -71,20 +93,22 @@ pub(crate) fn read(file: &mut File, file_len: u64) -> Result<SummarySection, Sum
     if !data.contains(&summary_start)
         || !(offsets_start == 0 || (summary_start..=footer_at).contains(&offsets_start))
     {
-        return Err(SummaryError::Damaged(format!(
-            "its footer places the summary at byte {summary_start} and the summary offsets at \
-             byte {offsets_start}, outside bytes {MAGIC_LEN}..{footer_at}"
-        )));
+        return Err(SummaryError::Damaged(SummaryDamage::Footer {
+            summary_start,
+            offsets_start,
+            footer_at,
+        }));
     }
     // The CRC covers the summary and summary offset sections and the footer up to its CRC.
     let mut section = vec![0u8; (footer_at + 9 + 16 - summary_start) as usize];
     read_at(file, summary_start, &mut section)?;
     if summary_crc != 0 {
-        let crc = crc32fast::hash(&section);
-        if crc != summary_crc {
-            return Err(SummaryError::Damaged(format!(
-                "summary CRC mismatch: stored {summary_crc:#010x}, computed {crc:#010x}"
-            )));
+        let computed = crc32fast::hash(&section);
+        if computed != summary_crc {
+            return Err(SummaryError::Damaged(SummaryDamage::Crc {
+                stored: summary_crc,
+                computed,
+            }));
         }
     }
     let end = if offsets_start == 0 {
@@ -94,8 +118,9 @@ pub(crate) fn read(file: &mut File, file_len: u64) -> Result<SummarySection, Sum
     };
     let mut summary = SummarySection::default();
     for record in Records::new(&section[..(end - summary_start) as usize]) {
-        let (opcode, body) = record.map_err(SummaryError::Damaged)?;
-        match records::parse(opcode, body).map_err(SummaryError::Damaged)? {
+        let damaged = |e| SummaryError::Damaged(SummaryDamage::Record(e));
+        let (opcode, body) = record.map_err(damaged)?;
+        match records::parse(opcode, body).map_err(damaged)? {
             Record::Channel(c) => summary.channels.push(c),
             Record::ChunkIndex(c) => summary.chunk_indexes.push(c),
             Record::AttachmentIndex(a) => summary.attachment_indexes.push(a),

@@ -213,10 +213,18 @@ impl CacheWriter {
             path: path.clone(),
             detail,
         };
-        header.validate().map_err(invalid)?;
+        header
+            .validate()
+            .map_err(|source| CacheError::InvalidHeader {
+                path: path.clone(),
+                source,
+            })?;
         layout
             .validate()
-            .map_err(|e| invalid(format!("invalid strand layout: {e}")))?;
+            .map_err(|source| CacheError::InvalidLayout {
+                path: path.clone(),
+                source,
+            })?;
         if path.is_dir() {
             return Err(invalid(
                 "it is a directory; give a file path such as `out/run.mcap`".into(),
@@ -340,7 +348,10 @@ impl CacheWriter {
             ));
         }
         rig.validate(&self.layout)
-            .map_err(|e| invalid(format!("invalid rig: {e}")))?;
+            .map_err(|source| CacheError::InvalidRig {
+                path: self.partial.clone(),
+                source,
+            })?;
         let mcap = self
             .mcap
             .as_mut()
@@ -410,9 +421,15 @@ impl CacheWriter {
             detail,
         };
         match (&self.rig, rig_frame) {
-            (Some((_, rig)), Some(state)) => state
-                .validate(rig)
-                .map_err(|e| invalid(format!("frame {frame}'s rig: {e}")))?,
+            (Some((_, rig)), Some(state)) => {
+                state
+                    .validate(rig)
+                    .map_err(|source| CacheError::InvalidRigFrame {
+                        path: self.partial.clone(),
+                        frame,
+                        source,
+                    })?
+            }
             (Some(_), None) => {
                 return Err(invalid(format!(
                     "frame {frame} has no rig state, but the cache has a rig: write it with \

@@ -42,7 +42,7 @@ pub mod strips;
 pub mod volume;
 
 pub use contacts::{Collider, ColliderId, ColliderShape, Colliders, ContactSettings, MeshKind};
-pub use error::{HairError, Result};
+pub use error::{Blowup, HairError, MeshError, Result};
 pub use fields::{Falloff, FalloffShape, FieldKind, ForceField, Strength};
 pub use mesh::{MeshSample, RootFrame, TriMesh};
 pub use model::{Component, ComponentSet, ModelFigures, StrandSolver, StripFigures};

@@ -11,7 +11,7 @@ use nalgebra::{Isometry3, Matrix3, Rotation3, UnitQuaternion, Vector2, Vector3};
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
-use crate::error::{HairError, Result};
+use crate::error::{MeshError, Result};
 
 mod lat_long;
 
@@ -32,15 +32,18 @@ impl TriMesh {
     /// (numerically) zero area, naming the triangle, because hair rooted there would have no normal.
     pub fn new(positions: Vec<Vector3<f32>>, triangles: Vec<[u32; 3]>) -> Result<Self> {
         if triangles.is_empty() {
-            return Err(HairError::Mesh("the mesh has no triangles".into()));
+            return Err(MeshError::NoTriangles.into());
         }
         check_positions(&positions)?;
         let n = positions.len() as u32;
         for (t, tri) in triangles.iter().enumerate() {
-            if let Some(bad) = tri.iter().find(|&&i| i >= n) {
-                return Err(HairError::Mesh(format!(
-                    "triangle {t} uses vertex {bad} but the mesh has only {n} vertices"
-                )));
+            if let Some(&vertex) = tri.iter().find(|&&i| i >= n) {
+                return Err(MeshError::VertexIndex {
+                    triangle: t,
+                    vertex,
+                    vertices: n,
+                }
+                .into());
             }
         }
         let scale = bounding_diagonal(&positions).max(f32::MIN_POSITIVE);
@@ -49,12 +52,12 @@ impl TriMesh {
             let [a, b, c] = tri.map(|i| positions[i as usize]);
             let area = 0.5 * (b - a).cross(&(c - a)).norm();
             if area.is_nan() || area <= min_area {
-                return Err(HairError::Mesh(format!(
-                    "triangle {t} (vertices {}, {}, {}) is degenerate (area {area:.3e}); remove \
-                     degenerate faces before use (Blender: Mesh > Clean Up > Merge by Distance / \
-                     Degenerate Dissolve)",
-                    tri[0], tri[1], tri[2]
-                )));
+                return Err(MeshError::Degenerate {
+                    triangle: t,
+                    corners: *tri,
+                    area,
+                }
+                .into());
             }
         }
         let mut mesh = Self {
@@ -70,11 +73,11 @@ impl TriMesh {
     /// Attaches per-vertex UV coordinates (one per vertex).
     pub fn with_uvs(mut self, uvs: Vec<Vector2<f32>>) -> Result<Self> {
         if uvs.len() != self.positions.len() {
-            return Err(HairError::Mesh(format!(
-                "{} UVs for {} vertices: give one UV per vertex",
-                uvs.len(),
-                self.positions.len()
-            )));
+            return Err(MeshError::UvCount {
+                uvs: uvs.len(),
+                vertices: self.positions.len(),
+            }
+            .into());
         }
         self.uvs = Some(uvs);
         Ok(self)
@@ -84,11 +87,11 @@ impl TriMesh {
     /// The count must match and every coordinate must be finite.
     pub fn set_positions(&mut self, positions: &[Vector3<f32>]) -> Result<()> {
         if positions.len() != self.positions.len() {
-            return Err(HairError::Mesh(format!(
-                "{} new vertex positions for a mesh of {} vertices: the topology cannot change",
-                positions.len(),
-                self.positions.len()
-            )));
+            return Err(MeshError::PositionCount {
+                positions: positions.len(),
+                vertices: self.positions.len(),
+            }
+            .into());
         }
         check_positions(positions)?;
         self.positions.copy_from_slice(positions);
@@ -185,10 +188,11 @@ fn check_positions(positions: &[Vector3<f32>]) -> Result<()> {
         .iter()
         .position(|p| !p.iter().all(|c| c.is_finite()))
     {
-        Some(i) => Err(HairError::Mesh(format!(
-            "vertex {i} has a non-finite coordinate {:?}",
-            positions[i].as_slice()
-        ))),
+        Some(vertex) => Err(MeshError::NonFiniteVertex {
+            vertex,
+            position: positions[vertex].into(),
+        }
+        .into()),
         None => Ok(()),
     }
 }
@@ -226,11 +230,11 @@ impl MeshSample {
     /// Checks the sample against `mesh`: triangle in range, weights finite, in [0, 1], sum 1.
     pub fn validate(&self, mesh: &TriMesh) -> Result<()> {
         if self.triangle as usize >= mesh.triangles().len() {
-            return Err(HairError::Mesh(format!(
-                "mesh sample on triangle {} but the mesh has {} triangles",
-                self.triangle,
-                mesh.triangles().len()
-            )));
+            return Err(MeshError::SampleTriangle {
+                triangle: self.triangle,
+                triangles: mesh.triangles().len(),
+            }
+            .into());
         }
         let sum: f32 = self.weights.iter().sum();
         let in_range = self
@@ -238,10 +242,10 @@ impl MeshSample {
             .iter()
             .all(|w| w.is_finite() && (-1e-5..=1.0 + 1e-5).contains(w));
         if !in_range || (sum - 1.0).abs() > 1e-4 {
-            return Err(HairError::Mesh(format!(
-                "mesh sample weights {:?} must lie in [0, 1] and sum to 1",
-                self.weights
-            )));
+            return Err(MeshError::SampleWeights {
+                weights: self.weights,
+            }
+            .into());
         }
         Ok(())
     }

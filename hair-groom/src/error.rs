@@ -10,7 +10,10 @@ use std::path::PathBuf;
 use hair_core::HairError;
 use thiserror::Error;
 
+use crate::formats::obj::ObjParseError;
 use crate::input_file::InputFileError;
+use crate::reinterpolate::PoseError;
+use crate::sampling::{DensityError, Region};
 
 /// Everything `hair-groom` can refuse.
 #[derive(Debug, Error)]
@@ -29,7 +32,8 @@ pub enum GroomError {
         /// The file being parsed.
         path: PathBuf,
         /// The parser's reason.
-        reason: String,
+        #[source]
+        reason: ObjParseError,
     },
     /// The OBJ file parsed but holds no triangle (no faces, or only points and lines).
     #[error(
@@ -56,8 +60,8 @@ pub enum GroomError {
          point `direction` at the part of the mesh that should grow hair"
     )]
     EmptyRegion {
-        /// The region, printed.
-        region: String,
+        /// The region.
+        region: Region,
     },
     /// A groom file (`.hair`, `.tfx`, OBJ curves, `.usda`) is malformed: wrong magic, truncated,
     /// counts that disagree with its size, a non-finite coordinate, a curve with fewer than 2
@@ -124,11 +128,11 @@ pub enum GroomError {
     /// A root density ([`crate::RootDensity`]) refused the sampling: a value out of range, an
     /// error of its own (e.g. a texture that does not cover a root's UV), or too little density
     /// to grow the hair asked for.
-    #[error("{message}")]
-    Density {
-        /// What is wrong and how to fix it.
-        message: String,
-    },
+    #[error(transparent)]
+    Density(#[from] DensityError),
+    /// An animated pose of the guides does not fit the groom ([`crate::GuideBlend::check_pose`]).
+    #[error(transparent)]
+    Pose(#[from] PoseError),
     /// An option or parameter is out of range, or `hair-core` refused the data built from it.
     #[error(transparent)]
     Core(#[from] HairError),

@@ -65,7 +65,7 @@ pub mod trim;
 
 pub use error::{FarRoot, FileLocation, GroomError};
 pub use formats::hair::{read_hair, write_hair};
-pub use formats::obj::{load_obj, load_obj_vertex_colors, ObjOptions, UpAxis};
+pub use formats::obj::{load_obj, load_obj_vertex_colors, ObjOptions, ObjParseError, UpAxis};
 pub use formats::obj_curves::{read_obj_curves, write_obj_curves};
 pub use formats::obj_sequence::ObjSequence;
 pub use formats::tfx::{read_tfx, write_tfx};
@@ -76,10 +76,10 @@ pub use generate::{generate, generate_with_density, GenerateOptions};
 pub use groom::{groom_info, Groom, GroomInfo};
 pub use guides::{generate_guides, Curl, GrowDirection, GuideOptions};
 pub use interpolate::{interpolate, Distance, GuideWeight, InterpolateOptions, SimHair};
-pub use reinterpolate::GuideBlend;
+pub use reinterpolate::{GuideBlend, PoseError};
 pub use sampling::{
-    sample_area_weighted, sample_poisson_disk, sample_roots, Region, RootDensity, RootSampler,
-    VertexDensity,
+    sample_area_weighted, sample_poisson_disk, sample_roots, DensityError, DensityValueError,
+    Region, RootDensity, RootSampler, VertexDensity,
 };
 pub use shapes::{builtin_head, uv_sphere};
 pub use snap::{guides_to_groom, snap_to_scalp, Guide, SnapOptions, Snapped};

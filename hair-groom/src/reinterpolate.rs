@@ -20,6 +20,7 @@
 use hair_core::TriMesh;
 use nalgebra::{UnitQuaternion, Vector3};
 use rayon::prelude::*;
+use thiserror::Error;
 
 use crate::error::{parameter, GroomError};
 use crate::groom::polyline_length;
@@ -169,27 +170,29 @@ impl GuideBlend {
 
     /// Checks that `shapes` gives one root-local shape per guide with the guide's point count.
     /// `what` names the pose in the message (a file, a scene key).
-    pub fn check_pose(&self, shapes: &[Vec<Vector3<f32>>], what: &str) -> Result<(), String> {
+    pub fn check_pose(&self, shapes: &[Vec<Vector3<f32>>], what: &str) -> Result<(), PoseError> {
         if shapes.len() != self.guide_points.len() {
-            return Err(format!(
-                "{what} has {} guides, but the groom has {}: a pose must give every guide, in \
-                 the groom's order",
-                shapes.len(),
-                self.guide_points.len()
-            ));
+            return Err(PoseError::GuideCount {
+                pose: what.to_string(),
+                found: shapes.len(),
+                expected: self.guide_points.len(),
+            });
         }
-        for (g, (shape, &n)) in shapes.iter().zip(&self.guide_points).enumerate() {
+        for (guide, (shape, &n)) in shapes.iter().zip(&self.guide_points).enumerate() {
             if shape.len() != n {
-                return Err(format!(
-                    "{what}: guide {g} has {} points, but the groom's guide {g} has {n}: an \
-                     animated guide keeps its point count (resample the pose to the groom's)",
-                    shape.len()
-                ));
+                return Err(PoseError::PointCount {
+                    pose: what.to_string(),
+                    guide,
+                    found: shape.len(),
+                    expected: n,
+                });
             }
-            if let Some(i) = shape.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
-                return Err(format!(
-                    "{what}: guide {g} point {i} has a non-finite coordinate"
-                ));
+            if let Some(point) = shape.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
+                return Err(PoseError::NonFinite {
+                    pose: what.to_string(),
+                    guide,
+                    point,
+                });
             }
         }
         Ok(())
@@ -288,6 +291,50 @@ fn blend_one(
     };
     hair.iter_mut().for_each(|p| *p *= scale);
     n * recipe.sources.len() as u64
+}
+
+/// Why an animated pose does not fit a [`GuideBlend`]; `pose` names the pose (a file, a scene
+/// key) as the caller gave it.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum PoseError {
+    /// The pose has not one shape per guide.
+    #[error(
+        "{pose} has {found} guides, but the groom has {expected}: a pose must give every guide, \
+         in the groom's order"
+    )]
+    GuideCount {
+        /// The pose.
+        pose: String,
+        /// Number of guide shapes it gives.
+        found: usize,
+        /// Number of guides of the groom.
+        expected: usize,
+    },
+    /// A guide's shape has another point count than the groom's guide.
+    #[error(
+        "{pose}: guide {guide} has {found} points, but the groom's guide {guide} has {expected}: \
+         an animated guide keeps its point count (resample the pose to the groom's)"
+    )]
+    PointCount {
+        /// The pose.
+        pose: String,
+        /// The guide.
+        guide: usize,
+        /// Number of points its shape gives.
+        found: usize,
+        /// Number of points of the groom's guide.
+        expected: usize,
+    },
+    /// A guide's point is not finite.
+    #[error("{pose}: guide {guide} point {point} has a non-finite coordinate")]
+    NonFinite {
+        /// The pose.
+        pose: String,
+        /// The guide.
+        guide: usize,
+        /// The first bad point.
+        point: usize,
+    },
 }
 
 #[cfg(test)]
@@ -390,13 +437,19 @@ mod tests {
         let blend = GuideBlend::new(&mesh, &guides, &hairs, 8).unwrap();
         let mut shapes: Vec<_> = guides.iter().map(|g| g.rest.clone()).collect();
         shapes[5].pop();
-        let e = blend.check_pose(&shapes, "pose.obj").unwrap_err();
+        let e = blend
+            .check_pose(&shapes, "pose.obj")
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("pose.obj") && e.contains("guide 5 has 7 points"),
             "{e}"
         );
         shapes.pop();
-        let e = blend.check_pose(&shapes, "pose.obj").unwrap_err();
+        let e = blend
+            .check_pose(&shapes, "pose.obj")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("29 guides"), "{e}");
     }
 

@@ -27,11 +27,62 @@ use std::fmt;
 
 use hair_core::{MeshSample, TriMesh};
 use nalgebra::Vector3;
+use thiserror::Error;
 
 use rand_pcg::Pcg64;
 
 use crate::error::{parameter, GroomError};
 use crate::rng::{self, Purpose};
+
+/// The error a [`RootDensity`] gives for a sample it cannot evaluate (a message naming the
+/// place and the fix, or a host's own error type).
+pub type DensityValueError = Box<dyn std::error::Error + Send + Sync>;
+
+/// Why a root density refused the sampling.
+#[derive(Debug, Error)]
+pub enum DensityError {
+    /// Too few candidates were kept: the density is (almost) 0 over the region.
+    #[error(
+        "only {kept} of {count} roots were kept in {drawn} candidates: the density is 0 (or \
+         under 1/{MAX_DRAWS_PER_ROOT} of its largest value) over nearly all of the region \
+         {region}; paint more of it, widen the region or grow fewer hairs"
+    )]
+    TooFewRoots {
+        /// Roots kept.
+        kept: usize,
+        /// Roots asked for.
+        count: usize,
+        /// Candidates drawn.
+        drawn: usize,
+        /// The region sampled.
+        region: Region,
+    },
+    /// The density's upper bound is not finite and > 0.
+    #[error(
+        "the density's largest value is {max}: no hair would grow; give a density > 0 where hair \
+         grows"
+    )]
+    Max {
+        /// The upper bound the density gave ([`RootDensity::max`]).
+        max: f32,
+    },
+    /// The density at a candidate lies outside [0, max].
+    #[error(
+        "the density is {value} at a point of triangle {triangle}, outside [0, {max}]: give \
+         finite densities ≥ 0"
+    )]
+    OutOfRange {
+        /// The density there.
+        value: f32,
+        /// The candidate's triangle.
+        triangle: u32,
+        /// The density's upper bound.
+        max: f32,
+    },
+    /// The density's own error at a candidate ([`RootDensity::at`]).
+    #[error(transparent)]
+    Value(DensityValueError),
+}
 
 /// The part of a mesh that grows hair.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -128,9 +179,9 @@ pub fn sample_area_weighted(
 pub trait RootDensity {
     /// The density at `sample` (a sample of the mesh being sampled), in [0, [`Self::max`]] (up
     /// to a rounding error of a blend: 10⁻⁵ relative); an
-    /// `Err` (a message naming the place and the fix, e.g. a texture that does not cover the
-    /// sample's UV) stops the sampling with that message.
-    fn at(&self, sample: &MeshSample) -> Result<f32, String>;
+    /// `Err` (naming the place and the fix, e.g. a texture that does not cover the sample's UV;
+    /// a `String` converts with `?` or `.into()`) stops the sampling with that error.
+    fn at(&self, sample: &MeshSample) -> Result<f32, DensityValueError>;
 
     /// An upper bound of [`Self::at`] over the mesh, finite and > 0: where the density reaches
     /// it, every candidate is kept.
@@ -172,7 +223,7 @@ impl<'a> VertexDensity<'a> {
 }
 
 impl RootDensity for VertexDensity<'_> {
-    fn at(&self, sample: &MeshSample) -> Result<f32, String> {
+    fn at(&self, sample: &MeshSample) -> Result<f32, DensityValueError> {
         let tri = self.mesh.triangles()[sample.triangle as usize];
         Ok(tri
             .iter()
@@ -208,15 +259,13 @@ pub fn sample_roots(
     let max_draws = count.saturating_mul(MAX_DRAWS_PER_ROOT);
     let roots = sampler.fill(count, max_draws, |_| true)?;
     if roots.len() < count {
-        return Err(GroomError::Density {
-            message: format!(
-                "only {} of {count} roots were kept in {} candidates: the density is 0 (or under \
-                 1/{MAX_DRAWS_PER_ROOT} of its largest value) over nearly all of the region {region}; \
-                 paint more of it, widen the region or grow fewer hairs",
-                roots.len(),
-                sampler.drawn()
-            ),
-        });
+        return Err(DensityError::TooFewRoots {
+            kept: roots.len(),
+            count,
+            drawn: sampler.drawn(),
+            region: *region,
+        }
+        .into());
     }
     Ok(roots)
 }
@@ -294,31 +343,23 @@ impl<'a> RootSampler<'a> {
 fn check_max(density: &dyn RootDensity) -> Result<(), GroomError> {
     let max = density.max();
     if !(max.is_finite() && max > 0.0) {
-        return Err(GroomError::Density {
-            message: format!(
-                "the density's largest value is {max}: no hair would grow; give a density > 0 \
-                 where hair grows"
-            ),
-        });
+        return Err(DensityError::Max { max }.into());
     }
     Ok(())
 }
 
 /// The probability, in [0, 1], that `density` keeps a candidate at `sample`.
 fn keep_chance(density: &dyn RootDensity, sample: &MeshSample) -> Result<f32, GroomError> {
-    let value = density
-        .at(sample)
-        .map_err(|message| GroomError::Density { message })?;
+    let value = density.at(sample).map_err(DensityError::Value)?;
     let max = density.max();
     // Blends of values (barycentric, bilinear) may pass the largest by a rounding error.
     if !(0.0..=max * (1.0 + 1e-5)).contains(&value) {
-        return Err(GroomError::Density {
-            message: format!(
-                "the density is {value} at a point of triangle {}, outside [0, {max}]: give \
-                 finite densities ≥ 0",
-                sample.triangle
-            ),
-        });
+        return Err(DensityError::OutOfRange {
+            value,
+            triangle: sample.triangle,
+            max,
+        }
+        .into());
     }
     Ok((value / max).min(1.0))
 }
@@ -351,9 +392,7 @@ impl AreaTable {
             cumulative.push(total);
         }
         let Some(last_inside) = last_inside.filter(|_| total > 0.0) else {
-            return Err(GroomError::EmptyRegion {
-                region: region.to_string(),
-            });
+            return Err(GroomError::EmptyRegion { region: *region });
         };
         Ok(Self {
             cumulative,
@@ -709,7 +748,7 @@ mod tests {
     struct Painted(Option<f32>);
 
     impl RootDensity for Painted {
-        fn at(&self, s: &MeshSample) -> Result<f32, String> {
+        fn at(&self, s: &MeshSample) -> Result<f32, DensityValueError> {
             Ok(self.0.unwrap_or(if s.triangle.is_multiple_of(2) {
                 1.0
             } else {

@@ -7,7 +7,7 @@
 //! keeps its shape and every segment length. The offsets are reported, and curves whose root is
 //! farther than a threshold are refused, all of them named, rather than silently moved far.
 
-use hair_core::{Anchor, HairError, MeshSample, StrandInput, TriMesh};
+use hair_core::{Anchor, HairError, MeshError, MeshSample, StrandInput, TriMesh};
 use nalgebra::Vector3;
 use parry3d::math::Vector;
 use parry3d::query::PointQueryWithLocation;
@@ -95,7 +95,7 @@ pub(crate) fn searchable(mesh: &TriMesh) -> Result<parry3d::shape::TriMesh, Groo
         .map(|p| Vector::new(p.x, p.y, p.z))
         .collect();
     parry3d::shape::TriMesh::new(vertices, mesh.triangles().to_vec())
-        .map_err(|e| HairError::Mesh(format!("the scalp cannot be searched: {e}")).into())
+        .map_err(|e| HairError::from(MeshError::Unsearchable(e)).into())
 }
 
 /// Attaches every curve of `groom` to the nearest point of `mesh`: the root becomes a

@@ -7,7 +7,7 @@
 //! `root_uv` (u, v interleaved, from the scalp's UVs) and `color` (linear RGB from the scalp's
 //! vertex colors), the last two present only when the scalp has them.
 
-use crate::error::{RenderError, Result};
+use crate::error::{InputError, Result};
 
 /// Children as flat arrays (see the module documentation for the layout).
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -59,15 +59,13 @@ impl ChildBuffers {
         if self.vertex_counts == other.vertex_counts {
             Ok(())
         } else {
-            Err(RenderError::Input(format!(
-                "motion samples differ in their curves ({} vs {} curves, {} vs {} points): \
-                 generate every sample from the same parents' topology with the same settings \
-                 and seed",
-                self.curve_count(),
-                other.curve_count(),
-                self.point_count(),
-                other.point_count()
-            )))
+            Err(InputError::ChildTopology {
+                curves: self.curve_count(),
+                other_curves: other.curve_count(),
+                points: self.point_count(),
+                other_points: other.point_count(),
+            }
+            .into())
         }
     }
 }

@@ -7,6 +7,130 @@ use std::path::PathBuf;
 
 use thiserror::Error;
 
+/// How the inputs of a render-level call do not fit together.
+#[derive(Debug, Error)]
+pub enum InputError {
+    /// No parent strand is given.
+    #[error("no parent strands: give at least one parent (offsets needs ≥ 2 entries)")]
+    NoParents,
+    /// The parents' offsets do not span the positions.
+    #[error(
+        "offsets run from {first} to {last} but there are {positions} positions: offsets must \
+         start at 0 and end at the number of positions"
+    )]
+    Offsets {
+        /// The first offset.
+        first: u32,
+        /// The last offset.
+        last: u32,
+        /// Number of positions given.
+        positions: usize,
+    },
+    /// Not one scalp colour per mesh vertex.
+    #[error("{colors} scalp colors for {vertices} mesh vertices: give one color per vertex")]
+    ScalpColors {
+        /// Number of colours given.
+        colors: usize,
+        /// Number of scalp vertices.
+        vertices: usize,
+    },
+    /// A per-parent array has not one entry per parent.
+    #[error("{found} {what} for {parents} parents: give one per parent")]
+    PerParent {
+        /// The array ("root frames", "clump factors", …).
+        what: &'static str,
+        /// Number of entries given.
+        found: usize,
+        /// Number of parents.
+        parents: usize,
+    },
+    /// Motion samples of children differ in their curves.
+    #[error(
+        "motion samples differ in their curves ({curves} vs {other_curves} curves, {points} vs \
+         {other_points} points): generate every sample from the same parents' topology with the \
+         same settings and seed"
+    )]
+    ChildTopology {
+        /// Curves of the exported frame.
+        curves: usize,
+        /// Curves of the sample.
+        other_curves: usize,
+        /// Points of the exported frame.
+        points: usize,
+        /// Points of the sample.
+        other_points: usize,
+    },
+    /// A motion sample of cards differs in its topology.
+    #[error(
+        "a motion sample has {other_vertices} vertices and {other_quads} quads, the exported frame \
+         {vertices} and {quads}; sample the same strips with the same card settings"
+    )]
+    CardTopology {
+        /// Vertices of the sample.
+        other_vertices: usize,
+        /// Quads of the sample.
+        other_quads: usize,
+        /// Vertices of the exported frame.
+        vertices: usize,
+        /// Quads of the exported frame.
+        quads: usize,
+    },
+    /// A strip's edges have different point counts.
+    #[error("strip {strip}: edges of {left} and {right} points; both edges need the same count")]
+    StripEdges {
+        /// The strip.
+        strip: usize,
+        /// Points of its left edge.
+        left: usize,
+        /// Points of its right edge.
+        right: usize,
+    },
+    /// There is nothing to export.
+    #[error("no children to export: raise the child count")]
+    NoChildren,
+    /// A child has more points than a `.hair` strand holds.
+    #[error(
+        "child {child} has {points} points; a .hair strand holds at most 65 536: lower the \
+         subdivisions"
+    )]
+    HairStrandPoints {
+        /// The child.
+        child: usize,
+        /// Its point count.
+        points: u32,
+    },
+    /// The children have more points than a `.hair` file holds.
+    #[error("more than 2³² − 1 points: a .hair file cannot hold them")]
+    HairFilePoints,
+    /// Motion blur by time samples is asked for without a sample.
+    #[error("motion blur by time samples needs at least 1 sample")]
+    NoMotionSamples,
+    /// Motion samples are not in increasing time.
+    #[error(
+        "motion sample {sample} at time code {time_code} is not after the previous one \
+         ({previous}); give samples in increasing time"
+    )]
+    MotionOrder {
+        /// The sample.
+        sample: usize,
+        /// Its time code.
+        time_code: f64,
+        /// The previous sample's time code.
+        previous: f64,
+    },
+    /// Not three velocity components per point.
+    #[error("{components} velocity components for {points} points: give x y z per point")]
+    Velocities {
+        /// Number of components given.
+        components: usize,
+        /// Number of points.
+        points: usize,
+    },
+    /// The USD encoder refused the layer.
+    #[error(transparent)]
+    Usd(#[from] hair_groom::formats::usd_write::UsdWriteError),
+}
+
 /// Everything `hair-render` can refuse.
 #[derive(Debug, Error)]
 pub enum RenderError {
@@ -30,7 +154,7 @@ pub enum RenderError {
     },
     /// The inputs do not fit together (offsets, counts, per-parent arrays, motion samples).
     #[error("input: {0}")]
-    Input(String),
+    Input(#[from] InputError),
     /// Writing an export failed; the partial file was removed.
     #[error("cannot write {path}: {source}")]
     Write {

@@ -50,7 +50,7 @@ pub mod subdivide;
 pub use buffers::{ChildBuffers, Extent};
 pub use cards::{build_cards, CardMesh, CardSettings};
 pub use children::{generate, generate_into, ChildCount, ChildMode, ChildSettings};
-pub use error::{RenderError, Result};
+pub use error::{InputError, RenderError, Result};
 pub use lod::{DisplayLod, Lod};
 pub use parents::{Parents, ScalpRoots, ShapeFactors};
 pub use shape::{Clump, Curl, Roughness, Shape, Taper};

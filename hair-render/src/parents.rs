@@ -15,7 +15,7 @@ use hair_core::mesh::any_perpendicular;
 use hair_core::{MeshSample, RootFrame, TriMesh};
 use nalgebra::{Vector2, Vector3};
 
-use crate::error::{RenderError, Result};
+use crate::error::{InputError, RenderError, Result};
 use crate::shape::Shape;
 
 /// The scalp the parents are rooted on, for root frames, UVs and colors.
@@ -89,18 +89,15 @@ impl<'a> Parents<'a> {
     /// finite coordinates and a first segment of non-zero length; checked here, naming the parent.
     pub fn new(positions: &'a [Vector3<f32>], offsets: &'a [u32]) -> Result<Self> {
         if offsets.len() < 2 {
-            return Err(RenderError::Input(
-                "no parent strands: give at least one parent (offsets needs ≥ 2 entries)".into(),
-            ));
+            return Err(InputError::NoParents.into());
         }
         if offsets[0] != 0 || *offsets.last().unwrap_or(&0) as usize != positions.len() {
-            return Err(RenderError::Input(format!(
-                "offsets run from {} to {} but there are {} positions: offsets must start at 0 \
-                 and end at the number of positions",
-                offsets[0],
-                offsets[offsets.len() - 1],
-                positions.len()
-            )));
+            return Err(InputError::Offsets {
+                first: offsets[0],
+                last: offsets[offsets.len() - 1],
+                positions: positions.len(),
+            }
+            .into());
         }
         for p in 0..offsets.len() - 1 {
             let (a, b) = (offsets[p] as usize, offsets[p + 1] as usize);
@@ -174,10 +171,11 @@ impl<'a> Parents<'a> {
         if let Some(colors) = scalp.colors {
             let n = scalp.mesh.positions().len();
             if colors.len() != n {
-                return Err(RenderError::Input(format!(
-                    "{} scalp colors for {n} mesh vertices: give one color per vertex",
-                    colors.len()
-                )));
+                return Err(InputError::ScalpColors {
+                    colors: colors.len(),
+                    vertices: n,
+                }
+                .into());
             }
         }
         self.scalp = Some(scalp);
@@ -202,9 +200,12 @@ impl<'a> Parents<'a> {
     /// [`ShapeFactors`]). A factor of 1 leaves the children as without it, bit for bit; 0
     /// removes that parent's clumping or curl.
     pub fn with_shape_factors(mut self, factors: ShapeFactors<'a>) -> Result<Self> {
-        for (what, list) in [("clump", factors.clump), ("curl", factors.curl)] {
+        for (what, per_parent, list) in [
+            ("clump", "clump factors", factors.clump),
+            ("curl", "curl factors", factors.curl),
+        ] {
             let Some(list) = list else { continue };
-            self.check_len(&format!("{what} factors"), list.len())?;
+            self.check_len(per_parent, list.len())?;
             if let Some(p) = list.iter().position(|f| !(0.0..=1.0).contains(f)) {
                 return Err(RenderError::Parent {
                     parent: p,
@@ -289,14 +290,16 @@ impl<'a> Parents<'a> {
         }
     }
 
-    fn check_len(&self, what: &str, n: usize) -> Result<()> {
+    fn check_len(&self, what: &'static str, n: usize) -> Result<()> {
         if n == self.len() {
             Ok(())
         } else {
-            Err(RenderError::Input(format!(
-                "{n} {what} for {} parents: give one per parent",
-                self.len()
-            )))
+            Err(InputError::PerParent {
+                what,
+                found: n,
+                parents: self.len(),
+            }
+            .into())
         }
     }
 }

@@ -95,7 +95,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::contacts::collider_set::Surface;
 use crate::contacts::Colliders;
-use crate::error::{HairError, Result};
+use crate::error::{Blowup, HairError, Result};
 use crate::mesh::RootFrame;
 use crate::model::{Component, ComponentSet, ModelFigures};
 use crate::solver::energy::Energy;
@@ -235,7 +235,7 @@ pub struct RodSolver {
 struct StrandOutcome {
     projection: ProjectionReport,
     contacts: u64,
-    failure: Option<String>,
+    failure: Option<Blowup>,
     /// The twist at the last substep's start (empty on failure).
     theta: Vec<f64>,
 }
@@ -555,23 +555,17 @@ impl RodSolver {
                         .chain(&state.v)
                         .all(|v| v.iter().all(|c| c.is_finite()));
                     if !finite || !o.projection.residual.is_finite() {
-                        out.failure = Some(format!(
-                            "rod model: non-finite position at substep {} (the bound is the \
-                             stiffest bending on the lightest node)",
-                            k + 1
-                        ));
+                        out.failure = Some(Blowup::RodNonFinite { substep: k + 1 });
                         return out;
                     }
                     if !o.projection.converged {
                         p.unconverged += 1;
                         if o.projection.residual > FAILED_RESIDUAL {
-                            out.failure = Some(format!(
-                                "rod model: the projection did not converge (residual {:.3e} after {} \
-                                 iterations, limit rod.projection_iterations = {})",
-                                o.projection.residual,
-                                o.projection.iterations,
-                                this.rod.projection_iterations
-                            ));
+                            out.failure = Some(Blowup::RodProjection {
+                                residual: o.projection.residual,
+                                iterations: o.projection.iterations,
+                                limit: this.rod.projection_iterations,
+                            });
                             return out;
                         }
                     }

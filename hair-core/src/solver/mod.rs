@@ -66,7 +66,7 @@ use std::time::{Duration, Instant};
 use nalgebra::{UnitQuaternion, Vector3};
 use rayon::prelude::*;
 
-use crate::error::{HairError, Result};
+use crate::error::{Blowup, HairError, Result};
 use crate::mesh::RootFrame;
 use crate::strands::{Scalp, StrandSet};
 
@@ -179,7 +179,7 @@ pub struct Solver {
 #[derive(Debug, Clone, Default)]
 struct BlockOutcome {
     max_stretch: f32,
-    failure: Option<(usize, String)>,
+    failure: Option<(usize, Blowup)>,
 }
 
 impl Solver {
@@ -780,15 +780,15 @@ pub fn substeps_within(step_dt: f64, longest: f64) -> u32 {
 
 /// Checks a strand after a step: finite, and energy per unit mass (kinetic + stretch) below
 /// `limit` (J/kg). Returns the strand's largest relative elongation (≥ 0).
-fn check_strand(s: &StrandView, mass: &[f32], stretch_k: f32, limit: f64) -> Result<f32, String> {
+fn check_strand(s: &StrandView, mass: &[f32], stretch_k: f32, limit: f64) -> Result<f32, Blowup> {
     let n = s.x.len();
     let mut kinetic = 0.0f64;
     let mut total_mass = 0.0f64;
     let finite = |i: usize| s.x[i].iter().chain(s.v[i].iter()).all(|c| c.is_finite());
     if let Some(bad) = (0..n).find(|&i| !finite(i)) {
         // Name the first free point: a pinned root turns non-finite only through its neighbours.
-        let i = (0..n).find(|&i| mass[i] > 0.0 && !finite(i)).unwrap_or(bad);
-        return Err(format!("non-finite position or velocity at point {i}"));
+        let point = (0..n).find(|&i| mass[i] > 0.0 && !finite(i)).unwrap_or(bad);
+        return Err(Blowup::NonFinite { point });
     }
     for (v, &m) in s.v.iter().zip(mass) {
         kinetic += 0.5 * m as f64 * v.cast::<f64>().norm_squared();
@@ -808,9 +808,7 @@ fn check_strand(s: &StrandView, mass: &[f32], stretch_k: f32, limit: f64) -> Res
     }
     let specific = (kinetic + elastic) / total_mass;
     if specific > limit {
-        return Err(format!(
-            "energy ran away ({specific:.3e} J/kg, limit {limit:.3e} J/kg)"
-        ));
+        return Err(Blowup::Energy { specific, limit });
     }
     Ok(stretch)
 }

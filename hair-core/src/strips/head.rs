@@ -7,7 +7,7 @@ use parry3d::query::{PointQuery, PointQueryWithLocation};
 use parry3d::shape::{TriMesh as ParryMesh, TriMeshFlags};
 
 use crate::contacts::math::{from_glam, to_glam};
-use crate::error::{HairError, Result};
+use crate::error::{MeshError, Result};
 use crate::mesh::TriMesh;
 
 /// A closed head mesh in body space (m) with its bounding sphere; posed each frame by the
@@ -35,12 +35,7 @@ impl HeadShape {
         let vertices = rest.positions().iter().map(to_glam).collect();
         let mesh =
             ParryMesh::with_flags(vertices, rest.triangles().to_vec(), TriMeshFlags::ORIENTED)
-                .map_err(|e| {
-                    HairError::Mesh(format!(
-                        "the head mesh cannot be used for strip collision ({e}); give a closed, \
-                 consistently oriented mesh"
-                    ))
-                })?;
+                .map_err(MeshError::Head)?;
         let n = rest.positions().len().max(1) as f32;
         let centre = rest.positions().iter().sum::<Vector3<f32>>() / n;
         let radius = rest

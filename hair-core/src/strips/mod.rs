@@ -38,7 +38,7 @@ pub use solver::{StripFrameReport, StripSettings, StripSolver};
 
 use nalgebra::Vector3;
 
-use crate::error::{HairError, Result};
+use crate::error::{HairError, MeshError, Result};
 use crate::mesh::{MeshSample, TriMesh};
 use crate::strands::{Anchor, Scalp, StrandInput, StrandSet};
 
@@ -126,9 +126,7 @@ impl StripSet {
     pub fn from_triangles(mesh: &TriMesh, triangles: &[u32], growth: &StripGrowth) -> Result<Self> {
         growth.validate()?;
         if triangles.is_empty() {
-            return Err(HairError::Mesh(
-                "no scalp triangle selected for strips; widen the strip region".into(),
-            ));
+            return Err(MeshError::NoStripTriangle.into());
         }
         let n = growth.segments as usize;
         let rest: Vec<Vector3<f32>> = (0..=n)
@@ -137,10 +135,11 @@ impl StripSet {
         let mut strands = StrandSet::new();
         for &t in triangles {
             if t as usize >= mesh.triangles().len() {
-                return Err(HairError::Mesh(format!(
-                    "strip triangle {t} is out of range: the scalp has {} triangles",
-                    mesh.triangles().len()
-                )));
+                return Err(MeshError::StripTriangle {
+                    triangle: t,
+                    triangles: mesh.triangles().len(),
+                }
+                .into());
             }
             let corners = mesh.corners(t as usize);
             let area = mesh.triangle_area(t as usize);
@@ -148,11 +147,12 @@ impl StripSet {
             let centre = (corners[0] + corners[1] + corners[2]) / 3.0;
             let width = growth.width_fraction * (corners[corner] - centre).norm();
             if !(area.is_finite() && width >= MIN_STRIP_WIDTH && area >= MIN_STRIP_WIDTH.powi(2)) {
-                return Err(HairError::Mesh(format!(
-                    "scalp triangle {t} (area {area:.3e} m²) is too small for a strip (width \
-                     {width:.3e} m < {MIN_STRIP_WIDTH:e} m); remove degenerate faces or leave \
-                     the triangle out of the strip region"
-                )));
+                return Err(MeshError::StripTooSmall {
+                    triangle: t,
+                    area,
+                    width,
+                }
+                .into());
             }
             let third = 1.0 / 3.0;
             let left = MeshSample {

@@ -9,8 +9,9 @@
 
 use std::path::Path;
 
-use hair_core::{HairError, TriMesh};
+use hair_core::{MeshError, TriMesh};
 use nalgebra::Vector2;
+use thiserror::Error;
 
 use super::{check_options, to_world};
 use crate::error::GroomError;
@@ -95,11 +96,14 @@ pub fn load_obj(path: &Path, opts: &ObjOptions) -> Result<TriMesh, GroomError> {
     if !all_have_uvs {
         return Ok(mesh);
     }
-    if let Some(i) = uvs.iter().position(|uv| !uv.iter().all(|c| c.is_finite())) {
-        return Err(with_file(HairError::Mesh(format!(
-            "vertex {i} has a non-finite texture coordinate {:?}; fix or remove the `vt` line",
-            uvs[i].as_slice()
-        ))));
+    if let Some(vertex) = uvs.iter().position(|uv| !uv.iter().all(|c| c.is_finite())) {
+        return Err(with_file(
+            MeshError::NonFiniteUv {
+                vertex,
+                uv: uvs[vertex].into(),
+            }
+            .into(),
+        ));
     }
     mesh.with_uvs(uvs).map_err(with_file)
 }
@@ -121,13 +125,14 @@ pub fn load_obj_vertex_colors(path: &Path) -> Result<Option<Vec<[f32; 3]>>, Groo
                 .map(|c| [c[0], c[1], c[2]]),
         );
     }
-    if let Some(i) = colors.iter().position(|c| !c.iter().all(|x| x.is_finite())) {
+    if let Some(vertex) = colors.iter().position(|c| !c.iter().all(|x| x.is_finite())) {
         return Err(GroomError::ObjMesh {
             path: path.to_path_buf(),
-            source: HairError::Mesh(format!(
-                "vertex {i} has a non-finite colour {:?}; fix its `v x y z r g b` line",
-                colors[i]
-            )),
+            source: MeshError::NonFiniteColor {
+                vertex,
+                color: colors[vertex],
+            }
+            .into(),
         });
     }
     Ok(Some(colors))
@@ -139,15 +144,14 @@ pub fn load_obj_vertex_colors(path: &Path) -> Result<Option<Vec<[f32; 3]>>, Groo
 /// device or a FIFO), must be UTF-8, and its face indices are checked before tobj resolves them.
 fn parse(path: &Path) -> Result<Vec<tobj::Model>, GroomError> {
     let bytes = super::read_bytes(path)?;
-    let unparsable = |reason: String| GroomError::ObjParse {
+    let unparsable = |reason: ObjParseError| GroomError::ObjParse {
         path: path.to_path_buf(),
         reason,
     };
     let text = std::str::from_utf8(&bytes).map_err(|e| {
-        unparsable(format!(
-            "byte {} is not UTF-8 text (an OBJ file is text; this looks like a binary file)",
-            e.valid_up_to()
-        ))
+        unparsable(ObjParseError::NotUtf8 {
+            byte: e.valid_up_to(),
+        })
     })?;
     check_face_indices(text).map_err(unparsable)?;
     let load = tobj::LoadOptions {
@@ -160,7 +164,7 @@ fn parse(path: &Path) -> Result<Vec<tobj::Model>, GroomError> {
     let (models, _materials) = tobj::load_obj_buf(&mut text.as_bytes(), &load, |_| {
         Err(tobj::LoadError::OpenFileFailed)
     })
-    .map_err(|e| unparsable(e.to_string()))?;
+    .map_err(|e| unparsable(ObjParseError::Tobj(e)))?;
     Ok(models)
 }
 
@@ -168,7 +172,7 @@ fn parse(path: &Path) -> Result<Vec<tobj::Model>, GroomError> {
 /// defined above it (1-based, or negative: relative to the last one). tobj 4.0.5 resolves
 /// indices without that check and multiplies them unchecked (`vt * 2`), which overflows on an
 /// index such as `-2147483648`.
-fn check_face_indices(text: &str) -> Result<(), String> {
+fn check_face_indices(text: &str) -> Result<(), ObjParseError> {
     // Vertices, texture coordinates and normals defined so far.
     let mut counts = [0i64; 3];
     const KINDS: [&str; 3] = ["vertex", "texture coordinate", "normal"];
@@ -186,14 +190,12 @@ fn check_face_indices(text: &str) -> Result<(), String> {
                             continue;
                         };
                         if i == 0 || i.unsigned_abs() > counts[k] as u64 {
-                            return Err(format!(
-                                "line {}: face index `{index}` refers to no {} (the file \
-                                 defines {} above this line; indices start at 1, negative ones \
-                                 count back from the last)",
-                                n + 1,
-                                KINDS[k],
-                                counts[k]
-                            ));
+                            return Err(ObjParseError::FaceIndex {
+                                line: n + 1,
+                                index: i,
+                                kind: KINDS[k],
+                                defined: counts[k],
+                            });
                         }
                     }
                 }
@@ -202,6 +204,35 @@ fn check_face_indices(text: &str) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// Why an OBJ file cannot be parsed.
+#[derive(Debug, Error)]
+pub enum ObjParseError {
+    /// The file is not UTF-8 text.
+    #[error("byte {byte} is not UTF-8 text (an OBJ file is text; this looks like a binary file)")]
+    NotUtf8 {
+        /// Offset of the first byte that is not UTF-8.
+        byte: usize,
+    },
+    /// A face index refers to no vertex, texture coordinate or normal defined above it.
+    #[error(
+        "line {line}: face index `{index}` refers to no {kind} (the file defines {defined} above \
+         this line; indices start at 1, negative ones count back from the last)"
+    )]
+    FaceIndex {
+        /// The 1-based line of the face.
+        line: usize,
+        /// The index as written.
+        index: i64,
+        /// `"vertex"`, `"texture coordinate"` or `"normal"`.
+        kind: &'static str,
+        /// How many of them the file defines above the line.
+        defined: i64,
+    },
+    /// The OBJ parser (tobj) refused the file.
+    #[error(transparent)]
+    Tobj(tobj::LoadError),
 }
 
 #[cfg(test)]

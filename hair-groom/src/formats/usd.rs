@@ -45,6 +45,7 @@ use nalgebra::{Matrix4, Vector3};
 use openusd::schemas::geom::{Imageable, Xformable};
 use openusd::usd::{Prim, PrimPredicate, SchemaBase, SchemaKind, Stage, TimeCode};
 use openusd::{gf, sdf};
+use thiserror::Error;
 
 use super::usd_write::{UsdCurvesPrim, UsdLayer, UsdStageInfo};
 use super::{bad, check_options, to_file, to_world, ImportOptions};
@@ -255,7 +256,7 @@ fn read_stage(path: &Path, name: &str, opts: &UsdReadOptions) -> Result<UsdCurve
             scale: meters_per_unit as f32,
             up_axis,
         };
-        let read = read_curves(&prim, time).map_err(fail)?;
+        let read = read_curves(&prim, time).map_err(|e| fail(e.to_string()))?;
         // Widths scale with the transform: its cube-root volume scale is the uniform part.
         let width_scale = world.fixed_view::<3, 3>(0, 0).determinant().abs().cbrt() * place.scale;
         let identity = world == Matrix4::identity();
@@ -390,16 +391,19 @@ pub(super) fn world_transform(
     stage: &Stage,
     prim_path: &str,
     time: TimeCode,
-) -> Result<Matrix4<f32>, String> {
+) -> Result<Matrix4<f32>, PrimError> {
     let mut m = gf::Matrix4d::IDENTITY;
-    let mut p = sdf::path(prim_path).map_err(|e| format!("{e:#}"))?;
+    let mut p = sdf::path(prim_path).map_err(|error| PrimError::Path { error })?;
     loop {
         if p == sdf::Path::abs_root() {
             break;
         }
         let x = AnyXformable(stage.prim(p.clone()));
         // Row vectors: world = local · parent · grandparent …
-        let at = |e: anyhow::Error| format!("{} xformOps: {e:#}", p.as_str());
+        let at = |error| PrimError::XformOps {
+            prim: p.as_str().to_string(),
+            error,
+        };
         m = m * x.local_to_parent_transform(time).map_err(at)?;
         if x.resets_xform_stack().map_err(at)? {
             break;
@@ -525,22 +529,30 @@ pub(super) fn value_at(
     prim: &Prim,
     name: &str,
     time: TimeCode,
-) -> Result<Option<sdf::Value>, String> {
+) -> Result<Option<sdf::Value>, PrimError> {
     prim.attribute(name)
         .get_at::<sdf::Value>(time)
-        .map_err(|e| format!("attribute {name}: {e:#}"))
+        .map_err(|error| PrimError::Attribute {
+            name: name.to_string(),
+            error,
+        })
+}
+
+/// A [`PrimError::Type`]: `name` holds `found` where `expected` (a USD type) is read.
+pub(super) fn wrong_type(name: &str, found: &sdf::Value, expected: &'static str) -> PrimError {
+    PrimError::Type {
+        name: name.to_string(),
+        found: kind(found),
+        expected,
+    }
 }
 
 /// Reads one `BasisCurves` prim: counts, points (on-curve points per basis), widths, root UV.
-fn read_curves(prim: &Prim, time: TimeCode) -> Result<PrimCurves, String> {
+fn read_curves(prim: &Prim, time: TimeCode) -> Result<PrimCurves, PrimError> {
     let counts: Vec<i64> = match value_at(prim, "curveVertexCounts", time)? {
         Some(sdf::Value::IntVec(v)) => v.into_iter().map(i64::from).collect(),
-        Some(other) => return Err(format!("curveVertexCounts is {}, not int[]", kind(&other))),
-        None => {
-            return Err(
-                "has no curveVertexCounts; export the curves with their vertex counts".into(),
-            )
-        }
+        Some(other) => return Err(wrong_type("curveVertexCounts", &other, "int[]")),
+        None => return Err(PrimError::NoCurveVertexCounts),
     };
     let points: Vec<[f32; 3]> = match value_at(prim, "points", time)? {
         Some(sdf::Value::Vec3fVec(v)) => v.iter().map(|p| [p.x, p.y, p.z]).collect(),
@@ -548,30 +560,30 @@ fn read_curves(prim: &Prim, time: TimeCode) -> Result<PrimCurves, String> {
             .iter()
             .map(|p| [p.x as f32, p.y as f32, p.z as f32])
             .collect(),
-        Some(other) => return Err(format!("points is {}, not point3f[]", kind(&other))),
-        None => return Err("has no points (at this time)".into()),
+        Some(other) => return Err(wrong_type("points", &other, "point3f[]")),
+        None => return Err(PrimError::NoPoints),
     };
     let total: i64 = counts.iter().sum();
     if counts.iter().any(|&c| c < 2) || total != points.len() as i64 {
-        return Err(format!(
-            "curveVertexCounts ({} curves, {total} vertices, smallest {}) disagree with its {} points; every curve needs ≥ 2 points and the counts must sum to the points",
-            counts.len(),
-            counts.iter().min().copied().unwrap_or(0),
-            points.len()
-        ));
+        return Err(PrimError::CurveCounts {
+            curves: counts.len(),
+            total,
+            smallest: counts.iter().min().copied().unwrap_or(0),
+            points: points.len(),
+        });
     }
-    if let Some((i, _)) = points
+    if let Some((point, _)) = points
         .iter()
         .enumerate()
         .find(|(_, p)| p.iter().any(|c| !c.is_finite()))
     {
-        return Err(format!("point {i} has a non-finite coordinate"));
+        return Err(PrimError::NonFinitePoint { point });
     }
     let ty = token(value_at(prim, "type", time)?).unwrap_or_else(|| "cubic".into());
     let basis = token(value_at(prim, "basis", time)?).unwrap_or_else(|| "bezier".into());
     let wrap = token(value_at(prim, "wrap", time)?).unwrap_or_else(|| "nonperiodic".into());
     if wrap == "periodic" {
-        return Err("has periodic (closed) curves; hair needs open curves (wrap = \"nonperiodic\" or \"pinned\")".into());
+        return Err(PrimError::Periodic);
     }
     // Which vertices of a curve of n are points of the hair.
     let bezier = ty == "cubic" && basis == "bezier";
@@ -623,7 +635,7 @@ pub(super) fn interpolation(prim: &Prim, name: &str) -> Option<String> {
 }
 
 /// Per-vertex widths of the prim (file units), expanded from constant/uniform/vertex values.
-fn widths(prim: &Prim, time: TimeCode, counts: &[i64]) -> Result<Option<Vec<f32>>, String> {
+fn widths(prim: &Prim, time: TimeCode, counts: &[i64]) -> Result<Option<Vec<f32>>, PrimError> {
     let mut found = None;
     for name in ["primvars:widths", "widths"] {
         if let Some(v) = value_at(prim, name, time)? {
@@ -638,13 +650,20 @@ fn widths(prim: &Prim, time: TimeCode, counts: &[i64]) -> Result<Option<Vec<f32>
         sdf::Value::FloatVec(v) => v,
         sdf::Value::DoubleVec(v) => v.into_iter().map(|x| x as f32).collect(),
         sdf::Value::Float(x) => vec![x],
-        other => return Err(format!("{name} is {}, not float[]", kind(&other))),
+        other => return Err(wrong_type(name, &other, "float[]")),
     };
     if values.iter().any(|w| !(w.is_finite() && *w >= 0.0)) {
-        return Err(format!("{name} has a negative or non-finite width"));
+        return Err(PrimError::Width { name });
     }
-    let expanded = expand(&values, counts, interpolation(prim, name).as_deref())
-        .ok_or_else(|| format!("{name} has {} values, which fits neither 1 (constant), {} (uniform, per curve) nor {} (vertex); fix its count or interpolation", values.len(), counts.len(), counts.iter().sum::<i64>()))?;
+    let expanded =
+        expand(&values, counts, interpolation(prim, name).as_deref()).ok_or_else(|| {
+            PrimError::WidthCount {
+                name,
+                values: values.len(),
+                curves: counts.len(),
+                vertices: counts.iter().sum(),
+            }
+        })?;
     Ok(Some(expanded))
 }
 
@@ -673,7 +692,11 @@ fn expand<T: Copy>(values: &[T], counts: &[i64], interp: Option<&str>) -> Option
 }
 
 /// One root UV per curve from `primvars:surface_uv_coordinate` or `primvars:st`.
-fn root_uv(prim: &Prim, time: TimeCode, counts: &[i64]) -> Result<Option<Vec<[f32; 2]>>, String> {
+fn root_uv(
+    prim: &Prim,
+    time: TimeCode,
+    counts: &[i64],
+) -> Result<Option<Vec<[f32; 2]>>, PrimError> {
     for name in ["primvars:surface_uv_coordinate", "primvars:st"] {
         let Some(v) = value_at(prim, name, time)? else {
             continue;
@@ -681,16 +704,16 @@ fn root_uv(prim: &Prim, time: TimeCode, counts: &[i64]) -> Result<Option<Vec<[f3
         let values: Vec<[f32; 2]> = match v {
             sdf::Value::Vec2fVec(v) => v.iter().map(|p| [p.x, p.y]).collect(),
             sdf::Value::Vec2dVec(v) => v.iter().map(|p| [p.x as f32, p.y as f32]).collect(),
-            other => return Err(format!("{name} is {}, not float2[]", kind(&other))),
+            other => return Err(wrong_type(name, &other, "float2[]")),
         };
         let per_vertex =
             expand(&values, counts, interpolation(prim, name).as_deref()).ok_or_else(|| {
-                format!(
-                    "{name} has {} values, which fits neither {} (per curve) nor {} (per vertex)",
-                    values.len(),
-                    counts.len(),
-                    counts.iter().sum::<i64>()
-                )
+                PrimError::RootUvCount {
+                    name,
+                    values: values.len(),
+                    curves: counts.len(),
+                    vertices: counts.iter().sum(),
+                }
             })?;
         let mut roots = Vec::with_capacity(counts.len());
         let mut start = 0usize;
@@ -701,6 +724,231 @@ fn root_uv(prim: &Prim, time: TimeCode, counts: &[i64]) -> Result<Option<Vec<[f3
         return Ok(Some(roots));
     }
     Ok(None)
+}
+
+/// Why a prim's attributes cannot be read as curves, a mesh or a primvar. The reader adds the
+/// file and the prim; the message says what is wrong and how to fix it.
+#[derive(Debug, Error)]
+pub(crate) enum PrimError {
+    /// `openusd` could not read an attribute.
+    #[error("attribute {name}: {error:#}")]
+    Attribute { name: String, error: anyhow::Error },
+    /// A prim path does not parse.
+    #[error("{error:#}")]
+    Path { error: anyhow::Error },
+    /// `openusd` could not read the xformOps of a prim (the prim or an ancestor).
+    #[error("{prim} xformOps: {error:#}")]
+    XformOps { prim: String, error: anyhow::Error },
+    /// `openusd` could not read the time samples of an xformOp.
+    #[error("{prim} {op}: {error:#}")]
+    XformOpTimes {
+        prim: String,
+        op: String,
+        error: anyhow::Error,
+    },
+    /// `openusd` could not list the prim's properties.
+    #[error("cannot list the prim's properties: {error:#}")]
+    Properties { error: anyhow::Error },
+    /// An attribute holds another type than the one read (`found`: USD's type name).
+    #[error("{name} is {found}, not {expected}")]
+    Type {
+        name: String,
+        found: String,
+        expected: &'static str,
+    },
+    /// A `BasisCurves` prim has no `curveVertexCounts`.
+    #[error("has no curveVertexCounts; export the curves with their vertex counts")]
+    NoCurveVertexCounts,
+    /// The prim has no points at the time read.
+    #[error("has no points (at this time)")]
+    NoPoints,
+    /// The curve vertex counts do not tile the points, or a curve has fewer than 2.
+    #[error(
+        "curveVertexCounts ({curves} curves, {total} vertices, smallest {smallest}) disagree \
+         with its {points} points; every curve needs ≥ 2 points and the counts must sum to the \
+         points"
+    )]
+    CurveCounts {
+        curves: usize,
+        total: i64,
+        smallest: i64,
+        points: usize,
+    },
+    /// A point has a NaN or infinite coordinate.
+    #[error("point {point} has a non-finite coordinate")]
+    NonFinitePoint { point: usize },
+    /// The curves are closed.
+    #[error(
+        "has periodic (closed) curves; hair needs open curves (wrap = \"nonperiodic\" or \
+         \"pinned\")"
+    )]
+    Periodic,
+    /// A width is negative or not finite.
+    #[error("{name} has a negative or non-finite width")]
+    Width { name: &'static str },
+    /// The widths are neither one, one per curve nor one per vertex.
+    #[error(
+        "{name} has {values} values, which fits neither 1 (constant), {curves} (uniform, per \
+         curve) nor {vertices} (vertex); fix its count or interpolation"
+    )]
+    WidthCount {
+        name: &'static str,
+        values: usize,
+        curves: usize,
+        vertices: i64,
+    },
+    /// The root UVs are neither one per curve nor one per vertex.
+    #[error(
+        "{name} has {values} values, which fits neither {curves} (per curve) nor {vertices} (per \
+         vertex)"
+    )]
+    RootUvCount {
+        name: &'static str,
+        values: usize,
+        curves: usize,
+        vertices: i64,
+    },
+    /// A `Mesh` prim lacks `faceVertexCounts` or `faceVertexIndices`.
+    #[error(
+        "has no {name}; export the mesh with its faces (a Mesh prim needs faceVertexCounts and \
+         faceVertexIndices)"
+    )]
+    NoTopology { name: &'static str },
+    /// A face has fewer than 3 corners.
+    #[error("face {face} has {corners} corners; every face needs at least 3")]
+    FaceCorners { face: usize, corners: i32 },
+    /// The face corner counts do not sum to the corner indices.
+    #[error(
+        "faceVertexCounts sum to {total} corners but faceVertexIndices has {indices}; fix the \
+         export"
+    )]
+    CornerCount { total: i64, indices: usize },
+    /// The mesh has no face.
+    #[error("has no faces; a scalp or collider needs triangles")]
+    NoFaces,
+    /// A corner refers to no point.
+    #[error("faceVertexIndices[{corner}] = {point} but the mesh has {points} points")]
+    CornerPoint {
+        corner: usize,
+        point: i32,
+        points: usize,
+    },
+    /// A UV is not finite.
+    #[error("{name}[{index}] is not finite")]
+    NonFiniteUv { name: &'static str, index: usize },
+    /// A UV index is negative or missing.
+    #[error("{name}:indices[{element}] = {index}")]
+    UvIndex {
+        name: &'static str,
+        element: usize,
+        index: i32,
+    },
+    /// A UV element asks for a value past the values.
+    #[error("{name} has {values} values but element {element} asks for value {index}")]
+    UvElement {
+        name: &'static str,
+        values: usize,
+        element: usize,
+        index: usize,
+    },
+    /// Face-varying UVs are not one per face corner.
+    #[error("{name} is faceVarying with {elements} values for {corners} face corners")]
+    UvCorners {
+        name: &'static str,
+        elements: usize,
+        corners: usize,
+    },
+    /// The UVs are neither one per point nor one per face corner.
+    #[error(
+        "{name} has {elements} values, which fits neither {points} points (vertex) nor \
+         {corners} face corners (faceVarying)"
+    )]
+    UvCount {
+        name: &'static str,
+        elements: usize,
+        points: usize,
+        corners: usize,
+    },
+    /// A primvar is not on the prim (`primvars`: the prim's primvars, sorted).
+    #[error(
+        "is not on the prim (its primvars: {}); check the name (Blender's USD export writes a \
+         vertex group or a float attribute NAME as primvars:NAME)",
+        list_or_none(.primvars)
+    )]
+    NoPrimvar { primvars: Vec<String> },
+    /// A primvar value is not finite.
+    #[error("value {index} is {value}; give finite values")]
+    NonFiniteValue { index: usize, value: f32 },
+    /// A primvar holds more than one value per element (`found`: the metadata, printed).
+    #[error("has elementSize {found}; a map needs one value per element (elementSize 1)")]
+    ElementSize { found: String },
+    /// A primvar's indices are not `int[]`.
+    #[error("its indices ({attr}:indices) are {found}, not int[]")]
+    PrimvarIndices { attr: String, found: String },
+    /// A primvar's interpolation is none of USD's.
+    #[error(
+        "has interpolation \"{found}\"; USD's are constant, uniform, vertex, varying and \
+         faceVarying"
+    )]
+    Interpolation { found: String },
+    /// A primvar's element count does not match its interpolation.
+    #[error(
+        "has {elements} {} but the mesh has {wanted} {per}{}; author the interpolation that \
+         matches its values (constant 1, uniform {faces}, vertex {points}, faceVarying {corners})",
+        if *.indexed { "indices" } else { "values" },
+        if *.unauthored {
+            " (no interpolation is authored, and USD's fallback is constant)"
+        } else {
+            ""
+        }
+    )]
+    ElementCount {
+        /// Indices (when `indexed`) or values held.
+        elements: usize,
+        indexed: bool,
+        /// Elements the interpolation needs.
+        wanted: usize,
+        /// What they are per ("faces (uniform)").
+        per: &'static str,
+        /// Whether no interpolation is authored.
+        unauthored: bool,
+        faces: usize,
+        points: usize,
+        corners: usize,
+    },
+    /// A primvar index refers to no value.
+    #[error("{attr}:indices[{element}] = {index}, but there are {values} values")]
+    PrimvarIndex {
+        attr: String,
+        element: usize,
+        index: i32,
+        values: usize,
+    },
+    /// A channel of a scalar primvar is asked for.
+    #[error(
+        "holds one value per element, so it has no component {component} (channel \"{}\"); \
+         leave out the channel",
+        ["r", "g", "b"].get(*.component).copied().unwrap_or("?")
+    )]
+    NoComponent { component: usize },
+    /// A component past the third of a 3-vector primvar is asked for.
+    #[error("has 3 components; component {component} does not exist (use r, g or b)")]
+    Component { component: usize },
+    /// A primvar holds a type a map does not read.
+    #[error(
+        "is {found}; a map reads float, double, half or int values (one per element) or \
+         color3f/float3 (one channel)"
+    )]
+    ValueType { found: String },
+}
+
+/// `names` joined by ", ", or "none".
+fn list_or_none(names: &[String]) -> String {
+    if names.is_empty() {
+        "none".to_string()
+    } else {
+        names.join(", ")
+    }
 }
 
 #[cfg(test)]

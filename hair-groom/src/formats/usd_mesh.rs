@@ -33,8 +33,8 @@ use openusd::usd::{Prim, PrimPredicate, Stage, TimeCode};
 use openusd::{schemas::geom::Xformable, sdf};
 
 use super::usd::{
-    check_time, guarded, interpolation, kind, openable_name, stage_units, token, value_at,
-    world_transform, AnyXformable,
+    check_time, guarded, interpolation, openable_name, stage_units, token, value_at,
+    world_transform, wrong_type, AnyXformable, PrimError,
 };
 use super::{bad, check_options, to_world, ImportOptions};
 use crate::error::{FileLocation, GroomError};
@@ -119,10 +119,11 @@ impl UsdMeshSource {
         let prim_path = find_mesh(&stage, path, &opts.prim)?;
         let prim = stage.prim(prim_path.as_str());
         let fail = |msg: String| bad(path, FileLocation::File, format!("prim {prim_path}: {msg}"));
-        let (face_counts, face_indices) = topology(&prim, TimeCode::EARLIEST).map_err(&fail)?;
-        let points = points_at(&prim, TimeCode::EARLIEST).map_err(&fail)?;
+        let fail_on = |e: PrimError| fail(e.to_string());
+        let (face_counts, face_indices) = topology(&prim, TimeCode::EARLIEST).map_err(fail_on)?;
+        let points = points_at(&prim, TimeCode::EARLIEST).map_err(fail_on)?;
         let point_count = points.len();
-        let corners = check_faces(&face_counts, &face_indices, point_count).map_err(&fail)?;
+        let corners = check_faces(&face_counts, &face_indices, point_count).map_err(fail_on)?;
         let sampled = |name: &str| -> Result<Vec<f64>, GroomError> {
             prim.attribute(name)
                 .time_sample_times()
@@ -132,7 +133,7 @@ impl UsdMeshSource {
             sampled("faceVertexCounts")?.len() > 1 || sampled("faceVertexIndices")?.len() > 1;
         let mut times = sampled("points")?;
         let mut animated = times.len() > 1;
-        for op_times in xform_sample_times(&stage, &prim_path).map_err(&fail)? {
+        for op_times in xform_sample_times(&stage, &prim_path).map_err(fail_on)? {
             animated |= op_times.len() > 1;
             times.extend(op_times);
         }
@@ -145,12 +146,12 @@ impl UsdMeshSource {
         } else {
             None
         };
-        let uv_corners = corner_uvs(&prim, &face_indices, point_count).map_err(&fail)?;
+        let uv_corners = corner_uvs(&prim, &face_indices, point_count).map_err(fail_on)?;
         let world = world_transform(&stage, &prim_path, TimeCode::EARLIEST)
             .map_err(|e| fail(format!("its transform: {e}")))?;
-        let left_handed = token(value_at(&prim, "orientation", TimeCode::EARLIEST).map_err(&fail)?)
-            .as_deref()
-            == Some("leftHanded");
+        let left_handed =
+            token(value_at(&prim, "orientation", TimeCode::EARLIEST).map_err(fail_on)?).as_deref()
+                == Some("leftHanded");
         let mirrored = world.fixed_view::<3, 3>(0, 0).determinant() < 0.0;
         let flip = left_handed != mirrored;
         let (triangles, point_of_vertex, uvs) = triangulate(
@@ -258,7 +259,7 @@ impl UsdMeshSource {
         }
         let at = TimeCode::new(time);
         let prim = self.stage.prim(self.prim.as_str());
-        let points = points_at(&prim, at).map_err(&fail)?;
+        let points = points_at(&prim, at).map_err(|e| fail(e.to_string()))?;
         if points.len() != self.point_count {
             return Err(fail(format!(
                 "the topology changes over time: {} points here, {} at the earliest time; hair \
@@ -269,7 +270,7 @@ impl UsdMeshSource {
             )));
         }
         if self.topology_sampled {
-            let (counts, indices) = topology(&prim, at).map_err(&fail)?;
+            let (counts, indices) = topology(&prim, at).map_err(|e| fail(e.to_string()))?;
             if counts != self.face_counts || indices != self.face_indices {
                 return Err(fail(
                     "the topology changes over time: faceVertexCounts or faceVertexIndices \
@@ -405,62 +406,60 @@ fn find_mesh(stage: &Stage, path: &Path, wanted: &str) -> Result<String, GroomEr
 }
 
 /// `faceVertexCounts` and `faceVertexIndices` at `time`.
-fn topology(prim: &Prim, time: TimeCode) -> Result<(Vec<i32>, Vec<i32>), String> {
-    let ints = |name: &str| -> Result<Vec<i32>, String> {
+fn topology(prim: &Prim, time: TimeCode) -> Result<(Vec<i32>, Vec<i32>), PrimError> {
+    let ints = |name: &'static str| -> Result<Vec<i32>, PrimError> {
         match value_at(prim, name, time)? {
             Some(sdf::Value::IntVec(v)) => Ok(v),
-            Some(other) => Err(format!("{name} is {}, not int[]", kind(&other))),
-            None => Err(format!(
-                "has no {name}; export the mesh with its faces (a Mesh prim needs \
-                 faceVertexCounts and faceVertexIndices)"
-            )),
+            Some(other) => Err(wrong_type(name, &other, "int[]")),
+            None => Err(PrimError::NoTopology { name }),
         }
     };
     Ok((ints("faceVertexCounts")?, ints("faceVertexIndices")?))
 }
 
 /// `points` at `time`, file units, the prim's space.
-fn points_at(prim: &Prim, time: TimeCode) -> Result<Vec<[f32; 3]>, String> {
+fn points_at(prim: &Prim, time: TimeCode) -> Result<Vec<[f32; 3]>, PrimError> {
     match value_at(prim, "points", time)? {
         Some(sdf::Value::Vec3fVec(v)) => Ok(v.iter().map(|p| [p.x, p.y, p.z]).collect()),
         Some(sdf::Value::Vec3dVec(v)) => Ok(v
             .iter()
             .map(|p| [p.x as f32, p.y as f32, p.z as f32])
             .collect()),
-        Some(other) => Err(format!("points is {}, not point3f[]", kind(&other))),
-        None => Err("has no points (at this time)".into()),
+        Some(other) => Err(wrong_type("points", &other, "point3f[]")),
+        None => Err(PrimError::NoPoints),
     }
 }
 
 /// Checks the faces against the point count; returns the face corners as point indices.
-fn check_faces(counts: &[i32], indices: &[i32], points: usize) -> Result<Vec<u32>, String> {
-    if let Some(f) = counts.iter().position(|&c| c < 3) {
-        return Err(format!(
-            "face {f} has {} corners; every face needs at least 3",
-            counts[f]
-        ));
+fn check_faces(counts: &[i32], indices: &[i32], points: usize) -> Result<Vec<u32>, PrimError> {
+    if let Some(face) = counts.iter().position(|&c| c < 3) {
+        return Err(PrimError::FaceCorners {
+            face,
+            corners: counts[face],
+        });
     }
     let total: i64 = counts.iter().map(|&c| i64::from(c)).sum();
     if total != indices.len() as i64 {
-        return Err(format!(
-            "faceVertexCounts sum to {total} corners but faceVertexIndices has {}; fix the \
-             export",
-            indices.len()
-        ));
+        return Err(PrimError::CornerCount {
+            total,
+            indices: indices.len(),
+        });
     }
     if counts.is_empty() {
-        return Err("has no faces; a scalp or collider needs triangles".into());
+        return Err(PrimError::NoFaces);
     }
     indices
         .iter()
         .enumerate()
-        .map(|(i, &p)| {
+        .map(|(corner, &p)| {
             if p >= 0 && (p as usize) < points {
                 Ok(p as u32)
             } else {
-                Err(format!(
-                    "faceVertexIndices[{i}] = {p} but the mesh has {points} points"
-                ))
+                Err(PrimError::CornerPoint {
+                    corner,
+                    point: p,
+                    points,
+                })
             }
         })
         .collect()
@@ -472,7 +471,7 @@ fn corner_uvs(
     prim: &Prim,
     corners: &[i32],
     points: usize,
-) -> Result<Option<Vec<Vector2<f32>>>, String> {
+) -> Result<Option<Vec<Vector2<f32>>>, PrimError> {
     for name in ["primvars:st", "primvars:UVMap"] {
         let Some(v) = value_at(prim, name, TimeCode::EARLIEST)? else {
             continue;
@@ -483,29 +482,34 @@ fn corner_uvs(
                 .iter()
                 .map(|p| Vector2::new(p.x as f32, p.y as f32))
                 .collect(),
-            other => return Err(format!("{name} is {}, not texCoord2f[]", kind(&other))),
+            other => return Err(wrong_type(name, &other, "texCoord2f[]")),
         };
-        if let Some(i) = values.iter().position(|v| !v.iter().all(|c| c.is_finite())) {
-            return Err(format!("{name}[{i}] is not finite"));
+        if let Some(index) = values.iter().position(|v| !v.iter().all(|c| c.is_finite())) {
+            return Err(PrimError::NonFiniteUv { name, index });
         }
-        let indices = match value_at(prim, &format!("{name}:indices"), TimeCode::EARLIEST)? {
+        let indices_name = format!("{name}:indices");
+        let indices = match value_at(prim, &indices_name, TimeCode::EARLIEST)? {
             Some(sdf::Value::IntVec(ix)) => Some(ix),
-            Some(other) => return Err(format!("{name}:indices is {}, not int[]", kind(&other))),
+            Some(other) => return Err(wrong_type(&indices_name, &other, "int[]")),
             None => None,
         };
-        let element = |i: usize| -> Result<Vector2<f32>, String> {
+        let element = |element: usize| -> Result<Vector2<f32>, PrimError> {
             let j = match &indices {
                 Some(ix) => {
-                    let j = ix.get(i).copied().unwrap_or(-1);
-                    usize::try_from(j).map_err(|_| format!("{name}:indices[{i}] = {j}"))?
+                    let index = ix.get(element).copied().unwrap_or(-1);
+                    usize::try_from(index).map_err(|_| PrimError::UvIndex {
+                        name,
+                        element,
+                        index,
+                    })?
                 }
-                None => i,
+                None => element,
             };
-            values.get(j).copied().ok_or_else(|| {
-                format!(
-                    "{name} has {} values but element {i} asks for value {j}",
-                    values.len()
-                )
+            values.get(j).copied().ok_or(PrimError::UvElement {
+                name,
+                values: values.len(),
+                element,
+                index: j,
             })
         };
         let elements = indices.as_ref().map_or(values.len(), Vec::len);
@@ -517,19 +521,21 @@ fn corner_uvs(
         };
         let uvs = if per_corner {
             if elements != corners.len() {
-                return Err(format!(
-                    "{name} is faceVarying with {elements} values for {} face corners",
-                    corners.len()
-                ));
+                return Err(PrimError::UvCorners {
+                    name,
+                    elements,
+                    corners: corners.len(),
+                });
             }
             (0..corners.len()).map(element).collect::<Result<_, _>>()?
         } else {
             if elements != points {
-                return Err(format!(
-                    "{name} has {elements} values, which fits neither {points} points (vertex) \
-                     nor {} face corners (faceVarying)",
-                    corners.len()
-                ));
+                return Err(PrimError::UvCount {
+                    name,
+                    elements,
+                    points,
+                    corners: corners.len(),
+                });
             }
             corners
                 .iter()
@@ -604,24 +610,29 @@ fn wind<T: Copy>([a, b, c]: [T; 3], flip: bool) -> [T; 3] {
 
 /// Time sample times of every xformOp on the prim at `prim_path` and its ancestors (up to a
 /// `!resetXformStack!`), one list per op.
-fn xform_sample_times(stage: &Stage, prim_path: &str) -> Result<Vec<Vec<f64>>, String> {
+fn xform_sample_times(stage: &Stage, prim_path: &str) -> Result<Vec<Vec<f64>>, PrimError> {
     let mut out = Vec::new();
-    let mut p = sdf::path(prim_path).map_err(|e| format!("{e:#}"))?;
+    let mut p = sdf::path(prim_path).map_err(|error| PrimError::Path { error })?;
     while p != sdf::Path::abs_root() {
         let prim = stage.prim(p.clone());
         let x = AnyXformable(prim.clone());
-        let at = |e: anyhow::Error| format!("{} xformOps: {e:#}", p.as_str());
+        let at = |error| PrimError::XformOps {
+            prim: p.as_str().to_string(),
+            error,
+        };
         let order = x.xform_op_order().map_err(at)?.unwrap_or_default();
         for op in order.iter() {
             let op = op.strip_prefix("!invert!").unwrap_or(op);
             if op.starts_with('!') {
                 continue;
             }
-            out.push(
-                prim.attribute(op)
-                    .time_sample_times()
-                    .map_err(|e| format!("{} {op}: {e:#}", p.as_str()))?,
-            );
+            out.push(prim.attribute(op).time_sample_times().map_err(|error| {
+                PrimError::XformOpTimes {
+                    prim: p.as_str().to_string(),
+                    op: op.to_string(),
+                    error,
+                }
+            })?);
         }
         if x.resets_xform_stack().map_err(at)? {
             break;

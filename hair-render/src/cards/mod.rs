@@ -27,7 +27,7 @@ use hair_core::strips::{HeadShape, StripSet};
 use hair_core::Scalp;
 use nalgebra::Vector3;
 
-use crate::error::{parameter, RenderError, Result};
+use crate::error::{parameter, InputError, RenderError, Result};
 
 /// How strips are turned into card meshes.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -100,14 +100,13 @@ impl CardMesh {
     /// Checks that `other` has this mesh's topology (a motion sample of it).
     pub fn check_same_topology(&self, other: &CardMesh) -> Result<()> {
         if self.quads != other.quads || self.positions.len() != other.positions.len() {
-            return Err(RenderError::Input(format!(
-                "a motion sample has {} vertices and {} quads, the exported frame {} and {}; \
-                 sample the same strips with the same card settings",
-                other.positions.len(),
-                other.quads.len(),
-                self.positions.len(),
-                self.quads.len()
-            )));
+            return Err(InputError::CardTopology {
+                other_vertices: other.positions.len(),
+                other_quads: other.quads.len(),
+                vertices: self.positions.len(),
+                quads: self.quads.len(),
+            }
+            .into());
         }
         Ok(())
     }
@@ -183,11 +182,12 @@ pub fn build_cards(
     for k in 0..strips.len() {
         let (l, r) = strips.edges(k);
         if l.len() != r.len() {
-            return Err(RenderError::Input(format!(
-                "strip {k}: edges of {} and {} points; both edges need the same count",
-                l.len(),
-                r.len()
-            )));
+            return Err(InputError::StripEdges {
+                strip: k,
+                left: l.len(),
+                right: r.len(),
+            }
+            .into());
         }
         if !l.iter().chain(r).all(|p| p.iter().all(|c| c.is_finite())) {
             return Err(RenderError::Parent {

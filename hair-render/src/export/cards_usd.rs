@@ -15,7 +15,7 @@ use std::path::Path;
 
 use super::write_atomically;
 use crate::cards::CardMesh;
-use crate::error::{parameter, RenderError, Result};
+use crate::error::{parameter, InputError, Result};
 
 /// One motion sample of the cards: the mesh at one time code.
 #[derive(Debug, Clone, Copy)]
@@ -92,12 +92,12 @@ pub fn write_cards_usda<W: Write>(
     for (i, s) in samples.iter().enumerate() {
         mesh.check_same_topology(s.mesh)?;
         if i > 0 && s.time_code <= samples[i - 1].time_code {
-            return Err(RenderError::Input(format!(
-                "motion sample {i} at time code {} is not after the previous one ({}); give \
-                 samples in increasing time",
-                s.time_code,
-                samples[i - 1].time_code
-            )));
+            return Err(InputError::MotionOrder {
+                sample: i,
+                time_code: s.time_code,
+                previous: samples[i - 1].time_code,
+            }
+            .into());
         }
     }
     let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);

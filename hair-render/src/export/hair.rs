@@ -13,7 +13,7 @@ use std::path::Path;
 
 use super::write_atomically;
 use crate::buffers::ChildBuffers;
-use crate::error::{RenderError, Result};
+use crate::error::{InputError, Result};
 
 /// Header size, bytes.
 const HEADER: usize = 128;
@@ -27,23 +27,17 @@ const COLORS: u32 = 16;
 /// (the format's `u16` segment count) or no children at all.
 pub fn write_hair<W: Write>(mut out: W, children: &ChildBuffers) -> Result<()> {
     if children.curve_count() == 0 {
-        return Err(RenderError::Input(
-            "no children to export: raise the child count".into(),
-        ));
+        return Err(InputError::NoChildren.into());
     }
     let mut segments = Vec::with_capacity(2 * children.curve_count());
     for (c, &n) in children.vertex_counts.iter().enumerate() {
-        let s = u16::try_from(n.saturating_sub(1)).map_err(|_| {
-            RenderError::Input(format!(
-                "child {c} has {n} points; a .hair strand holds at most 65 536: lower the \
-                 subdivisions"
-            ))
+        let s = u16::try_from(n.saturating_sub(1)).map_err(|_| InputError::HairStrandPoints {
+            child: c,
+            points: n,
         })?;
         segments.extend_from_slice(&s.to_le_bytes());
     }
-    let points = u32::try_from(children.point_count()).map_err(|_| {
-        RenderError::Input("more than 2³² − 1 points: a .hair file cannot hold them".into())
-    })?;
+    let points = u32::try_from(children.point_count()).map_err(|_| InputError::HairFilePoints)?;
     let mut flags = SEGMENTS | POINTS | THICKNESS;
     if children.color.is_some() {
         flags |= COLORS;

@@ -35,7 +35,7 @@ use hair_groom::formats::usd_write::{
 };
 
 use crate::buffers::ChildBuffers;
-use crate::error::{parameter, RenderError, Result};
+use crate::error::{parameter, InputError, RenderError, Result};
 
 /// One motion sample: the children at one time code.
 #[derive(Debug, Clone, Copy)]
@@ -179,7 +179,7 @@ pub fn write_usda<W: Write>(
 ) -> Result<()> {
     children_layer(children, motion, opts)?
         .write_text(&mut out)
-        .map_err(|e| RenderError::Input(e.to_string()))
+        .map_err(|e| InputError::Usd(e).into())
 }
 
 /// Writes `children` to the file at `path` through a `.partial` sibling renamed into place:
@@ -237,17 +237,13 @@ fn check(children: &ChildBuffers, motion: &Motion, opts: &UsdOptions) -> Result<
     }
     // What `children.extent()` is `None` for, without a pass over the points.
     if children.widths.is_empty() {
-        return Err(RenderError::Input(
-            "no children to export: raise the child count".into(),
-        ));
+        return Err(InputError::NoChildren.into());
     }
     match motion {
         Motion::None => {}
         Motion::TimeSamples(samples) => {
             if samples.is_empty() {
-                return Err(RenderError::Input(
-                    "motion blur by time samples needs at least 1 sample".into(),
-                ));
+                return Err(InputError::NoMotionSamples.into());
             }
             let mut prev = f64::NEG_INFINITY;
             for s in samples.iter() {
@@ -264,11 +260,11 @@ fn check(children: &ChildBuffers, motion: &Motion, opts: &UsdOptions) -> Result<
         }
         Motion::Velocities(v) => {
             if v.len() != children.points.len() {
-                return Err(RenderError::Input(format!(
-                    "{} velocity components for {} points: give x y z per point",
-                    v.len(),
-                    children.point_count()
-                )));
+                return Err(InputError::Velocities {
+                    components: v.len(),
+                    points: children.point_count(),
+                }
+                .into());
             }
         }
     }

@@ -6,7 +6,7 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use super::error::{parameter, PreviewError, Result};
+use super::error::{parameter, PngWriteError, PreviewError, PreviewInputError, Result};
 
 /// Largest image side, pixels (a 16k × 16k RGBA image is 1 GiB).
 pub const MAX_SIDE: u32 = 16_384;
@@ -48,10 +48,12 @@ impl PreviewImage {
     pub fn from_rgba(width: u32, height: u32, pixels: Vec<u8>) -> Result<Self> {
         check_size("image size", width, height)?;
         if pixels.len() != 4 * width as usize * height as usize {
-            return Err(PreviewError::Input(format!(
-                "{} bytes for a {width} × {height} RGBA image: give 4 per pixel",
-                pixels.len()
-            )));
+            return Err(PreviewInputError::Pixels {
+                bytes: pixels.len(),
+                width,
+                height,
+            }
+            .into());
         }
         Ok(Self {
             width,
@@ -96,19 +98,18 @@ impl PreviewImage {
 
     /// Encodes the image as an sRGB PNG into `out`.
     pub fn encode_png<W: Write>(&self, out: W) -> Result<()> {
+        Ok(self.png(out)?)
+    }
+
+    /// [`Image::encode_png`] with the encoder's own error.
+    fn png<W: Write>(&self, out: W) -> std::result::Result<(), png::EncodingError> {
         let mut encoder = png::Encoder::new(out, self.width, self.height);
         encoder.set_color(png::ColorType::Rgba);
         encoder.set_depth(png::BitDepth::Eight);
         encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
-        let mut writer = encoder
-            .write_header()
-            .map_err(|e| PreviewError::Encode(e.to_string()))?;
-        writer
-            .write_image_data(&self.pixels)
-            .map_err(|e| PreviewError::Encode(e.to_string()))?;
-        writer
-            .finish()
-            .map_err(|e| PreviewError::Encode(e.to_string()))
+        let mut writer = encoder.write_header()?;
+        writer.write_image_data(&self.pixels)?;
+        writer.finish()
     }
 
     /// Writes the image as a PNG file at `path`, through a temporary file beside it that is
@@ -117,23 +118,19 @@ impl PreviewImage {
         let mut tmp = path.as_os_str().to_owned();
         tmp.push(".partial");
         let tmp = std::path::PathBuf::from(tmp);
-        let fail = |message: String| PreviewError::Write {
-            path: path.to_path_buf(),
-            message,
-        };
-        let written = (|| -> std::result::Result<(), String> {
-            let file = File::create(&tmp).map_err(|e| e.to_string())?;
+        let written = (|| -> std::result::Result<(), PngWriteError> {
+            let file = File::create(&tmp)?;
             let mut out = BufWriter::new(file);
-            self.encode_png(&mut out).map_err(|e| e.to_string())?;
-            out.into_inner()
-                .map_err(|e| e.error().to_string())?
-                .sync_all()
-                .map_err(|e| e.to_string())?;
-            std::fs::rename(&tmp, path).map_err(|e| e.to_string())
+            self.png(&mut out)?;
+            out.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+            Ok(std::fs::rename(&tmp, path)?)
         })();
-        written.map_err(|message| {
+        written.map_err(|source| {
             let _ = std::fs::remove_file(&tmp);
-            fail(message)
+            PreviewError::Write {
+                path: path.to_path_buf(),
+                source,
+            }
         })
     }
 }

@@ -65,7 +65,7 @@ mod sheet;
 mod strand_raster;
 
 pub use camera::{Camera, View, DEFAULT_FOV_Y_DEG, FRAME_MARGIN};
-pub use error::{PreviewError, Result};
+pub use error::{Nothing, PngWriteError, PreviewError, PreviewInputError, Result};
 pub use image::{PreviewImage, MAX_SIDE};
 pub use scene::{Bounds, Highlight, Mesh, Rgb, Scene, StrandBuffers, Strands};
 pub use shading::{HairLook, Light, RenderSettings};

@@ -7,7 +7,7 @@
 use hair_core::TriMesh;
 use nalgebra::Vector3;
 
-use super::error::{PreviewError, Result};
+use super::error::{Nothing, PreviewError, PreviewInputError, Result};
 
 /// Linear RGB color, each channel in [0, 1].
 pub type Rgb = [f32; 3];
@@ -27,20 +27,15 @@ impl<'a> Strands<'a> {
     /// needs ≥ 2 points and finite coordinates; checked here, naming the strand.
     pub fn new(positions: &'a [Vector3<f32>], offsets: &'a [u32]) -> Result<Self> {
         if offsets.len() < 2 {
-            return Err(PreviewError::Empty(
-                "no strands: offsets needs at least 2 entries (one strand); pass no strands to \
-                 draw only the meshes"
-                    .into(),
-            ));
+            return Err(PreviewError::Empty(Nothing::NoStrands));
         }
         if offsets[0] != 0 || offsets[offsets.len() - 1] as usize != positions.len() {
-            return Err(PreviewError::Input(format!(
-                "strand offsets run from {} to {} but there are {} positions: offsets must start \
-                 at 0 and end at the number of positions",
-                offsets[0],
-                offsets[offsets.len() - 1],
-                positions.len()
-            )));
+            return Err(PreviewInputError::Offsets {
+                first: offsets[0],
+                last: offsets[offsets.len() - 1],
+                positions: positions.len(),
+            }
+            .into());
         }
         for s in 0..offsets.len() - 1 {
             let (a, b) = (offsets[s] as usize, offsets[s + 1] as usize);
@@ -158,14 +153,16 @@ impl<'a> Strands<'a> {
         self.offsets.partition_point(|&o| o as usize <= i) - 1
     }
 
-    fn check_per_point(&self, what: &str, n: usize) -> Result<()> {
+    fn check_per_point(&self, what: &'static str, n: usize) -> Result<()> {
         if n == self.positions.len() {
             Ok(())
         } else {
-            Err(PreviewError::Input(format!(
-                "{n} strand {what} for {} points: give one per point",
-                self.positions.len()
-            )))
+            Err(PreviewInputError::PerPoint {
+                what,
+                found: n,
+                points: self.positions.len(),
+            }
+            .into())
         }
     }
 }
@@ -190,10 +187,11 @@ impl StrandBuffers {
     pub fn from_children(children: &crate::ChildBuffers) -> Result<Self> {
         let points = children.point_count();
         if children.points.len() != 3 * points {
-            return Err(PreviewError::Input(format!(
-                "children have {} coordinates for {points} widths: give 3 per point",
-                children.points.len()
-            )));
+            return Err(PreviewInputError::ChildCoordinates {
+                coordinates: children.points.len(),
+                points,
+            }
+            .into());
         }
         let mut offsets = Vec::with_capacity(children.curve_count() + 1);
         offsets.push(0u32);
@@ -203,9 +201,11 @@ impl StrandBuffers {
             offsets.push(u32::try_from(end).unwrap_or(u32::MAX));
         }
         if end != points as u64 {
-            return Err(PreviewError::Input(format!(
-                "children's vertex counts add up to {end} points but there are {points}"
-            )));
+            return Err(PreviewInputError::ChildVertexCounts {
+                counted: end,
+                points,
+            }
+            .into());
         }
         let colors = match &children.color {
             Some(c) if c.len() == 3 * children.curve_count() => Some(
@@ -217,11 +217,11 @@ impl StrandBuffers {
                     .collect(),
             ),
             Some(c) => {
-                return Err(PreviewError::Input(format!(
-                    "children have {} color values for {} curves: give 3 per curve",
-                    c.len(),
-                    children.curve_count()
-                )))
+                return Err(PreviewInputError::ChildColors {
+                    values: c.len(),
+                    curves: children.curve_count(),
+                }
+                .into())
             }
             None => None,
         };
@@ -375,38 +375,31 @@ impl Scene<'_> {
     /// Checks that the highlight arrays fit the strands and that there is something to draw.
     pub(crate) fn validate(&self) -> Result<()> {
         if self.strands.is_none() && self.meshes.is_empty() {
-            return Err(PreviewError::Empty(
-                "no strands and no meshes to draw; give the frame's strands or a scalp".into(),
-            ));
+            return Err(PreviewError::Empty(Nothing::NoStrandsOrMeshes));
         }
         let h = &self.highlight;
         if h.points.is_none() && h.segments.is_none() {
             return Ok(());
         }
         let Some(strands) = &self.strands else {
-            return Err(PreviewError::Input(
-                "highlights were given but no strands: highlights mark strand points and \
-                 segments"
-                    .into(),
-            ));
+            return Err(PreviewInputError::HighlightsWithoutStrands.into());
         };
         if let Some(p) = h.points {
             if p.len() != strands.point_count() {
-                return Err(PreviewError::Input(format!(
-                    "{} highlight point flags for {} points: give one per point",
-                    p.len(),
-                    strands.point_count()
-                )));
+                return Err(PreviewInputError::HighlightPoints {
+                    flags: p.len(),
+                    points: strands.point_count(),
+                }
+                .into());
             }
         }
         if let Some(s) = h.segments {
             if s.len() != strands.segment_count() {
-                return Err(PreviewError::Input(format!(
-                    "{} highlight segment flags for {} segments (points − strands): give one \
-                     per segment",
-                    s.len(),
-                    strands.segment_count()
-                )));
+                return Err(PreviewInputError::HighlightSegments {
+                    flags: s.len(),
+                    segments: strands.segment_count(),
+                }
+                .into());
             }
         }
         Ok(())

@@ -9,7 +9,7 @@
 
 use ab_glyph::{point, Font, FontRef, PxScale, ScaleFont};
 
-use super::error::{parameter, PreviewError, Result};
+use super::error::{parameter, Nothing, PreviewError, PreviewInputError, Result};
 use super::image::{check_size, PreviewImage};
 
 /// Space between tiles and around the sheet, pixels.
@@ -39,9 +39,7 @@ pub struct Tile<'a> {
 /// Composes `tiles` (all the same size) into a grid of `columns` columns, row by row.
 pub fn contact_sheet(tiles: &[Tile], columns: u32) -> Result<PreviewImage> {
     let Some(first) = tiles.first() else {
-        return Err(PreviewError::Empty(
-            "a contact sheet needs at least one frame".into(),
-        ));
+        return Err(PreviewError::Empty(Nothing::NoFrames));
     };
     if columns == 0 {
         return Err(parameter("columns", columns, "give at least 1 column"));
@@ -52,12 +50,14 @@ pub fn contact_sheet(tiles: &[Tile], columns: u32) -> Result<PreviewImage> {
         .enumerate()
         .find(|(_, t)| (t.image.width(), t.image.height()) != (tw, th))
     {
-        return Err(PreviewError::Input(format!(
-            "contact sheet tile {i} is {} × {} but tile 0 is {tw} × {th}: render every frame at \
-             one size",
-            t.image.width(),
-            t.image.height()
-        )));
+        return Err(PreviewInputError::TileSize {
+            tile: i,
+            width: t.image.width(),
+            height: t.image.height(),
+            first_width: tw,
+            first_height: th,
+        }
+        .into());
     }
     let n = tiles.len() as u64;
     let cols = u64::from(columns).min(n);

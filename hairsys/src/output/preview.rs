@@ -177,7 +177,7 @@ pub fn preview(opts: &PreviewOptions) -> Result<PreviewSummary, OutputError> {
         }
     };
     image.write_png(&opts.out).map_err(|e| match e {
-        PreviewError::Write { message, .. } => OutputError::write(&opts.out, message),
+        PreviewError::Write { source, .. } => OutputError::write(&opts.out, source),
         other => OutputError::Preview(other),
     })?;
     Ok(PreviewSummary {

@@ -497,10 +497,8 @@ impl<'a> MapDensity<'a> {
 }
 
 impl hair_groom::RootDensity for MapDensity<'_> {
-    fn at(&self, sample: &MeshSample) -> Result<f32, String> {
-        self.map
-            .at(self.mesh, sample, "a candidate root")
-            .map_err(|e| e.to_string())
+    fn at(&self, sample: &MeshSample) -> Result<f32, hair_groom::DensityValueError> {
+        Ok(self.map.at(self.mesh, sample, "a candidate root")?)
     }
 
     fn max(&self) -> f32 {

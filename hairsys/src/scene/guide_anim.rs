@@ -224,7 +224,9 @@ pub fn build(
             }
             (None, None) => groom.clone(),
         };
-        blend.check_pose(&shapes, &name)?;
+        blend
+            .check_pose(&shapes, &name)
+            .map_err(|e| e.to_string())?;
         poses.push(PoseKey {
             frame: key.frame,
             shapes,

@@ -30,7 +30,7 @@
 use openusd::sdf;
 use openusd::usd::TimeCode;
 
-use super::super::usd::{interpolation, kind, value_at};
+use super::super::usd::{interpolation, kind, value_at, PrimError};
 use super::{fans, wind, UsdMeshSource};
 use crate::error::{FileLocation, GroomError};
 use crate::formats::bad;
@@ -131,30 +131,25 @@ impl UsdMeshSource {
         attr: &str,
         component: Option<usize>,
         time: TimeCode,
-    ) -> Result<CornerValues, String> {
+    ) -> Result<CornerValues, PrimError> {
         let prim = self.stage.prim(self.prim.as_str());
         let Some(value) = value_at(&prim, attr, time)? else {
-            let mut names: Vec<String> = prim
+            let mut primvars: Vec<String> = prim
                 .property_names()
-                .map_err(|e| format!("cannot list the prim's properties: {e:#}"))?
+                .map_err(|error| PrimError::Properties { error })?
                 .iter()
                 .map(|t| t.as_str().to_string())
                 .filter(|n| n.starts_with("primvars:") && !n.ends_with(":indices"))
                 .collect();
-            names.sort();
-            return Err(format!(
-                "is not on the prim (its primvars: {}); check the name (Blender's USD export \
-                 writes a vertex group or a float attribute NAME as primvars:NAME)",
-                if names.is_empty() {
-                    "none".to_string()
-                } else {
-                    names.join(", ")
-                }
-            ));
+            primvars.sort();
+            return Err(PrimError::NoPrimvar { primvars });
         };
         let values = components(value, component)?;
-        if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-            return Err(format!("value {i} is {}; give finite values", values[i]));
+        if let Some(index) = values.iter().position(|v| !v.is_finite()) {
+            return Err(PrimError::NonFiniteValue {
+                index,
+                value: values[index],
+            });
         }
         let element_size = prim
             .attribute(attr)
@@ -164,19 +159,18 @@ impl UsdMeshSource {
         match element_size {
             None | Some(sdf::Value::Int(1)) => {}
             Some(other) => {
-                return Err(format!(
-                    "has elementSize {other:?}; a map needs one value per element \
-                     (elementSize 1)"
-                ))
+                return Err(PrimError::ElementSize {
+                    found: format!("{other:?}"),
+                })
             }
         }
         let indices = match value_at(&prim, &format!("{attr}:indices"), time)? {
             Some(sdf::Value::IntVec(ix)) => Some(ix),
             Some(other) => {
-                return Err(format!(
-                    "its indices ({attr}:indices) are {}, not int[]",
-                    kind(&other)
-                ))
+                return Err(PrimError::PrimvarIndices {
+                    attr: attr.to_string(),
+                    found: kind(&other),
+                })
             }
             None => None,
         };
@@ -187,10 +181,9 @@ impl UsdMeshSource {
             Some("varying") => PrimvarInterpolation::Varying,
             Some("faceVarying") => PrimvarInterpolation::FaceVarying,
             Some(other) => {
-                return Err(format!(
-                    "has interpolation \"{other}\"; USD's are constant, uniform, vertex, \
-                     varying and faceVarying"
-                ))
+                return Err(PrimError::Interpolation {
+                    found: other.to_string(),
+                })
             }
         };
         let (wanted, per) = match interp {
@@ -205,36 +198,29 @@ impl UsdMeshSource {
         };
         let elements = indices.as_ref().map_or(values.len(), Vec::len);
         if elements != wanted {
-            let held = match &indices {
-                Some(_) => format!("{elements} indices"),
-                None => format!("{elements} values"),
-            };
-            let unauthored = if interpolation(&prim, attr).is_none() {
-                " (no interpolation is authored, and USD's fallback is constant)"
-            } else {
-                ""
-            };
-            return Err(format!(
-                "has {held} but the mesh has {wanted} {per}{unauthored}; author the \
-                 interpolation that matches its values (constant 1, uniform {}, vertex {}, \
-                 faceVarying {})",
-                self.face_counts.len(),
-                self.point_count,
-                self.face_indices.len()
-            ));
+            return Err(PrimError::ElementCount {
+                elements,
+                indexed: indices.is_some(),
+                wanted,
+                per,
+                unauthored: interpolation(&prim, attr).is_none(),
+                faces: self.face_counts.len(),
+                points: self.point_count,
+                corners: self.face_indices.len(),
+            });
         }
-        let element = |i: usize| -> Result<f32, String> {
+        let element = |i: usize| -> Result<f32, PrimError> {
             let j = match &indices {
                 Some(ix) => {
-                    let j = ix[i];
-                    usize::try_from(j)
+                    let index = ix[i];
+                    usize::try_from(index)
                         .ok()
                         .filter(|&j| j < values.len())
-                        .ok_or_else(|| {
-                            format!(
-                                "{attr}:indices[{i}] = {j}, but there are {} values",
-                                values.len()
-                            )
+                        .ok_or_else(|| PrimError::PrimvarIndex {
+                            attr: attr.to_string(),
+                            element: i,
+                            index,
+                            values: values.len(),
                         })?
                 }
                 None => i,
@@ -268,23 +254,17 @@ impl UsdMeshSource {
 }
 
 /// The values of a primvar's value: scalars as they are, one `component` of 3-vectors.
-fn components(value: sdf::Value, component: Option<usize>) -> Result<Vec<f32>, String> {
-    let scalar = |values: Vec<f32>| -> Result<Vec<f32>, String> {
+fn components(value: sdf::Value, component: Option<usize>) -> Result<Vec<f32>, PrimError> {
+    let scalar = |values: Vec<f32>| -> Result<Vec<f32>, PrimError> {
         match component {
             None | Some(0) => Ok(values),
-            Some(c) => Err(format!(
-                "holds one value per element, so it has no component {c} (channel \"{}\"); \
-                 leave out the channel",
-                ["r", "g", "b"].get(c).copied().unwrap_or("?")
-            )),
+            Some(component) => Err(PrimError::NoComponent { component }),
         }
     };
     let c = component.unwrap_or(0);
-    let pick = |len: usize, get: &dyn Fn(usize) -> [f32; 3]| -> Result<Vec<f32>, String> {
+    let pick = |len: usize, get: &dyn Fn(usize) -> [f32; 3]| -> Result<Vec<f32>, PrimError> {
         if c > 2 {
-            return Err(format!(
-                "has 3 components; component {c} does not exist (use r, g or b)"
-            ));
+            return Err(PrimError::Component { component: c });
         }
         Ok((0..len).map(|i| get(i)[c]).collect())
     };
@@ -306,11 +286,9 @@ fn components(value: sdf::Value, component: Option<usize>) -> Result<Vec<f32>, S
         sdf::Value::Vec3hVec(v) => pick(v.len(), &|i| {
             [v[i].x.to_f32(), v[i].y.to_f32(), v[i].z.to_f32()]
         }),
-        other => Err(format!(
-            "is {}; a map reads float, double, half or int values (one per element) or \
-             color3f/float3 (one channel)",
-            kind(&other)
-        )),
+        other => Err(PrimError::ValueType {
+            found: kind(&other),
+        }),
     }
 }
 
