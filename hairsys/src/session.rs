@@ -22,8 +22,9 @@
 //! was built from a scene ([`Session::from_scene`]), and otherwise stays where it was.
 //!
 //! # State and scratch
-//! The state a frame depends on is the strands' positions and velocities, the solver's root
-//! frames and frame number, the colliders' poses and the scalp; everything else (contact lists,
+//! The state a frame depends on is the strands' positions and velocities, the solver's state
+//! ([`StrandSolverState`]: frame number, root frames, the rod's twist, the parameters a host
+//! changes between frames), the colliders and the scalp; the solver's workspace (contact lists,
 //! the hair–hair grid) is scratch rebuilt every step. [`Session::snapshot`] copies the state and
 //! [`Session::restore`] puts it back, for scrubbing; stepping on from a restored snapshot gives
 //! the same bits as stepping on from where it was taken.
@@ -46,7 +47,7 @@ use hair_cache::{
 use hair_core::frames::RestDirection;
 use hair_core::{
     ColliderId, Colliders, ForceField, FrameReport, HairError, HairHairSettings, HairParams,
-    RootFrame, Scalp, StrandSet, StrandSolver, TriMesh,
+    RootFrame, Scalp, StrandSet, StrandSolver, StrandSolverState, TriMesh,
 };
 use nalgebra::{Isometry3, Vector3};
 use sha2::{Digest, Sha256};
@@ -131,7 +132,7 @@ pub struct Snapshot {
     frame: u32,
     positions: Vec<Vector3<f32>>,
     velocities: Vec<Vector3<f32>>,
-    solver: StrandSolver,
+    solver: StrandSolverState,
     colliders: Colliders,
     scalp: Scalp,
     /// Animated rest shapes and rest directions, with animated guides.
@@ -799,7 +800,7 @@ impl Session {
             frame: self.frame(),
             positions: self.strands.positions.clone(),
             velocities: self.strands.velocities.clone(),
-            solver: self.solver.clone(),
+            solver: self.solver.snapshot_state(),
             colliders: self.colliders.clone(),
             scalp: self.scalp.clone(),
             rest: self.guides.as_ref().map(|_| {
@@ -837,9 +838,11 @@ impl Session {
                 ),
             ));
         }
+        self.solver
+            .restore_state(&snapshot.solver)
+            .map_err(|e| Error::argument("snapshot", e.to_string()))?;
         self.strands.positions.clone_from(&snapshot.positions);
         self.strands.velocities.clone_from(&snapshot.velocities);
-        self.solver = snapshot.solver.clone();
         self.colliders = snapshot.colliders.clone();
         self.scalp = snapshot.scalp.clone();
         self.rig.deformed.clone_from(&snapshot.rig);

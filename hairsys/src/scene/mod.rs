@@ -10,12 +10,12 @@
 
 use std::path::{Path, PathBuf};
 
-use hair_core::strips::{HeadShape, StripSolver};
+use hair_core::model::strips::{HeadShape, StripSolver};
 use hair_core::{
     Anchor, Collider, ColliderId, ColliderShape, Colliders, ContactSettings, HairError,
-    HairHairSettings, HairParams, Integrator, KernelChoice, RodParams, RodSolver, RootFrame, Scalp,
-    Solver, SolverSettings, StrandInput, StrandModel, StrandScales, StrandSet, StrandSolver,
-    Substeps, TriMesh,
+    HairHairSettings, HairParams, Integrator, KernelChoice, MassSpringSolver, RodParams, RodSolver,
+    RootFrame, Scalp, SolverSettings, StrandInput, StrandModel, StrandScales, StrandSet,
+    StrandSolver, Substeps, TriMesh,
 };
 use hair_groom::{GenerateOptions, ObjOptions, Region, UpAxis};
 
@@ -189,7 +189,7 @@ pub struct SolverSection {
     pub inextensibility: bool,
     /// Sag-free initialisation (mass-spring model): rest directions solved so that the groom is
     /// a static equilibrium under gravity at the first frame (see
-    /// `hair_core::solver::sag_free`); hair within two strand radii of a collider (the scalp
+    /// `hair_core::integrate::sag_free`); hair within two strand radii of a collider (the scalp
     /// collider included) rests on it, which carries the outward part of its weight. Off by
     /// default.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
@@ -1402,7 +1402,7 @@ pub struct Simulation {
     /// `[solver] inextensibility`: the projection of the mass-spring model, if on.
     pub inextensibility: Option<hair_core::Inextensibility>,
     /// `[strips]` settings when `[solver] model = "strips"` (strip `k` = strands `2k`, `2k + 1`).
-    pub strips: Option<hair_core::strips::StripSettings>,
+    pub strips: Option<hair_core::model::strips::StripSettings>,
     /// Animated guides (`[[guides.pose]]`, `[guides.sim_weight]`, pins, hold-outs), if keyed.
     pub guide_animation: Option<crate::animated_guides::GuideAnimation>,
     /// `[[regions]]` and `[maps.stiffness]` resolved to strands (empty: one material).
@@ -1426,7 +1426,7 @@ impl Simulation {
         let scalp = self.scalp_at(self.first_frame as f32);
         Ok(match self.model {
             StrandModel::MassSpring => {
-                let mut solver = Solver::new(
+                let mut solver = MassSpringSolver::new(
                     self.settings,
                     self.params,
                     &self.strands,
@@ -1486,8 +1486,8 @@ impl Simulation {
     /// the scene asks for it.
     pub fn with_inextensibility(
         &self,
-        solver: hair_core::Solver,
-    ) -> Result<hair_core::Solver, HairError> {
+        solver: hair_core::MassSpringSolver,
+    ) -> Result<hair_core::MassSpringSolver, HairError> {
         match self.inextensibility {
             Some(p) => solver.with_inextensibility(p),
             None => Ok(solver),
