@@ -154,7 +154,7 @@ mod implicit_tests {
     }
 }
 
-/// A study, not a test: BDF2's flutter on the curly hair at fine steps (`hair_core::solver`
+/// A study, not a test: BDF2's flutter on the curly hair at fine steps (`hair_core::integrate`
 /// module `implicit`, "Flutter at fine steps"; its history: `docs/design/implicit-integrators.md`).
 /// Prints, every fourth frame, the largest stretch and the strand's energy of BDF2 and
 /// implicit Euler at the substep counts of `SUBSTEPS` (default 64,128,256,512,1024), run in
@@ -164,7 +164,7 @@ mod implicit_tests {
 mod flutter_study {
     use super::*;
     use crate::methods::{MassSpring, Stretch};
-    use hair_core::{Integrator, Solver, SolverSettings, StrandSolver};
+    use hair_core::{Integrator, MassSpringSolver, SolverSettings, StrandSolver};
 
     fn env_list(name: &str, default: &str) -> Vec<u32> {
         std::env::var(name)
@@ -195,7 +195,7 @@ mod flutter_study {
                     ..*per_step.settings()
                 };
                 let rest = sim.scalp_at(sim.first_frame as f32);
-                let solver = Solver::new(
+                let solver = MassSpringSolver::new(
                     settings,
                     *per_step.params(),
                     &sim.strands,

@@ -11,7 +11,7 @@
 //! lengths).
 
 use hair_core::{
-    HairError, HairParams, Inextensibility, Integrator, RodParams, RodSolver, Solver,
+    HairError, HairParams, Inextensibility, Integrator, MassSpringSolver, RodParams, RodSolver,
     SolverSettings, StrandModel, Substeps,
 };
 
@@ -191,9 +191,13 @@ impl MassSpring {
 
     /// The solver of this configuration for `case` at `substeps` per frame (`None`: auto), one
     /// collision step per frame, at the case's first frame.
-    pub fn solver(&self, case: &Case, substeps: Option<u32>) -> Result<Solver, HairError> {
+    pub fn solver(
+        &self,
+        case: &Case,
+        substeps: Option<u32>,
+    ) -> Result<MassSpringSolver, HairError> {
         let sim = &case.sim;
-        let solver = Solver::new(
+        let solver = MassSpringSolver::new(
             self.settings(case, substeps),
             self.params(case),
             &sim.strands,
@@ -330,7 +334,7 @@ impl Method for Rod {
         let mut case = stability::probe_case(k, frames)?;
         let rod = &mut case.sim.rod;
         let wanted = k * stability::PROBE_SEGMENT.powi(3) / 8.0;
-        let minor = hair_core::rod::Stiffness::of(rod).minor;
+        let minor = hair_core::model::rod::Stiffness::of(rod).minor;
         rod.youngs_modulus = (rod.youngs_modulus as f64 * wanted / minor) as f32;
         Ok(case)
     }
@@ -353,7 +357,7 @@ impl Method for Rod {
     }
 }
 
-/// Seed 000's hair strips ([`hair_core::strips::StripSolver`]): the case's edge strands as
+/// Seed 000's hair strips ([`hair_core::model::strips::StripSolver`]): the case's edge strands as
 /// mass-spring chains with Provot's strain limit, the root angle limiter and the two-stage head
 /// collision. Its error is that of the ribbon's edges against the rod truth on the same edge
 /// strands.

@@ -16,7 +16,9 @@
 
 use std::time::{Duration, Instant};
 
-use hair_core::{Colliders, HairError, ModelFigures, ProjectionReport, Solver, StrandSolver};
+use hair_core::{
+    Colliders, HairError, MassSpringSolver, ModelFigures, ProjectionReport, StrandSolver,
+};
 use nalgebra::Vector3;
 use serde::Serialize;
 
@@ -59,7 +61,7 @@ pub struct Trace {
 
 /// Runs `case` with the mass-spring `solver` (built for the case's first frame) to its last
 /// frame.
-pub fn drive(case: &Case, solver: Solver) -> Result<Trace, HairError> {
+pub fn drive(case: &Case, solver: MassSpringSolver) -> Result<Trace, HairError> {
     drive_model(case, solver.into())
 }
 

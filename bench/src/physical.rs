@@ -110,7 +110,7 @@ impl Hair {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hair_core::rod::Stiffness;
+    use hair_core::model::rod::Stiffness;
 
     #[test]
     fn one_hair_has_the_documented_rigidities() {

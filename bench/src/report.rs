@@ -131,7 +131,7 @@ pub fn markdown(r: &BenchReport, grid: &Grid) -> String {
     }
     let _ = writeln!(
         s,
-        "\n## Methods\n\nWhat each runs on the head case (as `Solver::components` reports it):\n"
+        "\n## Methods\n\nWhat each runs on the head case (as `MassSpringSolver::components` reports it):\n"
     );
     for (name, components) in &r.methods {
         let _ = writeln!(s, "- **{name}**: {components}");

@@ -17,8 +17,8 @@
 
 use std::time::Instant;
 
-use hair_core::rod::strand::Root;
-use hair_core::rod::{RodStrand, Stiffness, Substep, Workspace};
+use hair_core::model::rod::strand::Root;
+use hair_core::model::rod::{RodStrand, Stiffness, Substep, Workspace};
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::Serialize;
 

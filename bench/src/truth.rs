@@ -19,7 +19,7 @@
 //! point, so the two are compared at the same material points.
 //!
 //! **The head.** Its truth converges at first order in the step because a round section keeps
-//! its rest twist (`hair_core::rod::twist`): a twist that turned a round section's material
+//! its rest twist (`hair_core::model::rod::twist`): a twist that turned a round section's material
 //! frame onto the plane the strand bends in would turn the styled groom's rest curvature with
 //! it, set by round-off wherever a node straightens, and no step would converge (how that was
 //! found: `docs/design/bench-truth.md`). The groom's 16 segments do not resolve the physical

@@ -49,8 +49,8 @@ fn curly_truth_is_converged_in_time() {
     assert!(c.time_change < 0.1 * c.smallest_error, "{c:?}");
 }
 
-/// The rod's twist is elastic (`hair_core::rod::twist`): `G J` resists a coil trading its pitch
-/// for torsion, so the curly truth has one answer, which finer segments approach. (With the
+/// The rod's twist is elastic (`hair_core::model::rod::twist`): `G J` resists a coil trading its
+/// pitch for torsion, so the curly truth has one answer, which finer segments approach. (With the
 /// seed's geometric twist, which exerted no torque, 32 → 64 segments moved it 2.6 cm RMS.)
 #[test]
 fn curly_truth_is_converged_in_space() {

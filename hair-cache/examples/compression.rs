@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use hair_cache::{CacheHeader, CacheLayout, CacheReader, CacheWriter, Compression, WriterOptions};
 use hair_core::{
-    Anchor, HairParams, RootFrame, Scalp, Solver, SolverSettings, StrandInput, StrandSet,
+    Anchor, HairParams, MassSpringSolver, RootFrame, Scalp, SolverSettings, StrandInput, StrandSet,
 };
 use nalgebra::Vector3;
 
@@ -37,7 +37,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let scalp = Scalp::fixed();
     strands.reset_to_rest(&scalp);
-    let mut solver = Solver::new(
+    let mut solver = MassSpringSolver::new(
         SolverSettings::default(),
         HairParams::default(),
         &strands,

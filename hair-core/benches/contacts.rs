@@ -12,8 +12,8 @@ use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use hair_core::{
-    Anchor, Collider, Colliders, HairParams, RootFrame, Scalp, Solver, SolverSettings, StrandInput,
-    StrandSet, TriMesh,
+    Anchor, Collider, Colliders, HairParams, MassSpringSolver, RootFrame, Scalp, SolverSettings,
+    StrandInput, StrandSet, TriMesh,
 };
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 
@@ -73,7 +73,8 @@ fn bench(c: &mut Criterion) {
         detection.bench_function(BenchmarkId::from_parameter(name), |b| {
             let mut set = base.clone();
             set.reset_to_rest(&scalp);
-            let mut solver = Solver::new(settings, params, &set, &scalp, 0).expect("valid");
+            let mut solver =
+                MassSpringSolver::new(settings, params, &set, &scalp, 0).expect("valid");
             let mut colliders = Colliders::new();
             let id = colliders
                 .insert(collider.clone().expect("a collider"), pose(0))
@@ -108,7 +109,8 @@ fn bench(c: &mut Criterion) {
         frame.bench_function(BenchmarkId::from_parameter(name), |b| {
             let mut set = base.clone();
             set.reset_to_rest(&scalp);
-            let mut solver = Solver::new(settings, params, &set, &scalp, 0).expect("valid");
+            let mut solver =
+                MassSpringSolver::new(settings, params, &set, &scalp, 0).expect("valid");
             let mut colliders = Colliders::new();
             let id = collider
                 .clone()

@@ -11,8 +11,8 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use hair_core::{
-    Anchor, Collider, Colliders, HairParams, RootFrame, Scalp, Solver, SolverSettings, StrandInput,
-    StrandSet, TriMesh,
+    Anchor, Collider, Colliders, HairParams, MassSpringSolver, RootFrame, Scalp, SolverSettings,
+    StrandInput, StrandSet, TriMesh,
 };
 use nalgebra::{Isometry3, Vector3};
 
@@ -36,7 +36,7 @@ fn bench(c: &mut Criterion) {
     group.sample_size(20);
     for deform in [false, true] {
         let mut strands = far_strand();
-        let mut solver = Solver::new(
+        let mut solver = MassSpringSolver::new(
             SolverSettings::default(),
             HairParams::default(),
             &strands,

@@ -4,14 +4,14 @@
 //! substeps is timed, with stretch + bend + goal + gravity + drag, with and without the damping
 //! sub-loop (10 Jacobi iterations), with the sub-loop and the inextensibility projection, and
 //! with the sub-loop and a 1 % strain limit (soft springs that the limit holds), at 48 fps so dt
-//! is half the stability bound; and implicit Euler and BDF2 (`solver::implicit`) with the same
+//! is half the stability bound; and implicit Euler and BDF2 (`integrate::implicit`) with the same
 //! strain limit and substep, whose cost per substep is what their larger usable step must repay.
 //! Run: `cargo bench -p hair-core --bench strand_step`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use hair_core::{
-    Anchor, HairParams, Inextensibility, Integrator, RootFrame, Scalp, Solver, SolverSettings,
-    StrandInput, StrandSet, Substeps,
+    Anchor, HairParams, Inextensibility, Integrator, MassSpringSolver, RootFrame, Scalp,
+    SolverSettings, StrandInput, StrandSet, Substeps,
 };
 use nalgebra::Vector3;
 
@@ -103,7 +103,8 @@ fn bench(c: &mut Criterion) {
         let scalp = Scalp::fixed();
         group.bench_function(BenchmarkId::from_parameter(name), |b| {
             let mut set = base.clone();
-            let mut solver = Solver::new(settings, params, &set, &scalp, 0).expect("valid setup");
+            let mut solver =
+                MassSpringSolver::new(settings, params, &set, &scalp, 0).expect("valid setup");
             if projection {
                 solver = solver
                     .with_inextensibility(Inextensibility::default())

@@ -19,8 +19,8 @@ use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use hair_core::{
-    Anchor, FieldKind, ForceField, FrameReport, HairHairSettings, HairParams, RootFrame, Scalp,
-    Solver, SolverSettings, StrandInput, StrandSet,
+    Anchor, FieldKind, ForceField, FrameReport, HairHairSettings, HairParams, MassSpringSolver,
+    RootFrame, Scalp, SolverSettings, StrandInput, StrandSet,
 };
 use nalgebra::Vector3;
 
@@ -90,7 +90,7 @@ fn bench(c: &mut Criterion) {
     for &count in &SIZES {
         let scalp = Scalp::fixed();
         let mut set = strands(count);
-        let mut solver = Solver::new(
+        let mut solver = MassSpringSolver::new(
             SolverSettings::default(),
             HairParams::default(),
             &set,

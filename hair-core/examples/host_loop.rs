@@ -7,7 +7,8 @@
 //! 64 strands of 0.3 m hang from it and follow the deformation.
 
 use hair_core::{
-    Anchor, HairParams, MeshSample, Scalp, Solver, SolverSettings, StrandInput, StrandSet, TriMesh,
+    Anchor, HairParams, MassSpringSolver, MeshSample, Scalp, SolverSettings, StrandInput,
+    StrandSet, TriMesh,
 };
 use nalgebra::{Isometry3, Vector3};
 
@@ -69,7 +70,7 @@ fn main() -> Result<(), hair_core::HairError> {
         air_drag: 2.0,
         ..HairParams::default()
     };
-    let mut solver = Solver::new(settings, params, &strands, &scalp(&mesh), 1)?;
+    let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp(&mesh), 1)?;
     println!(
         "{} strands, {} substeps per frame",
         strands.len(),

@@ -6,8 +6,8 @@
 //! Run: `cargo run -p hair-core --example wind_host`.
 
 use hair_core::{
-    Anchor, FieldKind, ForceField, HairHairSettings, HairParams, RootFrame, Scalp, Solver,
-    SolverSettings, StrandInput, StrandSet, Strength,
+    Anchor, FieldKind, ForceField, HairHairSettings, HairParams, MassSpringSolver, RootFrame,
+    Scalp, SolverSettings, StrandInput, StrandSet, Strength,
 };
 use nalgebra::Vector3;
 
@@ -53,7 +53,7 @@ fn main() -> Result<(), hair_core::HairError> {
         air_drag: 2.0,
         ..HairParams::default()
     };
-    let mut solver = Solver::new(SolverSettings::default(), params, &strands, &scalp, 1)?
+    let mut solver = MassSpringSolver::new(SolverSettings::default(), params, &strands, &scalp, 1)?
         .with_hair_hair(hair_hair, &strands)?
         .with_fields(vec![wind, turbulence])?;
 

@@ -164,7 +164,7 @@ pub enum MeshError {
         "scalp triangle {triangle} (area {area:.3e} m²) is too small for a strip (width \
          {width:.3e} m < {:e} m); remove degenerate faces or leave the triangle out of the strip \
          region",
-        crate::strips::MIN_STRIP_WIDTH
+        crate::model::strips::MIN_STRIP_WIDTH
     )]
     StripTooSmall {
         /// The triangle.

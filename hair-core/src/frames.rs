@@ -8,7 +8,7 @@
 //! [`RestDirection`] of segment `j`, `(a, b, c)`, is its rest direction in its predecessor's frame,
 //! `a t_{j-1} + b u_{j-1} + c w_{j-1}` (for the first segment: in the root frame); the solver
 //! bends the strand towards the rest curvature that turn describes
-//! ([`crate::solver::curvature`]). Since the frame turns with the segments before it, the solver
+//! ([`crate::integrate::curvature`]). Since the frame turns with the segments before it, the solver
 //! applies the full gradient of the bending energy, forces on the earlier points included (see the
 //! kernel).
 //!

@@ -329,8 +329,8 @@ impl StrandSet {
     }
 
     /// Mutable rest directions, for rest-state solvers such as sag-free initialisation
-    /// ([`crate::solver::sag_free`]). Only a rest direction's direction matters (it describes the
-    /// rest curvature, [`crate::solver::curvature`]); its length is ignored.
+    /// ([`crate::integrate::sag_free`]). Only a rest direction's direction matters (it describes
+    /// the rest curvature, [`crate::integrate::curvature`]); its length is ignored.
     pub fn bend_rest_mut(&mut self) -> &mut [RestDirection] {
         &mut self.bend_rest
     }

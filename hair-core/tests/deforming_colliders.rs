@@ -6,8 +6,8 @@
 //! evaluated on the frame's mesh); bit-identity of a resumed run.
 
 use hair_core::{
-    Anchor, Collider, ColliderId, Colliders, HairError, HairParams, MeshSample, RodParams,
-    RodSolver, RootFrame, Scalp, Solver, SolverSettings, StrandInput, StrandSet, TriMesh,
+    Anchor, Collider, ColliderId, Colliders, HairError, HairParams, MassSpringSolver, MeshSample,
+    RodParams, RodSolver, RootFrame, Scalp, SolverSettings, StrandInput, StrandSet, TriMesh,
 };
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 use parry3d::math::Vector;
@@ -117,7 +117,7 @@ fn breathe(mut each: impl FnMut(u32, &TriMesh, &StrandSet, &hair_core::FrameRepo
     let rest = TriMesh::uv_sphere(BALL, 48, 24).unwrap();
     let mut strands = hair_over_ball();
     let scalp = Scalp::fixed();
-    let mut solver = Solver::new(settings(), params(), &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings(), params(), &strands, &scalp, 0).unwrap();
     let mut colliders = Colliders::new();
     let ball = colliders
         .insert(
@@ -231,7 +231,7 @@ fn steps_for_growth(grow: f32) -> u32 {
     let rest = TriMesh::uv_sphere(BALL, 48, 24).unwrap();
     let mut strands = hair_over_ball();
     let scalp = Scalp::fixed();
-    let mut solver = Solver::new(settings(), params(), &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings(), params(), &strands, &scalp, 0).unwrap();
     let mut colliders = Colliders::new();
     let ball = colliders
         .insert(Collider::mesh(rest.clone()), Isometry3::identity())
@@ -316,7 +316,7 @@ fn slide(by_vertices: bool, friction: f32) -> Vec<Vector3<f32>> {
     }
     let scalp = Scalp::fixed();
     set.reset_to_rest(&scalp);
-    let mut solver = Solver::new(settings(), params(), &set, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings(), params(), &set, &scalp, 0).unwrap();
     let mut colliders = Colliders::new();
     let id = colliders
         .insert(
@@ -434,7 +434,7 @@ fn a_triangle_collapsing_while_deforming_is_stepped_through() {
     let rest = TriMesh::uv_sphere(BALL, 16, 8).unwrap();
     let mut strands = hair_over_ball();
     let scalp = Scalp::fixed();
-    let mut solver = Solver::new(settings(), params(), &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings(), params(), &strands, &scalp, 0).unwrap();
     let mut colliders = Colliders::new();
     let ball = colliders
         .insert(Collider::mesh(rest.clone()), Isometry3::identity())
@@ -484,7 +484,7 @@ fn a_scalp_whose_topology_changes_is_refused_when_stepped() {
         ))
         .unwrap();
     strands.reset_to_rest(&scalp);
-    let mut solver = Solver::new(settings(), params(), &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings(), params(), &strands, &scalp, 0).unwrap();
     let finer = Scalp {
         mesh: Some(TriMesh::uv_sphere(BALL, 12, 7).unwrap()),
         body: Isometry3::identity(),
@@ -586,7 +586,7 @@ fn run_on_head(meshes: &[TriMesh]) -> (f32, u32, f32) {
     };
     let scalp = at(rest);
     let mut strands = hair_on(rest, &scalp);
-    let mut solver = Solver::new(settings(), params(), &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings(), params(), &strands, &scalp, 0).unwrap();
     let mut colliders = Colliders::new();
     colliders.insert_scalp(&scalp, 0.0, 0.3).unwrap();
     let (mut worst, mut steps, mut root_error) = (f32::INFINITY, 0, 0.0f32);
@@ -694,7 +694,8 @@ fn a_run_resumed_on_a_deforming_scalp_and_collider_is_bit_identical() {
         (colliders, ball)
     };
     let run = |strands: &mut StrandSet, from: u32, to: u32, snapshot: &mut Option<StrandSet>| {
-        let mut solver = Solver::new(settings(), params(), strands, &scalp_at(from), from).unwrap();
+        let mut solver =
+            MassSpringSolver::new(settings(), params(), strands, &scalp_at(from), from).unwrap();
         let (mut colliders, ball) = build(from);
         let mut contacts = 0;
         for f in from + 1..=to {

@@ -4,8 +4,8 @@
 
 use hair_core::fields::{evaluate, FieldInput};
 use hair_core::{
-    Anchor, FieldKind, ForceField, HairError, HairParams, RootFrame, Scalp, Solver, SolverSettings,
-    StrandInput, StrandSet, Strength,
+    Anchor, FieldKind, ForceField, HairError, HairParams, MassSpringSolver, RootFrame, Scalp,
+    SolverSettings, StrandInput, StrandSet, Strength,
 };
 use nalgebra::Vector3;
 
@@ -44,7 +44,7 @@ fn strand_in_steady_wind_settles_at_drag_over_gravity_angle() {
         wind,
     );
     wind_field.direction = Vector3::x();
-    let mut solver = Solver::new(SolverSettings::default(), params, &strands, &scalp, 1)
+    let mut solver = MassSpringSolver::new(SolverSettings::default(), params, &strands, &scalp, 1)
         .unwrap()
         .with_fields(vec![wind_field])
         .unwrap();
@@ -127,7 +127,7 @@ fn nan_field_parameter_is_refused_naming_the_field() {
     let scalp = Scalp::fixed();
     let mut vortex = ForceField::new(FieldKind::Vortex, 1.0);
     vortex.center = Vector3::new(0.0, f32::NAN, 0.0);
-    let solver = Solver::new(
+    let solver = MassSpringSolver::new(
         SolverSettings::default(),
         HairParams::default(),
         &strands,
@@ -152,7 +152,8 @@ fn wind_without_air_drag_is_refused() {
         air_drag: 0.0,
         ..HairParams::default()
     };
-    let solver = Solver::new(SolverSettings::default(), params, &strands, &scalp, 1).unwrap();
+    let solver =
+        MassSpringSolver::new(SolverSettings::default(), params, &strands, &scalp, 1).unwrap();
     let e = solver
         .with_fields(vec![ForceField::new(
             FieldKind::Wind {
@@ -166,7 +167,7 @@ fn wind_without_air_drag_is_refused() {
 }
 
 /// Wind keyed to start at frame 12 leaves the hanging strand alone until then; a host that sets
-/// the strength to 0 between frames ([`Solver::fields_mut`]) stops it again.
+/// the strength to 0 between frames ([`MassSpringSolver::fields_mut`]) stops it again.
 #[test]
 fn keyed_and_host_set_wind_strength_take_effect_at_their_frames() {
     let mut strands = hanging(4, 0.1);
@@ -185,7 +186,7 @@ fn keyed_and_host_set_wind_strength_take_effect_at_their_frames() {
         air_drag: 2.0,
         ..HairParams::default()
     };
-    let mut solver = Solver::new(SolverSettings::default(), params, &strands, &scalp, 1)
+    let mut solver = MassSpringSolver::new(SolverSettings::default(), params, &strands, &scalp, 1)
         .unwrap()
         .with_fields(vec![wind])
         .unwrap();

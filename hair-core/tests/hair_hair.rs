@@ -6,7 +6,7 @@
 use hair_core::volume::{HairHair, SplatInput, VoxelGrid, BRICK, MAX_GRID_BYTES};
 use hair_core::{
     Anchor, Collider, Colliders, FieldKind, ForceField, HairError, HairHairSettings, HairParams,
-    RootFrame, Scalp, Solver, SolverSettings, StrandInput, StrandSet,
+    MassSpringSolver, RootFrame, Scalp, SolverSettings, StrandInput, StrandSet,
 };
 use nalgebra::{Isometry3, Translation3, Vector3};
 
@@ -73,7 +73,7 @@ fn pile(repulsion: f32) -> (f32, f32, f32, f32) {
         repulsion,
         target_density: TARGET,
     };
-    let mut solver = Solver::new(SolverSettings::default(), params, &set, &scalp, 1)
+    let mut solver = MassSpringSolver::new(SolverSettings::default(), params, &set, &scalp, 1)
         .unwrap()
         .with_hair_hair(hh, &set)
         .unwrap();
@@ -177,7 +177,7 @@ fn bundle_variance(friction: f32) -> f32 {
         repulsion: 0.0,
         target_density: 1.0,
     };
-    let mut solver = Solver::new(
+    let mut solver = MassSpringSolver::new(
         SolverSettings::default(),
         HairParams::default(),
         &set,
@@ -246,7 +246,7 @@ fn shaken_bundle_stretch(friction: Friction, max_strain: Option<f32>) -> f32 {
         stretch_stiffness: 2000.0,
         ..HairParams::default()
     };
-    let mut solver = Solver::new(settings, params, &set, &head(1), 1).unwrap();
+    let mut solver = MassSpringSolver::new(settings, params, &set, &head(1), 1).unwrap();
     if matches!(friction, Friction::Hairsys) {
         solver = solver.with_hair_hair(hh, &set).unwrap();
     }
@@ -361,7 +361,7 @@ fn busy_run(threads: usize) -> Vec<Vector3<f32>> {
         .num_threads(threads)
         .build()
         .unwrap();
-    let mut solver = Solver::new(
+    let mut solver = MassSpringSolver::new(
         SolverSettings::default(),
         HairParams::default(),
         &set,
@@ -400,7 +400,7 @@ fn bad_cell_sizes_are_refused() {
     let set = strands(&[Vector3::zeros()], Vector3::x(), 0.1, 4, 1e-3);
     let scalp = Scalp::fixed();
     let solver = || {
-        Solver::new(
+        MassSpringSolver::new(
             SolverSettings::default(),
             HairParams::default(),
             &set,
@@ -575,10 +575,10 @@ fn two_clumps_far_apart_allocate_nodes_for_the_clumps_only() {
         repulsion: 0.1,
         target_density: 0.2,
     };
-    let mut pass = HairHair::new(hh, &set).unwrap();
+    let mut pass = HairHair::new(&hh, &set).unwrap();
     let mut accel = vec![Vector3::zeros(); set.point_count()];
     let all = 0..set.len();
-    pass.step(&mut set, &mut accel, std::slice::from_ref(&all))
+    pass.step(&hh, &mut set, &mut accel, std::slice::from_ref(&all))
         .unwrap();
     let grid = pass.grid();
     let span: u64 = grid.span().iter().product();

@@ -1,6 +1,6 @@
 //! Rod model: bad input gives a clear error or a reported warning with the residual, never NaN.
 
-use hair_core::rod::{RodStrand, Stiffness};
+use hair_core::model::rod::{RodStrand, Stiffness};
 use hair_core::{
     Anchor, Collider, Colliders, HairError, HairParams, RodParams, RodSolver, RootFrame, Scalp,
     SolverSettings, StrandInput, StrandSet, Substeps, TriMesh,

@@ -10,8 +10,8 @@
 //! by air drag through the rod model's own substeps (explicit step + projection). Gravity off,
 //! round section. Every node must lie within 1 % of `L` of the analytic arc.
 
-use hair_core::rod::strand::Root;
-use hair_core::rod::{RodState, RodStrand, Stiffness, Substep, Workspace};
+use hair_core::model::rod::strand::Root;
+use hair_core::model::rod::{RodState, RodStrand, Stiffness, Substep, Workspace};
 use nalgebra::{UnitQuaternion, Vector3};
 
 type V3 = Vector3<f64>;

@@ -22,7 +22,7 @@
 //! Reference: the same solver on round strands (`b/a = 1`) whose Young's modulus gives them the
 //! ellipse's `E I₁` and `E I₂`.
 
-use hair_core::rod::Workspace;
+use hair_core::model::rod::Workspace;
 use hair_core::{
     Anchor, HairParams, RodParams, RodSolver, RootFrame, Scalp, SolverSettings, StrandInput,
     StrandSet,
@@ -89,7 +89,7 @@ fn ellipse(shear_modulus: f32) -> (f64, f64, f64) {
     };
     let (solver, set) = settle(ellipse);
     let rod = solver.strand(0);
-    let root = hair_core::rod::Root::of(&solver.roots()[0]);
+    let root = hair_core::model::rod::Root::of(&solver.roots()[0]);
     let x: Vec<_> = set.positions.iter().map(|p| p.cast::<f64>()).collect();
     let mut ws = Workspace::default();
     ws.twist.theta = solver.twist(0).to_vec();

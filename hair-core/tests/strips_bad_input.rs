@@ -3,7 +3,7 @@
 
 use std::f32::consts::PI;
 
-use hair_core::strips::{RootAngleLimit, StripGrowth, StripSet};
+use hair_core::model::strips::{RootAngleLimit, StripGrowth, StripSet};
 use hair_core::{Anchor, HairError, RootFrame, Scalp, StrandInput, TriMesh};
 use nalgebra::Vector3;
 

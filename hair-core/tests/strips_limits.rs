@@ -1,9 +1,11 @@
 //! The strip model's post-step passes on edge strands: Provot's strain limit and the root angle
 //! limiter, each against the unlimited run that violates it.
 
-use hair_core::strips::{limit_strain, RootAngleLimit, StripSet, StripSettings, StripSolver};
+use hair_core::model::strips::{
+    limit_strain, RootAngleLimit, StripSet, StripSettings, StripSolver,
+};
 use hair_core::{
-    Anchor, HairParams, RootFrame, Scalp, Solver, SolverSettings, StrandInput, StrandSet,
+    Anchor, HairParams, MassSpringSolver, RootFrame, Scalp, SolverSettings, StrandInput, StrandSet,
 };
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -39,7 +41,7 @@ fn one_strip() -> StripSet {
 fn strip_and_reference(
     params: HairParams,
     settings: StripSettings,
-) -> (StripSet, StripSolver, StripSet, Solver) {
+) -> (StripSet, StripSolver, StripSet, MassSpringSolver) {
     let scalp = Scalp::fixed();
     let strips = one_strip();
     let free = one_strip();
@@ -54,7 +56,7 @@ fn strip_and_reference(
     )
     .unwrap();
     let reference =
-        Solver::new(SolverSettings::default(), params, &free.strands, &scalp, 1).unwrap();
+        MassSpringSolver::new(SolverSettings::default(), params, &free.strands, &scalp, 1).unwrap();
     (strips, solver, free, reference)
 }
 

@@ -1,7 +1,7 @@
 //! The strip model's two-stage collision: edge strands far from the head's bounding sphere skip
 //! the contact pipeline; strands falling onto the head run it and end every frame outside.
 
-use hair_core::strips::{HeadShape, StripSet, StripSettings, StripSolver};
+use hair_core::model::strips::{HeadShape, StripSet, StripSettings, StripSolver};
 use hair_core::{
     Anchor, Collider, Colliders, HairParams, RootFrame, Scalp, SolverSettings, StrandInput, TriMesh,
 };

@@ -10,8 +10,8 @@
 use std::path::PathBuf;
 
 use hair_core::{
-    Anchor, Collider, Colliders, HairParams, MeshSample, Scalp, Solver, SolverSettings, StrandSet,
-    TriMesh,
+    Anchor, Collider, Colliders, HairParams, MassSpringSolver, MeshSample, Scalp, SolverSettings,
+    StrandSet, TriMesh,
 };
 use hair_groom::{builtin_head, generate_guides, GrowDirection, GuideOptions, Region};
 use hair_render::preview::{
@@ -82,7 +82,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // One second at 24 fps under gravity, the head a collider.
     let mut colliders = Colliders::new();
     colliders.insert(Collider::mesh(head.clone()), Isometry3::identity())?;
-    let mut solver = Solver::new(
+    let mut solver = MassSpringSolver::new(
         SolverSettings::default(),
         HairParams {
             air_drag: 1.0,

@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::process::Command;
 
-use hair_core::strips::{StripGrowth, StripSet};
+use hair_core::model::strips::{StripGrowth, StripSet};
 use hair_core::{Scalp, TriMesh};
 use hair_render::export::cards_obj::{export_cards_obj, ObjUpAxis};
 use hair_render::export::cards_usd::{export_cards_usda, CardSample, CardUsdOptions};

@@ -6,7 +6,7 @@
 //! frame, which the scene gives again. The solver restarts there, so the resumed cache's frames
 //! are bit-identical to those of an uninterrupted run — except with the rod model
 //! (`model = "rod"`), whose twist angles are solver state the cache does not carry: they restart
-//! from the rest twist, and the resumed frames match to round-off (see `hair_core::rod`). A
+//! from the rest twist, and the resumed frames match to round-off (see `hair_core::model::rod`). A
 //! `.partial` written from a different scene (scene hash) or another frame range is refused.
 
 use std::path::Path;

@@ -1,5 +1,5 @@
 //! The BDF2 integrator (`Integrator::Bdf2`: the second-order backward differentiation formula,
-//! linearised and solved like backward Euler, `hair_core::solver` module `implicit`) against
+//! linearised and solved like backward Euler, `hair_core::integrate` module `implicit`) against
 //! analytic values, at substeps the explicit kernel cannot take:
 //!
 //! - **pendulum**: a bob on a stiff spring (√(k/m) = 1000 rad/s) at h = 1/96 s, four substeps
@@ -28,7 +28,7 @@ use hair_core::Integrator;
 const BDF2: Integrator = Integrator::Bdf2;
 
 /// `(time, x)` once a frame of `x'' = −ω² x` from `x = x0`, `v = 0`, stepped as the solver steps
-/// it (`hair_core::solver` module `implicit`): per frame (one step) of two or more substeps, an
+/// it (`hair_core::integrate` module `implicit`): per frame (one step) of two or more substeps, an
 /// implicit midpoint substep of `h` (backward Euler over `h/2` for the midpoint velocity), then
 /// BDF2 substeps of `h` (ratio 1); of one substep, a backward Euler substep of `h/3`, then
 /// variable-step BDF2 over `2h/3` (ratio 2).

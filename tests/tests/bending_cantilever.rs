@@ -3,7 +3,7 @@
 //!
 //! Reference for the sag: joint j (the point between segments j − 1 and j) has the energy
 //! `½ k |κ_j − κ⁰_j|²` with `|κ| = 2 tan(θ/2)` for a relative turn θ_j and `k = EI/l = k_b l²`
-//! on this uniform strand (`hair_core::solver::curvature`), so it carries the moment
+//! on this uniform strand (`hair_core::integrate::curvature`), so it carries the moment
 //! `2 k tan(θ/2)/cos²(θ/2) = k θ_j (1 + θ_j²/4 + …)`. Statics of everything outboard of joint j
 //! then gives `θ_j = M_j / (k_b l²)` to first order, where `M_j = g Σ_{i>j} m_i (x_i − x_j)` is the
 //! moment of the weight beyond the joint about it: a discrete Euler–Bernoulli beam with
@@ -19,7 +19,7 @@
 mod common;
 
 use common::*;
-use hair_core::{Anchor, RootFrame, Scalp, Solver, SolverSettings, StrandSet};
+use hair_core::{Anchor, MassSpringSolver, RootFrame, Scalp, SolverSettings, StrandSet};
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// Largest distance of any point from its rest position placed by its root frame, m.
@@ -59,7 +59,8 @@ fn horizontal_cantilever_sags_like_a_beam_and_springs_back() {
     params.gravity = gravity();
     params.air_drag = 20.0;
     params.stretch_damping = 50.0;
-    let mut solver = Solver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
+    let mut solver =
+        MassSpringSolver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
     // 2 s; the slowest bending mode (≈ 60 rad/s) decays at least as exp(−drag·t/2) = e⁻²⁰.
     run(&mut solver, &mut strands, &scalp, 48, |_, _| {}).unwrap();
 
@@ -96,7 +97,8 @@ fn horizontal_cantilever_sags_like_a_beam_and_springs_back() {
 
     // Gravity off: it must spring back to the rest shape.
     params.gravity = [0.0; 3];
-    let mut solver = Solver::new(SolverSettings::default(), params, &strands, &scalp, 48).unwrap();
+    let mut solver =
+        MassSpringSolver::new(SolverSettings::default(), params, &strands, &scalp, 48).unwrap();
     run(&mut solver, &mut strands, &scalp, 48, |_, _| {}).unwrap();
     let back = distance_from_rest(&strands, &scalp);
     println!("cantilever without gravity: largest distance from rest {back:.2e} m");
@@ -125,7 +127,8 @@ fn curved_rest_shape_is_an_equilibrium() {
     let mut strands = set_on(&scalp, [strand(anchor, rest, vec![1e-4; n], root_only(n))]);
     let mut params = bare_params(200.0);
     params.bend_stiffness = 20.0;
-    let mut solver = Solver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
+    let mut solver =
+        MassSpringSolver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
     let mut worst = 0.0f32;
     run(&mut solver, &mut strands, &scalp, 100, |_, set| {
         worst = worst.max(distance_from_rest(set, &scalp));

@@ -1,7 +1,7 @@
 //! The bending force is the gradient of the bending energy, `F = −∂E/∂x` with
 //! `E = Σ_j ½ k_j |κ_j − κ⁰_j|²` (`κ_j` the curvature binormal at point j, `κ⁰_j` its rest value
 //! in segment j − 1's parallel-transported frame, as `hair_core::energy` computes it; see
-//! `hair_core::solver::curvature`), at small turns and at turns of up to 150°, where the
+//! `hair_core::integrate::curvature`), at small turns and at turns of up to 150°, where the
 //! curvature energy is far from its small-angle form.
 //!
 //! A force field that is not a gradient does work around closed loops: an undamped strand then
@@ -17,7 +17,7 @@
 mod common;
 
 use common::*;
-use hair_core::{energy, Scalp, Solver, SolverSettings, StrandSet, Substeps};
+use hair_core::{energy, MassSpringSolver, Scalp, SolverSettings, StrandSet, Substeps};
 use nalgebra::{UnitQuaternion, Vector3};
 
 fn compare(name: &str, rest: Vec<Vector3<f32>>) -> f64 {
@@ -43,7 +43,7 @@ fn compare(name: &str, rest: Vec<Vector3<f32>>) -> f64 {
         damping_iterations: 0,
         ..SolverSettings::default()
     };
-    let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
     let bend_energy = |set: &StrandSet| energy(set, &params, solver.roots()).bend;
 
     let h = 5e-5f32;
@@ -139,7 +139,7 @@ fn undamped_bent_strand_keeps_its_energy() {
         let mut params = bare_params(50.0);
         params.gravity = gravity();
         params.bend_stiffness = 0.5;
-        let bound = Solver::new(SolverSettings::default(), params, &strands, &scalp, 0)
+        let bound = MassSpringSolver::new(SolverSettings::default(), params, &strands, &scalp, 0)
             .unwrap()
             .bound();
         let h = 0.2 * bound.dt_max;
@@ -150,7 +150,7 @@ fn undamped_bent_strand_keeps_its_energy() {
             damping_iterations: 0,
             ..SolverSettings::default()
         };
-        let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+        let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
         let e0 = energy(&strands, &params, solver.roots()).total();
         let total_mass: f64 = strands.masses().iter().map(|&m| m as f64).sum();
         let scale = total_mass * G * strands.rest_strand_length(0) as f64;

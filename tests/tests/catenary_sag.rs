@@ -13,7 +13,7 @@
 mod common;
 
 use common::*;
-use hair_core::{Scalp, Solver, SolverSettings, Substeps};
+use hair_core::{MassSpringSolver, Scalp, SolverSettings, Substeps};
 use nalgebra::Vector3;
 
 #[test]
@@ -56,7 +56,7 @@ fn chain_pinned_at_both_ends_settles_to_the_catenary() {
         substeps: Substeps::Auto,
         ..SolverSettings::default()
     };
-    let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
     // 3 s: the slowest swing (ω ≈ √(g/sag) ≈ 6 rad/s) decays as exp(−drag·t/2) = e⁻¹⁵.
     // (Speeds do not go to zero: rounding f32 positions by an ulp, ~6e-8 m, against k = 1e5 N/m
     // keeps the stiff stretch modes ringing at ~4e-3 m/s, i.e. ~4e-7 m of motion. Settling is

@@ -6,8 +6,8 @@
 use std::path::{Path, PathBuf};
 
 use hair_core::{
-    Collider, ColliderId, Colliders, ContactSettings, HairError, HairParams, MeshKind, Scalp,
-    Solver, SolverSettings, StrandInput, StrandSet,
+    Collider, ColliderId, Colliders, ContactSettings, HairError, HairParams, MassSpringSolver,
+    MeshKind, Scalp, SolverSettings, StrandInput, StrandSet,
 };
 use hairsys::scene::SceneFile;
 use nalgebra::{Isometry3, Vector3};
@@ -194,7 +194,7 @@ fn host_errors_are_typed_not_panics() {
     // Bad settings stop the step with a parameter error.
     let mut strands = one_strand();
     let scalp = Scalp::fixed();
-    let mut solver = Solver::new(
+    let mut solver = MassSpringSolver::new(
         SolverSettings::default(),
         HairParams::default(),
         &strands,

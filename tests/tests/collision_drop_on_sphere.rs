@@ -20,8 +20,8 @@ mod common;
 
 use common::*;
 use hair_core::{
-    Collider, Colliders, HairParams, Integrator, Scalp, Solver, SolverSettings, StrandInput,
-    Substeps,
+    Collider, Colliders, HairParams, Integrator, MassSpringSolver, Scalp, SolverSettings,
+    StrandInput, Substeps,
 };
 use nalgebra::{Isometry3, Vector3};
 
@@ -51,7 +51,7 @@ fn free_points_dropped_on_a_sphere_stop_without_bouncing() {
 }
 
 /// BDF2 extrapolates each substep's start from the two before it. Before an impacted point's
-/// history was restarted (`hair_core::solver` module `implicit`, "Contacts and the history"),
+/// history was restarted (`hair_core::integrate` module `implicit`, "Contacts and the history"),
 /// the stop came back as an outward velocity of up to 31 % of the impact speed (0.25 m/s after
 /// 0.82 m/s at one substep per frame, lifting the point 4.6 mm; 3 % at 7). Two substeps per
 /// frame is the case where restarting every point the response touched, resting ones too, let
@@ -96,7 +96,7 @@ fn drop_free_points(settings: SolverSettings, label: &str) {
     let mut params = bare_params(0.0);
     params.gravity = gravity();
     let fps = settings.fps;
-    let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
     let mut colliders = sphere(1.0);
     let mut first_contact: Vec<Option<u32>> = vec![None; strands.point_count()];
     let (mut impact, mut worst_outward, mut worst_gap_after) = (0.0f32, 0.0f32, 0.0f32);
@@ -175,7 +175,7 @@ fn hair_dropped_on_a_sphere_comes_to_rest_on_it() {
         fps: FPS,
         ..SolverSettings::default()
     };
-    let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
     let mut colliders = sphere(0.3);
 
     let n = strands.point_count();

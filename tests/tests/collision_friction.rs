@@ -12,7 +12,9 @@
 mod common;
 
 use common::*;
-use hair_core::{Collider, Colliders, HairParams, Scalp, Solver, SolverSettings, StrandInput};
+use hair_core::{
+    Collider, Colliders, HairParams, MassSpringSolver, Scalp, SolverSettings, StrandInput,
+};
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 
 const R: f32 = 0.1;
@@ -41,7 +43,7 @@ fn drag(mu: f32) -> (f32, f32) {
         fps: FPS,
         ..SolverSettings::default()
     };
-    let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
     let mut colliders = Colliders::new();
     let ball = colliders
         .insert(Collider::sphere(R).with_friction(mu), Isometry3::identity())

@@ -19,7 +19,9 @@
 mod common;
 
 use common::*;
-use hair_core::{Collider, Colliders, HairParams, Scalp, Solver, SolverSettings, StrandInput};
+use hair_core::{
+    Collider, Colliders, HairParams, MassSpringSolver, Scalp, SolverSettings, StrandInput,
+};
 use nalgebra::{Isometry3, Vector3};
 
 #[test]
@@ -48,7 +50,7 @@ fn hair_starting_inside_a_sphere_is_pushed_out_without_explosion() {
         steps: 2,
         ..SolverSettings::default()
     };
-    let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
     let mut colliders = Colliders::new();
     colliders
         .insert(

@@ -4,7 +4,7 @@
 //! A 1 m × 1 m horizontal plate, loaded from OBJ like a user's mesh, rises from z = −2.2 m to
 //! z = −0.2 m in two frames (24 m/s at 24 fps) into 24 strands hanging from z = 0 to z = −0.4 m,
 //! then holds. The crushed strands fold sharply, and the curvature bending stiffens with the turn
-//! (`hair_core::solver::curvature`), so the run needs more substeps than "auto" picks from the
+//! (`hair_core::integrate::curvature`), so the run needs more substeps than "auto" picks from the
 //! small-angle bound (96): 400 (200 still blows up; the error says to try 4×). The open mesh is
 //! a two-sided shell (documented in `contacts::collider`): hair is kept
 //! on the side it is on, thickness + radius away. The contact model is the plate's plane moving

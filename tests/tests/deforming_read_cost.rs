@@ -10,8 +10,8 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use hair_core::{
-    Anchor, Collider, Colliders, HairParams, RootFrame, Scalp, Solver, SolverSettings, StrandInput,
-    StrandSet, TriMesh,
+    Anchor, Collider, Colliders, HairParams, MassSpringSolver, RootFrame, Scalp, SolverSettings,
+    StrandInput, StrandSet, TriMesh,
 };
 use hair_groom::formats::usd_write::{Samples, UsdLayer, UsdMeshPrim, UsdStageInfo};
 use hair_groom::{ObjOptions, ObjSequence, UpAxis, UsdMeshOptions, UsdMeshSource};
@@ -117,7 +117,7 @@ fn deforming_50k_vertex_mesh_read_and_collider_update_per_frame() {
         .unwrap();
     let scalp = Scalp::fixed();
     strands.reset_to_rest(&scalp);
-    let mut solver = Solver::new(
+    let mut solver = MassSpringSolver::new(
         SolverSettings::default(),
         HairParams::default(),
         &strands,

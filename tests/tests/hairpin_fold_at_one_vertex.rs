@@ -5,7 +5,7 @@
 //! Cause. A chord bending spring `E = ½ k_b |x_j + l d_j − x_{j+1}|² = 2 k_b l² sin²(θ/2)` has a
 //! moment `k_b l² sin θ` that peaks at 90° and falls to zero at 180°: past 90° a joint softens,
 //! so a bend concentrates at one vertex and a segment folded straight back is an equilibrium.
-//! The curvature bending (`hair_core::solver::curvature`) has `E = 2 k tan²(θ/2)` with the same
+//! The curvature bending (`hair_core::integrate::curvature`) has `E = 2 k tan²(θ/2)` with the same
 //! small-angle stiffness `k = k_b l²`, and a moment `M(θ) = 2 k tan(θ/2) / cos²(θ/2)` that grows
 //! without bound: `M(90°) = 4 k`.
 //!
@@ -20,7 +20,7 @@ mod common;
 
 use common::*;
 use hair_core::quality::{measure, Frame, QualityInput, QualityOptions};
-use hair_core::{Scalp, Solver, SolverSettings, StrandSet};
+use hair_core::{MassSpringSolver, Scalp, SolverSettings, StrandSet};
 use hairsys::scene::SceneFile;
 use nalgebra::Vector3;
 
@@ -61,7 +61,8 @@ fn buckled_upright_strand_bends_over_several_joints_not_one() {
     params.gravity = gravity();
     params.air_drag = 5.0;
     params.stretch_damping = 50.0;
-    let mut solver = Solver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
+    let mut solver =
+        MassSpringSolver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
     let mut worst_settled = 0.0f32;
     let mut frame = 0;
     // 4 s: the fall takes under 1 s; drag 5/s damps the swing by e⁻¹⁰ in the last 2 s.
@@ -120,7 +121,7 @@ fn whipped_parity_strand(normal: Vector3<f32>, bend_stiffness: f32) -> f32 {
         damping_iterations: 5,
         ..SolverSettings::default()
     };
-    let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
     let mut worst = 0.0f32;
     for frame in 1..=48u32 {
         // Smooth out and back over 24 frames, then hold for a second.

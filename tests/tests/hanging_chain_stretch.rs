@@ -13,12 +13,13 @@ mod common;
 
 use common::integrators::{chain_stretch_and_weight_over_k, hanging_chain};
 use common::*;
-use hair_core::{Solver, SolverSettings};
+use hair_core::{MassSpringSolver, SolverSettings};
 
 #[test]
 fn settled_hanging_chain_stretches_by_weight_below_over_k() {
     let (mut strands, scalp, mass, params) = hanging_chain();
-    let mut solver = Solver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
+    let mut solver =
+        MassSpringSolver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
     // 3 s: every longitudinal mode decays at least as fast as exp(−drag·t/2) = e^{−30}.
     run(&mut solver, &mut strands, &scalp, 72, |_, _| {}).unwrap();
 

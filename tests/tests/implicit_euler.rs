@@ -1,5 +1,5 @@
 //! The implicit integrator (`Integrator::ImplicitEuler`: linearised backward Euler along each
-//! strand, `hair_core::solver` module `implicit`) against analytic values, at substeps the
+//! strand, `hair_core::integrate` module `implicit`) against analytic values, at substeps the
 //! explicit kernel cannot take:
 //!
 //! - **pendulum**: a bob on a stiff spring (√(k/m) = 1000 rad/s) at h = 1/96 s (ω_spring h ≈ 10,

@@ -12,7 +12,7 @@
 mod common;
 
 use common::*;
-use hair_core::{Integrator, Scalp, Solver};
+use hair_core::{Integrator, MassSpringSolver, Scalp};
 use nalgebra::Vector3;
 
 #[test]
@@ -38,7 +38,7 @@ fn small_angle_pendulum_period_matches_two_pi_sqrt_l_over_g() {
     let mut params = bare_params(k as f32);
     params.gravity = gravity();
     let settings = fixed_settings(fps, substeps, Integrator::SemiImplicitEuler);
-    let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
     let h = solver.dt();
     assert!(
         h < 0.5 * solver.bound().dt_max,

@@ -1,4 +1,4 @@
-//! Per-strand physical parameters (per-region physics): `Solver::with_strand_scales`.
+//! Per-strand physical parameters (per-region physics): `MassSpringSolver::with_strand_scales`.
 //!
 //! Twelve identical horizontal cantilevers (a SIMD group of eight and one of four) sag under
 //! gravity; strands 2 and 9 — one in each group, so a lane of a group carries a different
@@ -19,8 +19,8 @@ mod common;
 
 use common::*;
 use hair_core::{
-    HairParams, Integrator, Scalp, Solver, SolverSettings, StabilityBound, StrandScales, StrandSet,
-    Substeps,
+    HairParams, Integrator, MassSpringSolver, Scalp, SolverSettings, StabilityBound, StrandScales,
+    StrandSet, Substeps,
 };
 use nalgebra::Vector3;
 
@@ -69,7 +69,7 @@ fn stiff_region() -> Vec<StrandScales> {
 /// Positions (as bits) after 2 s with `scales` (None: no scales given).
 fn run_with(settings: SolverSettings, scales: Option<Vec<StrandScales>>) -> (Vec<[u32; 3]>, u32) {
     let (mut strands, scalp) = cantilevers();
-    let mut solver = Solver::new(settings, params(), &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings, params(), &strands, &scalp, 0).unwrap();
     if let Some(scales) = scales {
         solver = solver.with_strand_scales(scales, &strands).unwrap();
     }
@@ -193,7 +193,7 @@ fn auto_substeps_follow_the_stiffest_region() {
         substeps: Substeps::Auto,
         ..SolverSettings::default()
     };
-    let solver = Solver::new(settings, p, &strands, &scalp, 0).unwrap();
+    let solver = MassSpringSolver::new(settings, p, &strands, &scalp, 0).unwrap();
     let before = solver.substeps();
     let solver = solver.with_strand_scales(scales, &strands).unwrap();
     assert_eq!(
@@ -208,7 +208,8 @@ fn auto_substeps_follow_the_stiffest_region() {
 #[test]
 fn bad_strand_scales_are_refused_by_strand_and_factor() {
     let (strands, scalp) = cantilevers();
-    let solver = || Solver::new(SolverSettings::default(), params(), &strands, &scalp, 0).unwrap();
+    let solver =
+        || MassSpringSolver::new(SolverSettings::default(), params(), &strands, &scalp, 0).unwrap();
     let e = solver()
         .with_strand_scales(vec![StrandScales::ONE; 3], &strands)
         .unwrap_err()

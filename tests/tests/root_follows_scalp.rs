@@ -14,7 +14,9 @@
 mod common;
 
 use common::*;
-use hair_core::{Anchor, RootFrame, Scalp, Solver, SolverSettings, StrandInput, StrandSet};
+use hair_core::{
+    Anchor, MassSpringSolver, RootFrame, Scalp, SolverSettings, StrandInput, StrandSet,
+};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 
 const FPS: f32 = 24.0;
@@ -62,7 +64,8 @@ fn roots_and_pinned_points_move_exactly_with_the_body() {
     params.stretch_damping = 50.0;
     params.air_drag = 1.0;
     let mut scalp = Scalp::fixed();
-    let mut solver = Solver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
+    let mut solver =
+        MassSpringSolver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
     let mut worst = 0.0f32;
     for f in 1..=48 {
         // A large motion: 0.2 m and up to 4 rad (past half a turn) over two seconds.
@@ -102,7 +105,8 @@ fn goal_springs_track_the_animated_rest_shape() {
     params.stretch_damping = 50.0;
     params.air_drag = drag as f32;
     let mut scalp = Scalp::fixed();
-    let mut solver = Solver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
+    let mut solver =
+        MassSpringSolver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
     let (amplitude, angle, omega) = (0.05, 0.5, std::f64::consts::PI);
     let frames = 48;
     let dt = 1.0 / FPS as f64;
@@ -192,7 +196,7 @@ fn spin(flip: impl Fn(u32) -> bool, substeps: u32) -> (Vec<Vec<Vector3<f32>>>, R
         substeps: hair_core::Substeps::Fixed(substeps),
         ..SolverSettings::default()
     };
-    let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
     let axis = nalgebra::Unit::new_normalize(Vector3::new(0.3, -0.2, 1.0));
     let mut frames = Vec::new();
     for f in 1..=40 {
@@ -250,7 +254,7 @@ fn solver_auto_substeps_even() -> u32 {
     let (strands, _) = strands_on_head(0.0);
     let mut params = bare_params(200.0);
     params.bend_stiffness = 0.5;
-    let solver = Solver::new(
+    let solver = MassSpringSolver::new(
         SolverSettings::default(),
         params,
         &strands,

@@ -1,4 +1,4 @@
-//! Sag-free initialisation (`hair_core::solver::sag_free`): a groomed shape made a static
+//! Sag-free initialisation (`hair_core::integrate::sag_free`): a groomed shape made a static
 //! equilibrium under gravity holds still when the simulation starts, while the same groom without
 //! it sags by centimetres.
 //!
@@ -12,9 +12,10 @@
 mod common;
 
 use common::*;
-use hair_core::solver::sag_free::residual_forces;
+use hair_core::integrate::sag_free::residual_forces;
 use hair_core::{
-    make_sag_free, HairParams, SagFreeLimits, Scalp, Solver, SolverSettings, StrandInput, StrandSet,
+    make_sag_free, HairParams, MassSpringSolver, SagFreeLimits, Scalp, SolverSettings, StrandInput,
+    StrandSet,
 };
 use nalgebra::{Isometry3, Vector3};
 
@@ -65,7 +66,8 @@ fn settle(inputs: &[StrandInput], params: HairParams, sag_free: bool) -> (f32, f
         assert_eq!(report.balanced, inputs.len());
     }
     let groom = strands.positions.clone();
-    let mut solver = Solver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
+    let mut solver =
+        MassSpringSolver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
     run(&mut solver, &mut strands, &scalp, FRAMES, |_, _| {}).unwrap();
     drift(&strands, &groom)
 }
@@ -197,7 +199,8 @@ fn sag_free_strand_still_swings_when_its_root_moves() {
     let roots = strands.root_frames(&scalp);
     make_sag_free(&mut strands, &p, &roots, SagFreeLimits::default()).unwrap();
     let groom = strands.positions.clone();
-    let mut solver = Solver::new(SolverSettings::default(), p, &strands, &scalp, 0).unwrap();
+    let mut solver =
+        MassSpringSolver::new(SolverSettings::default(), p, &strands, &scalp, 0).unwrap();
     // Jerk the root 5 cm sideways (y) over 4 frames, then hold it there.
     let mut swing = 0.0f32;
     for frame in 0..FRAMES {
@@ -259,7 +262,8 @@ fn hair_on_the_builtin_head_holds_its_groom_when_sag_free() {
             assert!(report.unbalanced.is_empty());
         }
         let groom = strands.positions.clone();
-        let mut solver = Solver::new(SolverSettings::default(), p, &strands, &scalp, 0).unwrap();
+        let mut solver =
+            MassSpringSolver::new(SolverSettings::default(), p, &strands, &scalp, 0).unwrap();
         run(&mut solver, &mut strands, &scalp, FRAMES, |_, _| {}).unwrap();
         results.push(drift(&strands, &groom));
     }

@@ -13,8 +13,8 @@ mod common;
 use common::*;
 use hair_core::quality::resting_normals;
 use hair_core::{
-    make_sag_free, make_sag_free_supported, Collider, Colliders, HairParams, SagFreeLimits, Scalp,
-    Solver, SolverSettings, StrandInput,
+    make_sag_free, make_sag_free_supported, Collider, Colliders, HairParams, MassSpringSolver,
+    SagFreeLimits, Scalp, SolverSettings, StrandInput,
 };
 use nalgebra::{Isometry3, Vector3};
 
@@ -99,7 +99,7 @@ fn a_strand_lying_on_a_floor_needs_no_bending_when_the_floor_carries_it() {
     let groom = supported.positions.clone();
     let mut colliders = floor();
     let mut solver =
-        Solver::new(SolverSettings::default(), params(), &supported, &scalp, 0).unwrap();
+        MassSpringSolver::new(SolverSettings::default(), params(), &supported, &scalp, 0).unwrap();
     for _ in 0..24 {
         solver
             .step_frame_with_colliders(&mut supported, &scalp, &mut colliders)

@@ -24,7 +24,7 @@ mod common;
 
 use common::*;
 use hair_core::{
-    energy, HairError, Integrator, Scalp, Solver, SolverSettings, StrandSet, Substeps,
+    energy, HairError, Integrator, MassSpringSolver, Scalp, SolverSettings, StrandSet, Substeps,
 };
 use nalgebra::{DVector, Vector3};
 
@@ -39,7 +39,7 @@ const FRAMES: u32 = 100;
 /// Substep as a fraction of the solver's stability bound.
 const RATIO: f64 = 0.05;
 
-fn scene(integrator: Integrator) -> (StrandSet, Solver, Scalp) {
+fn scene(integrator: Integrator) -> (StrandSet, MassSpringSolver, Scalp) {
     let rest = straight(SEGMENTS, SEG_LEN, -Vector3::z());
     let mut mass = vec![MASS as f32; SEGMENTS + 1];
     mass[0] = 0.0;
@@ -60,7 +60,8 @@ fn scene(integrator: Integrator) -> (StrandSet, Solver, Scalp) {
 
     let params = bare_params(K as f32);
     // The bound depends on masses and stiffness only; pick fps so that h = RATIO × bound.
-    let probe = Solver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
+    let probe =
+        MassSpringSolver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
     let h = RATIO * probe.bound().dt_max;
     let settings = SolverSettings {
         max_strain: None,
@@ -71,12 +72,12 @@ fn scene(integrator: Integrator) -> (StrandSet, Solver, Scalp) {
         integrator,
         kernel: Default::default(),
     };
-    let solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
     (strands, solver, scalp)
 }
 
 /// Total mechanical energy, J.
-fn total_energy(strands: &StrandSet, solver: &Solver) -> f64 {
+fn total_energy(strands: &StrandSet, solver: &MassSpringSolver) -> f64 {
     energy(strands, solver.params(), solver.roots()).total()
 }
 

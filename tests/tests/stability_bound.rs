@@ -19,10 +19,10 @@
 mod common;
 
 use common::*;
-use hair_core::solver::stability::AUTO_SAFETY;
+use hair_core::integrate::stability::AUTO_SAFETY;
 use hair_core::{
-    HairError, HairParams, Integrator, Scalp, Solver, SolverSettings, StrandInput, StrandSet,
-    Substeps,
+    HairError, HairParams, Integrator, MassSpringSolver, Scalp, SolverSettings, StrandInput,
+    StrandSet, Substeps,
 };
 use nalgebra::Vector3;
 
@@ -70,7 +70,7 @@ fn probe(
 ) -> Option<HairError> {
     let scalp = Scalp::fixed();
     let mut strands = set.clone();
-    let bound = Solver::new(SolverSettings::default(), params, &strands, &scalp, 0)
+    let bound = MassSpringSolver::new(SolverSettings::default(), params, &strands, &scalp, 0)
         .unwrap()
         .bound();
     let h = ratio * bound.dt_max;
@@ -83,7 +83,7 @@ fn probe(
         integrator,
         kernel: Default::default(),
     };
-    let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
     for _ in 0..PROBE_FRAMES {
         match solver.step_frame(&mut strands, &scalp) {
             Ok(_) => assert!(all_finite(&strands), "non-finite state in an Ok frame"),
@@ -133,7 +133,7 @@ fn too_large_fixed_substep_stops_with_unstable_naming_frame_strand_and_bound() {
     let set = stiff_scene();
     let params = stiff_params();
     let scalp = Scalp::fixed();
-    let bound = Solver::new(SolverSettings::default(), params, &set, &scalp, 0)
+    let bound = MassSpringSolver::new(SolverSettings::default(), params, &set, &scalp, 0)
         .unwrap()
         .bound();
     // Strand 1 (light) sets the bound; strand 0 alone would allow a 4× larger substep.
@@ -149,7 +149,8 @@ fn too_large_fixed_substep_stops_with_unstable_naming_frame_strand_and_bound() {
         };
         let start_frame = 10;
         let mut strands = set.clone();
-        let mut solver = Solver::new(settings, params, &strands, &scalp, start_frame).unwrap();
+        let mut solver =
+            MassSpringSolver::new(settings, params, &strands, &scalp, start_frame).unwrap();
         let mut ok_frames = 0;
         let err = loop {
             match solver.step_frame(&mut strands, &scalp) {
@@ -198,7 +199,8 @@ fn auto_substeps_run_the_stiff_scene_with_bounded_stretch() {
     let mut strands = stiff_scene();
     let params = stiff_params();
     let scalp = Scalp::fixed();
-    let mut solver = Solver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
+    let mut solver =
+        MassSpringSolver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
     let mut worst = 0.0f32;
     run(&mut solver, &mut strands, &scalp, 96, |_, set| {
         assert!(all_finite(set));

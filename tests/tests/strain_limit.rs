@@ -6,7 +6,7 @@
 mod common;
 
 use common::*;
-use hair_core::{Integrator, Scalp, Solver};
+use hair_core::{Integrator, MassSpringSolver, Scalp};
 use nalgebra::Vector3;
 
 /// A horizontal chain of soft springs released under gravity: it swings down and whips.
@@ -29,7 +29,7 @@ fn swinging_chain(max_strain: Option<f32>) -> f32 {
     params.gravity = gravity();
     let mut settings = fixed_settings(24.0, 60, Integrator::SemiImplicitEuler);
     settings.max_strain = max_strain;
-    let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
     assert!(solver.dt() < solver.bound().dt_max * 0.8);
     let mut worst = 0.0f32;
     run(&mut solver, &mut strands, &scalp, 48, |_, set| {
@@ -80,7 +80,7 @@ fn inextensible_soft_pendulum_has_the_rigid_period() {
     let fps = 240.0f32;
     let mut settings = fixed_settings(fps, 4, Integrator::SemiImplicitEuler);
     settings.max_strain = Some(0.0);
-    let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
     let t_rigid = 2.0 * std::f64::consts::PI * (length / G).sqrt();
     let t_sagging = 2.0 * std::f64::consts::PI * ((length + mass * G / k) / G).sqrt();
     let frames = (10.0 * t_rigid * fps as f64).ceil() as u32;

@@ -17,7 +17,7 @@
 mod common;
 
 use common::*;
-use hair_core::{energy, HairParams, Integrator, Scalp, Solver, SolverSettings};
+use hair_core::{energy, HairParams, Integrator, MassSpringSolver, Scalp, SolverSettings};
 use nalgebra::{Isometry3, Vector3};
 
 /// Local maxima of |y| in a sampled signal, as (t, |y|).
@@ -57,7 +57,7 @@ fn single_segment_stretch_oscillation_decays_at_half_the_damping_rate() {
     params.stretch_damping = gamma as f32;
     let fps = 240.0f32;
     let settings = fixed_settings(fps, 10, Integrator::SemiImplicitEuler);
-    let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
     let mut samples = Vec::new();
     run(&mut solver, &mut strands, &scalp, 5 * 240, |s, set| {
         let stretch = (set.positions[1] - set.positions[0]).norm() as f64 - 0.1;
@@ -101,12 +101,12 @@ fn stretch_damping_drains_a_chain_stretch_oscillation() {
         // h = 0.1 × the bound: undamped, semi-implicit Euler keeps the energy within
         // [(1−a)/(1+a), (1+a)/(1−a)] of its start, a = h ω_max / 2 ≤ 0.1 (see
         // spring_chain_energy.rs).
-        let bound = Solver::new(SolverSettings::default(), params, &strands, &scalp, 0)
+        let bound = MassSpringSolver::new(SolverSettings::default(), params, &strands, &scalp, 0)
             .unwrap()
             .bound();
         let substeps = (1.0 / (24.0 * 0.1 * bound.dt_max)).ceil() as u32;
         let settings = fixed_settings(24.0, substeps, Integrator::SemiImplicitEuler);
-        let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+        let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
         let e0 = energy(&strands, &params, solver.roots()).total();
         let mut last = 0.0;
         run(&mut solver, &mut strands, &scalp, 48, |s, set| {
@@ -158,7 +158,7 @@ fn pendulum_swing_is_not_slowed_by_stretch_damping() {
         params.gravity = gravity();
         params.stretch_damping = damping;
         let settings = fixed_settings(240.0, 10, Integrator::SemiImplicitEuler);
-        let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+        let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
         let mut samples = Vec::new();
         run(&mut solver, &mut strands, &scalp, 3400, |s, set| {
             samples.push((s.frame() as f64 / 240.0, set.positions[1].x as f64));
@@ -213,7 +213,7 @@ fn strand_carried_at_constant_velocity_is_not_slowed() {
             ..HairParams::default()
         };
         let mut solver =
-            Solver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
+            MassSpringSolver::new(SolverSettings::default(), params, &strands, &scalp, 0).unwrap();
         let (mut worst_mean, mut worst_point) = (0.0f32, 0.0f32);
         for f in 1..=24 {
             scalp.body = Isometry3::translation(

@@ -9,7 +9,7 @@
 mod common;
 
 use common::collide::{Gap, ParryHead};
-use hair_core::strips::{
+use hair_core::model::strips::{
     HeadShape, RootAngleLimit, StripGrowth, StripSet, StripSettings, StripSolver,
 };
 use hair_core::{Colliders, HairParams, Scalp, SolverSettings, TriMesh};

@@ -11,12 +11,12 @@ mod common;
 
 use common::*;
 use hair_core::quality::{measure, Frame, Previous, QualityInput, QualityOptions};
-use hair_core::{Integrator, Scalp, Solver, StrandSet, Substeps};
+use hair_core::{Integrator, MassSpringSolver, Scalp, StrandSet, Substeps};
 use nalgebra::Vector3;
 
 /// A Sintel-like strand: `segments` soft segments of 3 mm (1 g/m), 1 % strain limit, Sintel's
 /// stretch, bending, damping and drag, rooted at the origin and grown along root-local `dir`.
-fn sintel_strand(segments: usize, dir: Vector3<f32>) -> (StrandSet, Solver) {
+fn sintel_strand(segments: usize, dir: Vector3<f32>) -> (StrandSet, MassSpringSolver) {
     let seg = 0.003f32;
     let rest = straight(segments, seg, dir);
     let scalp = Scalp::fixed();
@@ -37,7 +37,7 @@ fn sintel_strand(segments: usize, dir: Vector3<f32>) -> (StrandSet, Solver) {
     let mut settings = fixed_settings(24.0, 1, Integrator::SemiImplicitEuler);
     settings.substeps = Substeps::Auto;
     settings.max_strain = Some(0.01);
-    let solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
     (strands, solver)
 }
 
@@ -119,7 +119,7 @@ fn stored_velocity_is_the_displacement_of_the_last_substep() {
     let fps = 1440.0;
     let mut settings = fixed_settings(fps, 1, Integrator::SemiImplicitEuler);
     settings.max_strain = Some(0.01);
-    let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
     let mut worst = 0.0f32;
     let mut fastest = 0.0f32;
     for _ in 0..1440 {
@@ -154,10 +154,11 @@ fn hermite_midpoints_follow_the_solver_path() {
     let substeps = auto.substeps().next_multiple_of(2);
     let mut settings = *auto.settings();
     settings.substeps = Substeps::Fixed(substeps);
-    let mut solver = Solver::new(settings, *auto.params(), &coarse, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings, *auto.params(), &coarse, &scalp, 0).unwrap();
     settings.fps = 48.0;
     settings.substeps = Substeps::Fixed(substeps / 2);
-    let mut fine_solver = Solver::new(settings, *auto.params(), &fine, &scalp, 0).unwrap();
+    let mut fine_solver =
+        MassSpringSolver::new(settings, *auto.params(), &fine, &scalp, 0).unwrap();
     let dt = 1.0 / 24.0f32;
     let (mut hermite, mut linear) = (Vec::new(), Vec::new());
     let mut mismatches = Vec::new();
@@ -204,7 +205,7 @@ fn hermite_midpoints_follow_the_solver_path() {
         "Hermite with the cached velocities ({h99} m) is no better than linear ({l99} m)"
     );
     // Resolved motion gives Δt²/12 |x‴|; what remains here is the strand's small fast motion
-    // at the limit (see the Limits of `hair_core::solver` strain_limit), about 0.1 m/s. The
+    // at the limit (see the Limits of `hair_core::integrate` strain_limit), about 0.1 m/s. The
     // failure this guards against read 0.25 m/s (Sintel) to 2 m/s.
     assert!(m99 < 0.2, "velocity–position mismatch p99 {m99} m/s");
 }

@@ -7,7 +7,7 @@
 //! figures.
 
 use hair_core::quality::{measure, Frame, Previous, QualityInput, QualityOptions};
-use hair_core::{QualityReport, Solver};
+use hair_core::{MassSpringSolver, QualityReport};
 use hairsys::scene::SceneFile;
 
 #[test]
@@ -15,7 +15,7 @@ fn sintel_velocities_match_the_motion() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/sintel.toml");
     let mut sim = SceneFile::load(&path).unwrap().build().unwrap();
     let first = sim.first_frame;
-    let mut solver = Solver::new(
+    let mut solver = MassSpringSolver::new(
         sim.settings,
         sim.params,
         &sim.strands,
@@ -62,7 +62,7 @@ fn sintel_velocities_match_the_motion() {
     );
     // The failure was the bulk of the hair carrying a stale velocity (median 0.27 m/s over this
     // second before the fix). The tail is fast collapse motion 24 fps does not resolve (p99
-    // 0.67 m/s, see the Limits of the strain limit in `hair_core::solver`), so the median is
+    // 0.67 m/s, see the Limits of the strain limit in `hair_core::integrate`), so the median is
     // what this holds.
     assert!(m.p50() < 0.1, "mismatch p50 {} m/s", m.p50());
 }

@@ -1,5 +1,5 @@
 //! The XPBD integrator (`Integrator::Xpbd`: compliant constraints with small steps,
-//! `hair_core::solver` module `xpbd`) against analytic values, at substeps the explicit kernel
+//! `hair_core::integrate` module `xpbd`) against analytic values, at substeps the explicit kernel
 //! cannot take:
 //!
 //! - **pendulum**: a bob on a stiff spring (√(k/m) = 1000 rad/s) at h = 1/96 s (ω_spring h ≈ 10,

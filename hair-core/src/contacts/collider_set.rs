@@ -3,8 +3,8 @@
 //!
 //! A host inserts colliders once, then sets each one's pose for every frame
 //! ([`Colliders::set_pose`], the pose at the frame's end instant) before
-//! [`crate::Solver::step_frame_with_colliders`]. Within a frame a collider moves from the previous
-//! frame's pose to the new one, translation linear and rotation by normalised quaternion
+//! [`crate::MassSpringSolver::step_frame_with_colliders`]. Within a frame a collider moves from the
+//! previous frame's pose to the new one, translation linear and rotation by normalised quaternion
 //! interpolation (the shorter way round), as the hair roots do. A mesh collider's vertices may
 //! also move ([`Colliders::set_vertices`], body space, linear per vertex within the frame; see
 //! [`super::deforming`]). A collider inserted with [`Colliders::insert_scalp`] follows the
@@ -209,6 +209,10 @@ impl Entry {
 
 /// The colliders hair collides with, their rapier collider set and broad phase, and the settings
 /// of fast-motion stepping. See the module docs.
+///
+/// All of it is state that a snapshot keeps, contact detection's memory included: its
+/// warm-start triangles can choose between near-tied features inside a solid (see
+/// [`crate::contacts`], "Resuming"), so a set without it is not certain to give the same bits.
 #[derive(Clone)]
 pub struct Colliders {
     pub(crate) set: ColliderSet,

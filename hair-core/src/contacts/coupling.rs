@@ -8,7 +8,7 @@
 //! Sintel bust's ears, whose rims are a few millimetres thick against 5–10 mm segments — the
 //! two, run one after the other, fight: the strain limit pulls a point back into the ear, the
 //! next substep's response pushes it out again, and because the strain limit turns every
-//! displacement it makes into velocity (`Δv = Δx/dt`, `solver::strain_limit`), each push-out is
+//! displacement it makes into velocity (`Δv = Δx/dt`, `integrate::strain_limit`), each push-out is
 //! handed on to the point's neighbours as velocity towards it. At ~2,600 substeps a frame that
 //! pumps energy into the strands: on the shipped Sintel scene without this coupling (and without
 //! `detect`'s rule for narrow concave spheres), 89 strands around her ears move more than 1 cm in
@@ -56,7 +56,7 @@
 //!   found it.
 
 use super::penalty::{surface_model, ContactLanes};
-use crate::solver::lanes::{splat, Lane, V3};
+use crate::integrate::lanes::{splat, Lane, V3};
 
 /// Most rounds of (contact projection, length constraints) per phase and substep.
 pub(crate) const ROUNDS: u32 = 4;
@@ -93,7 +93,7 @@ pub(crate) struct SubstepContacts<'a, L: Lane> {
 
 /// The length constraints the contacts are solved with: called with the positions (m), the
 /// velocities (m/s) and what is corrected. Implementations mark `apply` `#[inline(always)]`
-/// so it is compiled into the kernel's AVX2 copy (see `solver::kernel`).
+/// so it is compiled into the kernel's AVX2 copy (see `integrate::kernel`).
 pub(crate) trait Lengths<L: Lane> {
     /// Applies the constraints to one group's `x` and `v`.
     fn apply(&mut self, x: &mut [V3<L>], v: &mut [V3<L>], correction: Correction);
@@ -187,7 +187,7 @@ fn project<L: Lane>(
 mod tests {
     use super::*;
     use crate::contacts::detect::NO_CONTACT;
-    use crate::solver::lanes::Baseline;
+    use crate::integrate::lanes::Baseline;
     use nalgebra::Vector3;
 
     /// The ground z = 0 under every lane, static, frictionless.

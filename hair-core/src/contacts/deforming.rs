@@ -45,8 +45,8 @@
 //! displacement and change of bending: linear in the mesh size, measured in
 //! `benches/deforming.rs`. A frame of one step pays one reshape (at its end, which is the next
 //! frame's start); a frame split into `k` steps pays `k`. A collider that does not deform in a
-//! frame pays a comparison of its vertex arrays. The rod model (`crate::rod`) projects onto the
-//! shape in every substep: it sees a deforming mesh at the frame's end for the whole frame, and
+//! frame pays a comparison of its vertex arrays. The rod model (`crate::model::rod`) projects onto
+//! the shape in every substep: it sees a deforming mesh at the frame's end for the whole frame, and
 //! its distance memory is reset whenever the shape moved.
 //!
 //! # Resuming

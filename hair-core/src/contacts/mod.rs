@@ -30,7 +30,7 @@
 //! let ball = colliders
 //!     .insert(Collider::sphere(0.1).with_thickness(1e-3).with_friction(0.3), Isometry3::identity())
 //!     .unwrap();
-//! // Every frame: the pose at the frame's end, then Solver::step_frame_with_colliders.
+//! // Every frame: the pose at the frame's end, then MassSpringSolver::step_frame_with_colliders.
 //! colliders.set_pose(ball, Isometry3::translation(0.0, 0.0, 0.05)).unwrap();
 //!
 //! // A deforming mesh: its body-space vertices at the frame's end, same count and order as the

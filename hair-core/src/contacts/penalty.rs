@@ -32,7 +32,7 @@
 //!   corrected within the substep, as a small step's contact would have prevented it. On the
 //!   parity scene's hair at one BDF2 substep per frame such depth comes from the BDF2 substep
 //!   (up to 93 mm; the backward Euler third before it makes under 1 mm), whose start
-//!   extrapolates the previous substep's motion (`solver::implicit`) and so carries on an
+//!   extrapolates the previous substep's motion (`integrate::implicit`) and so carries on an
 //!   approach that contact had stopped. Capping that too leaves tips 1–7 cm inside the head;
 //!   with the found depth held apart the deepest point is 1.9 mm, as at 18 semi-implicit
 //!   substeps;
@@ -42,7 +42,7 @@
 //!
 //! **Velocities and positions.** Everywhere else in the substep the stored velocity is the one
 //! that moved the point (semi-implicit Euler, and the strain limit moves velocities by its
-//! displacements over dt, see `solver::strain_limit`). The push-out is the one deliberate
+//! displacements over dt, see `integrate::strain_limit`). The push-out is the one deliberate
 //! exception: storing its displacement over dt as velocity would launch a point found 5 mm
 //! inside at 5 mm/dt outward — at 0.5 ms substeps, 10 m/s, exactly the bounce Choe et al.
 //! exclude — and the next substep would see a point leaving the surface and let it fly. So the
@@ -56,7 +56,7 @@
 //! to stop the penetrating velocity in one substep, applied as the impulse it would deliver, so it
 //! adds no stiffness to the stability bound.
 
-use crate::solver::lanes::{div_or_zero, splat, Baseline, Lane, V3};
+use crate::integrate::lanes::{div_or_zero, splat, Baseline, Lane, V3};
 
 /// One step's contact data of a point, in lanes.
 #[derive(Clone, Copy, Default)]

@@ -103,10 +103,12 @@ impl HairHairSettings {
     }
 }
 
-/// The per-step hair–hair pass: settings, the grid and per-point buffers, kept between steps.
+/// The per-step hair–hair pass: the hair volume of each point (fixed by the strands), and the
+/// grid and per-point buffers, which every step rebuilds before reading (their allocations are
+/// kept between steps). The settings are the caller's: they are state a host may change between
+/// steps, and a solver keeps them with its state.
 #[derive(Debug, Clone)]
 pub struct HairHair {
-    settings: HairHairSettings,
     grid: VoxelGrid,
     /// Hair volume per point, m³.
     volumes: Vec<f32>,
@@ -115,8 +117,8 @@ pub struct HairHair {
 }
 
 impl HairHair {
-    /// Prepares the pass for `strands` (validates the settings).
-    pub fn new(settings: HairHairSettings, strands: &StrandSet) -> Result<Self> {
+    /// Prepares the pass for `strands` with `settings` (validated).
+    pub fn new(settings: &HairHairSettings, strands: &StrandSet) -> Result<Self> {
         settings.validate()?;
         VoxelGrid::check(settings.cell_size, &strands.positions)?;
         let mut volumes = vec![0.0; strands.point_count()];
@@ -130,21 +132,10 @@ impl HairHair {
             }
         }
         Ok(Self {
-            settings,
             grid: VoxelGrid::default(),
             volumes,
             dv: Vec::new(),
         })
-    }
-
-    /// Settings in use.
-    pub fn settings(&self) -> &HairHairSettings {
-        &self.settings
-    }
-
-    /// Settings to change between steps (validated again at the next step).
-    pub fn settings_mut(&mut self) -> &mut HairHairSettings {
-        &mut self.settings
     }
 
     /// The grid of the last step.
@@ -152,17 +143,18 @@ impl HairHair {
         &self.grid
     }
 
-    /// One collision step: builds the grid from the current state, applies friction to
-    /// `strands.velocities` (along-segment relative velocities kept, see the module doc) and adds
-    /// the repulsion acceleration (m/s²) of every free point to `accel`. `blocks` are ranges of
-    /// strands processed as units (any partition gives the same result).
+    /// One collision step with `settings` (validated): builds the grid from the current state,
+    /// applies friction to `strands.velocities` (along-segment relative velocities kept, see the
+    /// module doc) and adds the repulsion acceleration (m/s²) of every free point to `accel`.
+    /// `blocks` are ranges of strands processed as units (any partition gives the same result).
     pub fn step(
         &mut self,
+        settings: &HairHairSettings,
         strands: &mut StrandSet,
         accel: &mut [Vector3<f32>],
         blocks: &[std::ops::Range<usize>],
     ) -> Result<()> {
-        let s = self.settings;
+        let s = *settings;
         s.validate()?;
         if self.volumes.len() != strands.point_count() || accel.len() != strands.point_count() {
             return Err(HairError::Parameter {

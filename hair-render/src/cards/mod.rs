@@ -1,6 +1,6 @@
 //! Hair cards: the ribbon surface of each strip of the seed-000 strip model
-//! ([`hair_core::strips`]), as one quad mesh with UVs (u across the strip, 0 at the left edge;
-//! v from root 0 to tip 1).
+//! ([`hair_core::model::strips`]), as one quad mesh with UVs (u across the strip, 0 at the left
+//! edge; v from root 0 to tip 1).
 //!
 //! # The surface
 //! Along its length each edge strand is a cubic Hermite curve through its points with
@@ -16,14 +16,14 @@
 //! it. Two measures fix it here:
 //! 1. the root tangent is the follicle direction, so every edge leaves the scalp along its own
 //!    growth direction, not along the chord; with the strip model's root angle limiter
-//!    ([`hair_core::strips::RootAngleLimit`]) the first segment itself never lies flat;
+//!    ([`hair_core::model::strips::RootAngleLimit`]) the first segment itself never lies flat;
 //! 2. every sampled surface vertex — all rows, all columns, not only the edge strands — is
 //!    tested against the head ([`HeadShape`]: bounding sphere first, then the mesh) and one
 //!    inside or closer than `clearance` is moved out along the surface normal to `clearance`.
 //!    The root row thus sits `clearance` above the scalp. With dense rows the triangles between
 //!    vertices stay outside to within the sampling's sag.
 
-use hair_core::strips::{HeadShape, StripSet};
+use hair_core::model::strips::{HeadShape, StripSet};
 use hair_core::Scalp;
 use nalgebra::Vector3;
 

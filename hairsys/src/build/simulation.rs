@@ -3,11 +3,11 @@
 //! motion, colliders, fields, hair–hair, the strand model, animated guides, regions and maps.
 //! It evaluates the rig at a (possibly fractional) frame for the session that runs it.
 
-use hair_core::strips::{HeadShape, StripSolver};
+use hair_core::model::strips::{HeadShape, StripSolver};
 use hair_core::{
     Collider, ColliderId, ColliderShape, Colliders, ContactSettings, HairError, HairParams,
-    RodParams, RodSolver, Scalp, Solver, SolverSettings, StrandModel, StrandScales, StrandSet,
-    StrandSolver, TriMesh,
+    MassSpringSolver, RodParams, RodSolver, Scalp, SolverSettings, StrandModel, StrandScales,
+    StrandSet, StrandSolver, TriMesh,
 };
 use nalgebra::Vector3;
 
@@ -93,7 +93,7 @@ pub struct Simulation {
     /// `[solver] inextensibility`: the projection of the mass-spring model, if on.
     pub inextensibility: Option<hair_core::Inextensibility>,
     /// `[strips]` settings when `[solver] model = "strips"` (strip `k` = strands `2k`, `2k + 1`).
-    pub strips: Option<hair_core::strips::StripSettings>,
+    pub strips: Option<hair_core::model::strips::StripSettings>,
     /// Animated guides (`[[guides.pose]]`, `[guides.sim_weight]`, pins, hold-outs), if keyed.
     pub guide_animation: Option<crate::rig::animated_guides::GuideAnimation>,
     /// `[[regions]]` and `[maps.stiffness]` resolved to strands (empty: one material).
@@ -117,7 +117,7 @@ impl Simulation {
         let scalp = self.scalp_at(self.first_frame as f32);
         Ok(match self.model {
             StrandModel::MassSpring => {
-                let mut solver = Solver::new(
+                let mut solver = MassSpringSolver::new(
                     self.settings,
                     self.params,
                     &self.strands,
@@ -177,8 +177,8 @@ impl Simulation {
     /// the scene asks for it.
     pub fn with_inextensibility(
         &self,
-        solver: hair_core::Solver,
-    ) -> Result<hair_core::Solver, HairError> {
+        solver: hair_core::MassSpringSolver,
+    ) -> Result<hair_core::MassSpringSolver, HairError> {
         match self.inextensibility {
             Some(p) => solver.with_inextensibility(p),
             None => Ok(solver),

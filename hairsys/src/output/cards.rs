@@ -13,7 +13,7 @@ use super::OutputError;
 use std::path::PathBuf;
 
 use hair_cache::Interpolation;
-use hair_core::strips::HeadShape;
+use hair_core::model::strips::HeadShape;
 use hair_render::export::cards_obj::{export_cards_obj, ObjUpAxis};
 use hair_render::export::cards_usd::{export_cards_usda, CardSample, CardUsdOptions};
 use hair_render::{build_cards, CardMesh, CardSettings};

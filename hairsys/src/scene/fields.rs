@@ -28,7 +28,7 @@
 //! attracts). Turbulence also takes `size` (m, feature size) and `flow` (feature sizes per
 //! second the pattern drifts).
 
-use hair_core::{Falloff, FieldKind, ForceField, HairError, Solver, Strength};
+use hair_core::{Falloff, FieldKind, ForceField, HairError, MassSpringSolver, Strength};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -162,7 +162,10 @@ fn field_message(e: &HairError) -> String {
 
 impl Simulation {
     /// `solver` with the scene's hair–hair interaction and force fields switched on.
-    pub fn with_interactions(&self, mut solver: Solver) -> Result<Solver, HairError> {
+    pub fn with_interactions(
+        &self,
+        mut solver: MassSpringSolver,
+    ) -> Result<MassSpringSolver, HairError> {
         if let Some(h) = self.hair_hair {
             solver = solver.with_hair_hair(h, &self.strands)?;
         }

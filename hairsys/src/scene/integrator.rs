@@ -23,7 +23,7 @@
 //! more accurate of the two per substep). Where a rest joint of the groom turns by more than
 //! [`MAX_IMPLICIT_REST_TURN`], BDF2's substep is [`SHARP_JOINT_BDF2_DT`] instead (32 per frame at
 //! 24 fps), and the cost comparison uses that count. Those grooms take bending's Gauss–Newton
-//! Hessian (`hair_core::solver` module `implicit`, above 30°), with which BDF2 holds them, but
+//! Hessian (`hair_core::integrate` module `implicit`, above 30°), with which BDF2 holds them, but
 //! only at the finer step:
 //! - on the bench's curly hair (every joint 46°) BDF2 gains energy at 8 substeps per frame
 //!   (stretch 73 %) and 16 (14 %), and holds the converged run's 0.14 % from 32 (0.16 %);
@@ -97,7 +97,7 @@ pub const MAX_IMPLICIT_REST_TURN: f64 = std::f64::consts::FRAC_PI_4;
 pub const SHARP_JOINT_BDF2_DT: f64 = 1.0 / 768.0;
 
 /// Substeps shorter than this (s) put BDF2 on sharply bent hair where it can flutter (module
-/// docs of `hair_core::solver` module `implicit`): on the bench's curly hair (46° joints) it
+/// docs of `hair_core::integrate` module `implicit`): on the bench's curly hair (46° joints) it
 /// settles at 1/1536 s and gains energy, stretching 2–5 %, at 1/3072–1/12288 s.
 /// 1/2048 s lies between; the window's short end moves with the physical damping, so every
 /// shorter substep is warned of.
@@ -285,8 +285,9 @@ impl IntegratorChoice {
         let explicit_substeps = with(Integrator::SemiImplicitEuler);
         let sharp = max_rest_turn > MAX_IMPLICIT_REST_TURN;
         // A sharply bent groom's BDF2 takes the finer step (module docs).
-        let substeps_override = (sharp && settings.substeps == Substeps::Auto)
-            .then(|| hair_core::solver::substeps_within(settings.step_dt(), SHARP_JOINT_BDF2_DT));
+        let substeps_override = (sharp && settings.substeps == Substeps::Auto).then(|| {
+            hair_core::integrate::substeps_within(settings.step_dt(), SHARP_JOINT_BDF2_DT)
+        });
         let implicit_substeps = substeps_override.unwrap_or_else(|| with(Integrator::Bdf2));
         // BDF2 is the cheaper (or, at a fixed count, the only stable) of the two.
         let cheaper = match settings.substeps {
@@ -475,7 +476,7 @@ mod tests {
         let stiff = IntegratorChoice::Auto.resolve(
             StrandModel::MassSpring,
             &s,
-            &bound(step / 165.0 / hair_core::solver::stability::AUTO_SAFETY),
+            &bound(step / 165.0 / hair_core::integrate::stability::AUTO_SAFETY),
             0.5,
             &ContactLoad::default(),
         );
@@ -484,7 +485,7 @@ mod tests {
         let soft = IntegratorChoice::Auto.resolve(
             StrandModel::MassSpring,
             &s,
-            &bound(step / 12.0 / hair_core::solver::stability::AUTO_SAFETY),
+            &bound(step / 12.0 / hair_core::integrate::stability::AUTO_SAFETY),
             0.5,
             &ContactLoad::default(),
         );
@@ -494,7 +495,7 @@ mod tests {
         let tie = IntegratorChoice::Auto.resolve(
             StrandModel::MassSpring,
             &s,
-            &bound(step / 21.0 / hair_core::solver::stability::AUTO_SAFETY * 1.000001),
+            &bound(step / 21.0 / hair_core::integrate::stability::AUTO_SAFETY * 1.000001),
             0.5,
             &ContactLoad::default(),
         );
@@ -507,7 +508,7 @@ mod tests {
     #[test]
     fn auto_takes_bdf2_at_the_finer_step_where_a_rest_joint_turns_sharply() {
         let step = 1.0 / 24.0;
-        let b = bound(step / 2626.0 / hair_core::solver::stability::AUTO_SAFETY);
+        let b = bound(step / 2626.0 / hair_core::integrate::stability::AUTO_SAFETY);
         let at = |turn_deg: f64, substeps: Substeps, b: &StabilityBound| {
             IntegratorChoice::Auto.resolve(
                 StrandModel::MassSpring,
@@ -533,7 +534,7 @@ mod tests {
         );
         assert!(sharp.reason().contains("83°"), "{}", sharp.reason());
         // 48 explicit substeps would take BDF2 at 7, but not at 32.
-        let soft = bound(step / 48.0 / hair_core::solver::stability::AUTO_SAFETY);
+        let soft = bound(step / 48.0 / hair_core::integrate::stability::AUTO_SAFETY);
         assert_eq!(at(32.0, Substeps::Auto, &soft).integrator, Integrator::Bdf2);
         let sharp_soft = at(83.0, Substeps::Auto, &soft);
         assert_eq!(sharp_soft.integrator, Integrator::SemiImplicitEuler);
@@ -550,7 +551,7 @@ mod tests {
     /// and straighter hair are not.
     #[test]
     fn named_implicit_integrators_are_warned_of_off_the_steps_sharp_hair_holds() {
-        let b = bound(1.0 / 24.0 / 2626.0 / hair_core::solver::stability::AUTO_SAFETY);
+        let b = bound(1.0 / 24.0 / 2626.0 / hair_core::integrate::stability::AUTO_SAFETY);
         let at = |choice: IntegratorChoice, turn_deg: f64, substeps: Substeps| {
             choice
                 .resolve(
@@ -614,7 +615,7 @@ mod tests {
     #[test]
     fn auto_keeps_semi_implicit_euler_under_hard_contact() {
         let step = 1.0 / 24.0;
-        let b = bound(step / 165.0 / hair_core::solver::stability::AUTO_SAFETY);
+        let b = bound(step / 165.0 / hair_core::integrate::stability::AUTO_SAFETY);
         let s = settings(Substeps::Auto);
         let at = |contact: ContactLoad| {
             IntegratorChoice::Auto.resolve(StrandModel::MassSpring, &s, &b, 0.3, &contact)
@@ -668,7 +669,7 @@ mod tests {
     #[test]
     fn a_fixed_count_below_the_stability_bound_takes_bdf2() {
         let step = 1.0 / 24.0;
-        let b = bound(step / 100.0 / hair_core::solver::stability::AUTO_SAFETY);
+        let b = bound(step / 100.0 / hair_core::integrate::stability::AUTO_SAFETY);
         let below = IntegratorChoice::Auto.resolve(
             StrandModel::MassSpring,
             &settings(Substeps::Fixed(20)),

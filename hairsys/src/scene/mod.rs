@@ -183,7 +183,7 @@ pub struct SolverSection {
     pub inextensibility: bool,
     /// Sag-free initialisation (mass-spring model): rest directions solved so that the groom is
     /// a static equilibrium under gravity at the first frame (see
-    /// `hair_core::solver::sag_free`); hair within two strand radii of a collider (the scalp
+    /// `hair_core::integrate::sag_free`); hair within two strand radii of a collider (the scalp
     /// collider included) rests on it, which carries the outward part of its weight. Off by
     /// default.
     #[serde(skip_serializing_if = "std::ops::Not::not")]

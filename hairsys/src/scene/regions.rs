@@ -17,9 +17,9 @@
 //! the root) and gives any of the `[physics]` keys `stretch_stiffness`, `bend_stiffness`,
 //! `goal_stiffness`, `stretch_damping` and `air_drag` in the same units, plus `mass_scale` and
 //! `radius_scale`. The solver runs each strand with its own parameters (see
-//! `hair_core::Solver::with_strand_scales`): they are kept as factors of `[physics]`, so a host
-//! animating `[physics]` moves every region with it; `[physics]` must therefore give a component
-//! a region uses (a region cannot switch on bending the scene has off).
+//! `hair_core::MassSpringSolver::with_strand_scales`): they are kept as factors of `[physics]`, so
+//! a host animating `[physics]` moves every region with it; `[physics]` must therefore give a
+//! component a region uses (a region cannot switch on bending the scene has off).
 //!
 //! **Overlaps: the last region wins, key by key.** Regions apply in file order; a hair in two
 //! regions takes each key from the later region that gives it, and the earlier region's value

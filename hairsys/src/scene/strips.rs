@@ -3,7 +3,7 @@
 //! most `max_strips`); each strip's two edge strands are the simulated strands of the scene, so
 //! the cache holds them like any other strands (strip `k` = strands `2k`, `2k + 1`).
 
-use hair_core::strips::{RootAngleLimit, StripGrowth, StripSet, StripSettings};
+use hair_core::model::strips::{RootAngleLimit, StripGrowth, StripSet, StripSettings};
 use hair_core::TriMesh;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -12,8 +12,8 @@ use crate::scene::RegionSection;
 
 /// `[strips]`.
 ///
-/// Not a pair of `hair_core::strips` types, on purpose: the section is one flat table where the
-/// library splits growth ([`StripGrowth`]) from stepping ([`StripSettings`]), gives the root
+/// Not a pair of `hair_core::model::strips` types, on purpose: the section is one flat table where
+/// the library splits growth ([`StripGrowth`]) from stepping ([`StripSettings`]), gives the root
 /// angle in degrees where [`RootAngleLimit`] holds radians, and adds scene-only choices of which
 /// triangles grow strips (`every`, `max_strips`, `region`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

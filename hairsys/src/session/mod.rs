@@ -22,8 +22,10 @@
 //! was built from a scene ([`Session::from_scene`]), and otherwise stays where it was.
 //!
 //! # State and scratch
-//! The state a frame depends on is the strands' positions and velocities, the solver's root
-//! frames and frame number, the colliders' poses and the scalp; everything else (contact lists,
+//! The state a frame depends on is the strands' positions and velocities, the solver's state
+//! ([`StrandSolverState`](hair_core::StrandSolverState): frame number, root frames, the rod's
+//! twist, the parameters a host changes between frames), the colliders and the scalp; the
+//! solver's workspace (contact lists,
 //! the hair–hair grid) is scratch rebuilt every step. [`Session::snapshot`] copies the state and
 //! [`Session::restore`] puts it back, for scrubbing; stepping on from a restored snapshot gives
 //! the same bits as stepping on from where it was taken.

@@ -3,8 +3,8 @@
 //! [`crate::scene::regions`].
 //!
 //! A change goes to the solver as new per-strand factors of the current `[physics]`
-//! (`hair_core::Solver::set_strand_scales`); like [`Session::params_mut`] it keeps the substep,
-//! so a region made stiffer than `substeps = "auto"` was chosen for may make the next step
+//! (`hair_core::MassSpringSolver::set_strand_scales`); like [`Session::params_mut`] it keeps the
+//! substep, so a region made stiffer than `substeps = "auto"` was chosen for may make the next step
 //! unstable, which that step reports. Mass and radius are fixed when the scene is built.
 //! [`Session::restore`] puts back the solver's factors of the snapshot's frame, but
 //! [`Session::region_params`] keeps reporting the values last set (the region table is not part

@@ -2,7 +2,7 @@
 //! restored snapshot gives the same bits as stepping on from where it was taken.
 
 use hair_core::frames::RestDirection;
-use hair_core::{Colliders, Scalp, StrandSolver};
+use hair_core::{Colliders, Scalp, StrandSolverState};
 use nalgebra::Vector3;
 
 use crate::error::{Error, Result};
@@ -15,7 +15,7 @@ pub struct Snapshot {
     frame: u32,
     positions: Vec<Vector3<f32>>,
     velocities: Vec<Vector3<f32>>,
-    solver: StrandSolver,
+    solver: StrandSolverState,
     colliders: Colliders,
     scalp: Scalp,
     /// Animated rest shapes and rest directions, with animated guides.
@@ -38,7 +38,7 @@ impl Session {
             frame: self.frame(),
             positions: self.strands.positions.clone(),
             velocities: self.strands.velocities.clone(),
-            solver: self.solver.clone(),
+            solver: self.solver.snapshot_state(),
             colliders: self.colliders.clone(),
             scalp: self.scalp.clone(),
             rest: self.guides.as_ref().map(|_| {
@@ -76,9 +76,11 @@ impl Session {
                 ),
             ));
         }
+        self.solver
+            .restore_state(&snapshot.solver)
+            .map_err(|e| Error::argument("snapshot", e.to_string()))?;
         self.strands.positions.clone_from(&snapshot.positions);
         self.strands.velocities.clone_from(&snapshot.velocities);
-        self.solver = snapshot.solver.clone();
         self.colliders = snapshot.colliders.clone();
         self.scalp = snapshot.scalp.clone();
         self.rig.deformed.clone_from(&snapshot.rig);

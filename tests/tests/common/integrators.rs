@@ -2,7 +2,9 @@
 //! `tests/tests/xpbd.rs`): a swinging chain, its energy undamped over ten seconds, and a small
 //! head scene with everything that acts on a strand, bit-identical across threads and resume.
 
-use hair_core::{energy, HairParams, Integrator, Scalp, Solver, SolverSettings, StrandSet};
+use hair_core::{
+    energy, HairParams, Integrator, MassSpringSolver, Scalp, SolverSettings, StrandSet,
+};
 use nalgebra::Vector3;
 
 use super::*;
@@ -37,7 +39,7 @@ pub fn swing_params() -> HairParams {
 /// Positions after `frames` frames at 24 fps with `substeps` substeps per frame of `integrator`.
 pub fn swing(integrator: Integrator, substeps: u32, frames: u32) -> Vec<Vector3<f64>> {
     let (mut strands, scalp) = horizontal_chain(8, 0.05, 1e-3);
-    let mut solver = Solver::new(
+    let mut solver = MassSpringSolver::new(
         fixed_settings(24.0, substeps, integrator),
         swing_params(),
         &strands,
@@ -58,8 +60,8 @@ pub fn assert_undamped_chain_gains_no_energy(integrator: Integrator, name: &str)
     params.stretch_damping = 0.0;
     let mut settings = fixed_settings(24.0, 8, integrator);
     settings.damping_iterations = 0;
-    let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
-    let total = |set: &StrandSet, s: &Solver| energy(set, s.params(), s.roots()).total();
+    let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let total = |set: &StrandSet, s: &MassSpringSolver| energy(set, s.params(), s.roots()).total();
     let e0 = total(&strands, &solver);
     // The energy scale: what the chain can convert by falling (its mass × g × its length).
     let scale = 8.5e-3 * G * 0.4;
@@ -116,7 +118,7 @@ pub fn pendulum_at(
     );
     let mut params = bare_params(k as f32);
     params.gravity = gravity();
-    let mut solver = Solver::new(
+    let mut solver = MassSpringSolver::new(
         fixed_settings(fps, substeps, integrator),
         params,
         &strands,
@@ -218,7 +220,7 @@ pub fn chain_stretch_and_weight_over_k(strands: &StrandSet, mass: &[f32]) -> Vec
 /// 2e-4 (see `hanging_chain_stretch.rs` for the bound).
 pub fn assert_hanging_chain_settles_at_weight_below_over_k(integrator: Integrator, name: &str) {
     let (mut strands, scalp, mass, params) = hanging_chain();
-    let mut solver = Solver::new(
+    let mut solver = MassSpringSolver::new(
         fixed_settings(24.0, 2, integrator),
         params,
         &strands,
@@ -317,7 +319,7 @@ pub fn settle_stiff_cantilever(integrator: Integrator, substeps: Option<u32>) ->
         Some(n) => fixed_settings(24.0, n, integrator),
         None => SolverSettings::default(),
     };
-    let mut solver = Solver::new(settings, params, &strands, &scalp, 0).unwrap();
+    let mut solver = MassSpringSolver::new(settings, params, &strands, &scalp, 0).unwrap();
     let ratio = solver.dt() / solver.bound().dt_max;
     let mut fastest = 0.0f32;
     run(&mut solver, &mut strands, &scalp, 240, |_, set| {

@@ -8,7 +8,7 @@ pub mod collide;
 pub mod integrators;
 
 use hair_core::{
-    Anchor, HairError, HairParams, Integrator, RootFrame, Scalp, Solver, SolverSettings,
+    Anchor, HairError, HairParams, Integrator, MassSpringSolver, RootFrame, Scalp, SolverSettings,
     StrandInput, StrandSet, Substeps,
 };
 use hairsys::build::Simulation;
@@ -95,9 +95,9 @@ pub fn anchor_along(origin: Vector3<f32>, normal: Vector3<f32>) -> Anchor {
 }
 
 /// A mass-spring solver for `sim` with the hair at rest at its first frame.
-pub fn solver_at_first_frame(sim: &Simulation) -> Solver {
+pub fn solver_at_first_frame(sim: &Simulation) -> MassSpringSolver {
     let first = sim.first_frame;
-    Solver::new(
+    MassSpringSolver::new(
         sim.settings,
         sim.params,
         &sim.strands,
@@ -119,11 +119,11 @@ pub fn set_on(scalp: &Scalp, inputs: impl IntoIterator<Item = StrandInput>) -> S
 
 /// Runs `frames` frames on a fixed scalp, calling `each` after every successful frame.
 pub fn run(
-    solver: &mut Solver,
+    solver: &mut MassSpringSolver,
     strands: &mut StrandSet,
     scalp: &Scalp,
     frames: u32,
-    mut each: impl FnMut(&Solver, &StrandSet),
+    mut each: impl FnMut(&MassSpringSolver, &StrandSet),
 ) -> Result<(), HairError> {
     for _ in 0..frames {
         solver.step_frame(strands, scalp)?;

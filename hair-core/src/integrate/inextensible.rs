@@ -36,7 +36,7 @@
 //! It replaces stiff stretch springs: with the projection on, a scene can drop
 //! `stretch_stiffness`, whose stability bound grows as √k, and keep strands inextensible at the
 //! substep the bending springs need. It is off unless the host asks for it
-//! ([`crate::Solver::with_inextensibility`]) and then costs nothing.
+//! ([`crate::MassSpringSolver::with_inextensibility`]) and then costs nothing.
 
 use super::lanes::{div_or_zero, splat, Baseline, Lane, V3};
 use crate::error::{HairError, Result};

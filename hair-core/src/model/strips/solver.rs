@@ -1,8 +1,9 @@
-//! [`StripSolver`]: one frame of the strip model (see the module docs of [`crate::strips`]).
+//! [`StripSolver`]: one frame of the strip model (see the module docs of [`crate::model::strips`]).
 
 use crate::contacts::Colliders;
 use crate::error::{HairError, Result};
-use crate::solver::{FrameReport, HairParams, Solver, SolverSettings};
+use crate::integrate::{HairParams, SolverSettings};
+use crate::model::{FrameReport, MassSpringSolver};
 use crate::strands::{Scalp, StrandSet};
 
 use super::head::HeadShape;
@@ -54,12 +55,12 @@ pub struct StripFrameReport {
     pub max_strain_before: f32,
 }
 
-/// Advances the edge strands of a [`super::StripSet`] (its `strands`): the mass-spring [`Solver`]
-/// with Provot's strain limit in every substep, then the root angle limiter, the head's precise
-/// stage and a final Provot pass.
+/// Advances the edge strands of a [`super::StripSet`] (its `strands`): the mass-spring
+/// [`MassSpringSolver`] with Provot's strain limit in every substep, then the root angle limiter,
+/// the head's precise stage and a final Provot pass.
 #[derive(Debug, Clone)]
 pub struct StripSolver {
-    solver: Solver,
+    solver: MassSpringSolver,
     settings: StripSettings,
     head: Option<HeadShape>,
 }
@@ -88,7 +89,7 @@ impl StripSolver {
             });
         }
         solver_settings.max_strain = Some(settings.max_strain);
-        let solver = Solver::new(solver_settings, params, strands, scalp, start_frame)?;
+        let solver = MassSpringSolver::new(solver_settings, params, strands, scalp, start_frame)?;
         Ok(Self {
             solver,
             settings,
@@ -97,13 +98,13 @@ impl StripSolver {
     }
 
     /// The underlying mass-spring solver.
-    pub fn solver(&self) -> &Solver {
+    pub fn solver(&self) -> &MassSpringSolver {
         &self.solver
     }
 
     /// The underlying mass-spring solver, for a host to change animatable parameters between
     /// frames.
-    pub fn solver_mut(&mut self) -> &mut Solver {
+    pub fn solver_mut(&mut self) -> &mut MassSpringSolver {
         &mut self.solver
     }
 
@@ -117,9 +118,9 @@ impl StripSolver {
         self.head.as_ref()
     }
 
-    /// Advances the edge strands `strands` by one frame to the instant at which `scalp` is given. With `colliders`
-    /// and a head, the frame runs the contact pipeline only when an edge point may reach the
-    /// head's bounding sphere during the frame (first stage).
+    /// Advances the edge strands `strands` by one frame to the instant at which `scalp` is given.
+    /// With `colliders` and a head, the frame runs the contact pipeline only when an edge point may
+    /// reach the head's bounding sphere during the frame (first stage).
     pub fn step_frame(
         &mut self,
         strands: &mut StrandSet,

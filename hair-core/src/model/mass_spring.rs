@@ -1,25 +1,27 @@
-//! The strand solver: mass-spring chains advanced by substepped semi-implicit Euler, or, with
-//! [`Integrator::ImplicitEuler`], by linearised backward Euler with a banded solve per strand
-//! (module `implicit`: the same forces, contacts and projections; the damping sub-loop is folded
-//! into the solve).
+//! The mass-spring strand model: [`MassSpringSolver`] advances chains of point masses by
+//! substepped semi-implicit Euler, or, with [`Integrator::ImplicitEuler`] and
+//! [`Integrator::Bdf2`], by linearised backward Euler or BDF2 with a banded solve per strand
+//! (`crate::integrate` module `implicit`: the same forces, contacts and projections; the damping
+//! sub-loop is folded into the solve), or by XPBD. The kernels are in [`crate::integrate`]; this
+//! module runs them over a frame.
 //!
 //! # The step loop (seed 001, "Solver")
 //!
 //! One **frame** (1/fps s) is split into `steps` **collision steps**. Once per step the roots are
 //! evaluated on the scalp (the scalp given for the frame's end, interpolated from the previous
 //! frame's), and the per-step work is done: force fields are evaluated in batch over all points
-//! ([`Solver::with_fields`], [`crate::fields`]) and the hair–hair voxel grid is built
-//! ([`Solver::with_hair_hair`], [`crate::volume`]): both give each point an acceleration held
-//! constant over the step's substeps, and hair–hair friction blends velocities once, before
+//! ([`MassSpringSolver::with_fields`], [`crate::fields`]) and the hair–hair voxel grid is built
+//! ([`MassSpringSolver::with_hair_hair`], [`crate::volume`]): both give each point an acceleration
+//! held constant over the step's substeps, and hair–hair friction blends velocities once, before
 //! contact detection (whose margins follow the velocities); then, with colliders
-//! ([`Solver::step_frame_with_colliders`]), contact detection (see [`crate::contacts`]). Then every
-//! strand, independently and in parallel (rayon), runs `substeps` **force substeps** of
+//! ([`MassSpringSolver::step_frame_with_colliders`]), contact detection (see [`crate::contacts`]).
+//! Then every strand, independently and in parallel (rayon), runs `substeps` **force substeps** of
 //! semi-implicit Euler, `v += dt·a(x, v); x += dt·v`, with:
 //!
 //! - stretch springs between neighbours (N/m),
 //! - bending: the discrete curvature at each point against its rest curvature in the previous
-//!   segment's parallel-transported frame ([`curvature`], [`crate::frames`]); the root frame
-//!   precedes segment 0, holding it to the scalp,
+//!   segment's parallel-transported frame ([`crate::integrate::curvature`], [`crate::frames`]);
+//!   the root frame precedes segment 0, holding it to the scalp,
 //! - goal springs towards the animated rest position, weighted per point,
 //! - gravity and linear air drag,
 //! - the step's external acceleration (force fields, hair–hair repulsion), if any.
@@ -29,11 +31,11 @@
 //! sub-loop** on relative velocity along each segment (`damping`), then the **contact
 //! response** of points with a contact this step (Choe et al. 2005, see [`crate::contacts`]),
 //! then the position update, and, if the host switched it on
-//! ([`Solver::with_inextensibility`]), the **inextensibility projection** of seed 002 (segment
-//! lengths restored, stretching velocities removed; see [`inextensible`]), and with
-//! `max_strain` the **strain limit** (`strain_limit`: over-long segments projected back to the
-//! limit, velocities moved by the same displacement over dt, so the stored velocity is the one
-//! that moved the point). A frame whose
+//! ([`MassSpringSolver::with_inextensibility`]), the **inextensibility projection** of seed 002
+//! (segment lengths restored, stretching velocities removed; see
+//! [`crate::integrate::inextensible`]), and with `max_strain` the **strain limit**
+//! (`strain_limit`: over-long segments projected back to the limit, velocities moved by the same
+//! displacement over dt, so the stored velocity is the one that moved the point). A frame whose
 //! colliders turn fast runs more collision steps of fewer substeps each (the substep never gets
 //! longer).
 //!
@@ -42,47 +44,42 @@
 //! checked for non-finite values and runaway energy; either stops the run with
 //! [`HairError::Unstable`] naming the frame, the strand and the bound, before a bad frame can be
 //! written anywhere.
+//!
+//! # State and workspace
+//! What the next frame starts from besides the strands is the solver's state
+//! ([`MassSpringSolverState`]: the frame number, the root frames, and the parameters, fields,
+//! per-strand scales and hair–hair settings a host may change between frames). Everything else
+//! the solver holds is either fixed when it is built (settings, substeps, the blocks of strands)
+//! or its workspace: the contacts of the current collision step, the external accelerations and
+//! the hair–hair grid, which every step rebuilds before reading. No warm start carries over from
+//! one frame to the next (BDF2's history lives within a collision step, see
+//! `crate::integrate` module `implicit`), so [`MassSpringSolver::snapshot_state`] and
+//! [`MassSpringSolver::restore_state`] are all a host needs to step on bit for bit from a saved
+//! frame, with the strands' positions and velocities and the colliders.
 
-mod band;
-mod block_band;
-mod blocks;
-pub mod curvature;
-mod damping;
-mod dispatch;
-pub mod energy;
-mod f32_lanes;
-mod implicit;
-pub mod inextensible;
-mod kernel;
-pub(crate) mod lanes;
-pub mod params;
-pub mod sag_free;
-pub mod stability;
-mod strain_limit;
-mod xpbd;
-
-use std::time::{Duration, Instant};
+use std::ops::Range;
+use std::time::Instant;
 
 use nalgebra::{UnitQuaternion, Vector3};
 use rayon::prelude::*;
 
-use crate::error::{Blowup, HairError, Result};
-use crate::mesh::RootFrame;
-use crate::strands::{Scalp, StrandSet};
-
 use crate::contacts::detect::{detect, DetectInput, PointContacts};
 use crate::contacts::escapes::{put_back_escapees, EscapeInput};
 use crate::contacts::Colliders;
+use crate::error::{Blowup, HairError, Result};
 use crate::fields::{self, FieldInput, ForceField};
-use crate::model::{Component, ComponentSet, ModelFigures};
+use crate::integrate::kernel::{
+    self, ContactSlice, GroupKernel, Scratch, StepConstants, StrandView,
+};
+use crate::integrate::lanes::{self, Lane, LANES};
+use crate::integrate::{
+    implicit, resolve_substeps, xpbd, HairParams, Inextensibility, Integrator, SolverSettings,
+    StabilityBound, StrandScales,
+};
+use crate::mesh::RootFrame;
+use crate::model::{Component, ComponentSet, FrameReport, ModelFigures, PhaseTimes};
+use crate::strands::{Scalp, StrandSet};
 use crate::volume::{HairHair, HairHairSettings};
-pub use inextensible::Inextensibility;
-use kernel::{ContactSlice, GroupKernel, Scratch, StepConstants, StrandView};
-use lanes::Lane;
-use lanes::LANES;
-pub use params::{HairParams, Integrator, KernelChoice, SolverSettings, StrandScales, Substeps};
-pub use sag_free::{make_sag_free, make_sag_free_supported, SagFreeLimits, SagFreeReport};
-pub use stability::StabilityBound;
 
 /// Points a parallel work item holds at most (about a few L2-sized blocks of strands).
 const BLOCK_POINTS: usize = 4096;
@@ -91,88 +88,70 @@ const BLOCK_POINTS: usize = 4096;
 /// (fall its own length, move its own length per frame, follow the root).
 const RUNAWAY_FACTOR: f64 = 1e3;
 
-/// The compiled copy of the mass-spring kernel (used by the mass-spring and strip models) that
-/// `choice` runs on this CPU: `"avx2"` — x86-64 with AVX2, eight lanes per 256-bit instruction —
-/// or `"baseline"` — the target's default SIMD, two 128-bit halves (SSE2 on x86-64, NEON on
-/// aarch64), on any CPU when [`KernelChoice::Baseline`] asks for it. Both give the same bits; the
-/// AVX2 copy runs the substeps of the shipped scenes 1.3–1.6× faster (`BENCHMARKS.md`).
-pub fn kernel_instructions(choice: KernelChoice) -> &'static str {
-    if kernel::wide_registers(choice) {
-        "avx2"
-    } else {
-        "baseline"
+/// A mass-spring strand solver: settings fixed when it is built, the state carried from frame to
+/// frame ([`MassSpringSolverState`]) and a workspace that every step rebuilds (see the module
+/// docs). It does not own the strands; [`MassSpringSolver::step_frame`] borrows them for one
+/// frame.
+#[derive(Debug, Clone)]
+pub struct MassSpringSolver {
+    settings: SolverSettings,
+    bound: StabilityBound,
+    /// Force substeps per collision step.
+    substeps: u32,
+    /// Contiguous ranges of strands, one parallel work item each.
+    blocks: Vec<Range<usize>>,
+    /// Smallest radius of a free point, m (∞ without free points).
+    min_radius: f32,
+    /// The inextensibility projection, if on.
+    inextensible: Option<Inextensibility>,
+    /// What the next frame starts from.
+    state: MassSpringSolverState,
+    /// Buffers rebuilt every step.
+    workspace: Workspace,
+}
+
+/// What a [`MassSpringSolver`] carries from one frame to the next: with the strands' positions
+/// and velocities (and the colliders), all it needs to step on bit for bit. Taken by
+/// [`MassSpringSolver::snapshot_state`], put back by [`MassSpringSolver::restore_state`].
+#[derive(Debug, Clone)]
+pub struct MassSpringSolverState {
+    /// Frame number of the state.
+    frame: u32,
+    /// Root frames at that frame, one per strand: where the next frame's roots start.
+    roots: Vec<RootFrame>,
+    /// Parameters, which a host may change between frames.
+    params: HairParams,
+    /// Force fields (validated), in evaluation order.
+    fields: Vec<ForceField>,
+    /// Each strand's multipliers of `params` (per-region physics); empty = all 1, the
+    /// scene's material (see [`MassSpringSolver::with_strand_scales`]).
+    scales: Vec<StrandScales>,
+    /// Hair–hair settings, if hair–hair is on.
+    hair_hair: Option<HairHairSettings>,
+}
+
+impl MassSpringSolverState {
+    /// Frame number of the state.
+    pub fn frame(&self) -> u32 {
+        self.frame
+    }
+
+    /// Root frames of the state, one per strand.
+    pub fn roots(&self) -> &[RootFrame] {
+        &self.roots
     }
 }
 
-/// Wall-clock cost of one frame by phase.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct PhaseTimes {
-    /// Evaluating root frames on the scalp.
-    pub roots: Duration,
-    /// Force substeps, damping and position updates of all strands, with the blow-up checks
-    /// (the contact response included).
-    pub strands: Duration,
-    /// Contact detection (zero without colliders).
-    pub contacts: Duration,
-    /// Hair–hair voxel grid: building it, friction and repulsion (zero when off).
-    pub volume: Duration,
-    /// Force fields, evaluated in batch over all points (zero without fields).
-    pub fields: Duration,
-}
-
-/// What one frame did.
-#[derive(Debug, Clone, PartialEq)]
-pub struct FrameReport {
-    /// Frame number that was computed.
-    pub frame: u32,
-    /// Force substeps per collision step used.
-    pub substeps: u32,
-    /// Collision steps run: the scene's steps, times the fast-motion factor when colliders moved
-    /// too far for the contact model's tolerance in the frame (see
-    /// [`crate::contacts::collider_set`]).
-    pub steps: u32,
-    /// Points × substeps advanced in this frame.
-    pub point_substeps: u64,
-    /// Point contacts found, summed over the frame's collision steps (0 without colliders).
-    pub contact_points: u64,
-    /// Points that ended the frame closer to a collider than their radius plus its thickness
-    /// without a contact in the last step — they outran detection's margin — and were put back
-    /// on the surface by the frame-end check (see `contacts::escapes`; 0 without colliders).
-    pub escaped_points: u64,
-    /// Largest relative segment elongation `len/rest − 1` at the end of the frame (0 if none is
-    /// longer than at rest).
-    pub max_stretch: f32,
-    /// Wall-clock cost by phase.
-    pub times: PhaseTimes,
-    /// What only this frame's model measures (see [`crate::model`]).
-    pub figures: ModelFigures,
-}
-
-/// A mass-spring strand solver: settings, parameters and the root state between frames.
-/// It does not own the strands; [`Solver::step_frame`] borrows them for one frame.
-#[derive(Debug, Clone)]
-pub struct Solver {
-    settings: SolverSettings,
-    params: HairParams,
-    bound: StabilityBound,
-    substeps: u32,
-    roots: Vec<RootFrame>,
-    blocks: Vec<std::ops::Range<usize>>,
-    frame: u32,
+/// The buffers of a [`MassSpringSolver`] that each collision step fills before it reads them:
+/// nothing in them reaches the next frame.
+#[derive(Debug, Clone, Default)]
+struct Workspace {
+    /// Contacts of the current collision step.
     contacts: PointContacts,
-    /// Smallest radius of a free point, m (∞ without free points).
-    min_radius: f32,
-    /// Voxel hair–hair interaction, if on.
-    hair_hair: Option<HairHair>,
-    /// Force fields (validated), in evaluation order.
-    fields: Vec<ForceField>,
     /// External acceleration per point of the current step, m/s² (empty when nothing adds one).
     external: Vec<Vector3<f32>>,
-    /// The inextensibility projection, if on.
-    inextensible: Option<Inextensibility>,
-    /// Each strand's multipliers of `params` (per-region physics); empty = all 1, the
-    /// scene's material (see [`Solver::with_strand_scales`]).
-    scales: Vec<StrandScales>,
+    /// The hair–hair pass (per-point volumes, the voxel grid and its buffers), if on.
+    hair_hair: Option<HairHair>,
 }
 
 /// Outcome of one strand's step, folded per block in strand order.
@@ -182,7 +161,7 @@ struct BlockOutcome {
     failure: Option<(usize, Blowup)>,
 }
 
-impl Solver {
+impl MassSpringSolver {
     /// Prepares a solver for `strands` rooted on `scalp` at frame `start_frame`. Validates the
     /// settings, the parameters and every anchor, and resolves `substeps = auto`.
     pub fn new(
@@ -199,13 +178,9 @@ impl Solver {
         let substeps = resolve_substeps(&settings, &bound);
         Ok(Self {
             settings,
-            params,
             bound,
             substeps,
-            roots: strands.root_frames(scalp),
             blocks: blocks_of(strands),
-            frame: start_frame,
-            contacts: PointContacts::default(),
             min_radius: strands
                 .radii()
                 .iter()
@@ -213,11 +188,55 @@ impl Solver {
                 .filter(|(_, &w)| w > 0.0)
                 .fold(f32::INFINITY, |a, (&r, _)| a.min(r)),
             inextensible: None,
-            hair_hair: None,
-            fields: Vec::new(),
-            external: Vec::new(),
-            scales: Vec::new(),
+            state: MassSpringSolverState {
+                frame: start_frame,
+                roots: strands.root_frames(scalp),
+                params,
+                fields: Vec::new(),
+                scales: Vec::new(),
+                hair_hair: None,
+            },
+            workspace: Workspace::default(),
         })
+    }
+
+    /// A copy of the state (see [`MassSpringSolverState`]), without the workspace.
+    pub fn snapshot_state(&self) -> MassSpringSolverState {
+        self.state.clone()
+    }
+
+    /// Puts the solver back in `state`, taken by [`MassSpringSolver::snapshot_state`] from a
+    /// solver of the same strands built the same way: stepping on gives the same bits as
+    /// stepping on from where the state was taken. The workspace is left as it is (every step
+    /// rebuilds it). Refused for a state of another number of strands, or with hair–hair on
+    /// where this solver has it off or the other way round.
+    pub fn restore_state(&mut self, state: &MassSpringSolverState) -> Result<()> {
+        if state.roots.len() != self.state.roots.len() {
+            return Err(HairError::Parameter {
+                name: "state".into(),
+                value: format!("{} strands", state.roots.len()),
+                fix: format!(
+                    "restore a state of this solver's strands ({})",
+                    self.state.roots.len()
+                ),
+            });
+        }
+        if state.hair_hair.is_some() != self.workspace.hair_hair.is_some() {
+            return Err(HairError::Parameter {
+                name: "state".into(),
+                value: format!(
+                    "hair-hair {}",
+                    if state.hair_hair.is_some() {
+                        "on"
+                    } else {
+                        "off"
+                    }
+                ),
+                fix: "restore a state of a solver built with the same hair-hair switch".into(),
+            });
+        }
+        self.state.clone_from(state);
+        Ok(())
     }
 
     /// Gives every strand its own multipliers of the parameters (per-region physics):
@@ -232,14 +251,14 @@ impl Solver {
         strands: &StrandSet,
     ) -> Result<Self> {
         self.set_strand_scales(scales, strands.len())?;
-        self.bound = StabilityBound::of_scaled(strands, &self.params, &self.scales);
+        self.bound = StabilityBound::of_scaled(strands, &self.state.params, &self.state.scales);
         self.substeps = resolve_substeps(&self.settings, &self.bound);
         Ok(self)
     }
 
     /// Changes the strands' multipliers between frames (an animated region), checked against
-    /// `strand_count`. Like [`Solver::params_mut`], this keeps the substep: stiffer strands
-    /// than it was chosen for may make the next step unstable, which that step reports.
+    /// `strand_count`. Like [`MassSpringSolver::params_mut`], this keeps the substep: stiffer
+    /// strands than it was chosen for may make the next step unstable, which that step reports.
     pub fn set_strand_scales(
         &mut self,
         scales: Vec<StrandScales>,
@@ -255,13 +274,13 @@ impl Solver {
         for (s, scale) in scales.iter().enumerate() {
             scale.validate(s)?;
         }
-        self.scales = scales;
+        self.state.scales = scales;
         Ok(())
     }
 
     /// Each strand's multipliers of the parameters (empty: all 1).
     pub fn strand_scales(&self) -> &[StrandScales] {
-        &self.scales
+        &self.state.scales
     }
 
     /// Switches on voxel hair–hair interaction (friction and repulsion through a grid rebuilt
@@ -272,26 +291,27 @@ impl Solver {
         settings: HairHairSettings,
         strands: &StrandSet,
     ) -> Result<Self> {
-        self.hair_hair = Some(HairHair::new(settings, strands)?);
+        self.workspace.hair_hair = Some(HairHair::new(&settings, strands)?);
+        self.state.hair_hair = Some(settings);
         Ok(self)
     }
 
     /// Hair–hair settings in use, if on.
     pub fn hair_hair(&self) -> Option<&HairHairSettings> {
-        self.hair_hair.as_ref().map(|h| h.settings())
+        self.state.hair_hair.as_ref()
     }
 
     /// Hair–hair settings for a host to change between frames (friction, repulsion…), if on;
     /// they are validated again at the next step.
     pub fn hair_hair_mut(&mut self) -> Option<&mut HairHairSettings> {
-        self.hair_hair.as_mut().map(|h| h.settings_mut())
+        self.state.hair_hair.as_mut()
     }
 
     /// Adds force fields (see [`crate::fields`]), evaluated in batch once per collision step.
     /// Each is validated (errors name `fields[i].parameter`); fields that move the air need
     /// `air_drag > 0`.
     pub fn with_fields(mut self, fields: Vec<ForceField>) -> Result<Self> {
-        self.fields = fields;
+        self.state.fields = fields;
         self.validate_fields()?;
         Ok(self)
     }
@@ -299,12 +319,12 @@ impl Solver {
     /// The force fields, for a host to change between frames (strength per frame, position…);
     /// they are validated again at the next frame.
     pub fn fields_mut(&mut self) -> &mut [ForceField] {
-        &mut self.fields
+        &mut self.state.fields
     }
 
     fn validate_fields(&mut self) -> Result<()> {
-        let drag = self.params.air_drag;
-        for (i, f) in self.fields.iter_mut().enumerate() {
+        let drag = self.state.params.air_drag;
+        for (i, f) in self.state.fields.iter_mut().enumerate() {
             f.validate(i)?;
             if f.moves_air() && drag <= 0.0 {
                 return Err(HairError::Parameter {
@@ -319,9 +339,9 @@ impl Solver {
         Ok(())
     }
 
-    /// Computes this step's external acceleration (fields and repulsion) into `self.external`
-    /// and applies hair–hair friction to the velocities; leaves `self.external` empty when
-    /// nothing acts.
+    /// Computes this step's external acceleration (fields and repulsion) into the workspace's
+    /// `external` and applies hair–hair friction to the velocities; leaves the workspace's
+    /// `external` empty when nothing acts.
     fn external_forces(
         &mut self,
         strands: &mut StrandSet,
@@ -329,28 +349,34 @@ impl Solver {
         step_dt: f64,
         times: &mut PhaseTimes,
     ) -> Result<()> {
-        self.external.clear();
-        if self.fields.is_empty() && self.hair_hair.is_none() {
+        self.workspace.external.clear();
+        if self.state.fields.is_empty() && self.state.hair_hair.is_none() {
             return Ok(());
         }
-        self.external
+        self.workspace
+            .external
             .resize(strands.point_count(), Vector3::zeros());
-        if !self.fields.is_empty() {
+        if !self.state.fields.is_empty() {
             let t = Instant::now();
             let input = FieldInput {
                 positions: &strands.positions,
                 velocities: &strands.velocities,
                 frame,
                 time: frame / self.settings.fps,
-                air_drag: self.params.air_drag,
+                air_drag: self.state.params.air_drag,
                 step_dt: step_dt as f32,
             };
-            fields::evaluate(&self.fields, &input, &mut self.external);
+            fields::evaluate(&self.state.fields, &input, &mut self.workspace.external);
             times.fields += t.elapsed();
         }
-        if let Some(h) = &mut self.hair_hair {
+        if let (Some(h), Some(settings)) = (&mut self.workspace.hair_hair, &self.state.hair_hair) {
             let t = Instant::now();
-            h.step(strands, &mut self.external, &self.blocks)?;
+            h.step(
+                settings,
+                strands,
+                &mut self.workspace.external,
+                &self.blocks,
+            )?;
             times.volume += t.elapsed();
         }
         Ok(())
@@ -358,7 +384,7 @@ impl Solver {
 
     /// Switches on the inextensibility projection of seed 002 ("Constraints") after every
     /// substep: segment lengths restored to within `projection.tolerance`, velocities corrected
-    /// (see [`inextensible`]). Off by default, and then it costs nothing.
+    /// (see [`crate::integrate::inextensible`]). Off by default, and then it costs nothing.
     pub fn with_inextensibility(mut self, projection: Inextensibility) -> Result<Self> {
         projection.validate()?;
         self.inextensible = Some(projection);
@@ -392,22 +418,22 @@ impl Solver {
 
     /// Parameters in use.
     pub fn params(&self) -> &HairParams {
-        &self.params
+        &self.state.params
     }
 
     /// Frame number of the current state.
     pub fn frame(&self) -> u32 {
-        self.frame
+        self.state.frame
     }
 
     /// Root frames of the current state.
     pub fn roots(&self) -> &[RootFrame] {
-        &self.roots
+        &self.state.roots
     }
 
     /// Model components this solver runs (a component whose coefficient is 0 costs nothing).
     pub fn components(&self, strands: &StrandSet) -> ComponentSet {
-        let p = &self.params;
+        let p = &self.state.params;
         let mut c = ComponentSet::new();
         let mut add = |on: bool, component| {
             if on {
@@ -442,7 +468,7 @@ impl Solver {
             add(h.friction > 0.0, Component::HairHairFriction);
             add(h.repulsion > 0.0, Component::HairHairRepulsion);
         }
-        for f in &self.fields {
+        for f in &self.state.fields {
             c.insert(match f.kind {
                 fields::FieldKind::Wind { .. } => Component::Wind,
                 fields::FieldKind::Vortex => Component::Vortex,
@@ -458,7 +484,7 @@ impl Solver {
     /// animatable parameters. They are validated again at the next step; stiffer springs than
     /// the substep was chosen for may make the next step unstable, which it reports.
     pub fn params_mut(&mut self) -> &mut HairParams {
-        &mut self.params
+        &mut self.state.params
     }
 
     /// Advances `strands` by one frame, to the instant at which `scalp` is given, with no
@@ -476,8 +502,9 @@ impl Solver {
     /// [`crate::contacts`].
     ///
     /// A frame whose colliders move too fast for the contact model's tolerance
-    /// ([`crate::contacts::collider_set`]) runs more collision steps with proportionally fewer substeps each ([`FrameReport::steps`]). An empty set does
-    /// exactly what [`Solver::step_frame`] does.
+    /// ([`crate::contacts::collider_set`]) runs more collision steps with proportionally fewer
+    /// substeps each ([`FrameReport::steps`]). An empty set does exactly what
+    /// [`MassSpringSolver::step_frame`] does.
     pub fn step_frame_with_colliders(
         &mut self,
         strands: &mut StrandSet,
@@ -495,8 +522,8 @@ impl Solver {
         scalp: &Scalp,
         mut colliders: Option<&mut Colliders>,
     ) -> Result<FrameReport> {
-        let frame = self.frame + 1;
-        self.params.validate()?;
+        let frame = self.state.frame + 1;
+        self.state.params.validate()?;
         self.validate_fields()?;
         let t0 = Instant::now();
         let mut end_roots = strands.root_frames(scalp);
@@ -504,7 +531,7 @@ impl Solver {
         // towards the one in the opposite hemisphere turns the roots the long way round (through
         // up to a full turn) within the frame, or through a zero quaternion (NaN) half-way. Take
         // the representative nearest the previous frame's.
-        for (end, prev) in end_roots.iter_mut().zip(&self.roots) {
+        for (end, prev) in end_roots.iter_mut().zip(&self.state.roots) {
             if end.rotation.coords.dot(&prev.rotation.coords) < 0.0 {
                 end.rotation = UnitQuaternion::new_unchecked(-end.rotation.into_inner());
             }
@@ -529,7 +556,7 @@ impl Solver {
         let substeps = self.substeps.div_ceil(factor);
         let step_dt = self.settings.step_dt() / factor as f64;
         let mut consts = StepConstants::new(
-            &self.params,
+            &self.state.params,
             (step_dt / substeps as f64) as f32,
             substeps,
             self.settings.damping_iterations,
@@ -547,12 +574,14 @@ impl Solver {
             let a = step as f32 / steps as f32;
             let b = (step + 1) as f32 / steps as f32;
             let starts: Vec<RootFrame> = self
+                .state
                 .roots
                 .iter()
                 .zip(&end_roots)
                 .map(|(p, e)| p.interpolate(e, a))
                 .collect();
             let ends: Vec<RootFrame> = self
+                .state
                 .roots
                 .iter()
                 .zip(&end_roots)
@@ -561,7 +590,7 @@ impl Solver {
             times.roots += t1.elapsed();
             // Hair–hair friction changes velocities, so it comes before contact detection,
             // whose margins follow them.
-            self.external_forces(strands, self.frame as f32 + a, step_dt, &mut times)?;
+            self.external_forces(strands, self.state.frame as f32 + a, step_dt, &mut times)?;
             let contacts = match colliders.as_deref_mut() {
                 Some(c) => {
                     let t3 = Instant::now();
@@ -573,11 +602,11 @@ impl Solver {
                         inv_mass: strands.inverse_masses(),
                         blocks: &self.blocks,
                         step_dt: step_dt as f32,
-                        gravity: self.params.gravity().norm(),
+                        gravity: self.state.params.gravity().norm(),
                     };
-                    contact_points += detect(c, a, b, &input, &mut self.contacts) as u64;
+                    contact_points += detect(c, a, b, &input, &mut self.workspace.contacts) as u64;
                     times.contacts += t3.elapsed();
-                    Some(&self.contacts)
+                    Some(&self.workspace.contacts)
                 }
                 None => None,
             };
@@ -632,14 +661,14 @@ impl Solver {
                     velocities,
                     radii: data.radii,
                     inv_mass: data.inv_mass,
-                    contact_size: &self.contacts.size,
+                    contact_size: &self.workspace.contacts.size,
                 },
             ) as u64;
             times.contacts += t4.elapsed();
             c.finish_frame();
         }
-        self.roots = end_roots;
-        self.frame = frame;
+        self.state.roots = end_roots;
+        self.state.frame = frame;
         Ok(FrameReport {
             frame,
             substeps,
@@ -664,7 +693,7 @@ impl Solver {
         contacts: Option<&PointContacts>,
     ) -> BlockOutcome {
         let step_dt = consts.dt as f64 * consts.substeps as f64;
-        let g = self.params.gravity().norm() as f64;
+        let g = self.state.params.gravity().norm() as f64;
         let fps = self.settings.fps as f64;
         let (x_all, v_all, data) = strands.split_for_solver();
         let mut jobs = Vec::with_capacity(self.blocks.len());
@@ -710,8 +739,9 @@ impl Solver {
                                     found_depth: &c.found_depth[p.clone()],
                                 }
                             }),
-                            accel: (!self.external.is_empty()).then(|| &self.external[p.clone()]),
-                            scales: self.scales.get(s).copied().unwrap_or_default(),
+                            accel: (!self.workspace.external.is_empty())
+                                .then(|| &self.workspace.external[p.clone()]),
+                            scales: self.state.scales.get(s).copied().unwrap_or_default(),
                         });
                     }
                     kernel(
@@ -731,7 +761,7 @@ impl Solver {
                         match check_strand(
                             view,
                             &data.mass[p],
-                            self.params.stretch_stiffness * view.scales.stretch,
+                            self.state.params.stretch_stiffness * view.scales.stretch,
                             limit,
                         ) {
                             Ok(stretch) => out.max_stretch = out.max_stretch.max(stretch),
@@ -752,30 +782,6 @@ impl Solver {
                 failure: acc.failure.or(o.failure),
             })
     }
-}
-
-/// Force substeps per collision step for `settings`: the fixed count, or `auto` from the
-/// stability bound (explicit-type integrators) or the accuracy limit (implicit Euler, XPBD).
-pub(crate) fn resolve_substeps(settings: &SolverSettings, bound: &StabilityBound) -> u32 {
-    match settings.substeps {
-        Substeps::Fixed(n) => n,
-        Substeps::Auto => match settings.integrator {
-            Integrator::ImplicitEuler => substeps_within(settings.step_dt(), implicit::AUTO_DT),
-            Integrator::Bdf2 => substeps_within(settings.step_dt(), implicit::AUTO_DT_BDF2),
-            Integrator::Xpbd => substeps_within(settings.step_dt(), xpbd::AUTO_DT),
-            Integrator::SemiImplicitEuler | Integrator::ExplicitEuler => {
-                bound.auto_substeps(settings.step_dt())
-            }
-        },
-    }
-}
-
-/// The fewest substeps per step of length `step_dt` (s) keeping the substep at most `longest`
-/// (s), at least 1: `"auto"` for the integrators whose substep follows an accuracy limit.
-pub fn substeps_within(step_dt: f64, longest: f64) -> u32 {
-    (step_dt / longest * (1.0 - 1e-9))
-        .ceil()
-        .clamp(1.0, u32::MAX as f64) as u32
 }
 
 /// Checks a strand after a step: finite, and energy per unit mass (kinetic + stretch) below

@@ -67,9 +67,9 @@
 //! weight below it. The groomed segment is then longer than its rest length by
 //! `T_j/(k_s l_j)` (for 25 cm of 10⁻³ kg/m hair on 200 N/m springs of 1.6 cm, under 0.1 %), which
 //! the strain limit allows as long as it is below `max_strain`; the inextensibility projection
-//! (seed 002, `Solver::with_inextensibility`) would pull it back to `l_j` and does not go with
-//! sag-free initialisation. Each rest length is rounded to f32 before the sweep moves on, and the
-//! next point uses the tension of the rounded length, so the rounding leaves a residual only
+//! (seed 002, `MassSpringSolver::with_inextensibility`) would pull it back to `l_j` and does not go
+//! with sag-free initialisation. Each rest length is rounded to f32 before the sweep moves on, and
+//! the next point uses the tension of the rounded length, so the rounding leaves a residual only
 //! along that segment (`k_s` times half an f32 ulp of `l_j`) instead of accumulating.
 //!
 //! The solve is done in f64 from the f32 state and stored in f32, so the residual force at the

@@ -10,8 +10,8 @@
 //! corners) or from explicit pairs of strands ([`StripSet::from_pairs`]).
 //!
 //! # Simulation ([`StripSolver`])
-//! The edge strands are mass-spring chains advanced by the project's [`crate::Solver`]. In the
-//! seed's order, after the forces of each frame:
+//! The edge strands are mass-spring chains advanced by the project's [`crate::MassSpringSolver`].
+//! In the seed's order, after the forces of each frame:
 //! 1. **Provot's correction** (strain limiting, Provot 1996): a segment stretched beyond
 //!    `(1 + max_strain) ×` its rest length is pulled back, root to tip. It runs inside every
 //!    substep ([`crate::SolverSettings::max_strain`]) and once more as the frame's last pass, so

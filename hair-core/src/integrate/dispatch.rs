@@ -16,23 +16,23 @@ macro_rules! avx2_copy {
     ($(#[$doc:meta])* $vis:vis fn $name:ident => $generic:ident) => {
         $(#[$doc])*
         $vis fn $name(
-            views: &mut [$crate::solver::kernel::StrandView],
+            views: &mut [$crate::integrate::kernel::StrandView],
             starts: &[$crate::mesh::RootFrame],
             ends: &[$crate::mesh::RootFrame],
-            c: &$crate::solver::kernel::StepConstants,
-            g: &mut $crate::solver::kernel::Scratch<$crate::solver::lanes::F8>,
+            c: &$crate::integrate::kernel::StepConstants,
+            g: &mut $crate::integrate::kernel::Scratch<$crate::integrate::lanes::F8>,
         ) {
             #[cfg(target_arch = "x86_64")]
             {
                 #[target_feature(enable = "avx2")]
                 fn compiled_for_avx2(
-                    views: &mut [$crate::solver::kernel::StrandView],
+                    views: &mut [$crate::integrate::kernel::StrandView],
                     starts: &[$crate::mesh::RootFrame],
                     ends: &[$crate::mesh::RootFrame],
-                    c: &$crate::solver::kernel::StepConstants,
-                    g: &mut $crate::solver::kernel::Scratch<$crate::solver::lanes::F8>,
+                    c: &$crate::integrate::kernel::StepConstants,
+                    g: &mut $crate::integrate::kernel::Scratch<$crate::integrate::lanes::F8>,
                 ) {
-                    $generic::<$crate::solver::lanes::F8>(views, starts, ends, c, g);
+                    $generic::<$crate::integrate::lanes::F8>(views, starts, ends, c, g);
                 }
                 if std::arch::is_x86_feature_detected!("avx2") {
                     // SAFETY: the CPU has AVX2, checked just above.
@@ -40,7 +40,7 @@ macro_rules! avx2_copy {
                     return;
                 }
             }
-            $generic::<$crate::solver::lanes::F8>(views, starts, ends, c, g);
+            $generic::<$crate::integrate::lanes::F8>(views, starts, ends, c, g);
         }
     };
 }

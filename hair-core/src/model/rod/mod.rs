@@ -3,10 +3,10 @@
 //! Environments", built on Bergou et al. 2008, "Discrete Elastic Rods"; constraints by the fast
 //! projection of Goldenthal et al. 2007).
 //!
-//! It works on the same [`StrandSet`] as the mass-spring [`crate::Solver`] and has the same
-//! shape (`new`, `step_frame`, `step_frame_with_colliders`, `components`), so scenes, caches and
-//! render children work unchanged. It is the accurate alternative, not the fast path: it runs in
-//! f64, strands in parallel (rayon; each strand's result does not depend on the thread count).
+//! It works on the same [`StrandSet`] as the mass-spring [`crate::MassSpringSolver`] and has the
+//! same shape (`new`, `step_frame`, `step_frame_with_colliders`, `components`), so scenes, caches
+//! and render children work unchanged. It is the accurate alternative, not the fast path: it runs
+//! in f64, strands in parallel (rayon; each strand's result does not depend on the thread count).
 //!
 //! # The model
 //! - **Rod** ([`frames`]): nodes and segments; per segment a twist-free reference frame carried
@@ -91,15 +91,14 @@ use std::time::Instant;
 use nalgebra::{UnitQuaternion, Vector3};
 use rayon::prelude::*;
 #[cfg(feature = "serde")]
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use crate::contacts::collider_set::Surface;
 use crate::contacts::Colliders;
 use crate::error::{Blowup, HairError, Result};
+use crate::integrate::energy::Energy;
 use crate::mesh::RootFrame;
-use crate::model::{Component, ComponentSet, ModelFigures};
-use crate::solver::energy::Energy;
-use crate::solver::{FrameReport, PhaseTimes};
+use crate::model::{Component, ComponentSet, FrameReport, ModelFigures, PhaseTimes};
 use crate::strands::{Scalp, StrandSet};
 use crate::{HairParams, SolverSettings, Substeps};
 
@@ -113,37 +112,6 @@ const FAILED_RESIDUAL: f64 = 1e-2;
 
 /// Safety factor of `substeps = auto` on the bending bound.
 const AUTO_SAFETY: f64 = 0.5;
-
-/// Which strand model a hair system runs (the scene's `[solver] model`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
-#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
-pub enum StrandModel {
-    /// The mass-spring chain of seed 001 ([`crate::Solver`]), the default.
-    #[default]
-    MassSpring,
-    /// The discrete elastic rod of seed 002 ([`RodSolver`]).
-    Rod,
-    /// The hair strips of seed 000 ([`crate::strips::StripSolver`]): mass-spring edge strands
-    /// in pairs, each pair bounding a ribbon that stands for many hairs.
-    Strips,
-}
-
-impl StrandModel {
-    /// True for the default, [`StrandModel::MassSpring`].
-    pub fn is_mass_spring(&self) -> bool {
-        *self == StrandModel::MassSpring
-    }
-
-    /// The model's name as written in scenes: `"mass-spring"` or `"rod"`.
-    pub fn name(&self) -> &'static str {
-        match self {
-            StrandModel::MassSpring => "mass-spring",
-            StrandModel::Rod => "rod",
-            StrandModel::Strips => "strips",
-        }
-    }
-}
 
 /// What the projections of one frame did (the rod model's own figures for reports and benches).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -207,8 +175,9 @@ pub struct RodFrameReport {
     pub projection: ProjectionReport,
 }
 
-/// The rod strand solver: settings, parameters, each strand's rest data and the root state
-/// between frames. Like [`crate::Solver`] it does not own the strands.
+/// The rod strand solver: settings, parameters and each strand's rest data, fixed when it is
+/// built; the state carried from frame to frame ([`RodSolverState`]); and contact detection's
+/// memory, its workspace. Like [`crate::MassSpringSolver`] it does not own the strands.
 #[derive(Debug, Clone)]
 pub struct RodSolver {
     settings: SolverSettings,
@@ -216,18 +185,52 @@ pub struct RodSolver {
     rod: RodParams,
     stiffness: Stiffness,
     strands: Vec<RodStrand>,
-    roots: Vec<RootFrame>,
     substeps: u32,
     dt_max: f64,
+    /// What the next frame starts from.
+    state: RodSolverState,
+    /// Contact detection's memory.
+    workspace: DetectionMemory,
+}
+
+/// What a [`RodSolver`] carries from one frame to the next: with the strands' positions and
+/// velocities (and the colliders), all it needs to step on bit for bit. Taken by
+/// [`RodSolver::snapshot_state`], put back by [`RodSolver::restore_state`].
+#[derive(Debug, Clone)]
+pub struct RodSolverState {
+    /// Frame number of the state.
     frame: u32,
-    /// Contact detection's memory per strand (see [`collide::Clearance`]).
-    clearance: Vec<Vec<collide::Clearance>>,
-    /// Twist angles per strand and segment at the last substep's start, rad (state: the next
-    /// substep's relaxation starts from them).
+    /// Root frames at that frame, one per strand: where the next frame's roots start.
+    roots: Vec<RootFrame>,
+    /// Twist angles per strand and segment at the last substep's start, rad: the next
+    /// substep's relaxation starts from them, and where the energy has more than one minimum
+    /// they choose the one it finds.
     theta: Vec<Vec<f64>>,
-    /// The colliders that memory belongs to (their shapes' addresses and versions: a deformed
+}
+
+impl RodSolverState {
+    /// Frame number of the state.
+    pub fn frame(&self) -> u32 {
+        self.frame
+    }
+
+    /// Root frames of the state, one per strand.
+    pub fn roots(&self) -> &[RootFrame] {
+        &self.roots
+    }
+}
+
+/// Contact detection's memory per strand (see [`collide::Clearance`]): lower bounds of each
+/// node's distance to each collider that let detection skip nodes far from them. A bound only
+/// saves work (the distance is 1-Lipschitz), so the memory is workspace: a snapshot leaves it
+/// out and a solver with none detects the same contacts.
+#[derive(Debug, Clone, Default)]
+struct DetectionMemory {
+    /// Per strand, per node and collider.
+    clearance: Vec<Vec<collide::Clearance>>,
+    /// The colliders the memory belongs to (their shapes' addresses and versions: a deformed
     /// mesh invalidates it).
-    clearance_key: Vec<usize>,
+    key: Vec<usize>,
 }
 
 /// Outcome of one strand's frame.
@@ -299,15 +302,49 @@ impl RodSolver {
             params,
             rod,
             stiffness,
-            roots: strands.root_frames(scalp),
             substeps,
             dt_max,
-            frame: start_frame,
-            clearance: vec![Vec::new(); strands.len()],
-            clearance_key: Vec::new(),
-            theta: rods.iter().map(|r| r.rest_twist().to_vec()).collect(),
+            state: RodSolverState {
+                frame: start_frame,
+                roots: strands.root_frames(scalp),
+                theta: rods.iter().map(|r| r.rest_twist().to_vec()).collect(),
+            },
+            workspace: DetectionMemory {
+                clearance: vec![Vec::new(); strands.len()],
+                key: Vec::new(),
+            },
             strands: rods,
         })
+    }
+
+    /// A copy of the state (see [`RodSolverState`]), without the workspace.
+    pub fn snapshot_state(&self) -> RodSolverState {
+        self.state.clone()
+    }
+
+    /// Puts the solver back in `state`, taken by [`RodSolver::snapshot_state`] from a solver of
+    /// the same strands: stepping on gives the same bits as stepping on from where the state
+    /// was taken. Contact detection's memory is left as it is (its bounds hold whenever the
+    /// colliders are the same). Refused for a state of other strands.
+    pub fn restore_state(&mut self, state: &RodSolverState) -> Result<()> {
+        let fits = state.roots.len() == self.strands.len()
+            && state
+                .theta
+                .iter()
+                .zip(&self.strands)
+                .all(|(theta, rod)| theta.len() == rod.rest_twist().len());
+        if !fits {
+            return Err(HairError::Parameter {
+                name: "state".into(),
+                value: format!("{} strands", state.roots.len()),
+                fix: format!(
+                    "restore a state of this solver's strands ({} strands)",
+                    self.strands.len()
+                ),
+            });
+        }
+        self.state.clone_from(state);
+        Ok(())
     }
 
     /// Time stepping in use.
@@ -342,7 +379,7 @@ impl RodSolver {
 
     /// Frame number of the current state.
     pub fn frame(&self) -> u32 {
-        self.frame
+        self.state.frame
     }
 
     /// Rest data of strand `s`.
@@ -352,13 +389,13 @@ impl RodSolver {
 
     /// Root frames of the current state.
     pub fn roots(&self) -> &[RootFrame] {
-        &self.roots
+        &self.state.roots
     }
 
     /// Twist angles of strand `s`'s segments (rad, against their reference frames) at the last
     /// substep's start.
     pub fn twist(&self, s: usize) -> &[f64] {
-        &self.theta[s]
+        &self.state.theta[s]
     }
 
     /// Mechanical energy of `strands` with the roots of the current state, J: kinetic and
@@ -384,8 +421,8 @@ impl RodSolver {
                 e.kinetic += 0.5 * m * vi.cast::<f64>().norm_squared();
                 e.gravity -= m * g.dot(xi);
             }
-            let root = Root::of(&self.roots[s]);
-            ws.twist.theta.clone_from(&self.theta[s]);
+            let root = Root::of(&self.state.roots[s]);
+            ws.twist.theta.clone_from(&self.state.theta[s]);
             rod.update_twist(&x, &root, &self.stiffness, &[], &mut ws);
             let (bend, twist) = rod.energies(&x, &root, &self.stiffness, &mut ws);
             e.bend += bend;
@@ -459,10 +496,10 @@ impl RodSolver {
         scalp: &Scalp,
         colliders: Option<&Colliders>,
     ) -> Result<RodFrameReport> {
-        let frame = self.frame + 1;
+        let frame = self.state.frame + 1;
         let t0 = Instant::now();
         let mut end_roots = strands.root_frames(scalp);
-        for (end, prev) in end_roots.iter_mut().zip(&self.roots) {
+        for (end, prev) in end_roots.iter_mut().zip(&self.state.roots) {
             if end.rotation.coords.dot(&prev.rotation.coords) < 0.0 {
                 end.rotation = UnitQuaternion::new_unchecked(-end.rotation.into_inner());
             }
@@ -485,12 +522,12 @@ impl RodSolver {
                     ]
                 })
                 .collect();
-            if key != self.clearance_key {
-                self.clearance.iter_mut().for_each(Vec::clear);
-                self.clearance_key = key;
+            if key != self.workspace.key {
+                self.workspace.clearance.iter_mut().for_each(Vec::clear);
+                self.workspace.key = key;
             }
         }
-        let mut clearance = std::mem::take(&mut self.clearance);
+        let mut clearance = std::mem::take(&mut self.workspace.clearance);
         clearance.resize(strands.len(), Vec::new());
         let mut jobs = Vec::with_capacity(strands.len());
         {
@@ -515,7 +552,7 @@ impl RodSolver {
                 let mut state = RodState {
                     x: xs.iter().map(|p| p.cast()).collect(),
                     v: vs.iter().map(|p| p.cast()).collect(),
-                    theta: this.theta[s].clone(),
+                    theta: this.state.theta[s].clone(),
                     clearance: std::mem::take(memory),
                 };
                 let mut out = StrandOutcome {
@@ -525,7 +562,7 @@ impl RodSolver {
                     },
                     ..Default::default()
                 };
-                let (start, end) = (&this.roots[s], &end_roots[s]);
+                let (start, end) = (&this.state.roots[s], &end_roots[s]);
                 for k in 0..total {
                     let a = k as f32 / total as f32;
                     let b = (k + 1) as f32 / total as f32;
@@ -582,8 +619,8 @@ impl RodSolver {
                 out
             })
             .collect();
-        self.clearance = clearance;
-        for (theta, o) in self.theta.iter_mut().zip(&outcomes) {
+        self.workspace.clearance = clearance;
+        for (theta, o) in self.state.theta.iter_mut().zip(&outcomes) {
             if o.failure.is_none() {
                 theta.clone_from(&o.theta);
             }
@@ -607,8 +644,8 @@ impl RodSolver {
             projection.merge(&o.projection);
             contacts += o.contacts;
         }
-        self.roots = end_roots;
-        self.frame = frame;
+        self.state.roots = end_roots;
+        self.state.frame = frame;
         Ok(RodFrameReport {
             frame: FrameReport {
                 frame,

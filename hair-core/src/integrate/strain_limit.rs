@@ -182,7 +182,7 @@ fn masked_solve<L: Lane>(s: &mut ProjectionScratch<L>, inv_mass: &[L]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::lanes::Baseline;
+    use crate::integrate::lanes::Baseline;
     use nalgebra::Vector3;
 
     /// A chain whose segments are all within the limit (some compressed, one exactly at it)

@@ -170,7 +170,7 @@ pub enum Integrator {
     ExplicitEuler,
     /// Linearised backward Euler along each strand, one banded direct solve per strand per
     /// substep: stable at any substep, so the substep follows accuracy (see
-    /// `hair_core::solver` module `implicit`). It adds artificial damping of `≈ exp(−π ω h)` per
+    /// `hair_core::integrate` module `implicit`). It adds artificial damping of `≈ exp(−π ω h)` per
     /// period to a swing of angular frequency `ω`.
     ImplicitEuler,
     /// The second-order backward differentiation formula (BDF2), linearised like
@@ -189,7 +189,7 @@ pub enum Integrator {
     /// bending and goal springs as compliant constraints (compliance = 1/stiffness), the stretch
     /// and bending constraints of each strand solved together by one banded direct solve (Deul
     /// et al. 2018); no stability bound, so the substep follows accuracy (see
-    /// `hair_core::solver` module `xpbd`).
+    /// `hair_core::integrate` module `xpbd`).
     /// Scene key `"xpbd"`.
     Xpbd,
 }
@@ -249,7 +249,8 @@ impl SolverSettings {
     /// Force substeps per collision step these settings take on strands whose stability bound
     /// is `bound`: the fixed count, or what `"auto"` resolves to for the integrator (the
     /// stability bound's count for the explicit-type integrators, the accuracy limit's for
-    /// implicit Euler and XPBD). The [`super::Solver`] built from them takes the same count.
+    /// implicit Euler and XPBD). The [`crate::MassSpringSolver`] built from them takes the same
+    /// count.
     pub fn resolved_substeps(&self, bound: &super::StabilityBound) -> u32 {
         super::resolve_substeps(self, bound)
     }
