@@ -31,7 +31,13 @@ pub enum CliError {
     /// An output (children, shot export, preview, cards, quality report) the library could
     /// not make.
     #[error("{0}")]
-    Output(#[from] OutputError),
+    Output(Box<OutputError>),
+}
+
+impl From<OutputError> for CliError {
+    fn from(e: OutputError) -> Self {
+        CliError::Output(Box::new(e))
+    }
 }
 
 impl CliError {

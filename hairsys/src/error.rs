@@ -31,9 +31,10 @@ pub enum Error {
         /// The solver's error.
         source: hair_core::HairError,
     },
-    /// An output could not be made (see [`OutputError::is_bad_input`]).
+    /// An output could not be made (see [`OutputError::is_bad_input`]); boxed, so every
+    /// `Result` of the library stays small.
     #[error("{0}")]
-    Output(#[from] OutputError),
+    Output(Box<OutputError>),
     /// The cache could not be written or read (failed work).
     #[error("{0}")]
     Cache(#[from] hair_cache::CacheError),
@@ -49,6 +50,12 @@ pub enum Error {
         /// The failure, as it was reported.
         cause: String,
     },
+}
+
+impl From<OutputError> for Error {
+    fn from(e: OutputError) -> Self {
+        Error::Output(Box::new(e))
+    }
 }
 
 impl Error {
