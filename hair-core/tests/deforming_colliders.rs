@@ -5,6 +5,9 @@
 //! same motion done by a rigid pose; the barycentric root invariant (a root is its mesh sample
 //! evaluated on the frame's mesh); bit-identity of a resumed run.
 
+mod common;
+
+use common::bits;
 use hair_core::{
     Anchor, Collider, ColliderId, Colliders, HairError, HairParams, MassSpringSolver, MeshSample,
     RodParams, RodSolver, RootFrame, Scalp, SolverSettings, StrandInput, StrandSet, TriMesh,
@@ -648,16 +651,6 @@ fn hair_on_a_fast_shrug_stays_outside_and_on_its_roots() {
 
 // ---------------------------------------------------------------------------------------------
 // Resuming.
-
-/// Bits of the free and kinematic points' positions and velocities.
-fn bits(strands: &StrandSet) -> Vec<u32> {
-    strands
-        .positions
-        .iter()
-        .chain(&strands.velocities)
-        .flat_map(|v| v.iter().map(|c| c.to_bits()).collect::<Vec<_>>())
-        .collect()
-}
 
 #[test]
 fn a_run_resumed_on_a_deforming_scalp_and_collider_is_bit_identical() {

@@ -6,6 +6,9 @@
 //! head that is a mesh collider; the mass-spring model with hair–hair interaction and a host
 //! that changes parameters after the snapshot, which the restore undoes.
 
+mod common;
+
+use common::bits;
 use hair_core::model::strips::{HeadShape, StripSettings};
 use hair_core::{
     Anchor, Collider, ColliderId, Colliders, HairError, HairHairSettings, HairParams,
@@ -149,16 +152,6 @@ fn step(run: &mut Run, f: u32) -> u64 {
         .step_frame(&mut run.strands, &scalp, Some(&mut run.colliders))
         .unwrap()
         .contact_points
-}
-
-/// The bits of every position and velocity coordinate.
-fn bits(strands: &StrandSet) -> Vec<u32> {
-    strands
-        .positions
-        .iter()
-        .chain(&strands.velocities)
-        .flat_map(|v| v.iter().map(|c| c.to_bits()).collect::<Vec<_>>())
-        .collect()
 }
 
 /// What a host saves to step on from a frame.
