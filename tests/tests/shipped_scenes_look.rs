@@ -177,6 +177,13 @@ fn wind_demo() {
     check("wind_demo", &run("wind_demo.toml"), CLEAN);
 }
 
+/// The keyed gust sweeps the guides back into the head and the sim hairs follow them exactly for
+/// a while: the hardest contact of the shipped scenes for the implicit path.
+#[test]
+fn gust() {
+    check("gust", &run("gust.toml"), CLEAN);
+}
+
 #[test]
 fn collision_demo() {
     check("collision_demo", &run("collision_demo.toml"), CLEAN);

@@ -37,6 +37,15 @@
 //! finds near it, capped at a fraction of the mesh size (enough for hair near the surface), and
 //! shared between threads and clones of the set; the value depends only on the mesh, so results
 //! do not depend on which thread computed it first.
+//!
+//! **Deforming meshes.** A clearance holds for one shape only, and computing one (parry's
+//! triangle–triangle distance to every triangle within the cap) costs as much as a few hundred
+//! of parry's warm-started searches. A rigid mesh computes each once for the whole run; a mesh
+//! that deforms every collision step would compute them anew at every step for the few points
+//! each triangle serves: on the shipped character (1,500 hairs on a skinned head and shoulders)
+//! that was 40 % of the whole run. So a deformed mesh keeps only the certificate that needs no
+//! clearance (a convex body) and otherwise leaves the answer to parry's search, warm-started by
+//! the hint's distance as on any mesh.
 
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -65,7 +74,8 @@ pub(crate) struct FastProjection {
     planes: Arc<[Plane]>,
     /// The triangle across each edge `k` (vertices `k`, `k + 1`); `u32::MAX` if none.
     neighbours: Arc<[[u32; 3]]>,
-    /// Half the clearance of each triangle, m, as f32 bits (`UNKNOWN` until computed).
+    /// Half the clearance of each triangle, m, as f32 bits (`UNKNOWN` until computed); empty
+    /// once the mesh has deformed (module docs, "Deforming meshes").
     half_clearance: Arc<[AtomicU32]>,
     /// Largest clearance looked for, m.
     cap: f32,
@@ -185,13 +195,18 @@ impl FastProjection {
             convex_body: false,
         };
         fast.refresh(mesh.vertices(), mesh.indices());
+        fast.half_clearance = (0..mesh.indices().len())
+            .map(|_| AtomicU32::new(UNKNOWN))
+            .collect();
         fast
     }
 
-    /// Recomputes what depends on the vertex positions (planes, vertex convexity, clearances)
-    /// for a mesh whose vertices moved to `vertices` (body space, m); `indices` are its
-    /// triangles, those the shortcut was made for. The result is the same bits as
-    /// [`FastProjection::new`] on a mesh built at these positions.
+    /// Recomputes what depends on the vertex positions (planes, vertex convexity) for a mesh
+    /// whose vertices moved to `vertices` (body space, m); `indices` are its triangles, those
+    /// the shortcut was made for. The clearances are dropped: a deformed mesh certifies only by
+    /// the convex-body rule (module docs, "Deforming meshes"), so the answers are those of
+    /// [`FastProjection::new`] on a mesh built at these positions wherever that certifies
+    /// without a clearance, and parry's search elsewhere.
     pub fn refresh(&mut self, vertices: &[Vector], indices: &[[u32; 3]]) {
         let triangle = |t: u32| {
             let [a, b, c] = indices[t as usize].map(|i| vertices[i as usize]);
@@ -239,9 +254,7 @@ impl FastProjection {
                 }
             })
             .collect();
-        self.half_clearance = (0..indices.len())
-            .map(|_| AtomicU32::new(UNKNOWN))
-            .collect();
+        self.half_clearance = Arc::from([]);
         self.convex_body = convex_vertex.iter().all(|&c| c) && self.connected;
     }
 
@@ -344,9 +357,12 @@ impl FastProjection {
                 .all(|&w| d.dot(&(from_glam(mesh.vertices()[w as usize]) - at)) <= 0.0)
     }
 
-    /// Half the clearance of triangle `t`, m, computed on first use.
+    /// Half the clearance of triangle `t`, m, computed on first use; −∞ (no certificate) on a
+    /// deformed mesh.
     fn half_clearance(&self, mesh: &TriMesh, t: u32) -> f32 {
-        let slot = &self.half_clearance[t as usize];
+        let Some(slot) = self.half_clearance.get(t as usize) else {
+            return f32::NEG_INFINITY;
+        };
         let bits = slot.load(Ordering::Relaxed);
         if bits != UNKNOWN {
             return f32::from_bits(bits);
