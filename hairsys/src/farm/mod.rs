@@ -90,8 +90,11 @@ pub fn check_digest(shot: &ShotFile, expected: Option<&str>) -> Result<(), FarmE
     }
 }
 
-/// The chunks of frames `first`–`last` with `size` frames each (the last may be shorter), as
-/// an OpenJD runner splits a `CHUNK[INT]` range with a fixed `defaultTaskCount`.
+/// Contiguous chunks of frames `first`–`last` with `size` frames each (the last may be
+/// shorter): the tasks `commands.txt` lists. An OpenJD runner may split a `CHUNK[INT]` range
+/// into other contiguous chunks of at most `size` frames (`openjd run` evens them out: 48
+/// frames by 10 are 1-10, 11-20, 21-29, 30-39, 40-48); Assemble takes any that cover the shot
+/// once.
 pub fn chunks((first, last): (u32, u32), size: u32) -> Vec<(u32, u32)> {
     let size = size.max(1);
     let mut out = Vec::new();
