@@ -69,7 +69,7 @@ pub fn assemble(shot: &ShotFile, layout: &OutputLayout) -> Result<AssembleSummar
         let name = c.name.as_str();
         let dir = layout.chunk_dir(name);
         let files = chunk_files(&dir, name)?;
-        let chunks: Vec<(u32, u32)> = files.iter().map(|(r, _)| *r).collect();
+        let chunks: Vec<(u32, u32)> = files.iter().map(|f| f.frames).collect();
         if let Some(problem) = tiling_problem(&chunks, (first, last)) {
             return Err(FarmError::Chunks {
                 dir,

@@ -3,7 +3,7 @@
 //! and stitches them into one shot stage, bit for bit what one machine would write.
 //!
 //! ## The job
-//! [`job::write_job`] turns a [`ShotFile`](crate::shot::ShotFile) into a job bundle folder:
+//! [`job::write_job`] turns a [`ShotFile`] into a job bundle folder:
 //! `template.yaml`, `parameter_values.yaml` and `asset_references.yaml` (the files AWS Deadline
 //! Cloud's `deadline bundle submit` reads), `job_parameters.yaml` (the same values for `openjd
 //! run -p file://…`) and `commands.txt` (the same tasks as one command line each, for managers that run command

@@ -269,7 +269,11 @@ pub fn export_chunk(
         source: Box::new(e),
     })?;
     let mut removed = Vec::new();
-    for (range, stale) in chunk_files(&dir, name)? {
+    for ChunkFile {
+        frames: range,
+        path: stale,
+    } in chunk_files(&dir, name)?
+    {
         let overlaps = range.0 <= frames.1 && frames.0 <= range.1;
         if overlaps && range != frames {
             std::fs::remove_file(&stale).map_err(|e| {
@@ -286,11 +290,17 @@ pub fn export_chunk(
     })
 }
 
-/// The chunk files of character `name` in `dir`, by first frame: ((first, last), path).
-pub fn chunk_files(
-    dir: &std::path::Path,
-    name: &str,
-) -> Result<Vec<((u32, u32), PathBuf)>, FarmError> {
+/// A chunk file an Export task wrote.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
+pub struct ChunkFile {
+    /// Its first and last frame.
+    pub frames: (u32, u32),
+    /// The file.
+    pub path: PathBuf,
+}
+
+/// The chunk files of character `name` in `dir`, by first frame.
+pub fn chunk_files(dir: &std::path::Path, name: &str) -> Result<Vec<ChunkFile>, FarmError> {
     let entries = match std::fs::read_dir(dir) {
         Ok(e) => e,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
@@ -302,7 +312,10 @@ pub fn chunk_files(
             entry.map_err(|e| FarmError::io(dir, format!("cannot list the folder ({e})")))?;
         let file = entry.file_name();
         if let Some(range) = super::layout::parse_chunk_file_name(name, &file.to_string_lossy()) {
-            out.push((range, entry.path()));
+            out.push(ChunkFile {
+                frames: range,
+                path: entry.path(),
+            });
         }
     }
     out.sort();
