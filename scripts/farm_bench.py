@@ -2,14 +2,18 @@
 """Times a shot's farm job on this machine and prints BENCHMARKS.md's "A shot on a farm" tables.
 
 1. **Export step.** One character of 1,000 strands × 9 points over 240 frames, exported as
-   100,000 render children per frame (`usd = "children"`, no shutter): one `hairsys cache export
+   100,000 render children of 9 points per frame (`usd = "children"`, `subdivisions = 1`, no
+   shutter; the whole export holds 5.2 GB of samples in memory, the default 4 subdivisions
+   would take 19 GB): one `hairsys cache export
    --children` of the whole range, against the job's Export tasks (`hairsys farm export`, one
    process per chunk, run one after another) for chunks of 10, 30 and 120 frames. The
    contenders take turns round by round, in a rotated order, so a drift of the host's speed
    falls on all of them.
 2. **Simulate-task overhead.** `hairsys farm simulate` of the same character over one frame
    (process start, shot and scene loading, the scene's build, the rest frame written), against
-   the whole 240-frame task and a bare process start (`hairsys --version`).
+   the whole 240-frame task, a bare process start (`hairsys --version`), and the one-frame task
+   of a larger scene (`--overhead-scene`, the shipped default scene: 4,000 strands on the
+   built-in head).
 
 Every chunked export is checked to write as many time samples as the whole export. Nothing is
 asserted about speed; the figures go to stdout as Markdown, with the command, the host and the
@@ -57,6 +61,7 @@ seed = 5
 
 [children]
 count = {children}
+subdivisions = 1
 """
 
 SHOT = """version = 1
@@ -78,14 +83,20 @@ def run(cmd: list[str], cwd: Path) -> float:
     return run_out(cmd, cwd)[0]
 
 
+PEAK: list[int] = []
+
+
 def run_out(cmd: list[str], cwd: Path) -> tuple[float, str]:
-    """Runs `cmd` in `cwd`; returns its wall time in seconds and its stdout (exits on
-    failure)."""
+    """Runs `cmd` in `cwd` under `/usr/bin/time` (its peak resident memory, KiB, goes to
+    `PEAK`); returns its wall time in seconds and its stdout (exits on failure)."""
+    peak = cwd / "peak.txt"
     start = time.perf_counter()
-    done = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True)
+    done = subprocess.run(["/usr/bin/time", "-f", "%M", "-o", str(peak)] + cmd, cwd=cwd,
+                          capture_output=True, text=True)
     seconds = time.perf_counter() - start
     if done.returncode != 0:
         sys.exit(f"{' '.join(cmd)} failed (exit {done.returncode}):\n{done.stderr}")
+    PEAK.append(int(peak.read_text().split()[-1]))
     return seconds, done.stdout
 
 
@@ -107,6 +118,9 @@ def main() -> None:
     ap.add_argument("--strands", type=int, default=1000)
     ap.add_argument("--children", type=int, default=100_000)
     ap.add_argument("--chunk-sizes", default="10,30,120")
+    ap.add_argument("--overhead-scene", default=str(Path(__file__).resolve().parent.parent
+                                                    / "scenes" / "default.toml"),
+                    help="a second scene whose 1-frame Simulate task is timed (a larger build)")
     ap.add_argument("--keep", action="store_true", help="keep the scratch folder")
     args = ap.parse_args()
     binary = str(Path(args.binary).resolve())
@@ -118,6 +132,9 @@ def main() -> None:
     )
     (scratch / "shot.toml").write_text(SHOT.format(last=last))
     (scratch / "one.toml").write_text(SHOT.format(last=1))
+    other = Path(args.overhead_scene).resolve()
+    (scratch / "other.toml").write_text(
+        SHOT.format(last=1).replace('"bench.toml"', json.dumps(str(other))))
 
     # The character's cache, once: the Simulate task of the job.
     sim_full = run([binary, "farm", "simulate", "shot.toml", "--character", "bench",
@@ -128,6 +145,7 @@ def main() -> None:
     names = ["whole"] + [f"chunks of {n}" for n in sizes]
     times: dict[str, list[float]] = {n: [] for n in names}
     task_times: dict[str, list[float]] = {n: [] for n in names}
+    peaks: dict[str, int] = {n: 0 for n in names}
     samples: dict[str, int] = {}
     for r in range(args.rounds):
         order = names[r % len(names):] + names[: r % len(names)]
@@ -137,6 +155,7 @@ def main() -> None:
                 t, text = run_out([binary, "cache", "export", str(cache), "-o", str(out),
                                    "--children", "--json"], scratch)
                 samples["whole"] = json.loads(text)["time_samples"]
+                peaks[name] = max(peaks[name], PEAK[-1])
                 out.unlink()
                 times[name].append(t)
                 task_times[name].append(t)
@@ -149,6 +168,7 @@ def main() -> None:
                 written += json.loads(text)["summary"]["time_samples"]
                 total += t
                 task_times[name].append(t)
+                peaks[name] = max(peaks[name], PEAK[-1])
             samples[name] = written
             shutil.rmtree(scratch / "out" / "bench" / "chunks")
             times[name].append(total)
@@ -158,12 +178,15 @@ def main() -> None:
         sys.exit(f"the contenders wrote different numbers of time samples: {samples}")
 
     # Simulate-task overhead.
-    start_only, one_frame = [], []
+    start_only, one_frame, other_frame = [], [], []
     for _ in range(max(3, args.rounds)):
         start_only.append(run([binary, "--version"], scratch))
         shutil.rmtree(scratch / "out1", ignore_errors=True)
         one_frame.append(run([binary, "farm", "simulate", "one.toml", "--character", "bench",
                               "--out-dir", "out1", "--quiet"], scratch))
+        shutil.rmtree(scratch / "out2", ignore_errors=True)
+        other_frame.append(run([binary, "farm", "simulate", "other.toml", "--character",
+                                "bench", "--out-dir", "out2", "--quiet"], scratch))
 
     host = platform.node()
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo")
@@ -179,15 +202,15 @@ def main() -> None:
           f"{load:.1f} at the end; {args.rounds} rounds, contenders in turns, medians:\n")
     print(f"| Export step, {last} frames × {args.children:,} children | tasks | "
           "all tasks, one after another | against one whole export | one task (median) | "
-          "longest task |")
-    print("|---|---:|---:|---:|---:|---:|")
+          "longest task | peak memory of a task |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
     for name in names:
         n_tasks = 1 if name == "whole" else len(chunks(1, last, int(name.split()[-1])))
         label = "one `cache export --children` of the whole range" if name == "whole" \
             else f"`farm export` tasks, {name} frames"
         print(f"| {label} | {n_tasks} | {med(times[name]):.2f} s | "
               f"{med(times[name]) / whole:.2f}× | {med(task_times[name]):.2f} s | "
-              f"{max(task_times[name]):.2f} s |")
+              f"{max(task_times[name]):.2f} s | {peaks[name] / 2**20:.2f} GiB |")
     print()
     print("| Simulate task | wall time (median) |")
     print("|---|---:|")
@@ -195,6 +218,8 @@ def main() -> None:
     print(f"| `farm simulate`, 1 frame (start, shot and scene load, build, rest frame) | "
           f"{med(one_frame) * 1e3:.0f} ms |")
     print(f"| `farm simulate`, {last} frames (once) | {sim_full:.2f} s |")
+    print(f"| `farm simulate`, 1 frame of `{other.name}` ({other.parent.name}/) | "
+          f"{med(other_frame) * 1e3:.0f} ms |")
     if not args.keep:
         shutil.rmtree(scratch)
     else:
