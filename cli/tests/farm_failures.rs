@@ -361,3 +361,24 @@ fn shot_check_prints_the_work_and_refuses_bad_shots_by_file_key_and_fix() {
         assert!(stderr.contains(expected), "{expected}: {stderr}");
     }
 }
+
+#[test]
+fn every_shot_and_farm_command_has_help() {
+    let dir = tempdir("farm-help");
+    for args in [
+        &["shot", "--help"][..],
+        &["shot", "check", "--help"],
+        &["farm", "--help"],
+        &["farm", "job", "--help"],
+        &["farm", "simulate", "--help"],
+        &["farm", "export", "--help"],
+        &["farm", "assemble", "--help"],
+    ] {
+        let out = hairsys(args, &dir);
+        assert!(out.status.success(), "{args:?}");
+        assert!(
+            String::from_utf8_lossy(&out.stdout).contains("Usage"),
+            "{args:?}"
+        );
+    }
+}
