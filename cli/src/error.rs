@@ -32,6 +32,18 @@ pub enum CliError {
     /// not make.
     #[error("{0}")]
     Output(Box<OutputError>),
+    /// A shot file the library could not use.
+    #[error("{0}")]
+    Shot(#[from] hairsys::shot::ShotError),
+    /// A farm job that could not be written, or a task of one that could not run.
+    #[error("{0}")]
+    Farm(Box<hairsys::farm::FarmError>),
+}
+
+impl From<hairsys::farm::FarmError> for CliError {
+    fn from(e: hairsys::farm::FarmError) -> Self {
+        CliError::Farm(Box::new(e))
+    }
 }
 
 impl From<OutputError> for CliError {
@@ -55,7 +67,14 @@ impl CliError {
     pub fn exit_code(&self) -> u8 {
         use hairsys::Error as E;
         match self {
-            CliError::Input(_) | CliError::Scene(_) => 2,
+            CliError::Input(_) | CliError::Scene(_) | CliError::Shot(_) => 2,
+            CliError::Farm(e) => {
+                if e.is_bad_input() {
+                    2
+                } else {
+                    1
+                }
+            }
             CliError::Failed(_) => 1,
             CliError::Library(e) => match e {
                 E::Scene(_) | E::Usage(_) | E::Argument { .. } => 2,

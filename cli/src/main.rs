@@ -24,7 +24,7 @@ mod output;
 mod progress;
 mod quality_text;
 
-use commands::{bench, cache, groom, plan, preview, render_children, scene, simulate};
+use commands::{bench, cache, farm, groom, plan, preview, render_children, scene, shot, simulate};
 use error::CliError;
 
 /// A Blender-style hair system: guide hairs, mass-spring simulation, MCAP point caches.
@@ -78,6 +78,17 @@ enum Command {
     Plan(plan::PlanArgs),
     /// Speed against accuracy: reference cases, the Pareto chart, the stability map.
     Bench(bench::BenchArgs),
+    /// Shot files: several characters, one frame range, what to make of them.
+    Shot {
+        #[command(subcommand)]
+        command: shot::ShotCommand,
+    },
+    /// A shot on a render farm: an Open Job Description job bundle, and the commands its tasks
+    /// run.
+    Farm {
+        #[command(subcommand)]
+        command: farm::FarmCommand,
+    },
 }
 
 /// What every command may need beside its own arguments.
@@ -136,5 +147,7 @@ fn run(command: Command, ctx: &Context) -> Result<(), CliError> {
         }
         Command::Plan(args) => plan::run(&args, ctx),
         Command::Bench(args) => bench::run(&args),
+        Command::Shot { command } => shot::run(command, ctx),
+        Command::Farm { command } => farm::run(command, ctx),
     }
 }

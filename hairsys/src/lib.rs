@@ -14,6 +14,8 @@
 //! - [`build`]: the one assembly path every door takes (a scene file, a host's arrays).
 //! - [`output`]: render children, the shot export, cards, previews and quality reports, each
 //!   opened from a cache alone ([`output::Shot`]).
+//! - [`shot`] and [`farm`]: a shot of several characters (`shot.toml`) as an Open Job
+//!   Description job that simulates per character, exports frame chunks and stitches them.
 //!
 //! ## Common tasks
 //! | task | where |
@@ -26,6 +28,7 @@
 //! | children of the session's current frame, in memory | [`Session::children`] |
 //! | simulate a host's curves on its mesh, given as arrays | [`Session::from_groom`] |
 //! | hair cards of a strips scene | [`output::cards::export_cards`] |
+//! | a shot's job for a render farm (OpenJD) | [`shot::ShotFile::load`], [`farm::job::write_job`] |
 //!
 //! ```no_run
 //! use hairsys::{scene::SceneFile, Session};
@@ -43,6 +46,7 @@ pub mod accuracy;
 pub mod budget;
 pub mod build;
 pub mod error;
+pub mod farm;
 pub mod output;
 pub mod plan;
 pub mod resume;
@@ -50,6 +54,7 @@ pub mod rig;
 pub mod run;
 pub mod scene;
 pub mod session;
+pub mod shot;
 
 pub use error::{Error, Result};
 pub use session::{FrameView, Session, Snapshot};

@@ -165,6 +165,7 @@ fn cache_export_options(
         scene,
         budget,
         time_offset: 0.0,
+        context: None,
     })
 }
 

@@ -186,6 +186,7 @@ fn export_children(a: ExportArgs, ctx: &Context) -> Result<(), CliError> {
             scene: a.scene,
             budget,
             time_offset: a.time_offset,
+            context: None,
         };
         return crate::commands::cache_export::run(cache, &a.out, &shot, a.quiet, a.json);
     }

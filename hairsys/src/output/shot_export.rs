@@ -76,6 +76,11 @@ pub struct ShotOptions {
     /// Added to every time code written (frames; finite): frame `f` is written at `f +
     /// time_offset`. 0 writes scene frames as they are.
     pub time_offset: f64,
+    /// The frames of the whole export this file is a chunk of (a value clip; `None`: the file
+    /// stands alone). Children velocities at the chunk's first and last time codes take their
+    /// neighbours from the whole export's time codes, and whether `/scalp` is animated is decided
+    /// over the whole export, so the chunk holds exactly the whole export's values.
+    pub context: Option<(u32, u32)>,
 }
 
 /// What [`export_shot`] wrote.
@@ -144,6 +149,18 @@ pub fn export_shot(
         )));
     }
     let (times, dropped) = time_codes(&chosen, opts.shutter.as_ref(), (lo, hi));
+    // The whole export's time codes, when this file is a chunk of one.
+    let whole: Vec<f64> = match opts.context {
+        Some((a, b)) => {
+            let frames: Vec<u32> = cached
+                .iter()
+                .copied()
+                .filter(|f| (a..=b).contains(f))
+                .collect();
+            time_codes(&frames, opts.shutter.as_ref(), (lo, hi)).0
+        }
+        None => times.clone(),
+    };
     let time_range = (
         times[0] + opts.time_offset,
         times[times.len() - 1] + opts.time_offset,
@@ -158,7 +175,8 @@ pub fn export_shot(
     let offset = opts.time_offset;
     let (prim, curves, points) = match &opts.children {
         Some(request) => {
-            let (curves, points) = add_children(&mut layer, &mut shot, request, &times, opts)?;
+            let (curves, points) =
+                add_children(&mut layer, &mut shot, request, &times, &whole, opts)?;
             ("children", curves, points)
         }
         None => {
@@ -167,7 +185,7 @@ pub fn export_shot(
         }
     };
     layer.set_default_prim(prim);
-    let scalp_animated = add_scalp(&mut layer, &mut shot, &times, offset)?;
+    let scalp_animated = add_scalp(&mut layer, &mut shot, &times, &whole, offset)?;
     layer.write(out).map_err(|e| OutputError::write(out, e))?;
     let bytes = std::fs::metadata(out).map(|m| m.len()).unwrap_or(0);
     Ok(ShotSummary {
@@ -187,7 +205,7 @@ pub fn export_shot(
 /// The time codes of `frames` with `shutter`'s offsets around each (just the frames without
 /// one), in increasing order, each once, inside `cached` (first and last cached frame); and the
 /// samples left out because they lie outside it.
-fn time_codes(
+pub(crate) fn time_codes(
     frames: &[u32],
     shutter: Option<&Shutter>,
     (lo, hi): (f64, f64),
@@ -297,11 +315,15 @@ fn root_attributes(shot: &Shot) -> (Option<Vec<f32>>, Option<Vec<f32>>) {
 }
 
 /// Render children at every time code as `/children`; returns (curves, points per sample).
+/// `whole` holds the time codes of the whole export `times` is a chunk of (or `times` itself):
+/// the children at its time codes just before and after `times` are generated too, for the
+/// central-difference velocities at the chunk's ends, and not written.
 fn add_children(
     layer: &mut UsdLayer,
     shot: &mut Shot,
     request: &ShotChildren,
     times: &[f64],
+    whole: &[f64],
     opts: &ShotOptions,
 ) -> Result<(usize, usize), OutputError> {
     let fps = shot.fps();
@@ -311,9 +333,16 @@ fn add_children(
         clump: shot.rig().clump.clone(),
         curl: shot.rig().curl.clone(),
     };
+    let before = whole.iter().rev().find(|&&t| t < times[0]).copied();
+    let after = whole.iter().find(|&&t| t > times[times.len() - 1]).copied();
+    let generated: Vec<f64> = before
+        .into_iter()
+        .chain(times.iter().copied())
+        .chain(after)
+        .collect();
     let mut first: Option<ChildBuffers> = None;
-    let mut points = Vec::with_capacity(times.len());
-    for &t in times {
+    let mut points = Vec::with_capacity(generated.len());
+    for &t in &generated {
         let s = shot.reader().sample(t / fps, Interpolation::Hermite)?;
         let scalp = shot.scalp_at(t)?;
         let colors = shot.rig().scalp.as_ref().and_then(|s| s.colors.as_deref());
@@ -333,12 +362,19 @@ fn add_children(
         }
         let (frame_points, rest) = take_points(children);
         points.push((t + opts.time_offset, frame_points));
-        // The first time code's curves (less their points) carry the topology and per-curve data.
+        // The first time code's curves (less their points) carry the topology and per-curve
+        // data, which every time code shares (checked above).
         first.get_or_insert(rest);
     }
     let first = first.ok_or_else(|| OutputError::request("no time code to export"))?;
     let sizes = (first.curve_count(), points[0].1.len() / 3);
-    let velocities = central_differences(&points, fps);
+    let mut velocities = central_differences(&points, fps);
+    // The neighbours were generated for the velocities only.
+    let skip = usize::from(before.is_some());
+    let keep = skip..skip + times.len();
+    let mut points: Vec<_> = points.drain(keep.clone()).collect();
+    velocities = velocities.drain(keep).collect();
+    points.shrink_to_fit();
     layer.add_curves(curves_prim(
         "children",
         first,
@@ -377,12 +413,15 @@ fn central_differences(points: &[(f64, Vec<f32>)], fps: f64) -> Vec<(f64, Vec<f3
         .collect()
 }
 
-/// The scalp mesh as `/scalp`, animated when it moves over `times` (scene frames, written at
-/// `offset` time codes later); returns whether it is animated, `None` without a scalp mesh.
+/// The scalp mesh as `/scalp`, animated when it moves over `whole` (the time codes of the
+/// whole export `times` is a chunk of, or `times` itself), with samples at `times` (scene
+/// frames, written at `offset` time codes later); returns whether it is animated, `None` without
+/// a scalp mesh.
 fn add_scalp(
     layer: &mut UsdLayer,
     shot: &mut Shot,
     times: &[f64],
+    whole: &[f64],
     offset: f64,
 ) -> Result<Option<bool>, OutputError> {
     let Some(rest) = shot.rest_scalp().cloned() else {
@@ -397,7 +436,10 @@ fn add_scalp(
             frames.push((t + offset, flat(mesh.positions())));
         }
     }
-    let moves = frames.windows(2).any(|w| w[0].1 != w[1].1);
+    let mut moves = frames.windows(2).any(|w| w[0].1 != w[1].1);
+    if !moves && whole.len() > times.len() {
+        moves = scalp_moves(shot, whole)?;
+    }
     let points = if moves {
         Samples::Times(frames)
     } else {
@@ -419,6 +461,22 @@ fn add_scalp(
         colors: None,
     });
     Ok(Some(moves))
+}
+
+/// Whether the scalp's points differ between any two neighbouring time codes of `times`.
+fn scalp_moves(shot: &mut Shot, times: &[f64]) -> Result<bool, OutputError> {
+    let mut previous: Option<Vec<f32>> = None;
+    for &t in times {
+        let Some(mesh) = shot.scalp_at(t)?.mesh else {
+            continue;
+        };
+        let points = flat(mesh.positions());
+        if previous.as_ref().is_some_and(|p| *p != points) {
+            return Ok(true);
+        }
+        previous = Some(points);
+    }
+    Ok(false)
 }
 
 #[cfg(test)]
