@@ -89,7 +89,9 @@ fn killed_run_is_recovered_and_resumed_bit_identically() {
         .unwrap();
     let partial = dir.join("run.mcap.partial");
     let start = Instant::now();
-    while std::fs::metadata(&partial).map_or(0, |m| m.len()) < 6 * 816_000 {
+    // Eight frames of bytes: the cache header and its rig come first, so at least five whole
+    // frames are on disk.
+    while std::fs::metadata(&partial).map_or(0, |m| m.len()) < 8 * 816_000 {
         assert!(
             start.elapsed() < Duration::from_secs(60),
             "the run wrote nothing"
