@@ -11,35 +11,7 @@ use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{hairsys, tempdir};
-
-/// 2,000 strands × 17 points: every frame (816 kB) closes its own cache chunk, and a frame takes
-/// tens of milliseconds, so a run can be killed half-way.
-const SCENE: &str = r#"version = 1
-[scene]
-frames = [1, 40]
-
-[scalp.mesh]
-kind = "uv-sphere"
-radius = 0.1
-segments = 24
-rings = 12
-
-[scalp.motion]
-keys = [
-    { frame = 1, rotation_deg = [0.0, 0.0, 0.0] },
-    { frame = 40, translation = [0.2, 0.0, 0.0], rotation_deg = [0.0, 0.0, 90.0] },
-]
-
-[hair]
-count = 2000
-length = 0.2
-segments = 16
-seed = 3
-
-[physics]
-air_drag = 2.0
-"#;
+use common::{hairsys, tempdir, KILLABLE_SCENE as SCENE};
 
 const SHOT: &str = r#"version = 1
 [shot]

@@ -8,36 +8,8 @@ mod common;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{hairsys, tempdir};
+use common::{hairsys, tempdir, KILLABLE_SCENE as SCENE};
 use hair_cache::CacheReader;
-
-/// 2,000 strands × 17 points: every frame (816 kB) closes its own chunk, and a frame takes tens of
-/// milliseconds, so the run can be killed half-way.
-const SCENE: &str = r#"
-[scene]
-frames = [1, 40]
-
-[scalp.mesh]
-kind = "uv-sphere"
-radius = 0.1
-segments = 24
-rings = 12
-
-[scalp.motion]
-keys = [
-    { frame = 1, rotation_deg = [0.0, 0.0, 0.0] },
-    { frame = 40, translation = [0.2, 0.0, 0.0], rotation_deg = [0.0, 0.0, 90.0] },
-]
-
-[hair]
-count = 2000
-length = 0.2
-segments = 16
-seed = 3
-
-[physics]
-air_drag = 2.0
-"#;
 
 /// A frame as (number, position bits, velocity bits).
 type FrameBits = (u32, Vec<[u32; 3]>, Vec<[u32; 3]>);

@@ -19,6 +19,35 @@ pub fn hairsys_with_env(args: &[&str], dir: &Path, env: &[(&str, &str)]) -> Outp
         .expect("the binary runs")
 }
 
+/// A scene whose run can be killed half-way: 2,000 strands × 17 points on a moving sphere, 40
+/// frames; every frame (816 kB) closes its own cache chunk and takes tens of milliseconds.
+#[allow(dead_code)] // each test binary compiles this module; not all of them use every helper
+pub const KILLABLE_SCENE: &str = r#"version = 1
+[scene]
+frames = [1, 40]
+
+[scalp.mesh]
+kind = "uv-sphere"
+radius = 0.1
+segments = 24
+rings = 12
+
+[scalp.motion]
+keys = [
+    { frame = 1, rotation_deg = [0.0, 0.0, 0.0] },
+    { frame = 40, translation = [0.2, 0.0, 0.0], rotation_deg = [0.0, 0.0, 90.0] },
+]
+
+[hair]
+count = 2000
+length = 0.2
+segments = 16
+seed = 3
+
+[physics]
+air_drag = 2.0
+"#;
+
 /// A fresh, empty temporary directory named for the test and this process.
 pub fn tempdir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("hairsys-cli-{name}-{}", std::process::id()));

@@ -261,6 +261,10 @@ impl FastProjection {
     /// Where body-space point `p` projects on `mesh` (the triangle, and the edge if on one), if
     /// triangle `t` or one a short walk away certifies it.
     pub fn project(&self, mesh: &TriMesh, t: u32, p: &Vector3<f32>) -> Option<FastHit> {
+        // A deformed mesh that is not a convex body has no certificate left: skip the walk.
+        if !self.convex_body && self.half_clearance.is_empty() {
+            return None;
+        }
         let mut t = t;
         let mut previous = u32::MAX;
         for _ in 0..=WALK {
