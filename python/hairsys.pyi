@@ -144,8 +144,6 @@ class Session:
             "auto", "semi-implicit-euler", "implicit-euler", "bdf2", "xpbd", "explicit-euler"
         ] = "auto",
         sag_free: bool = False,
-        scalp_deforms: bool | None = None,
-        collider_deforms: bool | None = None,
         collider_speed: float | None = None,
         damping_iterations: int = 10,
         gravity: tuple[float, float, float] = (0.0, 0.0, -9.81),
@@ -189,11 +187,11 @@ class Session:
         collider after them. hair_hair_friction (0–1) switches voxel hair–hair friction on.
         integrator: "auto" (the default) chooses between semi-implicit Euler and BDF2 by the
         same rule as a scene file's [solver] integrator, from the curves' stiffness, their
-        sharpest rest joint and what the host says will press on them: scalp_deforms (the
-        host deforms the scalp it passes to step, e.g. an armature), collider_deforms (it
-        deforms a mesh collider), collider_speed (fastest collider surface speed, m/s); None
-        (not said) is taken at its hardest: a scalp collider and mesh colliders that may
-        deform, colliders that may move at any speed. Or name the integrator. sag_free solves rest shapes so the groom is in equilibrium under
+        sharpest rest joint and how fast the host says its colliders will move: collider_speed
+        (fastest speed of a collider's surface over the shot, rigid motion and deformation
+        together, m/s; None, not said, is taken as any speed). A collider whose surface crosses
+        more than half its size in one BDF2 substep keeps semi-implicit Euler; the scalp never
+        counts, deforming or not. Or name the integrator. sag_free solves rest shapes so the groom is in equilibrium under
         gravity at the first frame (a scene's [solver] sag_free): hair keeps its groomed shape
         instead of sagging when the simulation starts; one material only (no strand_scales).
         Raises ArgumentError naming the bad argument.

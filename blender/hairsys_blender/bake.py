@@ -112,37 +112,32 @@ def collider_state(obj, depsgraph, triangles=False):
     return pose, verts, tris
 
 
-def deforms(obj):
-    """True when `obj`'s evaluated mesh may change shape over time, not only move rigidly: it has
-    shape keys or a modifier (an armature, a lattice, geometry nodes...)."""
-    return obj.data.shape_keys is not None or len(obj.modifiers) > 0
-
-
-def expected_motion(scene, surface, colliders, first, last, fps):
-    """What the bake will do to the surface and the colliders, as `Session.from_groom`'s
-    `scalp_deforms`, `collider_deforms` and `collider_speed` (m/s: the fastest collider
-    surface point, from the colliders' world matrices at every frame, translation plus turn
-    angle times the collider's reach from its origin), so hairsys chooses its integrator as it
-    would for a scene file with the same motion. Leaves the scene at `first`."""
+def expected_motion(context, colliders, first, last, fps):
+    """How fast the colliders will move, as `Session.from_groom`'s `collider_speed` (m/s): per
+    frame and collider, from its world matrix the translation plus the turn angle times the
+    collider's reach from its origin, plus the fastest vertex of its evaluated mesh in body space
+    (an armature, shape keys), so hairsys chooses its integrator as it would for a scene file
+    with the same motion. Leaves the scene at `first`."""
+    scene = context.scene
     speed = 0.0
     if colliders and last > first:
-        reach = [float(np.linalg.norm(np.array(o.bound_box, dtype=np.float64), axis=1).max()
-                       * max(o.matrix_world.to_scale())) for o in colliders]
         previous = None
         for frame in range(first, last + 1):
             scene.frame_set(frame)
-            poses = [rigid_part(o.matrix_world) for o in colliders]
+            depsgraph = context.evaluated_depsgraph_get()
+            states = [collider_state(o, depsgraph)[:2] for o in colliders]
             if previous is not None:
-                for a, b, r in zip(previous, poses, reach):
+                for (a, va), (b, vb) in zip(previous, states):
+                    reach = float(np.linalg.norm(vb, axis=1).max()) if len(vb) else 0.0
                     moved = np.linalg.norm(b[:3, 3] - a[:3, 3])
                     turn = a[:3, :3].T @ b[:3, :3]
                     angle = np.arccos(np.clip((np.trace(turn) - 1.0) / 2.0, -1.0, 1.0))
-                    speed = max(speed, (moved + angle * r) * fps)
-            previous = poses
+                    deformed = (float(np.linalg.norm(vb - va, axis=1).max())
+                                if len(vb) == len(va) and len(vb) else 0.0)
+                    speed = max(speed, (moved + angle * reach + deformed) * fps)
+            previous = states
         scene.frame_set(first)
-    return dict(scalp_deforms=deforms(surface),
-                collider_deforms=any(deforms(o) for o in colliders),
-                collider_speed=speed)
+    return dict(collider_speed=speed)
 
 
 class Baker:
@@ -179,7 +174,7 @@ class Baker:
                           "thickness": s.collider_thickness, "friction": s.collider_friction})
             self.collider_counts.append(len(cv))
         fps = self.scene.render.fps / self.scene.render.fps_base
-        motion = expected_motion(self.scene, surface, self.colliders, self.first, self.last, fps)
+        motion = expected_motion(context, self.colliders, self.first, self.last, fps)
         options = dict(
             fps=fps, first_frame=self.first, substeps=s.substeps if s.substeps > 0 else "auto",
             gravity=tuple(self.scene.gravity) if self.scene.use_gravity else (0.0, 0.0, 0.0),

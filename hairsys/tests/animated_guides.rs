@@ -19,8 +19,8 @@ fps = 24.0
 frames = [1, 12]
 
 [solver]
-# Named: `"auto"` keeps semi-implicit Euler only where poses are keyed, and these runs compare
-# keyed and unkeyed variants of one scene.
+# Named, so the keyed and unkeyed variants of one scene these runs compare take the same
+# integrator whatever `"auto"` decides for each.
 integrator = "semi-implicit-euler"
 substeps = "auto"
 damping_iterations = 10

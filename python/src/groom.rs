@@ -147,8 +147,6 @@ const KEYS: &[&str] = &[
     "substeps",
     "integrator",
     "sag_free",
-    "scalp_deforms",
-    "collider_deforms",
     "collider_speed",
     "damping_iterations",
     "gravity",
@@ -252,8 +250,6 @@ pub fn groom_options(
             .map_err(|e| argument("integrator", &e))?;
     }
     set!(o.sag_free, "sag_free");
-    o.expected_motion.scalp_deforms = value(options, "scalp_deforms")?;
-    o.expected_motion.collider_deforms = value(options, "collider_deforms")?;
     o.expected_motion.collider_speed = value(options, "collider_speed")?;
     if let Some(v) = value(options, "damping_iterations")? {
         o.settings.damping_iterations = v;

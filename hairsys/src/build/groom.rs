@@ -8,7 +8,7 @@
 //! write the positions back onto its own curves) or used as guides from which
 //! [`hair_groom::interpolate()`] grows more simulation hairs (as `[sim_hairs]` does). From there
 //! the assembly is a scene file's: the integrator is chosen by the same rule (`"auto"` by
-//! default, from the strands and what [`ExpectedMotion`] says will press on them), sag-free rest
+//! default, from the strands and how fast [`ExpectedMotion`] says the colliders move), sag-free rest
 //! shapes are solved on request, and the session is made by the same constructor.
 //!
 //! The scalp is given in world space at the first frame with an identity body transform, so a
@@ -99,7 +99,7 @@ pub struct GroomOptions {
     /// (as a scene's `[solver] sag_free`): hair holds its groomed shape instead of sagging when
     /// the simulation starts. Mass-spring with one material (no `strand_scales`).
     pub sag_free: bool,
-    /// What the host will do to the scalp and the colliders, for `"auto"`'s contact rule.
+    /// How fast the host will move its colliders, for `"auto"`'s contact rule.
     pub expected_motion: ExpectedMotion,
     /// Frame number of the rest state (the first frame).
     pub first_frame: u32,
@@ -150,20 +150,15 @@ impl Default for GroomOptions {
     }
 }
 
-/// What a host will do to the scalp and the colliders over the shot. A scene file's keyframes
-/// and meshes say this by themselves; a host that drives a session frame by frame says it here,
-/// so `"auto"` takes the integrator a scene with the same motion would take. What the host does
-/// not say (`None`) is taken at its hardest: a scalp collider that may deform, colliders that
-/// may deform and move at any speed.
+/// How fast a host will move its colliders over the shot. A scene file's keyframes and meshes
+/// say this by themselves; a host that drives a session frame by frame says it here, so
+/// `"auto"` takes the integrator a scene with the same motion would take. What the host does not
+/// say (`None`) is taken at its hardest: colliders that may move at any speed. The scalp does not
+/// count: the hair is rooted on it and moves with it, however it deforms.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ExpectedMotion {
-    /// Whether the host deforms the scalp ([`Session::set_scalp_vertices`](crate::Session::set_scalp_vertices) with vertices that
-    /// are not a rigid motion of the rest mesh: an armature, shape keys).
-    pub scalp_deforms: Option<bool>,
-    /// Whether the host deforms a mesh collider ([`Session::set_collider_vertices`](crate::Session::set_collider_vertices)).
-    pub collider_deforms: Option<bool>,
-    /// Fastest speed of any point of a collider's surface over the shot, m/s (0: still
-    /// colliders).
+    /// Fastest speed of any point of a collider's surface over the shot, rigid motion and
+    /// deformation together, m/s (0: still colliders).
     pub collider_speed: Option<f64>,
 }
 
@@ -204,7 +199,7 @@ pub fn simulation(input: &GroomArrays<'_>, options: &GroomOptions) -> Result<Sim
             .push(s)
             .map_err(|e| Error::argument("curve_points", format!("strand {i}: {e}")))?;
     }
-    let contact = contact_load(options, &strands);
+    let contact = contact_load(options);
     let mut settings = options.settings;
     let (integrator, _) = choose_integrator(
         options.integrator,
@@ -259,34 +254,24 @@ pub fn simulation(input: &GroomArrays<'_>, options: &GroomOptions) -> Result<Sim
     Ok(sim)
 }
 
-/// `"auto"`'s contact load for a host's session: what the host says it will do, and how far a
-/// moving collider may go in a substep (its thickness plus the thinnest hair's radius).
-fn contact_load(options: &GroomOptions, strands: &StrandSet) -> ContactLoad {
-    let motion = options.expected_motion;
-    let hair = strands
-        .radii()
-        .iter()
-        .copied()
-        .fold(f32::INFINITY, f32::min)
-        .max(0.0);
-    let margin = options
-        .colliders
-        .iter()
-        .map(|(c, _)| f64::from(c.thickness + hair))
-        .fold(f64::INFINITY, f64::min);
-    let colliders = !options.colliders.is_empty();
-    let speed = match motion.collider_speed {
-        Some(v) if colliders => v,
-        _ => 0.0,
-    };
-    ContactLoad {
-        collider_speed: speed,
-        margin: if speed > 0.0 { margin } else { f64::INFINITY },
-        deforming: motion.scalp_deforms.unwrap_or(true) && options.scalp_collider.is_some()
-            || motion.collider_deforms.unwrap_or(true) && colliders,
-        animated_guides: false,
-        unknown_collider_speed: colliders && motion.collider_speed.is_none(),
+/// `"auto"`'s contact load for a host's session: the speed the host gives against the size of
+/// its smallest collider.
+fn contact_load(options: &GroomOptions) -> ContactLoad {
+    if options.colliders.is_empty() {
+        return ContactLoad::default();
     }
+    let Some(speed) = options.expected_motion.collider_speed else {
+        return ContactLoad {
+            unknown_collider_speed: true,
+            ..ContactLoad::default()
+        };
+    };
+    ContactLoad::from_colliders(
+        options
+            .colliders
+            .iter()
+            .map(|(c, _)| (speed, f64::from(c.shape.bounding_radius()))),
+    )
 }
 
 /// A [`SettleError`] in a host's words: the options it gave (`colliders`: how many it gave).

@@ -338,15 +338,7 @@ impl SceneFile {
             .map_err(err)?;
         let map_summaries = maps.summaries(&strands, rest_mesh.as_ref()).map_err(err)?;
         let colliders = self.colliders()?;
-        let contact = integrator::ContactLoad {
-            deforming: scalp_animation.is_some() && s.scalp.collider.is_some()
-                || colliders.iter().any(|c| c.animation.is_some()),
-            animated_guides: guided
-                .as_ref()
-                .and_then(|g| g.animation.as_ref())
-                .is_some_and(|a| a.has_poses()),
-            ..self.collider_motion(&colliders, &strands)
-        };
+        let contact = self.collider_motion(&colliders);
         let (integrator, bound) = crate::build::choose_integrator(
             s.solver.integrator,
             s.solver.model,
@@ -463,37 +455,22 @@ impl SceneFile {
             .map_err(|m| self.error(m))
     }
 
-    /// The fastest surface speed of `colliders` over the shot and the distance one may move in
-    /// a substep (its thickness plus the thinnest hair radius of `strands`), for `"auto"`'s
-    /// contact condition ([`integrator`]).
-    fn collider_motion(
-        &self,
-        colliders: &[SceneCollider],
-        strands: &StrandSet,
-    ) -> integrator::ContactLoad {
+    /// How fast `colliders` move against their size over the shot, for `"auto"`'s contact
+    /// condition ([`integrator`]): per collider the fastest point of its rigid motion plus the
+    /// fastest vertex of its deformation, against its bounding radius.
+    fn collider_motion(&self, colliders: &[SceneCollider]) -> integrator::ContactLoad {
         let [first, last] = self.scene.scene.frames;
         let fps = f64::from(self.scene.scene.fps);
-        let hair = strands
-            .radii()
-            .iter()
-            .copied()
-            .fold(f32::INFINITY, f32::min);
-        let mut load = integrator::ContactLoad {
-            margin: f64::INFINITY,
-            ..Default::default()
-        };
-        for c in colliders {
+        integrator::ContactLoad::from_colliders(colliders.iter().map(|c| {
             let radius = f64::from(c.collider.shape.bounding_radius());
-            let speed =
+            let rigid =
                 integrator::fastest_surface_speed(|f| c.motion.at(f), radius, first, last, fps);
-            if speed > 0.0 {
-                load.collider_speed = load.collider_speed.max(speed);
-                load.margin = load
-                    .margin
-                    .min(f64::from(c.collider.thickness + hair.max(0.0)));
-            }
-        }
-        load
+            let deforming = c
+                .animation
+                .as_ref()
+                .map_or(0.0, |a| a.fastest_vertex_speed(fps));
+            (rigid + deforming, radius)
+        }))
     }
 
     /// Loads and checks the `[[colliders]]`.

@@ -198,6 +198,17 @@ impl MeshAnimation {
         }
     }
 
+    /// The fastest any vertex moves between two consecutive frames, times `fps` (frames per
+    /// second): the deformation's largest speed, m/s (0 for a single frame).
+    pub fn fastest_vertex_speed(&self, fps: f64) -> f64 {
+        let moved = self
+            .frames
+            .windows(2)
+            .flat_map(|w| w[0].iter().zip(&w[1]).map(|(a, b)| (b - a).norm()))
+            .fold(0.0f32, f32::max);
+        f64::from(moved) * fps
+    }
+
     /// Refuses a run over `first..=last` that leaves the frames read, naming the source.
     pub fn check_covers(&self, first: u32, last: u32) -> Result<(), String> {
         let (lo, hi) = self.frames();
