@@ -18,8 +18,8 @@
 //! where this rotates in one).
 
 use hair_core::TriMesh;
+use hair_par::prelude::*;
 use nalgebra::{UnitQuaternion, Vector3};
-use rayon::prelude::*;
 use thiserror::Error;
 
 use crate::error::{parameter, GroomError};

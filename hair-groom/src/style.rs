@@ -33,12 +33,12 @@
 //! and meshes exported with outward normals).
 
 use hair_core::{Anchor, StrandInput, TriMesh};
+use hair_par::prelude::*;
 use nalgebra::{Unit, UnitQuaternion, Vector3};
 use parry3d::math::Vector;
 use parry3d::query::PointProjection;
 use parry3d::query::{PointQueryWithLocation, Ray, RayCast};
 use parry3d::shape::TrianglePointLocation;
-use rayon::prelude::*;
 
 use crate::error::{parameter, GroomError};
 use crate::interpolate::SimHair;
@@ -889,7 +889,7 @@ mod tests {
         let mesh = uv_sphere(0.1, 48, 24).unwrap();
         let laid = |threads: usize| {
             let mut strands = hair(&mesh);
-            rayon::ThreadPoolBuilder::new()
+            hair_par::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
                 .unwrap()

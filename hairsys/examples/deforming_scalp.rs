@@ -13,7 +13,7 @@ use nalgebra::{Isometry3, Vector3};
 fn main() -> Result<(), hairsys::Error> {
     let scene = SceneFile::builtin_default();
     let mut session = Session::from_scene(&scene)?;
-    let pool = rayon::ThreadPoolBuilder::new()
+    let pool = hair_par::ThreadPoolBuilder::new()
         .num_threads(2)
         .build()
         .expect("a pool of two threads starts");

@@ -154,11 +154,11 @@ pub fn simulate(
         true => Some(resume(&opts.cache, &scene_hash, &mut sim)?),
         false => None,
     };
-    let threads = opts.threads.unwrap_or_else(rayon::current_num_threads);
+    let threads = opts.threads.unwrap_or_else(hair_par::current_num_threads);
     if threads == 0 {
         return Err(Error::Usage("--threads 0: use at least 1 thread".into()));
     }
-    let pool = rayon::ThreadPoolBuilder::new()
+    let pool = hair_par::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .map_err(|e| {

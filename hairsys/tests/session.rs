@@ -136,7 +136,7 @@ fn restoring_a_snapshot_replays_the_same_bits() {
 fn the_thread_count_changes_no_bit() {
     let run = |threads: usize| {
         let mut session = Session::from_scene(&small_scene()).unwrap();
-        let pool = rayon::ThreadPoolBuilder::new()
+        let pool = hair_par::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap();

@@ -165,7 +165,7 @@ impl Entry {
         // parry's refit and pseudo-normals on one thread, the rest on another.
         let triangles = d.merged_triangles();
         let (curvature, topology, fast) = (&mut self.curvature, &mut self.topology, &mut self.fast);
-        rayon::join(
+        hair_par::join(
             || mesh.set_vertices(&points),
             || {
                 let normals = smooth_normals(&vertices, triangles);

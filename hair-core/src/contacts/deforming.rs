@@ -60,8 +60,8 @@
 
 use std::collections::HashMap;
 
+use hair_par::prelude::*;
 use nalgebra::{Isometry3, Point3, Vector3};
-use rayon::prelude::*;
 
 use crate::error::{HairError, Result};
 use crate::mesh::TriMesh;
@@ -295,26 +295,28 @@ impl Deformation {
                 })
                 .collect()
         };
-        let (before, after) = rayon::join(|| faces(&self.start), || faces(&self.end));
-        self.frame_error = self
-            .hinges
-            .par_iter()
-            .map(|h| {
-                let [t1, t2] = h.triangles.map(|t| t as usize);
-                let [a, b] = h.edge.map(|i| i as usize);
-                // The angle between the normals by its chord 2 sin(θ/2) (θ to within 5 % up to
-                // 60°), over the distance of the centroids.
-                let bend = |f: &[(Vector3<f32>, Vector3<f32>)]| {
-                    (f[t2].0 - f[t1].0).norm() / (f[t2].1 - f[t1].1).norm()
-                };
-                let change = (bend(&after) - bend(&before)).abs();
-                let slide = (self.end[a] - self.start[a])
-                    .norm()
-                    .max((self.end[b] - self.start[b]).norm());
-                0.5 * change * slide * slide
-            })
-            .filter(|e| e.is_finite())
-            .reduce(|| 0.0f32, f32::max);
+        let (before, after) = hair_par::join(|| faces(&self.start), || faces(&self.end));
+        self.frame_error = hair_par::reduce(
+            self.hinges
+                .par_iter()
+                .map(|h| {
+                    let [t1, t2] = h.triangles.map(|t| t as usize);
+                    let [a, b] = h.edge.map(|i| i as usize);
+                    // The angle between the normals by its chord 2 sin(θ/2) (θ to within 5 % up to
+                    // 60°), over the distance of the centroids.
+                    let bend = |f: &[(Vector3<f32>, Vector3<f32>)]| {
+                        (f[t2].0 - f[t1].0).norm() / (f[t2].1 - f[t1].1).norm()
+                    };
+                    let change = (bend(&after) - bend(&before)).abs();
+                    let slide = (self.end[a] - self.start[a])
+                        .norm()
+                        .max((self.end[b] - self.start[b]).norm());
+                    0.5 * change * slide * slide
+                })
+                .filter(|e| e.is_finite()),
+            || 0.0f32,
+            f32::max,
+        );
     }
 
     /// Ends a frame: the end vertices become the next frame's start.

@@ -58,12 +58,12 @@
 //! kept for friction, with the collider's friction coefficient. Points without a contact get a
 //! plane offset so large that the response never acts on them.
 
+use hair_par::prelude::*;
 use nalgebra::{Isometry3, Matrix3, Point3, UnitQuaternion, Vector3};
 use parry3d::query::{DefaultQueryDispatcher, PointQuery, PointQueryWithLocation};
 use parry3d::shape::{Shape, TrianglePointLocation};
 use rapier3d::geometry::Aabb;
 use rapier3d::pipeline::QueryFilter;
-use rayon::prelude::*;
 
 use super::collider_set::{Colliders, Entry, MeshTopology, Surface};
 use super::fast_projection::{FastProjection, Feature};

@@ -25,8 +25,8 @@
 //! On a shell (an open mesh, no inside) a point that crossed it is put back at the distance on
 //! the side it ended on: the check keeps the distance, it does not undo a crossing.
 
+use hair_par::prelude::*;
 use nalgebra::{Point3, Vector3};
-use rayon::prelude::*;
 
 use super::collider_set::Colliders;
 use super::detect::{step_colliders, Affine, NO_CONTACT};

@@ -25,8 +25,8 @@
 
 mod noise;
 
+use hair_par::prelude::*;
 use nalgebra::Vector3;
-use rayon::prelude::*;
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 

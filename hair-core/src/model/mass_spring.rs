@@ -60,8 +60,8 @@
 use std::ops::Range;
 use std::time::Instant;
 
+use hair_par::prelude::*;
 use nalgebra::{UnitQuaternion, Vector3};
-use rayon::prelude::*;
 
 use crate::contacts::detect::{detect, DetectInput, PointContacts};
 use crate::contacts::escapes::{put_back_escapees, EscapeInput};

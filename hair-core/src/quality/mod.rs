@@ -39,8 +39,8 @@ mod penetration;
 mod shape;
 mod strand_pass;
 
+use hair_par::prelude::*;
 use nalgebra::Vector3;
-use rayon::prelude::*;
 #[cfg(feature = "serde")]
 use serde::Serialize;
 
@@ -337,7 +337,7 @@ fn measure_inner(
     }
     // Penetration (parallel over points) runs beside the per-strand measures (parallel over
     // chunks of strands).
-    let (strands, penetration) = rayon::join(
+    let (strands, penetration) = hair_par::join(
         || strand_pass::measure(frame, input.previous.as_ref(), input.reference.as_ref()),
         || {
             input.colliders.map(|c| {

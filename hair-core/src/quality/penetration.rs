@@ -10,9 +10,9 @@
 //! next one); a collider's enclosing sphere screens out points that cannot reach it, so hair away
 //! from colliders costs a subtraction per point and collider.
 
+use hair_par::prelude::*;
 use nalgebra::{Point3, Vector3};
 use parry3d::query::{PointQuery, PointQueryWithLocation};
-use rayon::prelude::*;
 #[cfg(feature = "serde")]
 use serde::Serialize;
 
@@ -342,7 +342,7 @@ pub(crate) fn measure(
         Some(memory) if !colliders.entries.is_empty() => {
             memory.prepare(colliders, positions.len());
             let e = colliders.entries.len();
-            positions
+            let parts = positions
                 .par_chunks(CHUNK)
                 .zip(memory.bounds.par_chunks_mut(CHUNK * e))
                 .enumerate()
@@ -357,13 +357,11 @@ pub(crate) fn measure(
                         }
                     }
                     out
-                })
-                .reduce(|| (0, 0, 0.0), sum)
+                });
+            hair_par::reduce(parts, || (0, 0, 0.0), sum)
         }
-        _ => positions
-            .par_chunks(CHUNK)
-            .enumerate()
-            .map(|(k, chunk)| {
+        _ => hair_par::reduce(
+            positions.par_chunks(CHUNK).enumerate().map(|(k, chunk)| {
                 let mut out = (0u64, 0u64, 0.0f32);
                 for (j, x) in chunk.iter().enumerate() {
                     let i = k * CHUNK + j;
@@ -372,8 +370,10 @@ pub(crate) fn measure(
                     }
                 }
                 out
-            })
-            .reduce(|| (0, 0, 0.0), sum),
+            }),
+            || (0, 0, 0.0),
+            sum,
+        ),
     };
     let fraction = if checked > 0 {
         inside as f64 / checked as f64

@@ -21,8 +21,8 @@
 
 use std::ops::Range;
 
+use hair_par::prelude::*;
 use nalgebra::{Matrix3, Vector3};
-use rayon::prelude::*;
 
 use super::distribution::Distribution;
 use super::shape::{Drift, DriftSums, Hairpins, Strain};

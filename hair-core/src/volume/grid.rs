@@ -35,8 +35,8 @@
 //! [`MAX_GRID_BYTES`] or its span more than [`MAX_NODES_PER_AXIS`] nodes; the error names both
 //! figures and the smallest cell size (within a factor 1.25) that fits.
 
+use hair_par::prelude::*;
 use nalgebra::Vector3;
-use rayon::prelude::*;
 
 use crate::error::{HairError, Result};
 

@@ -28,8 +28,8 @@
 //! length variation, taper and level of detail are those of simple children (the same kernel).
 
 use hair_core::{MeshSample, RootFrame, TriMesh};
+use hair_par::prelude::*;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
-use rayon::prelude::*;
 use wide::f32x8;
 
 use crate::children::grow::{grow, Profile, Scratch};

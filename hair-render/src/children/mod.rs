@@ -15,7 +15,7 @@ pub mod interpolated;
 mod neighbours;
 pub mod simple;
 
-use rayon::prelude::*;
+use hair_par::prelude::*;
 
 use crate::buffers::ChildBuffers;
 use crate::error::{parameter, Result};

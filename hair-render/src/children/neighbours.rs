@@ -6,8 +6,8 @@
 
 use std::collections::HashMap;
 
+use hair_par::prelude::*;
 use nalgebra::Vector3;
-use rayon::prelude::*;
 
 /// For every root, the indices of its `m` nearest roots (itself first, then by distance, ties by
 /// index), flat: root `p`'s list is `[p·m, (p+1)·m)`. Needs `1 ≤ m ≤ roots.len()`.

@@ -4,7 +4,7 @@
 //! its primitives in order on one thread. Within a band the order is the same as a single-threaded
 //! pass, so the image does not depend on the thread count.
 
-use rayon::prelude::*;
+use hair_par::prelude::*;
 
 use super::scene::Rgb;
 use super::shading::srgb8;

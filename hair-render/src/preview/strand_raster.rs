@@ -23,8 +23,8 @@
 //! key light dimmed by the shadow map ([`super::shadow`]), then interpolated along the segment,
 //! so highlights move smoothly along a bent strand.
 
+use hair_par::prelude::*;
 use nalgebra::Vector3;
-use rayon::prelude::*;
 
 use super::camera::Projection;
 use super::canvas::Band;

@@ -37,8 +37,8 @@
 use hair_core::frames::{rest_directions, RestDirection};
 use hair_core::{Anchor, RootFrame, StrandSet, TriMesh};
 use hair_groom::{GroomError, GuideBlend, LiftMemory, ScalpLift};
+use hair_par::prelude::*;
 use nalgebra::Vector3;
-use rayon::prelude::*;
 
 use crate::scene::motion::Interpolation;
 

@@ -144,7 +144,7 @@ pub struct Session {
     pending: Pending,
     /// What caches record beside the hair.
     rig: RigTrack,
-    pool: Option<Arc<rayon::ThreadPool>>,
+    pool: Option<Arc<hair_par::ThreadPool>>,
     recorder: Option<CacheWriter>,
     /// Time spent writing recorded frames.
     cache_time: std::time::Duration,
@@ -165,7 +165,7 @@ impl std::fmt::Debug for Session {
 impl Session {
     /// Runs steps on `pool` (a DCC sizes it so it is not oversubscribed); without one, steps
     /// run on rayon's global pool. Results do not depend on the pool's size.
-    pub fn set_thread_pool(&mut self, pool: Arc<rayon::ThreadPool>) {
+    pub fn set_thread_pool(&mut self, pool: Arc<hair_par::ThreadPool>) {
         self.pool = Some(pool);
     }
 

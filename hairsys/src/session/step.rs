@@ -39,7 +39,7 @@ impl Session {
         };
         let start = std::time::Instant::now();
         let both = || {
-            rayon::join(
+            hair_par::join(
                 || {
                     let t = std::time::Instant::now();
                     let written = recorder

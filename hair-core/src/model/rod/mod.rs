@@ -88,8 +88,8 @@ pub mod twist;
 
 use std::time::Instant;
 
+use hair_par::prelude::*;
 use nalgebra::{UnitQuaternion, Vector3};
-use rayon::prelude::*;
 #[cfg(feature = "serde")]
 use serde::Serialize;
 
