@@ -428,6 +428,13 @@ fn wrong_vertex_count_and_non_finite_vertices_are_refused_by_name() {
         .unwrap_err()
         .to_string();
     assert!(text.contains("no such collider"), "{text}");
+
+    // Saying a collider will deform: a mesh (the scalp's too) yes, a sphere or no collider no.
+    colliders.will_deform(mesh).unwrap();
+    for id in [ball, ColliderId(9)] {
+        let text = colliders.will_deform(id).unwrap_err().to_string();
+        assert!(text.contains("no mesh collider"), "{text}");
+    }
 }
 
 #[test]

@@ -453,6 +453,29 @@ impl Colliders {
         self.deformation_mut(index)?.set_end(index, vertices)
     }
 
+    /// Says that mesh collider `id` will deform (a scene or host animates its vertices): the
+    /// projection shortcut skips its per-triangle clearances from the start. A clearance holds
+    /// for one shape only and costs a few hundred projections, so on a mesh that deforms within
+    /// a few steps computing it is a loss (see `fast_projection`, "Deforming meshes"); the
+    /// answers are the same features either way. Without the call a mesh drops them at its
+    /// first deformation. For the scalp's collider too. Refuses an id that is not a mesh
+    /// collider.
+    pub fn will_deform(&mut self, id: ColliderId) -> Result<()> {
+        let index = id.0 as usize;
+        let not_a_mesh = || HairError::Collider {
+            collider: index,
+            message: "no mesh collider with this id in this set".into(),
+        };
+        let entry = self.entries.get_mut(index).ok_or_else(not_a_mesh)?;
+        if entry.deformation.is_none() {
+            return Err(not_a_mesh());
+        }
+        if let Some(fast) = entry.fast.as_mut() {
+            fast.drop_clearances();
+        }
+        Ok(())
+    }
+
     /// Puts mesh collider `id` at vertex positions `vertices` now (body space, m, as for
     /// [`Colliders::set_vertices`]): at the start and the end of the next frame, with no motion
     /// into it. Use it for a set built at a later frame than its mesh's rest shape (a resumed

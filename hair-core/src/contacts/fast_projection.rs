@@ -258,6 +258,12 @@ impl FastProjection {
         self.convex_body = convex_vertex.iter().all(|&c| c) && self.connected;
     }
 
+    /// Drops the clearances, as a deformation does, for a mesh about to deform: only the
+    /// convex-body certificate is left.
+    pub fn drop_clearances(&mut self) {
+        self.half_clearance = Arc::from([]);
+    }
+
     /// Where body-space point `p` projects on `mesh` (the triangle, and the edge if on one), if
     /// triangle `t` or one a short walk away certifies it.
     pub fn project(&self, mesh: &TriMesh, t: u32, p: &Vector3<f32>) -> Option<FastHit> {

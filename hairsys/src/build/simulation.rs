@@ -203,6 +203,7 @@ impl Simulation {
         for c in &self.colliders {
             let id = set.insert(c.collider.clone(), c.motion.at(frame))?;
             if let Some(a) = &c.animation {
+                set.will_deform(id)?;
                 set.place_vertices(id, &a.vertices_at(frame))?;
             }
         }
@@ -210,13 +211,14 @@ impl Simulation {
             // From the rest mesh, so a resumed run builds the same shape bits.
             match &self.rest_mesh {
                 Some(rest) => {
-                    set.insert_scalp_rest(
+                    let id = set.insert_scalp_rest(
                         rest.clone(),
                         self.motion.at(frame),
                         sc.thickness,
                         sc.friction,
                     )?;
                     if self.scalp_animation.is_some() {
+                        set.will_deform(id)?;
                         set.place_scalp(&self.scalp_at(frame))?;
                     }
                 }
