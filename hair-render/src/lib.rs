@@ -11,9 +11,10 @@
 //! - [`export`]: USD `BasisCurves` (`.usdc`/`.usda`, with time samples or velocities for motion blur)
 //!   and Cem Yuksel's `.hair`;
 //! - [`preview`]: a CPU renderer of strands and meshes to PNG (shaded meshes, anti-aliased
-//!   Kajiya–Kay hair, preset cameras, contact sheets) for previews without a GPU.
+//!   Kajiya–Kay hair, preset cameras, contact sheets) for previews without a GPU (Cargo feature
+//!   `preview`, on by default).
 //!
-//! `export` and [`preview::PreviewImage::write_png`] are the only code that does I/O.
+//! `export` and `preview::PreviewImage::write_png` are the only code that does I/O.
 //!
 //! ```
 //! use hair_render::{generate, ChildCount, ChildSettings, Lod, Parents};
@@ -42,6 +43,7 @@ pub mod export;
 pub mod lod;
 pub mod parents;
 mod path;
+#[cfg(feature = "preview")]
 pub mod preview;
 mod rng;
 pub mod shape;

@@ -26,9 +26,11 @@ pub enum OutputError {
     #[error("{0}")]
     Children(#[from] hair_render::RenderError),
     /// A preview picture cannot be drawn.
+    #[cfg(feature = "preview")]
     #[error("{0}")]
     Preview(#[from] hair_render::preview::PreviewError),
     /// One view of a preview frame cannot be drawn.
+    #[cfg(feature = "preview")]
     #[error("{at}: {source}")]
     View {
         /// The frame and the view.
