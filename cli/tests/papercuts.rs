@@ -838,9 +838,17 @@ fn scene_check_reports_what_the_run_then_uses_colliders_model_substeps_component
     assert!(ball["motion"].as_str().unwrap().contains("2 keys"));
     assert_eq!(check["hair_hair"]["cell_size"], 0.02);
     assert_eq!(check["fields"], serde_json::json!(["drag"]));
-    // The budget figures: points × 256 bytes, points × substeps × steps × frames stepped.
+    // The budget figures: points × 256 bytes, points × substeps × the integrator's substep
+    // weight (an implicit substep counts as `IMPLICIT_SUBSTEP_COST` explicit ones) × steps ×
+    // frames stepped.
     let points = check["points"].as_f64().unwrap();
-    let substeps = check["substeps"].as_f64().unwrap();
+    let integrator = check["integrator"].as_str().unwrap();
+    assert_eq!(integrator, run["integrator"].as_str().unwrap());
+    let weight = match integrator {
+        "bdf2" | "implicit-euler" => hairsys::scene::integrator::IMPLICIT_SUBSTEP_COST,
+        _ => 1.0,
+    };
+    let substeps = check["substeps"].as_f64().unwrap() * weight;
     assert_eq!(
         check["budget"]["memory_bytes"].as_f64().unwrap(),
         points * 256.0

@@ -52,9 +52,9 @@ fn the_keyed_gust_stays_out_of_the_head_and_unstretched() {
 }
 
 /// The shipped gust shortened to its first 18 frames (to the keyed pose, followed exactly from
-/// frame 14), with fewer hairs, the sweep turned to `sweep` and `pose_clearance` replaced by
-/// `clearance` (a line, or nothing).
-fn small_gust(sweep: &str, clearance: &str) -> RunQuality {
+/// frame 14), with fewer hairs, the sweep turned to `sweep`, `pose_clearance` replaced by
+/// `clearance` (a line, or nothing) and the integrator set to `integrator`.
+fn small_gust(sweep: &str, clearance: &str, integrator: &str) -> RunQuality {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/gust.toml");
     let text = std::fs::read_to_string(&path)
         .unwrap()
@@ -68,8 +68,10 @@ fn small_gust(sweep: &str, clearance: &str) -> RunQuality {
         .replace(
             "pose_clearance = 0.0035        # m: posed sim hairs are lifted this far out of the head",
             clearance,
-        );
+        )
+        .replace("integrator = \"auto\"", &format!("integrator = \"{integrator}\""));
     assert!(text.contains(sweep) && text.contains("count = 60\n"));
+    assert!(text.contains(&format!("integrator = \"{integrator}\"")));
     let dir = tempfile::tempdir().unwrap();
     simulate(
         &SimulateOptions {
@@ -91,22 +93,33 @@ fn small_gust(sweep: &str, clearance: &str) -> RunQuality {
 
 /// The regression the shipped scene was held back by: a sweep towards +X turns the hair on the
 /// head's −X side into it, and sim weight 1 followed it there. Lifted, the posed hair stays
-/// outside and unstretched; without the lift the same keys put hair centimetres deep. (Lifted,
-/// measured: 0.055 % of point-frames inside, deepest 0.61 mm, stretch p99 0.39 %,
-/// max 2.4 % — a sweep this hard against the head leaves a few points of the hand-over blend,
-/// frames 6–14, touching it and stretched; the bounds are those figures with a margin.)
+/// outside and unstretched; without the lift the same keys put hair centimetres deep.
+///
+/// A sweep this hard against the head leaves a few points of the hand-over blend (frames 6–14)
+/// touching it. Semi-implicit Euler, which applies the contact response at each of its ~150
+/// substeps per frame, leaves 0.055 % of point-frames inside, deepest 0.61 mm; BDF2 (what
+/// `"auto"` takes here, 7 substeps per frame) applies it after each substep's solve, so the
+/// keyed pull holds a point against the surface for a seventh of a frame: 0.23 % of
+/// point-frames inside, deepest 0.85 mm. Both stay within the 1 mm the lift is there to keep
+/// (the shipped gust itself, a gentler sweep, holds the shipped scenes' 0.5 mm bound on BDF2).
+/// Stretch, measured p99 0.39 %, max 2.4 %: bounded at 1 % and 3 %.
 #[test]
 fn a_sweep_into_the_head_is_lifted_out_of_it_with_lengths_kept() {
     let into_head = "sweep = { direction = [1.0, 0.0, 0.0], angle_deg = 80.0 }";
-    let lifted = small_gust(into_head, "pose_clearance = 0.0035");
-    let p = lifted.run.penetration.as_ref().unwrap();
-    assert!(p.deepest <= 1e-3 && p.inside_fraction <= 1e-3, "{p:?}");
-    let stretch = &lifted.run.strain.stretch;
-    assert!(
-        stretch.p99() <= 0.01 && stretch.max() <= 0.03,
-        "{stretch:?}"
-    );
-    let free = small_gust(into_head, "");
+    for (integrator, inside_fraction) in [("semi-implicit-euler", 1e-3), ("auto", 5e-3)] {
+        let lifted = small_gust(into_head, "pose_clearance = 0.0035", integrator);
+        let p = lifted.run.penetration.as_ref().unwrap();
+        assert!(
+            p.deepest <= 1e-3 && p.inside_fraction <= inside_fraction,
+            "{integrator}: {p:?}"
+        );
+        let stretch = &lifted.run.strain.stretch;
+        assert!(
+            stretch.p99() <= 0.01 && stretch.max() <= 0.03,
+            "{integrator}: {stretch:?}"
+        );
+    }
+    let free = small_gust(into_head, "", "auto");
     let p = free.run.penetration.as_ref().unwrap();
     assert!(p.deepest > 0.01, "without the lift: {p:?}");
 }
