@@ -82,7 +82,7 @@ pub unsafe fn array<'a, T, const N: usize>(
     Ok(unsafe { std::slice::from_raw_parts(ptr as *const [T; N], count) })
 }
 
-/// [`array`] of writable elements, for the host's output buffers.
+/// [`array()`] of writable elements, for the host's output buffers.
 ///
 /// # Safety
 /// A non-NULL `ptr` points to at least `count * N` writable `T`s for the returned lifetime,
