@@ -12,7 +12,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{compile, crate_dir, have, run};
+use common::{compile, compile_linked, crate_dir, have, run, Link};
 use hair_core::{Collider, ColliderId, ColliderShape};
 use hairsys::build::groom::{GroomArrays, GroomOptions};
 use hairsys::scene::SceneFile;
@@ -289,6 +289,23 @@ fn every_function_refuses_bad_input_with_its_status() {
     let o = run(&program, &[dir.path().to_str().unwrap()]);
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.contains(" passed, 0 failed"), "{stdout}");
+}
+
+#[test]
+fn the_static_library_links_with_the_documented_system_libraries() {
+    if !have("cc") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let program = dir.path().join("bad_input_static");
+    compile_linked(
+        "cc",
+        &[crate_dir().join("tests/c/bad_input.c")],
+        &program,
+        Link::Static,
+    );
+    let o = run(&program, &[dir.path().to_str().unwrap()]);
+    assert!(String::from_utf8_lossy(&o.stdout).contains(" passed, 0 failed"));
 }
 
 #[test]

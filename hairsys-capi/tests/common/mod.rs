@@ -40,9 +40,23 @@ pub fn have(compiler: &str) -> bool {
     }
 }
 
+/// How a program links the library.
+#[derive(Clone, Copy)]
+pub enum Link {
+    /// `-lhairsys_capi` with an rpath to `libhairsys_capi.so`.
+    Shared,
+    /// `libhairsys_capi.a` with the system libraries docs/c-api.md names.
+    Static,
+}
+
 /// Compiles `sources` with `compiler` (`cc` or `c++`) against the shared library into `out`,
 /// warnings as errors.
 pub fn compile(compiler: &str, sources: &[PathBuf], out: &Path) {
+    compile_linked(compiler, sources, out, Link::Shared);
+}
+
+/// [`compile`], linking as `link` says.
+pub fn compile_linked(compiler: &str, sources: &[PathBuf], out: &Path, link: Link) {
     let lib = library_dir();
     let standard = if compiler == "cc" {
         "-std=c11"
@@ -58,12 +72,18 @@ pub fn compile(compiler: &str, sources: &[PathBuf], out: &Path) {
         .arg(crate_dir().join("tests/c"))
         .args(sources)
         .arg("-o")
-        .arg(out)
-        .arg("-L")
-        .arg(&lib)
-        .arg("-lhairsys_capi")
-        .arg(format!("-Wl,-rpath,{}", lib.display()))
-        .arg("-lm");
+        .arg(out);
+    match link {
+        Link::Shared => cmd
+            .arg("-L")
+            .arg(&lib)
+            .arg("-lhairsys_capi")
+            .arg(format!("-Wl,-rpath,{}", lib.display()))
+            .arg("-lm"),
+        Link::Static => cmd
+            .arg(lib.join("libhairsys_capi.a"))
+            .args(["-lpthread", "-ldl", "-lm"]),
+    };
     let o = cmd.output().expect("the compiler runs");
     assert!(
         o.status.success(),
