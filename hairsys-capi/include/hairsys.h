@@ -64,6 +64,9 @@
 // A triangle-mesh collider: `vertices` (body space, m) and `triangles`.
 #define HAIRSYS_SHAPE_MESH 2
 
+// Most worker threads a session's own pool may have.
+#define HAIRSYS_MAX_THREADS 1024
+
 // No compression of cache chunks.
 #define HAIRSYS_COMPRESSION_NONE 0
 
@@ -269,15 +272,16 @@ typedef struct HairsysGroomOptions {
   double collider_speed;
   // Gravity, m/s².
   float gravity[3];
-  // Stretch stiffness (see `hair_core::HairParams`).
+  // Stretch spring stiffness between neighbouring points, N/m.
   float stretch_stiffness;
-  // Bend stiffness.
+  // Bending stiffness `k_b`, N/m (bending rigidity `EI = k_b l³` with `l` the mean rest
+  // segment length).
   float bend_stiffness;
-  // Goal (shape-keeping) stiffness.
+  // Goal spring stiffness towards the rest shape, N/m (times each point's goal weight).
   float goal_stiffness;
-  // Stretch damping.
+  // Viscous damping of each segment's stretching speed, 1/s.
   float stretch_damping;
-  // Air drag.
+  // Air drag, 1/s: a free point's velocity decays as exp(−rate·t) in still air.
   float air_drag;
   // Linear density, kg/m.
   float mass_per_length;
@@ -293,7 +297,7 @@ typedef struct HairsysGroomOptions {
   uint32_t scalp_collider;
   // Scalp collider thickness, m.
   float scalp_thickness;
-  // Scalp collider friction.
+  // Scalp collider Coulomb friction coefficient (≥ 0).
   float scalp_friction;
   // Further colliders (`collider_count`), ids 0, 1, … in order; NULL when none.
   const struct HairsysCollider *colliders;
@@ -301,12 +305,13 @@ typedef struct HairsysGroomOptions {
   size_t collider_count;
   // 1: voxel hair–hair friction and repulsion.
   uint32_t hair_hair;
-  // Hair–hair friction.
+  // Hair–hair friction: the fraction of the way each free point's velocity moves towards
+  // the grid's per collision step, 0–1.
   float hair_hair_friction;
   // Hair–hair grid cell size, m.
   float hair_hair_cell_size;
-  // Worker threads of the session's own pool; 0: the library's shared pool (one thread per
-  // core).
+  // Worker threads of the session's own pool (at most `HAIRSYS_MAX_THREADS`); 0: the
+  // library's shared pool (one thread per core).
   uint32_t threads;
 } HairsysGroomOptions;
 
@@ -371,19 +376,20 @@ typedef struct HairsysSessionInfo {
   size_t scalp_vertex_count;
 } HairsysSessionInfo;
 
-// The material a host may change between frames (mass-spring sessions).
+// The material a host may change between frames (mass-spring sessions); units as in
+// [`HairsysGroomOptions`].
 typedef struct HairsysParams {
   // Gravity, m/s².
   float gravity[3];
-  // Stretch stiffness.
+  // Stretch spring stiffness, N/m.
   float stretch_stiffness;
-  // Bend stiffness.
+  // Bending stiffness, N/m.
   float bend_stiffness;
-  // Goal stiffness.
+  // Goal spring stiffness, N/m.
   float goal_stiffness;
-  // Stretch damping.
+  // Stretch damping, 1/s.
   float stretch_damping;
-  // Air drag.
+  // Air drag, 1/s.
   float air_drag;
 } HairsysParams;
 
@@ -538,9 +544,9 @@ enum HairsysStatus hairsys_groom_options_default(struct HairsysGroomOptions *out
 
 // Creates a session from the scene file at `path` (NUL-terminated UTF-8; NULL: the built-in
 // default scene), at rest at the scene's first frame, and writes its handle to `*out` (on
-// failure `*out` is left alone). `threads`: workers of the session's own pool (0: the
-// library's shared pool). Whatever the host does not set for a frame follows the scene's
-// keyframes.
+// failure `*out` is left alone). `threads`: workers of the session's own pool (at most
+// `HAIRSYS_MAX_THREADS`; 0: the library's shared pool). Whatever the host does not set for a
+// frame follows the scene's keyframes.
 //
 // # Safety
 // `path` is NULL or NUL-terminated; `out` points to writable memory for a pointer.

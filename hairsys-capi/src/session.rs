@@ -23,6 +23,7 @@ use crate::types::{
     HairsysCacheSummary, HairsysFrameReport, HairsysGroomArrays, HairsysGroomOptions,
     HairsysIndexView, HairsysParams, HairsysPointsView, HairsysSessionInfo, HairsysTransform,
     HAIRSYS_COMPRESSION_LZ4, HAIRSYS_COMPRESSION_NONE, HAIRSYS_COMPRESSION_ZSTD,
+    HAIRSYS_MAX_THREADS,
 };
 
 /// A simulation session (opaque). Made by `hairsys_session_from_scene` or
@@ -84,21 +85,38 @@ pub unsafe fn with_session(
     })
 }
 
-/// Wraps `session` in a handle with its own pool of `threads` workers (0: the shared pool) and
-/// writes it to `out`.
+/// The session's own pool of `threads` workers (`None` for 0: the shared pool), made before
+/// the session so a bad count costs nothing.
+fn pool(threads: u32) -> Result<Option<Arc<hair_par::ThreadPool>>, Failure> {
+    if threads > HAIRSYS_MAX_THREADS {
+        return Err(Failure::argument(
+            "threads",
+            format!(
+                "= {threads}: give at most HAIRSYS_MAX_THREADS ({HAIRSYS_MAX_THREADS}), or 0 for \
+                 the shared pool"
+            ),
+        ));
+    }
+    if threads == 0 {
+        return Ok(None);
+    }
+    let pool = hair_par::ThreadPoolBuilder::new()
+        .num_threads(threads as usize)
+        .build()
+        .map_err(|e| {
+            Failure::argument("threads", format!("cannot start {threads} threads: {e}"))
+        })?;
+    Ok(Some(Arc::new(pool)))
+}
+
+/// Wraps `session` in a handle stepping on `pool` and writes it to `out`.
 fn create(
     out: &mut std::mem::MaybeUninit<*mut HairsysSession>,
     mut session: Session,
-    threads: u32,
-) -> Result<(), Failure> {
-    if threads > 0 {
-        let pool = hair_par::ThreadPoolBuilder::new()
-            .num_threads(threads as usize)
-            .build()
-            .map_err(|e| {
-                Failure::argument("threads", format!("cannot start {threads} threads: {e}"))
-            })?;
-        session.set_thread_pool(Arc::new(pool));
+    pool: Option<Arc<hair_par::ThreadPool>>,
+) {
+    if let Some(pool) = pool {
+        session.set_thread_pool(pool);
     }
     out.write(Box::into_raw(Box::new(HairsysSession {
         inner: Mutex::new(Inner {
@@ -106,14 +124,13 @@ fn create(
             poisoned: None,
         }),
     })));
-    Ok(())
 }
 
 /// Creates a session from the scene file at `path` (NUL-terminated UTF-8; NULL: the built-in
 /// default scene), at rest at the scene's first frame, and writes its handle to `*out` (on
-/// failure `*out` is left alone). `threads`: workers of the session's own pool (0: the
-/// library's shared pool). Whatever the host does not set for a frame follows the scene's
-/// keyframes.
+/// failure `*out` is left alone). `threads`: workers of the session's own pool (at most
+/// `HAIRSYS_MAX_THREADS`; 0: the library's shared pool). Whatever the host does not set for a
+/// frame follows the scene's keyframes.
 ///
 /// # Safety
 /// `path` is NULL or NUL-terminated; `out` points to writable memory for a pointer.
@@ -126,13 +143,15 @@ pub unsafe extern "C" fn hairsys_session_from_scene(
     guard(|| {
         // SAFETY: the caller's promise.
         let out = unsafe { check::out(out, "out")? };
+        let pool = pool(threads)?;
         let scene = if path.is_null() {
             SceneFile::builtin_default()
         } else {
             // SAFETY: the caller's promise.
             SceneFile::load(&unsafe { check::path(path, "path")? }).map_err(hairsys::Error::from)?
         };
-        create(out, Session::from_scene(&scene)?, threads)
+        create(out, Session::from_scene(&scene)?, pool);
+        Ok(())
     })
 }
 
@@ -156,7 +175,9 @@ pub unsafe extern "C" fn hairsys_session_from_groom(
         let out = unsafe { check::out(out, "out")? };
         let arrays = unsafe { Arrays::read(check::reference(arrays, "arrays")?)? };
         let (opts, threads) = unsafe { self::options(check::reference(options, "options")?)? };
-        create(out, Session::from_groom(&arrays.groom(), &opts)?, threads)
+        let pool = pool(threads)?;
+        create(out, Session::from_groom(&arrays.groom(), &opts)?, pool);
+        Ok(())
     })
 }
 

@@ -132,15 +132,16 @@ pub struct HairsysGroomOptions {
     pub collider_speed: f64,
     /// Gravity, m/s².
     pub gravity: [f32; 3],
-    /// Stretch stiffness (see `hair_core::HairParams`).
+    /// Stretch spring stiffness between neighbouring points, N/m.
     pub stretch_stiffness: f32,
-    /// Bend stiffness.
+    /// Bending stiffness `k_b`, N/m (bending rigidity `EI = k_b l³` with `l` the mean rest
+    /// segment length).
     pub bend_stiffness: f32,
-    /// Goal (shape-keeping) stiffness.
+    /// Goal spring stiffness towards the rest shape, N/m (times each point's goal weight).
     pub goal_stiffness: f32,
-    /// Stretch damping.
+    /// Viscous damping of each segment's stretching speed, 1/s.
     pub stretch_damping: f32,
-    /// Air drag.
+    /// Air drag, 1/s: a free point's velocity decays as exp(−rate·t) in still air.
     pub air_drag: f32,
     /// Linear density, kg/m.
     pub mass_per_length: f32,
@@ -156,7 +157,7 @@ pub struct HairsysGroomOptions {
     pub scalp_collider: u32,
     /// Scalp collider thickness, m.
     pub scalp_thickness: f32,
-    /// Scalp collider friction.
+    /// Scalp collider Coulomb friction coefficient (≥ 0).
     pub scalp_friction: f32,
     /// Further colliders (`collider_count`), ids 0, 1, … in order; NULL when none.
     pub colliders: *const HairsysCollider,
@@ -164,12 +165,13 @@ pub struct HairsysGroomOptions {
     pub collider_count: usize,
     /// 1: voxel hair–hair friction and repulsion.
     pub hair_hair: u32,
-    /// Hair–hair friction.
+    /// Hair–hair friction: the fraction of the way each free point's velocity moves towards
+    /// the grid's per collision step, 0–1.
     pub hair_hair_friction: f32,
     /// Hair–hair grid cell size, m.
     pub hair_hair_cell_size: f32,
-    /// Worker threads of the session's own pool; 0: the library's shared pool (one thread per
-    /// core).
+    /// Worker threads of the session's own pool (at most `HAIRSYS_MAX_THREADS`); 0: the
+    /// library's shared pool (one thread per core).
     pub threads: u32,
 }
 
@@ -233,23 +235,27 @@ pub struct HairsysIndexView {
     pub count: usize,
 }
 
-/// The material a host may change between frames (mass-spring sessions).
+/// The material a host may change between frames (mass-spring sessions); units as in
+/// [`HairsysGroomOptions`].
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HairsysParams {
     /// Gravity, m/s².
     pub gravity: [f32; 3],
-    /// Stretch stiffness.
+    /// Stretch spring stiffness, N/m.
     pub stretch_stiffness: f32,
-    /// Bend stiffness.
+    /// Bending stiffness, N/m.
     pub bend_stiffness: f32,
-    /// Goal stiffness.
+    /// Goal spring stiffness, N/m.
     pub goal_stiffness: f32,
-    /// Stretch damping.
+    /// Stretch damping, 1/s.
     pub stretch_damping: f32,
-    /// Air drag.
+    /// Air drag, 1/s.
     pub air_drag: f32,
 }
+
+/// Most worker threads a session's own pool may have.
+pub const HAIRSYS_MAX_THREADS: u32 = 1024;
 
 /// No compression of cache chunks.
 pub const HAIRSYS_COMPRESSION_NONE: u32 = 0;

@@ -181,6 +181,10 @@ int main(int argc, char **argv) {
          "scene.toml");
   EXPECT(hairsys_session_from_scene("\xff.toml", 0, &scene), ARG, "UTF-8");
   EXPECT(hairsys_session_from_scene(NULL, 0, NULL), NUL, "out");
+  EXPECT(hairsys_session_from_scene(NULL, HAIRSYS_MAX_THREADS + 1, &scene), ARG, "threads");
+  o.threads = 5000;
+  EXPECT(hairsys_session_from_groom(&a, &o, &scene), ARG, "HAIRSYS_MAX_THREADS");
+  o.threads = 0;
 
   /* Per-frame setters. */
   HairsysSessionInfo info;
