@@ -333,6 +333,24 @@ pub unsafe extern "C" fn hairsys_session_set_collider_vertices(
                 });
             }
             check::finite(v, "vertices")?;
+            let mesh = s
+                .cache_rig()
+                .colliders
+                .get(id as usize)
+                .and_then(|c| match &c.shape {
+                    hair_core::ColliderShape::Mesh(m) => Some(m.positions().len()),
+                    _ => None,
+                });
+            if let Some(expected) = mesh.filter(|&n| n != v.len()) {
+                return Err(Failure::Length {
+                    argument: "vertex_count".into(),
+                    message: format!(
+                        "is {}, collider {id}'s mesh has {expected} vertices: give every vertex, \
+                         in the order it was made with",
+                        v.len()
+                    ),
+                });
+            }
             Ok(s.set_collider_vertices(ColliderId(id), v)?)
         })
     }

@@ -214,6 +214,38 @@ int main(int argc, char **argv) {
   EXPECT(hairsys_session_set_collider_vertices(s, 0, NULL, 3), NUL, "vertices");
   moved[4] = NAN;
   EXPECT(hairsys_session_set_collider_vertices(s, 0, moved, 9), NAN_, "vertices");
+  /* A mesh collider: its vertices are checked against its own count. */
+  {
+    HairsysGroomOptions mo;
+    hairsys_groom_options_default(&mo);
+    HairsysCollider mesh;
+    memset(&mesh, 0, sizeof mesh);
+    mesh.shape = HAIRSYS_SHAPE_MESH;
+    mesh.vertices = vertices;
+    mesh.vertex_count = 9;
+    mesh.triangles = triangles;
+    mesh.triangle_count = 8;
+    mesh.pose = id;
+    mesh.pose.translation[2] = 0.5f;
+    mo.colliders = &mesh;
+    mo.collider_count = 1;
+    mo.collider_speed = 0.0;
+    HairsysSession *m = NULL;
+    mesh.triangles = NULL;
+    EXPECT(hairsys_session_from_groom(&a, &mo, &m), NUL, "colliders[].triangles");
+    mesh.triangles = (const uint32_t *)((const char *)triangles + 2);
+    EXPECT(hairsys_session_from_groom(&a, &mo, &m), MIS, "colliders[].triangles");
+    mesh.triangles = triangles;
+    EXPECT(hairsys_session_from_groom(&a, &mo, &m), OK, "");
+    float lifted[27];
+    memcpy(lifted, vertices, sizeof lifted);
+    lifted[2] = 0.01f;
+    EXPECT(hairsys_session_set_collider_vertices(m, 0, lifted, 8), LEN, "9 vertices");
+    EXPECT(hairsys_session_set_collider_vertices(m, 0, lifted, 9), OK, "");
+    EXPECT(hairsys_session_step(m, NULL), OK, "");
+    hairsys_session_destroy(m);
+  }
+
   HairsysParams params;
   EXPECT(hairsys_session_params(s, NULL), NUL, "out");
   EXPECT(hairsys_session_params(s, &params), OK, "");
