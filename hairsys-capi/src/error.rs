@@ -204,28 +204,32 @@ thread_local! {
     });
 }
 
-/// Records `result` as this thread's last error and returns its status.
+/// Records `result` as this thread's last error and returns its status. On a thread whose
+/// thread-local storage is being torn down (a call from a thread-exit destructor) the status
+/// is returned without a message.
 fn record(result: Result<(), Failure>) -> HairsysStatus {
-    LAST.with(|last| {
+    let status = match &result {
+        Ok(()) => HairsysStatus::Ok,
+        Err(failure) => failure.status(),
+    };
+    LAST.try_with(|last| {
         let mut last = last.borrow_mut();
         match result {
+            Ok(()) if last.status == HairsysStatus::Ok => {}
             Ok(()) => {
-                if last.status != HairsysStatus::Ok {
-                    last.status = HairsysStatus::Ok;
-                    last.message = CString::default();
-                }
-                HairsysStatus::Ok
+                last.status = HairsysStatus::Ok;
+                last.message = CString::default();
             }
             Err(failure) => {
-                let status = failure.status();
                 // A message never holds NUL: the few that could (a path) lose it.
                 let text = failure.to_string().replace('\0', "");
                 last.status = status;
                 last.message = CString::new(text).unwrap_or_default();
-                status
             }
         }
+        status
     })
+    .unwrap_or(status)
 }
 
 /// The message of a caught panic's payload.
@@ -251,7 +255,8 @@ pub fn guard(body: impl FnOnce() -> Result<(), Failure>) -> HairsysStatus {
 /// success).
 #[no_mangle]
 pub extern "C" fn hairsys_last_error_code() -> HairsysStatus {
-    LAST.with(|last| last.borrow().status)
+    LAST.try_with(|last| last.borrow().status)
+        .unwrap_or(HairsysStatus::Ok)
 }
 
 /// The message of the last hairsys call made on the calling thread: NUL-terminated UTF-8,
@@ -259,5 +264,6 @@ pub extern "C" fn hairsys_last_error_code() -> HairsysStatus {
 /// on the same thread (copy it to keep it).
 #[no_mangle]
 pub extern "C" fn hairsys_last_error_message() -> *const c_char {
-    LAST.with(|last| last.borrow().message.as_ptr())
+    LAST.try_with(|last| last.borrow().message.as_ptr())
+        .unwrap_or(c"".as_ptr())
 }
