@@ -84,6 +84,33 @@ int main(int argc, char** argv) {
         return 1;
       }
     }
+    // A cache and children through the wrapper: the cache gives back the frame's bits.
+    const std::string cache_path = std::string(argv[2]) + ".mcap";
+    s.record(cache_path);
+    drive_frame(s, sc.frames[sc.frame_count - 1], sc.vertex_count);
+    const auto last = s.positions();
+    const std::vector<float> want(last.begin(), last.end());
+    if (s.finish_recording().frames != 2) {
+      std::cerr << "the cache does not hold 2 frames\n";
+      return 1;
+    }
+    hairsys::Cache cache(cache_path);
+    const HairsysCacheInfo info = cache.info();
+    std::vector<float> got(3 * info.point_count), velocities(3 * info.point_count);
+    cache.read_frame(info.last_frame, got, velocities);
+    if (got != want || cache.strand_offsets().size() != s.strand_offsets().size()) {
+      std::cerr << "the cache's last frame is not the session's\n";
+      return 1;
+    }
+    const auto kids = s.children(hairsys::Session::default_child_settings());
+    const hairsys::ChildrenView k = kids.view();
+    if (k.vertex_counts.empty() || k.vertex_counts.size() != k.parent.size() ||
+        k.points.size() != 3 * k.widths.size()) {
+      std::cerr << "the children's arrays do not agree in size\n";
+      return 1;
+    }
+    hairsys::export_usd(cache_path, std::string(argv[2]) + ".usda");
+
     // An exception carries the code and the message.
     try {
       s.set_collider_pose(7, hairsys::identity());
