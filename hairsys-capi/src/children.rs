@@ -30,7 +30,7 @@ pub unsafe extern "C" fn hairsys_child_settings_default(
         };
         let (per_parent, total) = match d.count {
             ChildCount::PerParent(n) => (n, 0),
-            ChildCount::Total(t) => (10, t),
+            ChildCount::Total(t) => (0, t),
         };
         // SAFETY: the caller's promise.
         unsafe { check::out(out, "out")? }.write(HairsysChildSettings {
