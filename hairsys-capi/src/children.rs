@@ -1,7 +1,9 @@
 //! `HairsysChildren`: render children of a session's current frame, in buffers the library
 //! owns and the host reads through [`HairsysChildrenView`].
 
+use hair_core::StrandSet;
 use hair_render::{ChildBuffers, ChildCount, ChildMode, ChildSettings, DisplayLod, Lod};
+use hairsys::budget::{Budget, BYTES_PER_CHILD_POINT};
 
 use crate::check;
 use crate::error::{guard, Failure, HairsysStatus};
@@ -82,6 +84,33 @@ fn settings(c: &HairsysChildSettings) -> Result<(ChildSettings, Lod), Failure> {
     Ok((s, lod))
 }
 
+/// Refuses children whose points would need more memory than the library's default budget
+/// (8 GiB, `hairsys::budget`), before any is generated: counts come from the host unchecked.
+fn check_budget(strands: &StrandSet, settings: &ChildSettings) -> Result<(), Failure> {
+    let parents = strands.len();
+    let children = match settings.count {
+        ChildCount::PerParent(n) => f64::from(n) * parents as f64,
+        ChildCount::Total(n) => n as f64,
+    };
+    let points_per_child = strands.point_count() as f64 / parents.max(1) as f64;
+    Budget::default()
+        .check_bytes(
+            "children",
+            children * points_per_child * BYTES_PER_CHILD_POINT as f64,
+        )
+        .map_err(|over| {
+            Failure::argument(
+                "settings",
+                format!(
+                    "{children} children of about {points_per_child:.0} points need about \
+                     {:.1} GiB (limit {:.1} GiB): lower per_parent or total",
+                    over.estimate / f64::from(1u32 << 30),
+                    over.limit / f64::from(1u32 << 30)
+                ),
+            )
+        })
+}
+
 /// Generates render children of the session's current frame with `settings` (rooted on the
 /// current scalp) and writes their handle to `*out`.
 ///
@@ -99,6 +128,7 @@ pub unsafe extern "C" fn hairsys_session_children(
         with_session(session, |s| {
             let out = check::out(out, "out")?;
             let (settings, lod) = self::settings(check::reference(settings, "settings")?)?;
+            check_budget(s.strands(), &settings)?;
             let buffers = s.children(&settings, lod, None)?;
             out.write(Box::into_raw(Box::new(HairsysChildren { buffers })));
             Ok(())

@@ -2,6 +2,7 @@
 //! [`hairsys::build::groom`] (the same door the Python module and a Rust host take).
 
 use hair_core::{Collider, ColliderShape, HairHairSettings, StrandScales, Substeps, TriMesh};
+use hairsys::budget::Budget;
 use hairsys::build::groom::{GroomArrays, GroomOptions, SimHairs};
 use hairsys::scene::integrator::IntegratorChoice;
 use hairsys::scene::ScalpCollider;
@@ -196,6 +197,30 @@ impl<'a> Arrays<'a> {
             strand_scales: self.strand_scales.as_deref(),
         }
     }
+}
+
+/// Refuses interpolated hairs whose points would need more memory than the library's default
+/// budget (8 GiB, `hairsys::budget`), before anything is allocated: `sim_hairs` comes from the
+/// host unchecked.
+pub fn check_budget(options: &GroomOptions, arrays: &Arrays<'_>) -> Result<(), Failure> {
+    let SimHairs::Interpolated { count, points, .. } = options.sim_hairs else {
+        return Ok(());
+    };
+    let per_hair = points.unwrap_or(arrays.curve_counts.first().map_or(0, |&c| c as usize));
+    Budget::default()
+        .check_points("sim_hairs × points", count as f64 * per_hair as f64)
+        .map_err(|over| {
+            Failure::argument(
+                "sim_hairs",
+                format!(
+                    "{} hairs of {per_hair} points need about {:.1} GiB (limit {:.1} GiB): give \
+                     fewer hairs or points",
+                    count,
+                    over.estimate / f64::from(1u32 << 30),
+                    over.limit / f64::from(1u32 << 30)
+                ),
+            )
+        })
 }
 
 /// The library's options of `o`, and the requested thread count (0: the shared pool).

@@ -175,6 +175,7 @@ pub unsafe extern "C" fn hairsys_session_from_groom(
         let out = unsafe { check::out(out, "out")? };
         let arrays = unsafe { Arrays::read(check::reference(arrays, "arrays")?)? };
         let (opts, threads) = unsafe { self::options(check::reference(options, "options")?)? };
+        crate::groom::check_budget(&opts, &arrays)?;
         let pool = pool(threads)?;
         create(out, Session::from_groom(&arrays.groom(), &opts)?, pool);
         Ok(())

@@ -165,6 +165,9 @@ int main(int argc, char **argv) {
   o.goal_tip = 3.0f;
   EXPECT(hairsys_session_from_groom(&a, &o, &s), ARG, "goal_tip");
   o.goal_tip = 0.0f;
+  o.sim_hairs = 4000000000u;
+  EXPECT(hairsys_session_from_groom(&a, &o, &s), ARG, "sim_hairs");
+  o.sim_hairs = 0;
   if (s != NULL) {
     fprintf(stderr, "a refused create wrote its out-parameter\n");
     failed++;
@@ -329,6 +332,9 @@ int main(int argc, char **argv) {
   EXPECT(hairsys_child_settings_default(&cs), OK, "");
   EXPECT(hairsys_session_children(s, NULL, &kids), NUL, "settings");
   EXPECT(hairsys_session_children(s, &cs, NULL), NUL, "out");
+  cs.total = 1000000000000ull;
+  EXPECT(hairsys_session_children(s, &cs, &kids), ARG, "GiB");
+  cs.total = 0;
   cs.interpolated = 4;
   EXPECT(hairsys_session_children(s, &cs, &kids), ARG, "interpolated");
   cs.interpolated = 0;
