@@ -93,7 +93,8 @@ typedef enum HairsysStatus {
   HAIRSYS_STATUS_NOT_FINITE = 4,
   // A value is out of range or unusable (the message names the argument and what is
   // expected): a bad option, a collider id the session does not have, a path that is not
-  // UTF-8, an unknown enum value, a quaternion that is not unit.
+  // UTF-8, an unknown enum value, a quaternion that is not unit, a thread count over
+  // `HAIRSYS_MAX_THREADS`, hair or child counts over the library's 8 GiB memory budget.
   HAIRSYS_STATUS_BAD_ARGUMENT = 5,
   // The scene file cannot be used (the message names the file, the key and the fix).
   HAIRSYS_STATUS_SCENE = 6,

@@ -35,7 +35,8 @@ pub enum HairsysStatus {
     NotFinite = 4,
     /// A value is out of range or unusable (the message names the argument and what is
     /// expected): a bad option, a collider id the session does not have, a path that is not
-    /// UTF-8, an unknown enum value, a quaternion that is not unit.
+    /// UTF-8, an unknown enum value, a quaternion that is not unit, a thread count over
+    /// `HAIRSYS_MAX_THREADS`, hair or child counts over the library's 8 GiB memory budget.
     BadArgument = 5,
     /// The scene file cannot be used (the message names the file, the key and the fix).
     Scene = 6,
