@@ -3,7 +3,7 @@ armature-animated character, simulated once by Blender's Hair Dynamics node modi
 mode, Surface Collision and Deforming on, every other input at its default) and once baked by
 this extension (its defaults); the same figures measured on both.
 
-    target/pyenv313/bin/python blender/compare_hair_dynamics.py [--frames 48] [--curves 300]
+    target/pyenv313/bin/python blender/compare_hair_dynamics.py [--frames 48] [--curves 300] [--still]
 
 Needs Blender 5.2 (bpy 5.2.3, CPython 3.13: the `target/pyenv313` of scripts/test.sh) with the
 hairsys wheel installed. The character is a closed cylinder (radius 0.1 m, 1 m) skinned to a
@@ -287,6 +287,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--frames", type=int, default=48)
     parser.add_argument("--curves", type=int, default=300)
+    parser.add_argument("--still", action="store_true",
+                        help="the body does not move: how each holds a still groom")
     args = parser.parse_args()
 
     import bpy
@@ -298,6 +300,9 @@ def main():
                  "(bpy 5.2.3, CPython 3.13)")
     hairsys_blender.register()
     scene, body, rig = character(args.frames)
+    if args.still:
+        rig.animation_data_clear()
+        rig.pose.bones["upper"].rotation_euler = (0, 0, 0)
     scene.frame_set(1)
     pts, counts = groom(body, args.curves)
     blender = run_blender(scene, body, rig, pts, counts)
@@ -310,8 +315,8 @@ def main():
         fig = figures(frames, states, pts, counts)
         steady = np.array(times[1:] if len(times) > 1 else times)
         rows.append((name, steady.mean(), fig))
-    print(f"{args.curves} curves × {POINTS} points, {args.frames} frames, Blender "
-          f"{bpy.app.version_string}\n")
+    print(f"{args.curves} curves × {POINTS} points, {args.frames} frames"
+          f"{', still body' if args.still else ''}, Blender {bpy.app.version_string}\n")
     print("| | time per frame | stretch p99 | stretch max | points inside (worst frame) "
           "| tip motion against the head, max (mean) |")
     print("|---|---:|---:|---:|---:|---:|")
