@@ -3,7 +3,8 @@ armature-animated character, simulated once by Blender's Hair Dynamics node modi
 mode, Surface Collision and Deforming on, every other input at its default) and once baked by
 this extension (its defaults); the same figures measured on both.
 
-    target/pyenv313/bin/python blender/compare_hair_dynamics.py [--frames 48] [--curves 300] [--still]
+    target/pyenv313/bin/python blender/compare_hair_dynamics.py [--frames 48] [--curves 300]
+        [--still]
 
 Needs Blender 5.2 (bpy 5.2.3, CPython 3.13: the `target/pyenv313` of scripts/test.sh) with the
 hairsys wheel installed. The character is a closed cylinder (radius 0.1 m, 1 m) skinned to a
@@ -16,8 +17,9 @@ the Hair Dynamics modifier, its inputs set through `modifier.properties.inputs.<
 
 Figures, over every frame: time per frame (Blender: `frame_set` evaluating the simulation;
 hairsys: `Baker.step`), stretch of every segment against its groomed length (p99 and max of
-|length / rest − 1|), the fraction of points inside the evaluated body (deeper than 0.1 mm), and tip motion against
-the head (each tip in the upper bone's space, its largest distance from where it started).
+|length / rest − 1|), the fraction of points inside the evaluated body (deeper than 0.1 mm),
+and tip motion against the head (each tip in the upper bone's space, its largest distance from
+where it started).
 Prints a Markdown table.
 """
 
@@ -172,7 +174,8 @@ def hair_dynamics(obj):
     Deforming on."""
     import bpy
 
-    path = bpy.utils.system_resource("DATAFILES") + "/assets/nodes/geometry_nodes_dynamics_assets.blend"
+    path = (bpy.utils.system_resource("DATAFILES")
+            + "/assets/nodes/geometry_nodes_dynamics_assets.blend")
     with bpy.data.libraries.load(path) as (_, dst):
         dst.node_groups = ["Hair Dynamics"]
     group = dst.node_groups[0]

@@ -49,14 +49,17 @@ trap 'rm -rf "$work"' EXIT
   apt-get source --download-only python3.13 >&2
   dpkg-source --no-check -x python3.13_*.dsc src >&2
   cd src
-  ./configure --prefix="$cache" --with-ensurepip=install --enable-shared \
+  # Debian's patch refuses ensurepip outside a virtual environment, so pip is not installed
+  # into the build itself; `python3.13 -m venv` still seeds pip into each venv.
+  ./configure --prefix="$cache" --with-ensurepip=no --enable-shared \
     LDFLAGS="-Wl,-rpath,$cache/lib" >"$work/configure.log" 2>&1 \
     || { tail -30 "$work/configure.log" >&2; exit 1; }
   make -j"$(nproc)" >"$work/make.log" 2>&1 || { tail -30 "$work/make.log" >&2; exit 1; }
   make install >"$work/install.log" 2>&1 || { tail -30 "$work/install.log" >&2; exit 1; }
 )
-if ! works "$cache/bin/python3.13"; then
-  echo "python313.sh: the build in $cache does not run or lacks ssl/sqlite3/zlib/bz2/lzma/ctypes" >&2
+if ! works "$cache/bin/python3.13" || ! "$cache/bin/python3.13" -m venv "$work/venv-check" >&2; then
+  echo "python313.sh: the build in $cache does not run, lacks ssl/sqlite3/zlib/bz2/lzma/ctypes or makes no venv" >&2
+  rm -rf "$cache"
   exit 1
 fi
 echo "$cache/bin/python3.13"

@@ -76,8 +76,9 @@ def explain(error, hair_obj, points, counts, verts, tris):
                 f"{surface.name!r}, the farthest {length(float(far.max()))} away: the hair does "
                 f"not grow on {surface.name!r}. Pick the mesh it was grown on as Surface "
                 "(Properties › Object Data › Surface), or put the hair back on this one "
-                f"(move {hair_obj.name!r} back, or Curves Sculpt Mode › Curves › Snap to Nearest "
-                f"Surface); roots only slightly off need a larger Max Snap Distance ({PANEL})")
+                f"(move {hair_obj.name!r} back, or Curves Sculpt Mode › Curves › Snap to "
+                "Nearest Surface); roots only slightly off need a larger Max Snap Distance "
+                f"({PANEL})")
     message = str(error)
     name, _, rest = message.partition(":")
     name = name.strip()
