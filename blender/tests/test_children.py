@@ -119,3 +119,32 @@ def test_children_follow_the_baked_guides_in_the_viewport_and_in_a_cycles_render
     # Roots were grown between rest heights 0.6 and 0.9; v is the rest height.
     assert v.min() > 0.6 - 0.01 and v.max() < 0.9 + 0.01, (v.min(), v.max())
     assert rendered["surface"] == body
+
+
+def test_interpolated_children_grow_on_the_surface_among_their_guides(addon, tmp_path):
+    """Interpolated children are rooted on the surface between guides (mesh samples: on the
+    faces) and blend their neighbouring guides, so each tip lies among the guides' tips: no
+    farther from the nearest than the guides' spacing around the body (2π · 0.1 m / 16)."""
+    import bpy
+
+    from hairsys_blender import children
+
+    scene, body, hair, rest, counts = build_scene(tmp_path)
+    scene.frame_end = FRAMES
+    s = hair.hairsys
+    s.child_display_amount, s.child_render_amount = DISPLAY, RENDER
+    s.children_type = "INTERPOLATED"
+    assert bpy.ops.hairsys.bake() == {"FINISHED"}
+    scene.frame_set(FRAMES)
+    kids = children.update(hair, bpy.context.evaluated_depsgraph_get(), render=True)
+    pts, offsets = curve_arrays(kids)
+    assert len(offsets) - 1 == RENDER * len(counts)
+    bvh = surface_bvh(body)
+    off = max(bvh.find_nearest(p)[3] for p in pts[offsets[:-1]])
+    assert off < 1e-5, f"a child's root is {off * 1e3:.3f} mm off the surface"
+    guides, goffsets = curve_arrays(hair)
+    guide_tips = guides[goffsets[1:] - 1]
+    tips = pts[offsets[1:] - 1]
+    nearest = np.linalg.norm(tips[:, None, :] - guide_tips[None, :, :], axis=2).min(axis=1)
+    spacing = 2 * math.pi * 0.1 / 16
+    assert nearest.max() <= spacing, f"a child's tip is {nearest.max():.4f} m from every guide's"
