@@ -291,3 +291,54 @@ def test_the_docs_scripting_example_bakes_every_frame_before_it_returns(addon, t
         np.testing.assert_allclose(positions(hair), frames[12], atol=1e-6)
     finally:
         prefs.temporary_directory = before
+
+
+class Layout:
+    """Stands in for a panel's layout headless: records what the panel draws."""
+
+    def __init__(self):
+        self.props, self.operators, self.labels = [], [], []
+
+    def column(self, **_):
+        return self
+
+    row = column
+
+    def separator(self, **_):
+        pass
+
+    def prop(self, data, name, **_):
+        assert name in data.bl_rna.properties, f"the panel draws a missing setting {name!r}"
+        self.props.append(name)
+
+    def operator(self, idname, **_):
+        module, name = idname.split(".")
+        assert hasattr(getattr(__import__("bpy").types, f"{module.upper()}_OT_{name}"), "execute")
+        self.operators.append(idname)
+
+    def label(self, text="", **_):
+        self.labels.append(text)
+
+
+@pytest.mark.parametrize("children_type", ["NONE", "SIMPLE", "INTERPOLATED"])
+def test_the_physics_panel_draws_existing_settings_and_the_goal_hint(
+        addon, tmp_path, children_type):
+    """The hairsys panel (Properties › Physics) draws only settings and operators that exist,
+    shows the hint when Goal Stiffness has no Goal Weights, and the children settings when
+    children are on."""
+    import types
+
+    import bpy
+
+    scene, body, hair, rest, counts = build_scene(tmp_path)
+    s = hair.hairsys
+    s.children_type = children_type
+    s.goal_stiffness = 5.0
+    layout = Layout()
+    panel = types.SimpleNamespace(layout=layout)
+    context = types.SimpleNamespace(object=hair)
+    bpy.types.HAIRSYS_PT_panel.draw(panel, context)
+    assert {"cache_path", "sag_free", "root_width", "tip_width"} <= set(layout.props)
+    assert any("Goal Weights" in t for t in layout.labels)
+    assert ("child_render_amount" in layout.props) == (children_type != "NONE")
+    assert ("hairsys.update_children" in layout.operators) == (children_type != "NONE")
