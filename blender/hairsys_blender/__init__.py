@@ -205,6 +205,7 @@ class HairsysSettings(bpy.types.PropertyGroup):
         description="Another seed gives other children")
     children_object: PointerProperty(
         name="Children Object", type=bpy.types.Object,
+        poll=lambda self, obj: obj.type == "CURVES",
         description="The Curves object the children are written to (made on first use)")
 
 
