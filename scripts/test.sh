@@ -44,8 +44,10 @@ for v in "$venv" "$venv313"; do
   "$v/bin/python3" -m pip install --quiet --disable-pip-version-check --force-reinstall \
     --no-deps target/wheels/hairsys-*.whl
 done
-# The bit-identity test compares the module with the binary `cargo test` just built.
+# The bit-identity test compares the module with the binary `cargo test` just built (in
+# CARGO_TARGET_DIR when it is set).
+bin="$(cd "${CARGO_TARGET_DIR:-target}" && pwd)/debug/hairsys"
 for v in "$venv" "$venv313"; do
   echo "pytest on $("$v/bin/python3" -c 'import sys, bpy; print(f"CPython {sys.version.split()[0]}, Blender {bpy.app.version_string}")')" >&2
-  HAIRSYS_BIN="$PWD/target/debug/hairsys" "$v/bin/python3" -m pytest -q python/tests blender/tests
+  HAIRSYS_BIN="$bin" "$v/bin/python3" -m pytest -q python/tests blender/tests
 done
