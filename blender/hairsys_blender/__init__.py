@@ -167,7 +167,7 @@ class HairsysSettings(bpy.types.PropertyGroup):
         update=lambda self, context: children_changed(self.id_data, context),
         description="Children per guide in renders")
     child_radius: FloatProperty(
-        name="Radius", default=0.005, min=0.0, unit="LENGTH",
+        name="Spread", default=0.005, min=0.0, unit="LENGTH",
         update=lambda self, context: children_changed(self.id_data, context),
         description="Radius of the disc around a guide's root that its simple children grow in")
     child_clump: FloatProperty(
