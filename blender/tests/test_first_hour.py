@@ -179,7 +179,8 @@ def test_a_missing_cache_folder_is_created(addon, tmp_path):
 def test_the_defaults_hold_a_groom_on_a_still_head(addon, tmp_path, groom):
     """A still body, every setting at its default, one second: no tip moves more than 1 mm from
     the groom. Hair sticking straight out sideways is the hardest case for gravity (every
-    segment is a lever); hair combed down rests 4 mm off the surface."""
+    segment is a lever); hair combed down rests 4 mm off the surface. (Measured: 0.1 µm and
+    0.2 µm; with Sag-Free Rest off the same bakes move tips 83 mm and 1.0 mm.)"""
     import bpy
 
     from test_addon import comb_down
