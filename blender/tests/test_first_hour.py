@@ -343,3 +343,14 @@ def test_the_physics_panel_draws_existing_settings_and_the_goal_hint(
     assert any("Goal Weights" in t for t in layout.labels)
     assert ("child_render_amount" in layout.props) == (children_type != "NONE")
     assert ("hairsys.update_children" in layout.operators) == (children_type != "NONE")
+
+
+def test_build_without_maturin_says_how_to_get_it(tmp_path):
+    """blender/build.sh on a PATH without maturin stops before building and names the fix."""
+    env = {k: v for k, v in os.environ.items() if k != "HAIRSYS_WHEEL"}
+    env["PATH"] = "/usr/bin:/bin"
+    done = subprocess.run(["bash", str(REPO / "blender" / "build.sh"), str(tmp_path)], env=env,
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode != 0
+    assert "pip install maturin" in done.stderr, done.stderr
+    assert not list(tmp_path.glob("*.zip"))
