@@ -51,15 +51,18 @@ trap 'rm -rf "$work"' EXIT
   cd src
   # Debian's patch refuses ensurepip outside a virtual environment, so pip is not installed
   # into the build itself; `python3.13 -m venv` still seeds pip into each venv.
-  ./configure --prefix="$cache" --with-ensurepip=no --enable-shared \
-    LDFLAGS="-Wl,-rpath,$cache/lib" >"$work/configure.log" 2>&1 \
+  # A static libpython (Debian's link patch drops LDFLAGS, so a shared one would not find
+  # itself without LD_LIBRARY_PATH); bpy needs no libpython of its own.
+  ./configure --prefix="$cache" --with-ensurepip=no >"$work/configure.log" 2>&1 \
     || { tail -30 "$work/configure.log" >&2; exit 1; }
   make -j"$(nproc)" >"$work/make.log" 2>&1 || { tail -30 "$work/make.log" >&2; exit 1; }
   make install >"$work/install.log" 2>&1 || { tail -30 "$work/install.log" >&2; exit 1; }
 )
 if ! works "$cache/bin/python3.13" || ! "$cache/bin/python3.13" -m venv "$work/venv-check" >&2; then
-  echo "python313.sh: the build in $cache does not run, lacks ssl/sqlite3/zlib/bz2/lzma/ctypes or makes no venv" >&2
-  rm -rf "$cache"
+  "$cache/bin/python3.13" -c 'import sys, ssl, sqlite3, zlib, bz2, lzma, ctypes' >&2 || true
+  tail -15 "$work/make.log" >&2
+  echo "python313.sh: the build in $cache does not run, lacks a module above or makes no venv;" \
+    "remove $cache to build again" >&2
   exit 1
 fi
 echo "$cache/bin/python3.13"
