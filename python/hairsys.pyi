@@ -334,11 +334,26 @@ class Session:
         clump: float = 0.0,
         curl_radius: float = 0.0,
         curl_frequency: float = 0.0,
+        roughness: float = 0.0,
+        roughness_endpoint: float = 0.0,
+        length_variation: float = 0.0,
+        root_width: float = 80e-6,
+        tip_width: float = 20e-6,
+        subdivisions: int = 4,
         seed: int = 0,
         display: bool = False,
+        display_fraction: float = 0.1,
+        positions: _Floats | None = None,
+        scalp_vertices: _Floats | None = None,
     ) -> Children:
-        """Render children of the current frame (spread, curl_radius in m; curl_frequency in
-        turns/m; clump 0–1; display: the display level of detail)."""
+        """Render children of the current frame, or of `positions` (P, 3) (m, world space, the
+        strands' points in order, e.g. a cached frame) rooted on the scalp at `scalp_vertices`
+        (V, 3) (m, world space; None: the current scalp), without stepping. spread,
+        curl_radius, roughness, roughness_endpoint, root_width, tip_width in m (widths are
+        diameters); curl_frequency in turns/m; clump −1–1; length_variation 0–0.99;
+        subdivisions 1–64 pieces per parent segment at render level; display: the display
+        level of detail (display_fraction of each parent's children, the parents' own points).
+        Raises ArgumentError naming the bad argument."""
 
 class Cache:
     """A hairsys MCAP cache opened for reading."""

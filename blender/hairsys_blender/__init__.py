@@ -15,8 +15,8 @@ import numpy as np
 from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty,
                        StringProperty)
 
-from . import playback
-from .bake import REST_ATTRIBUTE
+from . import children, playback, widths
+from .bake import PLAYED_KEY, REST_ATTRIBUTE
 from .maps import PURPOSES
 
 
@@ -34,7 +34,10 @@ class HairsysSettings(bpy.types.PropertyGroup):
 
     cache_path: StringProperty(
         name="Cache", subtype="FILE_PATH", default="//hair.mcap",
-        description="MCAP cache the bake writes and playback reads (// = next to the .blend)")
+        options={"PATH_SUPPORTS_BLEND_RELATIVE"},
+        description="MCAP cache the bake writes and playback reads (// = next to the .blend; "
+                    "a .blend never saved puts it in the temporary directory); missing folders "
+                    "are created")
     playback: BoolProperty(
         name="Playback", default=True,
         description="Set the curves from the cache whenever the frame changes")
@@ -53,6 +56,12 @@ class HairsysSettings(bpy.types.PropertyGroup):
     goal_stiffness: FloatProperty(
         name="Goal Stiffness", default=0.0, min=0.0,
         description="Springs towards the animated rest shape, N/m, times each point's goal weight")
+    sag_free: BoolProperty(
+        name="Sag-Free Rest", default=True,
+        description="Solve rest shapes so that the groom as combed is at rest under gravity at "
+                    "the first frame: hair keeps its shape instead of sagging when the "
+                    "simulation starts (one material: skipped with a Stiffness, Stretch, "
+                    "Damping or Drag map)")
     air_drag: FloatProperty(
         name="Air Drag", default=2.0, min=0.0,
         description="Decay rate of velocity in still air, 1/s")
@@ -131,6 +140,83 @@ class HairsysSettings(bpy.types.PropertyGroup):
     collider_friction: FloatProperty(
         name="Collider Friction", default=0.3, min=0.0,
         description="Coulomb friction coefficient between hair and the colliders")
+    root_width: FloatProperty(
+        name="Root Width", default=80e-6, min=0.0, max=1.0, unit="LENGTH", precision=6,
+        update=lambda self, context: widths.update(self.id_data),
+        description="Hair width (diameter) at the root, for renders: the curves' radius "
+                    "attribute is half the width, tapered from root to tip")
+    tip_width: FloatProperty(
+        name="Tip Width", default=20e-6, min=0.0, max=1.0, unit="LENGTH", precision=6,
+        update=lambda self, context: widths.update(self.id_data),
+        description="Hair width (diameter) at the tip, for renders")
+    children_type: EnumProperty(
+        name="Children", default="NONE",
+        items=[("NONE", "None", "No children"),
+               ("SIMPLE", "Simple", "Children rooted in a disc around each guide, following it"),
+               ("INTERPOLATED", "Interpolated",
+                "Children rooted between guides, blending their neighbouring guides")],
+        update=lambda self, context: children_changed(self.id_data, context),
+        description="Render children generated around the guides at every frame, into a "
+                    "second Curves object that renders")
+    child_display_amount: IntProperty(
+        name="Display Amount", default=10, min=1, max=100000,
+        update=lambda self, context: children_changed(self.id_data, context),
+        description="Children per guide in the viewport (the first of the rendered ones)")
+    child_render_amount: IntProperty(
+        name="Render Amount", default=100, min=1, max=100000,
+        update=lambda self, context: children_changed(self.id_data, context),
+        description="Children per guide in renders")
+    child_radius: FloatProperty(
+        name="Spread", default=0.005, min=0.0, unit="LENGTH",
+        update=lambda self, context: children_changed(self.id_data, context),
+        description="Radius of the disc around a guide's root that its simple children grow in")
+    child_clump: FloatProperty(
+        name="Clump", default=0.0, min=-1.0, max=1.0, subtype="FACTOR",
+        update=lambda self, context: children_changed(self.id_data, context),
+        description="How far tips are drawn to their guide: 1 onto it, 0 none, -1 apart")
+    child_curl_radius: FloatProperty(
+        name="Curl Radius", default=0.0, min=0.0, unit="LENGTH",
+        update=lambda self, context: children_changed(self.id_data, context),
+        description="Radius of the children's helical curl around their path")
+    child_curl_frequency: FloatProperty(
+        name="Curl Frequency", default=0.0, min=0.0,
+        update=lambda self, context: children_changed(self.id_data, context),
+        description="Turns of the curl per meter of hair")
+    child_roughness: FloatProperty(
+        name="Roughness", default=0.0, min=0.0, unit="LENGTH",
+        update=lambda self, context: children_changed(self.id_data, context),
+        description="Amplitude of the uniform noise that roughens each child")
+    child_roughness_endpoint: FloatProperty(
+        name="Endpoint Roughness", default=0.0, min=0.0, unit="LENGTH",
+        update=lambda self, context: children_changed(self.id_data, context),
+        description="Noise amplitude at the tips, growing from the root")
+    child_length_variation: FloatProperty(
+        name="Length Variation", default=0.0, min=0.0, max=0.99, subtype="FACTOR",
+        update=lambda self, context: children_changed(self.id_data, context),
+        description="Random shortening of each child, as a fraction of its length")
+    child_subdivisions: IntProperty(
+        name="Render Steps", default=4, min=1, max=64,
+        update=lambda self, context: children_changed(self.id_data, context),
+        description="Smooth pieces per guide segment in renders (the viewport shows the "
+                    "guides' own points)")
+    child_seed: IntProperty(
+        name="Seed", default=0, min=0,
+        update=lambda self, context: children_changed(self.id_data, context),
+        description="Another seed gives other children")
+    children_object: PointerProperty(
+        name="Children Object", type=bpy.types.Object,
+        poll=lambda self, obj: obj.type == "CURVES",
+        description="The Curves object the children are written to (made on first use)")
+
+
+def children_changed(obj, context):
+    """Regenerates `obj`'s children after a children setting changed."""
+    if obj.hairsys.children_type == "NONE":
+        return
+    try:
+        children.update(obj, context.evaluated_depsgraph_get())
+    except (ValueError, OSError) as e:
+        print(f"hairsys: cannot make the children of {obj.name}: {e}")
 
 
 def hair_object(context):
@@ -158,17 +244,20 @@ class HAIRSYS_OT_bake(bpy.types.Operator):
         playback.baking = True
         try:
             obj = hair_object(context)
-            playback.forget(bpy.path.abspath(obj.hairsys.cache_path))
+            playback.forget(playback.cache_file(obj)[0])
             self._baker = Baker(context, obj)
         except (ValueError, OSError) as e:
             playback.baking = False
             self.report({"ERROR"}, f"hairsys: {e}")
             return False
+        for note in self._baker.notes:
+            self.report({"WARNING"}, f"hairsys: {note}")
         return True
 
     def _end(self, context, cancelled):
         playback.baking = False
         summary = self._baker.finish()
+        widths.update(self._baker.hair)
         frame = self._baker.frame
         start = self._baker.start_frame
         self._baker = None
@@ -270,8 +359,36 @@ class HAIRSYS_OT_restore_groom(bpy.types.Operator):
         buf = np.empty(len(rest.data) * 3, dtype=np.float32)
         rest.data.foreach_get("vector", buf)
         obj.data.attributes["position"].data.foreach_set("vector", buf)
+        if PLAYED_KEY in obj.data:
+            del obj.data[PLAYED_KEY]
         obj.data.update_tag()
         obj.hairsys.playback = False
+        return {"FINISHED"}
+
+
+class HAIRSYS_OT_update_children(bpy.types.Operator):
+    """Generate the render children of the hair as it is now into the children object"""
+
+    bl_idname = "hairsys.update_children"
+    bl_label = "Update Children"
+    bl_options = {"REGISTER", "UNDO"}
+
+    render: BoolProperty(name="Render Level", default=False,
+                         description="Every render child instead of the viewport's amount")
+
+    @classmethod
+    def poll(cls, context):
+        obj = hair_object(context)
+        return obj is not None and obj.hairsys.children_type != "NONE"
+
+    def execute(self, context):
+        obj = hair_object(context)
+        try:
+            made = children.update(obj, context.evaluated_depsgraph_get(), render=self.render)
+        except (ValueError, OSError) as e:
+            self.report({"ERROR"}, f"hairsys: {e}")
+            return {"CANCELLED"}
+        self.report({"INFO"}, f"hairsys: {len(made.data.curves)} children in {made.name!r}")
         return {"FINISHED"}
 
 
@@ -294,14 +411,18 @@ class HAIRSYS_PT_panel(bpy.types.Panel):
         row.prop(s, "playback")
         col.operator(HAIRSYS_OT_restore_groom.bl_idname)
         col.separator()
-        for name in ("stretch_stiffness", "bend_stiffness", "goal_stiffness", "air_drag",
-                     "mass_per_length", "radius", "substeps", "threads", "max_snap_distance"):
+        for name in ("stretch_stiffness", "bend_stiffness", "goal_stiffness", "sag_free",
+                     "air_drag", "mass_per_length", "radius", "substeps", "threads",
+                     "max_snap_distance"):
             col.prop(s, name)
         col.separator()
         for _, source, name, _ in PURPOSES:
             col.prop(s, source)
             if getattr(s, source) != "NONE":
                 col.prop(s, name)
+        if s.goal_stiffness > 0 and s.weight_source == "NONE":
+            col.label(text="Goal Stiffness acts only where Goal Weights are painted",
+                      icon="ERROR")
         col.separator()
         col.prop(s, "surface_collision")
         if s.surface_collision:
@@ -311,23 +432,49 @@ class HAIRSYS_PT_panel(bpy.types.Panel):
         if s.collider_collection is not None:
             col.prop(s, "collider_thickness")
             col.prop(s, "collider_friction")
+        col.separator()
+        col.label(text="Render")
+        col.prop(s, "root_width")
+        col.prop(s, "tip_width")
+        col.prop(s, "children_type")
+        if s.children_type != "NONE":
+            for name in ("child_display_amount", "child_render_amount", "child_radius",
+                         "child_clump", "child_curl_radius", "child_curl_frequency",
+                         "child_roughness", "child_roughness_endpoint",
+                         "child_length_variation", "child_subdivisions", "child_seed",
+                         "children_object"):
+                if name == "child_radius" and s.children_type == "INTERPOLATED":
+                    continue
+                col.prop(s, name)
+            col.operator(HAIRSYS_OT_update_children.bl_idname)
 
 
 CLASSES = (HairsysSettings, HAIRSYS_OT_bake, HAIRSYS_OT_play_frame, HAIRSYS_OT_restore_groom,
-           HAIRSYS_PT_panel)
+           HAIRSYS_OT_update_children, HAIRSYS_PT_panel)
+#: (handler list name, handler) pairs the add-on adds.
+HANDLERS = (("frame_change_post", playback.on_frame_change),
+            ("render_init", playback.on_render_init),
+            ("render_pre", playback.on_render_pre),
+            ("render_complete", playback.on_render_end),
+            ("render_cancel", playback.on_render_end))
 
 
 def register():
     for cls in CLASSES:
         bpy.utils.register_class(cls)
     bpy.types.Object.hairsys = PointerProperty(type=HairsysSettings)
-    if playback.on_frame_change not in bpy.app.handlers.frame_change_post:
-        bpy.app.handlers.frame_change_post.append(playback.on_frame_change)
+    for name, handler in HANDLERS:
+        handlers = getattr(bpy.app.handlers, name)
+        if handler not in handlers:
+            handlers.append(handler)
 
 
 def unregister():
-    if playback.on_frame_change in bpy.app.handlers.frame_change_post:
-        bpy.app.handlers.frame_change_post.remove(playback.on_frame_change)
+    for name, handler in HANDLERS:
+        handlers = getattr(bpy.app.handlers, name)
+        if handler in handlers:
+            handlers.remove(handler)
+    children.forget()
     del bpy.types.Object.hairsys
     for cls in reversed(CLASSES):
         bpy.utils.unregister_class(cls)

@@ -15,6 +15,8 @@ weights, stiffness, pins from vertex groups or curve attributes) are sampled at 
 by `maps.strand_maps`.
 """
 
+import hashlib
+
 import numpy as np
 
 import hairsys
@@ -65,24 +67,38 @@ def evaluated_mesh(obj, depsgraph, triangles=False, matrix=None):
 #: Point attribute keeping the groom's own positions (object space) once playback overwrites
 #: `position`; bakes start from it, and "Restore Groom" puts it back.
 REST_ATTRIBUTE = "hairsys_rest"
+#: Custom property of the Curves data: a digest of the positions playback wrote last. Positions
+#: with another digest are not a cached frame but the groom (edited, combed, sculpted, restored).
+PLAYED_KEY = "hairsys_played"
+
+
+def digest(local):
+    """A digest of object-space positions (float32 bytes): tells playback's frames from edits."""
+    return hashlib.sha1(np.ascontiguousarray(local, dtype=np.float32).tobytes()).hexdigest()
 
 
 def rest_positions(hair_obj):
-    """The groom's rest positions (object space, (P, 3) float32), saved into the
-    `REST_ATTRIBUTE` point attribute the first time they are asked for."""
+    """The groom's rest positions (object space, (P, 3) float32), kept in the `REST_ATTRIBUTE`
+    point attribute. The curves' `position` is the groom unless it is the frame playback wrote
+    last (`PLAYED_KEY`): then the groom is the stored attribute; otherwise `position` is taken
+    as the groom and stored, so an edit after a bake (or after Restore Groom) is what the next
+    bake simulates."""
     curves = hair_obj.data
     n = len(curves.points)
     local = np.empty(n * 3, dtype=np.float32)
+    curves.attributes["position"].data.foreach_get("vector", local)
     rest = curves.attributes.get(REST_ATTRIBUTE)
     if rest is not None and (rest.domain != "POINT" or len(rest.data) != n):
         curves.attributes.remove(rest)
         rest = None
-    if rest is None:
-        curves.attributes["position"].data.foreach_get("vector", local)
-        rest = curves.attributes.new(REST_ATTRIBUTE, "FLOAT_VECTOR", "POINT")
-        rest.data.foreach_set("vector", local)
-    else:
+    if rest is not None and curves.get(PLAYED_KEY) == digest(local):
         rest.data.foreach_get("vector", local)
+        return local.reshape(-1, 3)
+    if rest is None:
+        rest = curves.attributes.new(REST_ATTRIBUTE, "FLOAT_VECTOR", "POINT")
+    rest.data.foreach_set("vector", local)
+    if PLAYED_KEY in curves:
+        del curves[PLAYED_KEY]
     return local.reshape(-1, 3)
 
 
@@ -141,21 +157,33 @@ def expected_motion(context, colliders, first, last, fps):
 
 
 class Baker:
-    """Bakes `hair_obj` over the scene's frame range into `settings.cache_path`, frame by
-    frame (`step()` until it returns False), then `finish()`."""
+    """Bakes `hair_obj` over the scene's frame range into its cache (`playback.cache_file`),
+    frame by frame (`step()` until it returns False), then `finish()`. `notes` are what the
+    artist should know about the bake (where an unsaved file's cache went, a setting that could
+    not apply); errors raise ValueError in the panel's words (`errors.explain`)."""
 
     def __init__(self, context, hair_obj):
-        import bpy
+        import os
+
+        from . import errors
+        from .playback import cache_file
 
         self.scene = context.scene
         self.hair = hair_obj
         self.settings = hair_obj.hairsys
+        #: Messages for the artist (the operator reports them as warnings).
+        self.notes = []
         surface = hair_obj.data.surface
         if surface is None or surface.type != "MESH":
-            raise ValueError(f"{hair_obj.name!r} has no surface mesh: set it in the Curves "
-                             "object's Surface panel")
+            raise ValueError(f"{hair_obj.name!r} has no surface mesh: pick the mesh the hair "
+                             "grows on as Surface in Properties › Object Data (the Curves' "
+                             "data tab) › Surface")
         self.surface = surface
         s = self.settings
+        self.path, note = cache_file(hair_obj)
+        if note:
+            self.notes.append(note)
+        os.makedirs(os.path.dirname(self.path) or ".", exist_ok=True)
         self.first = self.scene.frame_start
         self.last = self.scene.frame_end
         #: The frame to go back to when the bake ends.
@@ -175,21 +203,34 @@ class Baker:
             self.collider_counts.append(len(cv))
         fps = self.scene.render.fps / self.scene.render.fps_base
         motion = expected_motion(context, self.colliders, self.first, self.last, fps)
+        sag_free = s.sag_free
+        if sag_free and maps.get("strand_scales"):
+            sag_free = False
+            self.notes.append(
+                "Sag-Free Rest is skipped: it solves rest shapes for one material, and the "
+                "Stiffness, Stretch, Damping or Drag map gives strands their own (set those maps "
+                "to None to hold the groom's shape, or turn Sag-Free Rest off)")
+        if s.goal_stiffness > 0 and s.weight_source == "NONE":
+            self.notes.append(
+                f"Goal Stiffness is {s.goal_stiffness:g} N/m but Goal Weights is None, so no "
+                "point has a goal spring: pick a vertex group or curve attribute as Goal Weights")
         options = dict(
             fps=fps, first_frame=self.first, substeps=s.substeps if s.substeps > 0 else "auto",
             gravity=tuple(self.scene.gravity) if self.scene.use_gravity else (0.0, 0.0, 0.0),
             stretch_stiffness=s.stretch_stiffness, bend_stiffness=s.bend_stiffness,
             goal_stiffness=s.goal_stiffness, air_drag=s.air_drag,
             mass_per_length=s.mass_per_length, radius=s.radius,
-            max_snap_distance=s.max_snap_distance,
+            max_snap_distance=s.max_snap_distance, sag_free=sag_free,
             scalp_collider=s.surface_collision, scalp_thickness=s.surface_thickness,
             scalp_friction=s.surface_friction, colliders=specs, **motion,
         )
         if s.threads > 0:
             options["threads"] = s.threads
         options.update(maps)
-        self.session = hairsys.Session.from_groom(verts, tris, points, counts, **options)
-        self.path = bpy.path.abspath(s.cache_path)
+        try:
+            self.session = hairsys.Session.from_groom(verts, tris, points, counts, **options)
+        except ValueError as e:
+            raise ValueError(errors.explain(e, hair_obj, points, counts, verts, tris)) from None
         self.session.write_cache(self.path)
         self.frame = self.first
 

@@ -40,6 +40,9 @@ def hair_object(surface, points, counts, tmp_path):
     bpy.context.scene.collection.objects.link(hair)
     bpy.context.view_layer.objects.active = hair
     hair.hairsys.cache_path = str(tmp_path / "hair.mcap")
+    # The maps are measured against hair sagging under gravity (and Sag-Free Rest is one
+    # material only), so the groom is not made sag-free here.
+    hair.hairsys.sag_free = False
     return hair
 
 

@@ -33,7 +33,7 @@ use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{IntoPyDict, PyDict};
 
-use crate::arrays::{floats, isometry, rows_to_numpy, with_float_rows};
+use crate::arrays::{float_rows, floats, isometry, rows_to_numpy, with_float_rows};
 use crate::children::Children;
 use crate::errors::{argument, guard, panic_message, to_py, InternalError};
 use crate::groom::groom_options;
@@ -709,13 +709,21 @@ impl PySession {
         Ok(d)
     }
 
-    /// Render children of the current frame (see `hairsys.Children`): `per_parent` children
-    /// around every strand, or `total` in all; `interpolated` roots them between `neighbours`
-    /// parents; `spread` (m) is the root disc of simple children; `clump` (0–1),
-    /// `curl_radius` (m), `curl_frequency` (turns/m) shape them; `display` uses the display
-    /// level of detail (a fraction of the children, fewer points).
+    /// Render children (see `hairsys.Children`) of the current frame, or of `positions` (P, 3)
+    /// (m, world space, the strands' points in order: a cached frame) on the scalp at
+    /// `scalp_vertices` (V, 3) (m, world space; None: the current scalp), without stepping:
+    /// `per_parent` children around every strand, or `total` in all; `interpolated` roots them
+    /// between `neighbours` parents; `spread` (m) is the root disc of simple children;
+    /// `clump` (−1–1), `curl_radius` (m), `curl_frequency` (turns/m), `roughness` (m, uniform
+    /// noise), `roughness_endpoint` (m, at the tip), `length_variation` (0–0.99) shape them;
+    /// `root_width` and `tip_width` (m, diameters) taper them; `subdivisions` (1–64) are the
+    /// Catmull–Rom pieces per parent segment at render level; `display` uses the display level
+    /// of detail (`display_fraction` of the children, the parents' own points).
     #[pyo3(signature = (*, per_parent=10, total=None, interpolated=false, neighbours=4,
-        spread=0.005, clump=0.0, curl_radius=0.0, curl_frequency=0.0, seed=0, display=false))]
+        spread=0.005, clump=0.0, curl_radius=0.0, curl_frequency=0.0, roughness=0.0,
+        roughness_endpoint=0.0, length_variation=0.0, root_width=80e-6, tip_width=20e-6,
+        subdivisions=4, seed=0, display=false, display_fraction=0.1, positions=None,
+        scalp_vertices=None))]
     #[allow(clippy::too_many_arguments)]
     fn children(
         &self,
@@ -728,8 +736,17 @@ impl PySession {
         clump: f32,
         curl_radius: f32,
         curl_frequency: f32,
+        roughness: f32,
+        roughness_endpoint: f32,
+        length_variation: f32,
+        root_width: f32,
+        tip_width: f32,
+        subdivisions: u32,
         seed: u64,
         display: bool,
+        display_fraction: f32,
+        positions: Option<&Bound<'_, PyAny>>,
+        scalp_vertices: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Children> {
         self.check()?;
         let mut settings = ChildSettings {
@@ -739,6 +756,7 @@ impl PySession {
             },
             spread,
             seed,
+            subdivisions,
             mode: if interpolated {
                 ChildMode::Interpolated { neighbours }
             } else {
@@ -749,17 +767,52 @@ impl PySession {
         settings.shape.clump.factor = clump;
         settings.shape.curl.radius = curl_radius;
         settings.shape.curl.frequency = curl_frequency;
+        settings.shape.roughness.uniform = roughness;
+        settings.shape.roughness.endpoint = roughness_endpoint;
+        settings.shape.length_variation = length_variation;
+        settings.shape.taper.root = root_width;
+        settings.shape.taper.tip = tip_width;
         let lod = if display {
-            Lod::Display(DisplayLod::default())
+            Lod::Display(DisplayLod {
+                fraction: display_fraction,
+                ..DisplayLod::default()
+            })
         } else {
             Lod::Render
         };
+        let (points, vertices) = {
+            let session = self.session();
+            let points = positions
+                .map(|p| {
+                    let n = session.strands().point_count();
+                    float_rows::<3>(p, "positions", &format!("({n}, 3)"))
+                })
+                .transpose()?;
+            let vertices = scalp_vertices
+                .map(|v| {
+                    let n = session.rest_scalp().map_or(0, |m| m.positions().len());
+                    float_rows::<3>(v, "scalp_vertices", &format!("({n}, 3)"))
+                })
+                .transpose()?;
+            (points, vertices)
+        };
+        if vertices.is_some() && points.is_none() {
+            return Err(argument(
+                "scalp_vertices",
+                "give positions with scalp_vertices (the current frame keeps its own scalp)",
+            ));
+        }
         let inner = &self.inner;
         let buffers = py
             .detach(|| {
                 std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                     let session = inner.lock().unwrap_or_else(|p| p.into_inner());
-                    session.children(&settings, lod, None)
+                    match &points {
+                        Some(points) => {
+                            session.children_at(points, vertices.as_deref(), &settings, lod)
+                        }
+                        None => session.children(&settings, lod, None),
+                    }
                 }))
             })
             .map_err(|p| InternalError::new_err(panic_message(&*p)))?

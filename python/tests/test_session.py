@@ -364,6 +364,37 @@ def test_children_are_numpy_arrays(groom):
     assert np.linalg.norm(roots - parent_roots, axis=1).max() <= 0.005 * 1.01
 
 
+def test_children_of_given_positions_are_the_children_of_that_frame(groom):
+    """Children of a frame handed back as `positions` and `scalp_vertices` (what a host playing a
+    cache does) are bit for bit the children the session makes when it stands at that frame,
+    and making them leaves the session where it is."""
+    v, t, pts, counts = groom
+    moved = np.asarray(v, dtype=np.float64) + (0.01, 0.0, 0.02)
+    live = hairsys.Session.from_groom(v, t, pts, counts)
+    for _ in range(3):
+        live.step(scalp_vertices=moved)
+    frame = np.array(live.positions)
+    expected = live.children(per_parent=4, clump=0.5, roughness=0.001, tip_width=0.0)
+
+    other = hairsys.Session.from_groom(v, t, pts, counts)
+    before = np.array(other.positions)
+    made = other.children(per_parent=4, clump=0.5, roughness=0.001, tip_width=0.0,
+                          positions=frame, scalp_vertices=moved)
+    assert np.array_equal(made.points, expected.points)
+    assert np.array_equal(made.vertex_counts, expected.vertex_counts)
+    assert np.array_equal(made.widths, expected.widths)
+    assert made.widths.min() == 0.0  # the tips, tip_width 0
+    assert np.array_equal(other.positions, before) and other.frame == 1
+
+    shown = other.children(per_parent=10, display=True, display_fraction=0.3, positions=frame,
+                           scalp_vertices=moved)
+    assert len(shown) == 3 * other.strand_count
+    with pytest.raises(hairsys.ArgumentError, match="positions"):
+        other.children(positions=frame[:-1])
+    with pytest.raises(hairsys.ArgumentError, match="scalp_vertices"):
+        other.children(positions=frame, scalp_vertices=moved[:-1])
+
+
 def test_interpolated_sim_hairs(groom):
     v, t, pts, counts = groom
     s = hairsys.Session.from_groom(v, t, pts, counts, sim_hairs=200, k=3, points=7, seed=2)
