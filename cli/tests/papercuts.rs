@@ -848,14 +848,14 @@ fn scene_check_reports_what_the_run_then_uses_colliders_model_substeps_component
         "bdf2" | "implicit-euler" => hairsys::scene::integrator::IMPLICIT_SUBSTEP_COST,
         _ => 1.0,
     };
-    let substeps = check["substeps"].as_f64().unwrap() * weight;
+    let substeps = check["substeps"].as_f64().unwrap();
     assert_eq!(
         check["budget"]["memory_bytes"].as_f64().unwrap(),
         points * 256.0
     );
     assert_eq!(
         check["budget"]["point_substeps"].as_f64().unwrap(),
-        points * substeps * 2.0
+        points * substeps * weight * 2.0
     );
     assert_eq!(
         check["budget"]["point_substeps_limit"].as_f64().unwrap(),

@@ -187,13 +187,8 @@ pub unsafe extern "C" fn hairsys_cache_read_frame(
 /// `cache` is NULL or a live handle, not used again.
 #[no_mangle]
 pub unsafe extern "C" fn hairsys_cache_destroy(cache: *mut HairsysCache) {
-    if cache.is_null() || !cache.is_aligned() {
-        return;
-    }
-    let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        // SAFETY: the caller's promise: a live handle made by `Box::into_raw`.
-        drop(unsafe { Box::from_raw(cache) });
-    }));
+    // SAFETY: the caller's promise.
+    unsafe { crate::check::destroy(cache) }
 }
 
 /// Writes every frame of the finished cache at `cache_path` as one animated USD file at

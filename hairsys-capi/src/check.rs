@@ -27,6 +27,21 @@ pub fn pointer<T>(ptr: *const T, argument: &'static str) -> Result<(), Failure> 
     Ok(())
 }
 
+/// Drops a handle made by `Box::into_raw`: NULL and misaligned pointers are ignored, and a
+/// panic in a destructor stays on this side of the boundary.
+///
+/// # Safety
+/// `handle` is NULL or a live handle made by `Box::into_raw`, not used again.
+pub unsafe fn destroy<T>(handle: *mut T) {
+    if handle.is_null() || !handle.is_aligned() {
+        return;
+    }
+    let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        // SAFETY: the caller's promise: a live handle made by `Box::into_raw`.
+        drop(unsafe { Box::from_raw(handle) });
+    }));
+}
+
 /// `&*ptr`, checked for NULL and alignment.
 ///
 /// # Safety

@@ -171,11 +171,6 @@ pub unsafe extern "C" fn hairsys_children_view(
 /// `children` is NULL or a live handle, not used again.
 #[no_mangle]
 pub unsafe extern "C" fn hairsys_children_destroy(children: *mut HairsysChildren) {
-    if children.is_null() || !children.is_aligned() {
-        return;
-    }
-    let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        // SAFETY: the caller's promise: a live handle made by `Box::into_raw`.
-        drop(unsafe { Box::from_raw(children) });
-    }));
+    // SAFETY: the caller's promise.
+    unsafe { crate::check::destroy(children) }
 }

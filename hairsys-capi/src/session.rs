@@ -190,14 +190,8 @@ pub unsafe extern "C" fn hairsys_session_from_groom(
 /// `session` is NULL or a live handle, not used by another thread and not used again.
 #[no_mangle]
 pub unsafe extern "C" fn hairsys_session_destroy(session: *mut HairsysSession) {
-    if session.is_null() || !session.is_aligned() {
-        return;
-    }
-    // Dropping runs the session's and its pool's destructors; none unwinds past here.
-    let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        // SAFETY: the caller's promise: a live handle made by `Box::into_raw`.
-        drop(unsafe { Box::from_raw(session) });
-    }));
+    // SAFETY: the caller's promise.
+    unsafe { crate::check::destroy(session) }
 }
 
 /// Writes the session's frame, fps and sizes to `*out`.
@@ -603,13 +597,8 @@ pub unsafe extern "C" fn hairsys_snapshot_frame(
 /// `snapshot` is NULL or a live handle, not used again.
 #[no_mangle]
 pub unsafe extern "C" fn hairsys_snapshot_destroy(snapshot: *mut HairsysSnapshot) {
-    if snapshot.is_null() || !snapshot.is_aligned() {
-        return;
-    }
-    let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        // SAFETY: the caller's promise: a live handle made by `Box::into_raw`.
-        drop(unsafe { Box::from_raw(snapshot) });
-    }));
+    // SAFETY: the caller's promise.
+    unsafe { crate::check::destroy(snapshot) }
 }
 
 /// Starts recording an MCAP cache at `path` (NUL-terminated UTF-8; written as `path.partial`
