@@ -9,7 +9,8 @@
 //! without a copy: they stay valid until the next call that changes the session (a setter,
 //! step, restore, record) or destroys it.
 
-use std::sync::{Arc, Mutex, TryLockError};
+use std::sync::{Arc, Condvar, Mutex, TryLockError};
+use std::time::Duration;
 
 use hair_cache::{Compression, Precision, WriterOptions};
 use hair_core::ColliderId;
@@ -30,7 +31,28 @@ use crate::types::{
 /// `hairsys_session_from_groom`, owned by the host, released with `hairsys_session_destroy`.
 /// Used from one thread at a time (any thread, one after the other).
 pub struct HairsysSession {
+    // Dropped first: the session, and with it its own pool, which tells its workers to stop.
     inner: Mutex<Inner>,
+    // Dropped second: waits for those workers to exit.
+    _workers: Option<Workers>,
+}
+
+/// How many workers of a session's own pool have not exited yet, counted down by rayon's exit
+/// handler. Dropping it (after the pool) waits for the count to reach 0, so no thread of the
+/// library outlives the handle that made it: a host may unload the library once it has
+/// destroyed its sessions, and leak checkers see no worker still running at exit. The wait
+/// gives up after [`WORKER_EXIT_WAIT`], leaving the stragglers to exit on their own.
+struct Workers(Arc<(Mutex<usize>, Condvar)>);
+
+/// The longest a session's destruction waits for its workers to exit.
+const WORKER_EXIT_WAIT: Duration = Duration::from_secs(10);
+
+impl Drop for Workers {
+    fn drop(&mut self) {
+        let (live, exited) = &*self.0;
+        let live = live.lock().unwrap_or_else(|p| p.into_inner());
+        let _ = exited.wait_timeout_while(live, WORKER_EXIT_WAIT, |n| *n > 0);
+    }
 }
 
 struct Inner {
@@ -85,9 +107,12 @@ pub unsafe fn with_session(
     })
 }
 
+/// A session's own pool and the count of its workers still running.
+type OwnPool = (Arc<hair_par::ThreadPool>, Workers);
+
 /// The session's own pool of `threads` workers (`None` for 0: the shared pool), made before
 /// the session so a bad count costs nothing.
-fn pool(threads: u32) -> Result<Option<Arc<hair_par::ThreadPool>>, Failure> {
+fn pool(threads: u32) -> Result<Option<OwnPool>, Failure> {
     if threads > HAIRSYS_MAX_THREADS {
         return Err(Failure::argument(
             "threads",
@@ -100,29 +125,38 @@ fn pool(threads: u32) -> Result<Option<Arc<hair_par::ThreadPool>>, Failure> {
     if threads == 0 {
         return Ok(None);
     }
+    let live = Arc::new((Mutex::new(threads as usize), Condvar::new()));
+    let exit = Arc::clone(&live);
     let pool = hair_par::ThreadPoolBuilder::new()
         .num_threads(threads as usize)
+        .exit_handler(move |_| {
+            let (live, exited) = &*exit;
+            *live.lock().unwrap_or_else(|p| p.into_inner()) -= 1;
+            exited.notify_all();
+        })
         .build()
         .map_err(|e| {
             Failure::argument("threads", format!("cannot start {threads} threads: {e}"))
         })?;
-    Ok(Some(Arc::new(pool)))
+    Ok(Some((Arc::new(pool), Workers(live))))
 }
 
 /// Wraps `session` in a handle stepping on `pool` and writes it to `out`.
 fn create(
     out: &mut std::mem::MaybeUninit<*mut HairsysSession>,
     mut session: Session,
-    pool: Option<Arc<hair_par::ThreadPool>>,
+    pool: Option<OwnPool>,
 ) {
-    if let Some(pool) = pool {
+    let workers = pool.map(|(pool, workers)| {
         session.set_thread_pool(pool);
-    }
+        workers
+    });
     out.write(Box::into_raw(Box::new(HairsysSession {
         inner: Mutex::new(Inner {
             session,
             poisoned: None,
         }),
+        _workers: workers,
     })));
 }
 
