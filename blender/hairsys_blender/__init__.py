@@ -29,6 +29,11 @@ def map_sources(none):
              "A vertex group of the surface, blended at each curve's root over its triangle")]
 
 
+def on_children_setting(settings, context):
+    """Update callback of every children setting: regenerates the children of its object."""
+    children_changed(settings.id_data, context)
+
+
 class HairsysSettings(bpy.types.PropertyGroup):
     """hairsys settings of a hair Curves object."""
 
@@ -155,53 +160,53 @@ class HairsysSettings(bpy.types.PropertyGroup):
                ("SIMPLE", "Simple", "Children rooted in a disc around each guide, following it"),
                ("INTERPOLATED", "Interpolated",
                 "Children rooted between guides, blending their neighbouring guides")],
-        update=lambda self, context: children_changed(self.id_data, context),
+        update=on_children_setting,
         description="Render children generated around the guides at every frame, into a "
                     "second Curves object that renders")
     child_display_amount: IntProperty(
         name="Display Amount", default=10, min=1, max=100000,
-        update=lambda self, context: children_changed(self.id_data, context),
+        update=on_children_setting,
         description="Children per guide in the viewport (the first of the rendered ones)")
     child_render_amount: IntProperty(
         name="Render Amount", default=100, min=1, max=100000,
-        update=lambda self, context: children_changed(self.id_data, context),
+        update=on_children_setting,
         description="Children per guide in renders")
     child_radius: FloatProperty(
         name="Spread", default=0.005, min=0.0, unit="LENGTH",
-        update=lambda self, context: children_changed(self.id_data, context),
+        update=on_children_setting,
         description="Radius of the disc around a guide's root that its simple children grow in")
     child_clump: FloatProperty(
         name="Clump", default=0.0, min=-1.0, max=1.0, subtype="FACTOR",
-        update=lambda self, context: children_changed(self.id_data, context),
+        update=on_children_setting,
         description="How far tips are drawn to their guide: 1 onto it, 0 none, -1 apart")
     child_curl_radius: FloatProperty(
         name="Curl Radius", default=0.0, min=0.0, unit="LENGTH",
-        update=lambda self, context: children_changed(self.id_data, context),
+        update=on_children_setting,
         description="Radius of the children's helical curl around their path")
     child_curl_frequency: FloatProperty(
         name="Curl Frequency", default=0.0, min=0.0,
-        update=lambda self, context: children_changed(self.id_data, context),
+        update=on_children_setting,
         description="Turns of the curl per meter of hair")
     child_roughness: FloatProperty(
         name="Roughness", default=0.0, min=0.0, unit="LENGTH",
-        update=lambda self, context: children_changed(self.id_data, context),
+        update=on_children_setting,
         description="Amplitude of the uniform noise that roughens each child")
     child_roughness_endpoint: FloatProperty(
         name="Endpoint Roughness", default=0.0, min=0.0, unit="LENGTH",
-        update=lambda self, context: children_changed(self.id_data, context),
+        update=on_children_setting,
         description="Noise amplitude at the tips, growing from the root")
     child_length_variation: FloatProperty(
         name="Length Variation", default=0.0, min=0.0, max=0.99, subtype="FACTOR",
-        update=lambda self, context: children_changed(self.id_data, context),
+        update=on_children_setting,
         description="Random shortening of each child, as a fraction of its length")
     child_subdivisions: IntProperty(
         name="Render Steps", default=4, min=1, max=64,
-        update=lambda self, context: children_changed(self.id_data, context),
+        update=on_children_setting,
         description="Smooth pieces per guide segment in renders (the viewport shows the "
                     "guides' own points)")
     child_seed: IntProperty(
         name="Seed", default=0, min=0,
-        update=lambda self, context: children_changed(self.id_data, context),
+        update=on_children_setting,
         description="Another seed gives other children")
     children_object: PointerProperty(
         name="Children Object", type=bpy.types.Object,
