@@ -52,8 +52,22 @@ class FrameReport(TypedDict):
     point_substeps: int
     contact_points: int
     max_stretch: float
+    phase_ms: PhaseTimes
+    """Wall time of the step's phases, ms."""
     step_ms: float
     """Wall time of the library's step (GIL released), ms."""
+
+class PhaseTimes(TypedDict):
+    roots: float
+    """Root frames evaluated on the scalp."""
+    strands: float
+    """Force substeps of every strand, the contact response included."""
+    contacts: float
+    """Contact detection."""
+    volume: float
+    """Hair–hair grid."""
+    fields: float
+    """Force fields."""
 
 class CacheSummary(TypedDict):
     path: str
@@ -146,6 +160,7 @@ class Session:
         sag_free: bool = False,
         collider_speed: float | None = None,
         damping_iterations: int = 10,
+        max_strain: float | None = None,
         gravity: tuple[float, float, float] = (0.0, 0.0, -9.81),
         stretch_stiffness: float = ...,
         bend_stiffness: float = ...,
@@ -226,6 +241,11 @@ class Session:
         """Frame number of the current state."""
     @property
     def fps(self) -> float: ...
+    @property
+    def integrator(self) -> str:
+        """The time integrator the session runs ("auto" resolved when it was made):
+        "semi-implicit-euler", "bdf2", "implicit-euler", "xpbd" or "explicit-euler"; "rod" and
+        "strips" for the models that keep their own schemes."""
     @property
     def collider_count(self) -> int: ...
     def set_collider_pose(self, id: int, matrix: _Floats) -> None:

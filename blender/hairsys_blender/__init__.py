@@ -48,13 +48,18 @@ class HairsysSettings(bpy.types.PropertyGroup):
         description="Set the curves from the cache whenever the frame changes")
     substeps: IntProperty(
         name="Substeps", default=0, min=0, max=100000,
-        description="Force substeps per frame; 0 = derived from the stability bound")
+        description="Force substeps per frame; 0 = chosen by hairsys (the stability bound of "
+                    "semi-implicit Euler, or BDF2's accuracy limit)")
     threads: IntProperty(
         name="Threads", default=0, min=0, max=256,
         description="Threads of the bake; 0 = all cores")
     stretch_stiffness: FloatProperty(
         name="Stretch Stiffness", default=40.0, min=0.0, unit="NONE",
         description="Springs between neighbouring points, N/m")
+    max_stretch: FloatProperty(
+        name="Max Stretch", default=0.01, min=0.0, max=10.0, soft_max=0.2, precision=3,
+        description="Strain limit: after every substep no segment is longer than (1 + this) "
+                    "times its groomed length (0.01 = 1 %; 0 = inextensible)")
     bend_stiffness: FloatProperty(
         name="Bend Stiffness", default=0.5, min=0.0,
         description="Springs towards the rest direction, N/m")
@@ -416,8 +421,8 @@ class HAIRSYS_PT_panel(bpy.types.Panel):
         row.prop(s, "playback")
         col.operator(HAIRSYS_OT_restore_groom.bl_idname)
         col.separator()
-        for name in ("stretch_stiffness", "bend_stiffness", "goal_stiffness", "sag_free",
-                     "air_drag", "mass_per_length", "radius", "substeps", "threads",
+        for name in ("stretch_stiffness", "max_stretch", "bend_stiffness", "goal_stiffness",
+                     "sag_free", "air_drag", "mass_per_length", "radius", "substeps", "threads",
                      "max_snap_distance"):
             col.prop(s, name)
         col.separator()

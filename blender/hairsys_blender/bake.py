@@ -217,7 +217,8 @@ class Baker:
         options = dict(
             fps=fps, first_frame=self.first, substeps=s.substeps if s.substeps > 0 else "auto",
             gravity=tuple(self.scene.gravity) if self.scene.use_gravity else (0.0, 0.0, 0.0),
-            stretch_stiffness=s.stretch_stiffness, bend_stiffness=s.bend_stiffness,
+            stretch_stiffness=s.stretch_stiffness, max_strain=s.max_stretch,
+            bend_stiffness=s.bend_stiffness,
             goal_stiffness=s.goal_stiffness, air_drag=s.air_drag,
             mass_per_length=s.mass_per_length, radius=s.radius,
             max_snap_distance=s.max_snap_distance, sag_free=sag_free,
@@ -233,6 +234,8 @@ class Baker:
             raise ValueError(errors.explain(e, hair_obj, points, counts, verts, tris)) from None
         self.session.write_cache(self.path)
         self.frame = self.first
+        #: The last frame's report (`Session.step`'s dict), None before the first step.
+        self.report = None
 
     @property
     def progress(self):
@@ -256,7 +259,7 @@ class Baker:
                     "count (remove or apply the modifier that changes it)")
             self.session.set_collider_pose(i, pose)
             self.session.set_collider_vertices(i, cv)
-        self.session.step(scalp_vertices=verts)
+        self.report = self.session.step(scalp_vertices=verts)
         return True
 
     def finish(self):

@@ -149,6 +149,7 @@ const KEYS: &[&str] = &[
     "sag_free",
     "collider_speed",
     "damping_iterations",
+    "max_strain",
     "gravity",
     "stretch_stiffness",
     "bend_stiffness",
@@ -253,6 +254,9 @@ pub fn groom_options(
     o.expected_motion.collider_speed = value(options, "collider_speed")?;
     if let Some(v) = value(options, "damping_iterations")? {
         o.settings.damping_iterations = v;
+    }
+    if let Some(v) = value::<f32>(options, "max_strain")? {
+        o.settings.max_strain = Some(v);
     }
     let p = &mut o.physics;
     if let Some(v) = value(options, "gravity")? {

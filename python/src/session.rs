@@ -234,7 +234,9 @@ impl PySession {
     /// (V, 3) float32/float64, m, in the scalp's body space placed by `scalp_matrix` (world
     /// space with no matrix). Neither: the scene's keyframes (or the scalp stays). Releases the
     /// GIL while it computes. Returns a dict of the frame's figures (frame, substeps, steps,
-    /// point_substeps, contact_points, max_stretch, and step_ms: the library step's wall time). Raises ArgumentError, SolverError,
+    /// point_substeps, contact_points, max_stretch, phase_ms: the library's wall time by phase in
+    /// ms, a dict with roots, strands, contacts, volume and fields, and step_ms: the library
+    /// step's wall time). Raises ArgumentError, SolverError,
     /// SessionFailedError, CacheError.
     #[pyo3(signature = (scalp_matrix=None, scalp_vertices=None))]
     fn step<'py>(
@@ -336,6 +338,20 @@ impl PySession {
     #[getter]
     fn fps(&self) -> f32 {
         self.session().fps()
+    }
+
+    /// The time integrator the session runs (`"auto"` resolved when it was made): one of
+    /// `"semi-implicit-euler"`, `"bdf2"`, `"implicit-euler"`, `"xpbd"`, `"explicit-euler"`; the
+    /// rod and strip models, which keep their own schemes, give `"rod"` and `"strips"`.
+    #[getter]
+    fn integrator(&self) -> &'static str {
+        match self.session().solver() {
+            hair_core::StrandSolver::MassSpring(s) => {
+                hairsys::scene::integrator::integrator_name(s.settings().integrator)
+            }
+            hair_core::StrandSolver::Rod(_) => "rod",
+            hair_core::StrandSolver::Strips(_) => "strips",
+        }
     }
 
     /// Number of colliders (ids 0 … n−1; the scalp collider, if any, is one of them).
@@ -841,6 +857,18 @@ fn report_dict<'py>(py: Python<'py>, r: &FrameReport) -> PyResult<Bound<'py, PyD
     d.set_item("point_substeps", r.point_substeps)?;
     d.set_item("contact_points", r.contact_points)?;
     d.set_item("max_stretch", r.max_stretch)?;
+    let t = &r.times;
+    let phases = PyDict::new(py);
+    for (name, time) in [
+        ("roots", t.roots),
+        ("strands", t.strands),
+        ("contacts", t.contacts),
+        ("volume", t.volume),
+        ("fields", t.fields),
+    ] {
+        phases.set_item(name, time.as_secs_f64() * 1e3)?;
+    }
+    d.set_item("phase_ms", phases)?;
     Ok(d)
 }
 

@@ -511,3 +511,43 @@ def test_auto_chooses_as_a_scene_file_does_from_the_motion_the_host_expects(groo
     for speed, bdf2 in [(None, False), (24.0, False), (1.0, True)]:
         s = hairsys.Session.from_groom(*groom, colliders=[ball], collider_speed=speed, **stiff)
         assert (s.step()["substeps"] == 7) == bdf2, speed
+
+
+def segment_strain(positions, rest, offsets):
+    """Largest len / rest − 1 over every segment of every strand."""
+    worst = -1.0
+    for a, b in zip(offsets[:-1], offsets[1:]):
+        now = np.linalg.norm(np.diff(positions[a:b], axis=0), axis=1)
+        was = np.linalg.norm(np.diff(rest[a:b], axis=0), axis=1)
+        worst = max(worst, float((now / was - 1.0).max()))
+    return worst
+
+
+def test_max_strain_keeps_every_segment_within_the_limit(groom):
+    v, t, pts, counts = groom
+    # Heavy hair on soft springs: gravity alone stretches it far past 1 %.
+    soft = dict(stretch_stiffness=1.0, mass_per_length=0.05)
+    free = hairsys.Session.from_groom(v, t, pts, counts, **soft)
+    held = hairsys.Session.from_groom(v, t, pts, counts, max_strain=0.01, **soft)
+    for _ in range(12):
+        free.step()
+        report = held.step()
+    offsets = held.strand_offsets
+    assert segment_strain(free.positions, pts, offsets) > 0.03
+    assert segment_strain(held.positions, pts, offsets) <= 0.01 + 1e-4
+    assert report["max_stretch"] <= 0.01 + 1e-4
+    with pytest.raises(hairsys.SolverError, match="max_strain"):
+        hairsys.Session.from_groom(v, t, pts, counts, max_strain=-0.1)
+
+
+def test_the_report_splits_the_step_by_phase_and_names_the_integrator(groom):
+    v, t, pts, counts = groom
+    s = hairsys.Session.from_groom(v, t, pts, counts, integrator="bdf2")
+    assert s.integrator == "bdf2"
+    assert hairsys.Session.from_groom(*groom, integrator="semi-implicit-euler").integrator == \
+        "semi-implicit-euler"
+    report = s.step()
+    phases = report["phase_ms"]
+    assert set(phases) == {"roots", "strands", "contacts", "volume", "fields"}
+    assert all(ms >= 0.0 for ms in phases.values())
+    assert sum(phases.values()) <= report["step_ms"]
