@@ -99,6 +99,9 @@ pub enum BenchError {
     /// A case's scene did not build.
     #[error(transparent)]
     Scene(#[from] SceneError),
+    /// A case could not be built.
+    #[error(transparent)]
+    Case(#[from] cases::CaseError),
     /// A run failed otherwise than by instability (which is a result, not an error).
     #[error("bench: {0}")]
     Solver(#[from] HairError),
