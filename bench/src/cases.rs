@@ -101,7 +101,7 @@ pub struct Resegment {
     /// [`Case::truth_subdivision`]).
     pub segments: usize,
     /// Builds the case with the given segments per strand.
-    pub build: fn(usize) -> Result<Case, SceneError>,
+    pub build: fn(usize) -> Result<Case, CaseError>,
 }
 
 impl Case {
@@ -111,6 +111,28 @@ impl Case {
     }
 }
 
+/// Why a bench case cannot be built.
+#[derive(Debug, thiserror::Error)]
+pub enum CaseError {
+    /// The case's scene does not build.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// The case's chain has no catenary across its span.
+    #[error("<bench case {case}>: the chain does not reach across its span")]
+    NoCatenary {
+        /// The case.
+        case: &'static str,
+    },
+    /// The case's scalp mesh cannot be used as a solid (to measure how deep hair enters it).
+    #[error("{file}: the scalp mesh cannot be used as a solid: {source}")]
+    Solid {
+        /// The case's scene.
+        file: String,
+        /// Parry's error.
+        source: parry3d::shape::TriMeshBuilderError,
+    },
+}
+
 /// A closed mesh whose inside can be queried, in the scalp's rest pose.
 pub struct Solid {
     mesh: ParryMesh,
@@ -118,15 +140,14 @@ pub struct Solid {
 
 impl Solid {
     /// Wraps a closed (oriented, manifold) mesh.
-    fn new(mesh: &TriMesh) -> Result<Self, String> {
+    fn new(mesh: &TriMesh) -> Result<Self, parry3d::shape::TriMeshBuilderError> {
         let vertices = mesh
             .positions()
             .iter()
             .map(|p| GlamVector::new(p.x, p.y, p.z))
             .collect();
         let mesh =
-            ParryMesh::with_flags(vertices, mesh.triangles().to_vec(), TriMeshFlags::ORIENTED)
-                .map_err(|e| format!("the scalp mesh cannot be used as a solid: {e}"))?;
+            ParryMesh::with_flags(vertices, mesh.triangles().to_vec(), TriMeshFlags::ORIENTED)?;
         Ok(Self { mesh })
     }
 
@@ -158,7 +179,7 @@ impl Solid {
 }
 
 /// Builds every case; `quick` makes the head case small and short.
-pub fn all(quick: bool) -> Result<Vec<Case>, SceneError> {
+pub fn all(quick: bool) -> Result<Vec<Case>, CaseError> {
     Ok(vec![
         pendulum()?,
         hanging_chain()?,
@@ -259,7 +280,7 @@ pub(super) fn case(
 }
 
 /// An undamped pendulum: 0.5 m, 40° from the vertical, 10 g bob on a 100 N/m spring, 2 s.
-pub fn pendulum() -> Result<Case, SceneError> {
+pub fn pendulum() -> Result<Case, CaseError> {
     let (s, c) = 40f32.to_radians().sin_cos();
     let text = format!(
         r#"
@@ -333,7 +354,7 @@ points = [{}]
 
 /// A hair of 1 m in 20 segments hung between pins 0.8 m apart, released as a V, air drag 6/s;
 /// compared with its catenary at the end of 3 s.
-pub fn hanging_chain() -> Result<Case, SceneError> {
+pub fn hanging_chain() -> Result<Case, CaseError> {
     let (n, length, span) = CHAIN;
     let seg = length / n as f64;
     let dx = span / n as f64;
@@ -359,13 +380,10 @@ pub fn hanging_chain() -> Result<Case, SceneError> {
 }
 
 /// The chain of [`hanging_chain`] started on its catenary, 2 s: its motion is drift at rest.
-pub fn chain_at_rest() -> Result<Case, SceneError> {
+pub fn chain_at_rest() -> Result<Case, CaseError> {
     let (n, length, span) = CHAIN;
-    let shape =
-        analytic::discrete_catenary(n, length / n as f64, span).ok_or_else(|| SceneError {
-            file: "<bench case chain-rest>".into(),
-            message: "the chain does not reach across its span".into(),
-        })?;
+    let shape = analytic::discrete_catenary(n, length / n as f64, span)
+        .ok_or(CaseError::NoCatenary { case: "chain-rest" })?;
     let points: Vec<[f64; 3]> = shape.iter().map(|p| [p.x, 0.0, p.z]).collect();
     let (sim, physical) = chain_sim("chain at rest", &points, 48)?;
     let samples = every(sim.first_frame, sim.last_frame, 6);
@@ -385,12 +403,12 @@ const CANTILEVER_SEGMENTS: usize = 10;
 
 /// A 5 cm hair in 10 segments held horizontally by its root frame and released under gravity,
 /// air drag 5/s; 2 s.
-pub fn cantilever() -> Result<Case, SceneError> {
+pub fn cantilever() -> Result<Case, CaseError> {
     cantilever_at(CANTILEVER_SEGMENTS)
 }
 
 /// The cantilever of [`cantilever`] in `n` segments.
-pub fn cantilever_at(n: usize) -> Result<Case, SceneError> {
+pub fn cantilever_at(n: usize) -> Result<Case, CaseError> {
     let length = 0.05;
     let points: Vec<[f64; 3]> = (0..=n)
         .map(|i| [length * i as f64 / n as f64, 0.0, 0.0])
@@ -434,7 +452,7 @@ pub(super) fn one_hair(
     hair: OneHair,
     points: &[[f64; 3]],
     resegment: Resegment,
-) -> Result<Case, SceneError> {
+) -> Result<Case, CaseError> {
     let points: Vec<String> = points
         .iter()
         .map(|p| format!("[{:.9}, {:.9}, {:.9}]", p[0], p[1], p[2]))
@@ -481,7 +499,7 @@ mass_per_length = {}
 /// settings) with a fast head turn, 80° about the vertical and back in half a second, then half
 /// a second to swing; the scalp collides with its hair, frictionless. 64 strands over 24 frames,
 /// or 16 strands over 12 frames with `quick`.
-pub fn head_turn(quick: bool) -> Result<Case, SceneError> {
+pub fn head_turn(quick: bool) -> Result<Case, CaseError> {
     let mut case = turning_head(
         head_turn_file(quick),
         quick,
@@ -515,7 +533,7 @@ pub fn head_turn_file(quick: bool) -> SceneFile {
 /// of 0.2 m in 8 segments, 100 hairs per strip) instead of the default hair: at most 64 strips,
 /// or 8 with `quick`, on every 4th scalp triangle. The strips keep their own spring settings;
 /// the rod truth takes the physical hair of the edge strands' mass.
-pub fn head_strips(quick: bool) -> Result<Case, SceneError> {
+pub fn head_strips(quick: bool) -> Result<Case, CaseError> {
     let mut file = SceneFile::builtin_default();
     file.origin = "<bench case head strips (the built-in default scene with [strips])>".into();
     let scene = &mut file.scene;
@@ -549,7 +567,7 @@ fn turning_head(
     quick: bool,
     name: &'static str,
     title: &'static str,
-) -> Result<Case, SceneError> {
+) -> Result<Case, CaseError> {
     let strips = file.scene.solver.model == StrandModel::Strips;
     turning_head_scene(&mut file, quick);
     let mut sim = file.build()?;
@@ -568,9 +586,9 @@ fn turning_head(
         physical
     };
     let head = match sim.rest_mesh() {
-        Some(mesh) => Some(Solid::new(mesh).map_err(|message| SceneError {
+        Some(mesh) => Some(Solid::new(mesh).map_err(|source| CaseError::Solid {
             file: file.origin.clone(),
-            message,
+            source,
         })?),
         None => None,
     };

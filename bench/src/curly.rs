@@ -19,9 +19,8 @@
 //! point masses `μ l`. Coarser counts are coarser polygons of the same curve (at 4 segments a
 //! segment spans half a turn), which the segments axis measures.
 
+use crate::cases::CaseError;
 use std::f64::consts::TAU;
-
-use hairsys::scene::SceneError;
 
 use crate::cases::{one_hair, Case, OneHair, Resegment};
 use crate::physical::RADIUS;
@@ -56,12 +55,12 @@ pub fn turns() -> f64 {
 }
 
 /// The curly hair of [`curly`] at its charted segment count.
-pub fn curly() -> Result<Case, SceneError> {
+pub fn curly() -> Result<Case, CaseError> {
     curly_at(SEGMENTS)
 }
 
 /// The curly hair (module docs) with `n` segments.
-pub fn curly_at(n: usize) -> Result<Case, SceneError> {
+pub fn curly_at(n: usize) -> Result<Case, CaseError> {
     let points: Vec<[f64; 3]> = (0..=n).map(|i| helix_point(i, n)).collect();
     one_hair(
         OneHair {

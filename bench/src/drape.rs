@@ -20,9 +20,8 @@
 //! At any segment count ([`drape_at`]) the strand is the same straight hair cut into equal
 //! segments.
 
+use crate::cases::CaseError;
 use nalgebra::Vector3;
-
-use hairsys::scene::SceneError;
 
 use crate::cases::{one_hair, Case, OneHair, Resegment};
 use crate::physical::RADIUS;
@@ -60,12 +59,12 @@ impl Ball {
 }
 
 /// The drape of [`drape`] at its charted segment count.
-pub fn drape() -> Result<Case, SceneError> {
+pub fn drape() -> Result<Case, CaseError> {
     drape_at(SEGMENTS)
 }
 
 /// The drape (module docs) with `n` segments.
-pub fn drape_at(n: usize) -> Result<Case, SceneError> {
+pub fn drape_at(n: usize) -> Result<Case, CaseError> {
     let top = SPHERE_RADIUS + ROOT_GAP;
     let points: Vec<[f64; 3]> = (0..=n)
         .map(|i| [LENGTH * i as f64 / n as f64, 0.0, top])

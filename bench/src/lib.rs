@@ -99,16 +99,19 @@ pub enum BenchError {
     /// A case's scene did not build.
     #[error(transparent)]
     Scene(#[from] SceneError),
+    /// A case could not be built.
+    #[error(transparent)]
+    Case(#[from] cases::CaseError),
     /// A run failed otherwise than by instability (which is a result, not an error).
     #[error("bench: {0}")]
     Solver(#[from] HairError),
     /// A case's truth could not be computed.
-    #[error("bench: the truth of case {case} failed: {message}")]
+    #[error("bench: the truth of case {case} failed: {source}")]
     Truth {
         /// Case name.
         case: String,
         /// Which run failed, and why.
-        message: String,
+        source: truth::TruthError,
     },
     /// `hairsys plan` failed on a case's scene.
     #[error("bench: hairsys plan on case {case} failed: {message}")]
@@ -244,10 +247,21 @@ pub struct Event<'a> {
     pub status: &'a str,
 }
 
-fn outcome(result: Result<Trace, HairError>) -> Result<Result<Trace, String>, HairError> {
+/// Why a run is unstable: an outcome the bench records, not an error.
+#[derive(Debug, thiserror::Error)]
+pub enum Blowup {
+    /// The solver found the run unstable.
+    #[error("{0}")]
+    Solver(HairError),
+    /// A segment stretched past what a stable run reaches ([`metrics::blown_up`]).
+    #[error("{0}")]
+    Stretched(metrics::Stretched),
+}
+
+fn outcome(result: Result<Trace, HairError>) -> Result<Result<Trace, Blowup>, HairError> {
     match result {
-        Ok(t) => Ok(blown_up(&t).map_or(Ok(t), Err)),
-        Err(e @ HairError::Unstable { .. }) => Ok(Err(e.to_string())),
+        Ok(t) => Ok(blown_up(&t).map_or(Ok(t), |s| Err(Blowup::Stretched(s)))),
+        Err(e @ HairError::Unstable { .. }) => Ok(Err(Blowup::Solver(e))),
         Err(e) => Err(e),
     }
 }
@@ -259,10 +273,10 @@ pub fn timed_run(
     m: &dyn Method,
     case: &Case,
     substeps: Option<u32>,
-) -> Result<Result<(Trace, Cost), String>, HairError> {
+) -> Result<Result<(Trace, Cost), Blowup>, HairError> {
     let trace = match outcome(m.run(case, substeps))? {
         Ok(trace) => trace,
-        Err(message) => return Ok(Err(message)),
+        Err(blowup) => return Ok(Err(blowup)),
     };
     let mut cost = trace.cost;
     let mut spent = cost.ms_per_frame * case.frames() as f64;
@@ -292,9 +306,9 @@ pub fn bench_case(
     let finest = *ladder.last().unwrap_or(&1);
     let step_dt = 1.0 / case.sim.settings.fps as f64;
     let mut truth =
-        truth::truth(case, finest * REFERENCE_FACTOR).map_err(|e| BenchError::Truth {
+        truth::truth(case, finest * REFERENCE_FACTOR).map_err(|source| BenchError::Truth {
             case: case.name.into(),
-            message: e,
+            source,
         })?;
     progress.tick(&Event {
         event: "truth",
@@ -314,7 +328,12 @@ pub fn bench_case(
                     projection: trace.projection,
                 },
             ),
-            Err(message) => (substeps.unwrap_or(0), Outcome::Unstable { message }),
+            Err(blowup) => (
+                substeps.unwrap_or(0),
+                Outcome::Unstable {
+                    message: blowup.to_string(),
+                },
+            ),
         };
         progress.tick(&Event {
             event: "run",

@@ -10,6 +10,7 @@
 //! stability bound can carry at frame-rate substeps), or none (the projection alone holds the
 //! lengths).
 
+use crate::cases::CaseError;
 use hair_core::{
     HairError, HairParams, Inextensibility, Integrator, MassSpringSolver, RodParams, RodSolver,
     SolverSettings, StrandModel, Substeps,
@@ -19,7 +20,6 @@ use crate::cases::Case;
 use crate::metrics::{drive, drive_model, Trace};
 use crate::stability;
 use hair_core::StrandSolver;
-use hairsys::scene::SceneError;
 
 /// A way of advancing a case in time.
 pub trait Method: Sync {
@@ -37,7 +37,7 @@ pub trait Method: Sync {
     fn cannot_run(&self, case: &Case) -> Option<String>;
     /// The stability map's probe for the row of stiffness `k` (N/m), run for `frames` frames:
     /// the probe strand with stretch stiffness `k` (see [`stability::probe_case`]).
-    fn probe(&self, k: f64, frames: u32) -> Result<Case, SceneError> {
+    fn probe(&self, k: f64, frames: u32) -> Result<Case, CaseError> {
         stability::probe_case(k, frames)
     }
     /// What the rows of its stability map vary.
@@ -330,7 +330,7 @@ impl Method for Rod {
     /// has the frequency of a stretch spring `k` on the same points: `32 E I₂ / (m l³) = 4 k/m`,
     /// `E I₂ = k l³/8` (the section's shape as in `[rod]`, Young's modulus scaled). Stretching
     /// is a constraint for the rod, so bending is what bounds its substep.
-    fn probe(&self, k: f64, frames: u32) -> Result<Case, SceneError> {
+    fn probe(&self, k: f64, frames: u32) -> Result<Case, CaseError> {
         let mut case = stability::probe_case(k, frames)?;
         let rod = &mut case.sim.rod;
         let wanted = k * stability::PROBE_SEGMENT.powi(3) / 8.0;

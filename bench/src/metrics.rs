@@ -128,13 +128,18 @@ pub fn drive_model(case: &Case, mut solver: StrandSolver) -> Result<Trace, HairE
 pub const BLOWN_UP_STRETCH: f32 = 1.0;
 
 /// Why `trace` counts as blown up, if it does (see [`BLOWN_UP_STRETCH`]).
-pub fn blown_up(trace: &Trace) -> Option<String> {
-    (trace.max_stretch > BLOWN_UP_STRETCH).then(|| {
-        format!(
-            "a segment reached {:.0}× its rest length",
-            1.0 + trace.max_stretch
-        )
+pub fn blown_up(trace: &Trace) -> Option<Stretched> {
+    (trace.max_stretch > BLOWN_UP_STRETCH).then_some(Stretched {
+        max_stretch: trace.max_stretch,
     })
+}
+
+/// A run whose segments stretched past what a stable run reaches.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error("a segment reached {:.0}× its rest length", 1.0 + .max_stretch)]
+pub struct Stretched {
+    /// The largest strain reached (0 = the rest length).
+    pub max_stretch: f32,
 }
 
 /// RMS distance between the free points of sample sets `a` and `b` over all sample frames, m.

@@ -156,7 +156,12 @@ pub fn bench(
                         },
                     )
                 }
-                Err(message) => (0, Outcome::Unstable { message }),
+                Err(blowup) => (
+                    0,
+                    Outcome::Unstable {
+                        message: blowup.to_string(),
+                    },
+                ),
             };
             progress.tick(&Event {
                 event: "segments",

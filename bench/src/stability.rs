@@ -15,13 +15,14 @@
 //! (On strands whose tip carries half a point mass, as generated hair does, the prediction takes
 //! the tip's mass and is conservative by about √2.)
 
+use crate::cases::CaseError;
 use hair_core::HairError;
 use serde::Serialize;
 
 use crate::cases::Case;
 use crate::methods::Method;
 use crate::metrics::blown_up;
-use hairsys::scene::{SceneError, SceneFile};
+use hairsys::scene::SceneFile;
 
 /// Segment length of the probe strand, m.
 pub const PROBE_SEGMENT: f64 = 0.01;
@@ -99,7 +100,7 @@ impl MethodMap {
 }
 
 /// The probe strand with stretch stiffness `k` (N/m), run for `frames` frames.
-pub fn probe_case(k: f64, frames: u32) -> Result<Case, SceneError> {
+pub fn probe_case(k: f64, frames: u32) -> Result<Case, CaseError> {
     let points: Vec<String> = (0..=16)
         .map(|i| format!("[{:.3}, 0.0, 0.0]", PROBE_SEGMENT * i as f64))
         .collect();

@@ -50,7 +50,7 @@ use nalgebra::Vector3;
 use serde::Serialize;
 
 use crate::analytic;
-use crate::cases::Case;
+use crate::cases::{Case, CaseError};
 use crate::methods::{Method, Rod};
 use crate::metrics::Trace;
 
@@ -204,20 +204,52 @@ pub fn coarsen(fine: &[Vector3<f32>], coarse_offsets: &[u32], factor: usize) -> 
     out
 }
 
+/// Why a case's truth cannot be computed; each variant says which run failed.
+#[derive(Debug, thiserror::Error)]
+pub enum TruthError {
+    /// The case cannot be built again at more segments.
+    #[error("{0}")]
+    Case(#[from] CaseError),
+    /// The case's strands cannot be subdivided.
+    #[error("{0}")]
+    Subdivide(#[source] HairError),
+    /// The rod reference run failed.
+    #[error("the rod at {factor}× the segments, {substeps} substeps/frame: {source}")]
+    Rod {
+        /// Subdivisions of the case's segments.
+        factor: usize,
+        /// Substeps per frame.
+        substeps: u32,
+        /// The solver's error.
+        source: HairError,
+    },
+    /// The rod's stability bound cannot be computed.
+    #[error("{0}")]
+    Bound(#[source] HairError),
+    /// The chain cannot hang across its span.
+    #[error("{links} links of {link} m cannot hang across {span} m")]
+    Catenary {
+        /// Links of the chain.
+        links: usize,
+        /// Length of a link, m.
+        link: f64,
+        /// Distance between the pinned ends, m.
+        span: f64,
+    },
+}
+
 /// `case` with its strands subdivided `factor` times, or built again at `factor` times its
 /// segments where it can be ([`Case::resegment`]). No head solid: the truth's penetration of the
 /// head is not measured (the drape's sphere is analytic and kept).
-fn refined(case: &Case, factor: usize) -> Result<Case, String> {
+fn refined(case: &Case, factor: usize) -> Result<Case, TruthError> {
     let mut sim = case.sim.clone();
     if let (Some(r), true) = (case.resegment, factor > 1) {
         // The same physical strand sampled finer (a helix stays a helix, not the polygon of
         // the case's points cut finer).
-        sim = (r.build)(r.segments * factor)
-            .map_err(|e| e.to_string())?
-            .sim;
+        sim = (r.build)(r.segments * factor)?.sim;
     } else if factor > 1 {
         sim.strands = subdivide(&case.sim.strands, factor, case.mass_per_length)
-            .map_err(|e| e.to_string())?;
+            .map_err(TruthError::Subdivide)?;
         sim.strands
             .reset_to_rest(&sim.scalp_at(sim.first_frame as f32));
     }
@@ -239,11 +271,15 @@ fn refined(case: &Case, factor: usize) -> Result<Case, String> {
 }
 
 /// Runs the rod truth of `case` at `factor` subdivisions and `substeps`, at the case's points.
-fn rod_run(case: &Case, factor: usize, substeps: u32) -> Result<(Trace, Samples), String> {
+fn rod_run(case: &Case, factor: usize, substeps: u32) -> Result<(Trace, Samples), TruthError> {
     let fine = refined(case, factor)?;
-    let trace = Rod::REFERENCE.run(&fine, Some(substeps)).map_err(|e| {
-        format!("the rod at {factor}× the segments, {substeps} substeps/frame: {e}")
-    })?;
+    let trace = Rod::REFERENCE
+        .run(&fine, Some(substeps))
+        .map_err(|source| TruthError::Rod {
+            factor,
+            substeps,
+            source,
+        })?;
     let offsets = case.sim.strands.offsets();
     let samples = trace
         .samples
@@ -265,7 +301,7 @@ fn rms(case: &Case, a: &Samples, b: &Samples) -> f64 {
 
 /// The truth of `case`; `min_substeps` is the rod truth's least substep count per frame. The
 /// error says which run failed.
-pub fn truth(case: &Case, min_substeps: u32) -> Result<Truth, String> {
+pub fn truth(case: &Case, min_substeps: u32) -> Result<Truth, TruthError> {
     match case.truth {
         TruthKind::Pendulum => Ok(pendulum(case)),
         TruthKind::Catenary => catenary(case),
@@ -273,7 +309,7 @@ pub fn truth(case: &Case, min_substeps: u32) -> Result<Truth, String> {
             let step = 1.0 / case.sim.settings.fps as f64;
             let factor = case.truth_subdivision.max(1);
             let fine = refined(case, factor)?;
-            let bound = Rod::REFERENCE.bound(&fine).map_err(|e| e.to_string())?;
+            let bound = Rod::REFERENCE.bound(&fine).map_err(TruthError::Bound)?;
             let needed = (step / (BOUND_FRACTION * bound)).ceil() as u32;
             let n = min_substeps.max(needed).next_power_of_two();
             let (trace, samples) = rod_run(case, factor, n)?;
@@ -282,7 +318,7 @@ pub fn truth(case: &Case, min_substeps: u32) -> Result<Truth, String> {
             // fraction of its (bending) bound.
             let finer_bound = Rod::REFERENCE
                 .bound(&refined(case, 2 * factor)?)
-                .map_err(|e| e.to_string())?;
+                .map_err(TruthError::Bound)?;
             let finer_n =
                 n.max(((step / (BOUND_FRACTION * finer_bound)).ceil() as u32).next_power_of_two());
             let (_, finer) = rod_run(case, 2 * factor, finer_n)?;
@@ -366,15 +402,18 @@ fn pendulum(case: &Case) -> Truth {
 }
 
 /// The discrete catenary between the case's single strand's two pinned ends.
-fn catenary(case: &Case) -> Result<Truth, String> {
+fn catenary(case: &Case) -> Result<Truth, TruthError> {
     let strands = &case.sim.strands;
     let p = &strands.positions;
     let n = p.len() - 1;
     let link = strands.rest_lengths()[0] as f64;
     let (a, b) = (p[0].cast::<f64>(), p[n].cast::<f64>());
     let span = (b - a).norm();
-    let shape = analytic::discrete_catenary(n, link, span)
-        .ok_or_else(|| format!("{n} links of {link} m cannot hang across {span} m"))?;
+    let shape = analytic::discrete_catenary(n, link, span).ok_or(TruthError::Catenary {
+        links: n,
+        link,
+        span,
+    })?;
     let along = (b - a) / span;
     let up = Vector3::new(0.0, 0.0, 1.0);
     let rest: Vec<Vector3<f32>> = shape

@@ -135,11 +135,25 @@ pub fn kernel_from_env() -> Result<KernelChoice, CliError> {
     }
 }
 
+/// A part of a `--frames` value that is not a frame number.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "`{given}` is not a frame number (whole number ≥ 0); write FIRST-LAST, e.g. 1-48, or one \
+     frame N"
+)]
+pub struct NotAFrame {
+    /// The part given.
+    pub given: String,
+    /// The parser's error.
+    pub source: std::num::ParseIntError,
+}
+
 /// Parses `--frames FIRST-LAST`, or `N` as the range of one frame `N-N`.
-pub fn parse_range(s: &str) -> Result<(u32, u32), String> {
+pub fn parse_range(s: &str) -> Result<(u32, u32), NotAFrame> {
     let num = |t: &str| {
-        t.trim().parse::<u32>().map_err(|_| {
-            format!("`{t}` is not a frame number (whole number ≥ 0); write FIRST-LAST, e.g. 1-48, or one frame N")
+        t.trim().parse::<u32>().map_err(|source| NotAFrame {
+            given: t.to_string(),
+            source,
         })
     };
     match s.split_once('-') {

@@ -278,7 +278,7 @@ pub unsafe fn options(o: &HairsysGroomOptions) -> Result<(GroomOptions, u32), Fa
         let word = unsafe { check::string(o.integrator, "integrator")? };
         g.integrator = word
             .parse::<IntegratorChoice>()
-            .map_err(|e| Failure::argument("integrator", e))?;
+            .map_err(|e| Failure::argument("integrator", e.to_string()))?;
     }
     g.sag_free = check::flag(o.sag_free, "sag_free")?;
     g.expected_motion.collider_speed = (o.collider_speed >= 0.0).then_some(o.collider_speed);

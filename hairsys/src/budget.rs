@@ -128,6 +128,8 @@ impl fmt::Display for OverBudget {
     }
 }
 
+impl std::error::Error for OverBudget {}
+
 /// `x` readably: GiB for bytes, scientific notation otherwise.
 fn short(x: f64, unit: &str) -> String {
     if unit == "bytes" && x >= (1u64 << 30) as f64 {

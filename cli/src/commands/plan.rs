@@ -42,7 +42,7 @@ pub struct PlanArgs {
 }
 
 /// A length with an optional unit (`2mm`, `0.2 cm`, `0.002`, `0.002m`), in meters.
-pub fn parse_length(s: &str) -> Result<f32, String> {
+pub fn parse_length(s: &str) -> Result<f32, NotALength> {
     let t = s.trim();
     let (number, scale) = [
         ("mm", 1e-3),
@@ -56,10 +56,18 @@ pub fn parse_length(s: &str) -> Result<f32, String> {
     .unwrap_or((t, 1.0));
     match number.parse::<f32>() {
         Ok(v) if v.is_finite() && v > 0.0 => Ok(v * scale),
-        _ => Err(format!(
-            "`{s}` is not a length > 0; write e.g. 2mm, 0.5cm or 0.002 (meters)"
-        )),
+        _ => Err(NotALength {
+            given: s.to_string(),
+        }),
     }
+}
+
+/// A `--tolerance` value that is not a length > 0.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("`{given}` is not a length > 0; write e.g. 2mm, 0.5cm or 0.002 (meters)")]
+pub struct NotALength {
+    /// The value given.
+    pub given: String,
 }
 
 /// Runs the plan and prints it; no candidate within the tolerance is a failed run.

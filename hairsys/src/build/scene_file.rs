@@ -7,18 +7,20 @@
 use std::path::Path;
 
 use hair_core::{
-    Anchor, Collider, ColliderShape, HairError, Integrator, KernelChoice, RootFrame,
-    SolverSettings, StrandInput, StrandModel, StrandSet, Substeps, TriMesh,
+    Anchor, Collider, ColliderShape, Integrator, KernelChoice, RootFrame, SolverSettings,
+    StrandInput, StrandModel, StrandSet, Substeps, TriMesh,
 };
 use hair_groom::{GenerateOptions, ObjOptions, Region, UpAxis};
 use nalgebra::Vector3;
 
 use super::{SceneCollider, Simulation};
 use crate::scene::deforming::{self, DeformingSource, MeshAnimation};
+use crate::scene::error::{ColliderError, MeshSourceError, StrandError};
 use crate::scene::integrator::IntegratorChoice;
+use crate::scene::maps::{MapsError, ScalpColorsError};
 use crate::scene::{
     guides, integrator, map_primvars, ColliderShapeSection, ExplicitStrand, ScalpMesh, SceneError,
-    SceneFile, SubstepsValue,
+    SceneFile, SceneProblem, SubstepsValue,
 };
 use crate::scene::{maps, regions};
 
@@ -27,7 +29,7 @@ impl SceneFile {
     /// `[guides]` and `[sim_hairs]`) is over [`Self::budget`]'s memory.
     fn check_point_budget(&self) -> Result<(), SceneError> {
         let s = &self.scene;
-        let over = |e: crate::budget::OverBudget| self.error(e.to_string());
+        let over = |e| self.error(SceneProblem::Budget(e));
         if let Some(h) = &s.hair {
             let points = h.count as f64 * (f64::from(h.segments) + 1.0);
             self.budget
@@ -85,24 +87,19 @@ impl SceneFile {
             Substeps::Auto => {
                 let wanted = f64::from(settings.resolved_substeps(bound));
                 if wanted > f64::from(MAX_SUBSTEPS) {
-                    return Err(self.error(format!(
-                        "[solver] substeps = \"auto\" resolves to {wanted:.3e} force substeps per \
-                         step (limit {MAX_SUBSTEPS}): the stability bound {:.3e} s is set by \
-                         [physics] stretch_stiffness = {} N over the mass of a segment \
-                         (mass_per_length × segment length); lower stretch_stiffness, raise \
-                         mass_per_length, or use [solver] model = \"rod\"",
-                        bound.dt_max, s.physics.stretch_stiffness
-                    )));
+                    return Err(self.error(SceneProblem::AutoSubsteps {
+                        wanted,
+                        bound: bound.dt_max,
+                        stretch_stiffness: s.physics.stretch_stiffness,
+                    }));
                 }
                 wanted.max(1.0)
             }
         };
         if settings.steps > MAX_SUBSTEPS {
-            return Err(self.error(format!(
-                "[solver] steps = {}: more than {MAX_SUBSTEPS} collision steps per frame never \
-                 finishes; use a few (1–8)",
-                settings.steps
-            )));
+            return Err(self.error(SceneProblem::Steps {
+                steps: settings.steps,
+            }));
         }
         let [first, last] = s.scene.frames;
         let frames = f64::from(last.saturating_sub(first));
@@ -115,66 +112,27 @@ impl SceneFile {
         };
         self.budget
             .check_run("", &work)
-            .map_err(|e| self.error(e.to_string()))
-    }
-
-    /// A [`crate::build::SettleError`] in the scene's words: its sections, keys and fixes.
-    fn settle_message(&self, e: crate::build::SettleError) -> String {
-        use crate::build::SettleError;
-        match e {
-            SettleError::SagFreeWithFactors => {
-                "[solver] sag_free solves rest shapes for one material, but [[regions]] or \
-                 [maps.stiffness] give hair its own: remove sag_free or the regions"
-                    .into()
-            }
-            SettleError::SagFreeModel => {
-                "[solver] sag_free is for the mass-spring model; remove it or set \
-                 model = \"mass-spring\""
-                    .into()
-            }
-            SettleError::Unbalanced {
-                count,
-                total,
-                first,
-            } => format!(
-                "[solver] sag_free: {count} of {total} strands (first: strand {first}) cannot be \
-                 held in their groomed shape by the bending springs without turning a rest \
-                 direction more than 60°; raise [physics] bend_stiffness, shorten the hair or \
-                 groom it to hang"
-            ),
-            SettleError::HairHairGrid(e) => format!("[hair_hair] {e}"),
-            SettleError::Collider { message, .. } => message,
-            SettleError::Anchor(e) | SettleError::SagFree(e) => e.to_string(),
-        }
+            .map_err(|e| self.error(SceneProblem::Budget(e)))
     }
 
     /// Validates the scene and builds everything a run needs.
     pub fn build(&self) -> Result<Simulation, SceneError> {
         let s = &self.scene;
-        let err = |m: String| self.error(m);
+        let err = |p: SceneProblem| self.error(p);
         let [first, last] = s.scene.frames;
         if !(s.scene.fps.is_finite() && s.scene.fps > 0.0) {
-            return Err(err(format!(
-                "[scene] fps = {}: use a finite frame rate > 0, e.g. 24",
-                s.scene.fps
-            )));
+            return Err(err(SceneProblem::Fps { fps: s.scene.fps }));
         }
         if last <= first {
-            return Err(err(format!(
-                "[scene] frames = [{first}, {last}]: the last frame must come after the first"
-            )));
+            return Err(err(SceneProblem::Frames { first, last }));
         }
         let substeps = match &s.solver.substeps {
             SubstepsValue::Word(w) if w == "auto" => Substeps::Auto,
             SubstepsValue::Count(n) if *n >= 1 && *n <= 1_000_000 => Substeps::Fixed(*n as u32),
             other => {
-                return Err(err(format!(
-                    "[solver] substeps = {}: use \"auto\" or a whole number from 1 to 1000000",
-                    match other {
-                        SubstepsValue::Count(n) => n.to_string(),
-                        SubstepsValue::Word(w) => format!("{w:?}"),
-                    }
-                )))
+                return Err(err(SceneProblem::Substeps {
+                    given: other.clone(),
+                }))
             }
         };
         let mut settings = SolverSettings {
@@ -193,37 +151,29 @@ impl SceneFile {
         };
         settings
             .validate()
-            .map_err(|e| err(format!("[solver] {e}")))?;
+            .map_err(|e| err(SceneProblem::Solver(e)))?;
         s.physics
             .validate()
-            .map_err(|e| err(format!("[physics] {e}")))?;
+            .map_err(|e| err(SceneProblem::Physics(e)))?;
         match (s.solver.model, &s.rod) {
-            (StrandModel::MassSpring, Some(_)) => {
-                return Err(err(
-                    "[rod] is given but [solver] model = \"mass-spring\"; set model = \"rod\" \
-                     or remove [rod]"
-                        .into(),
-                ))
-            }
-            (_, Some(rod)) => rod.validate().map_err(|e| err(format!("[rod] {e}")))?,
+            (StrandModel::MassSpring, Some(_)) => return Err(err(SceneProblem::RodWithMassSpring)),
+            (_, Some(rod)) => rod.validate().map_err(|e| err(SceneProblem::Rod(e)))?,
             _ => {}
         }
         s.scalp
             .motion
             .validate()
-            .map_err(|e| err(format!("[scalp.motion] {e}")))?;
+            .map_err(|e| err(SceneProblem::ScalpMotion(e)))?;
 
         self.check_point_budget()?;
         let (rest_mesh, scalp_animation) = self.scalp_mesh()?;
-        let maps = self.scalp_maps(rest_mesh.as_ref()).map_err(err)?;
+        let maps = self
+            .scalp_maps(rest_mesh.as_ref())
+            .map_err(|e| self.error(e))?;
         let mut strands = StrandSet::new();
         if let Some(hair) = &s.hair {
             let Some(mesh) = &rest_mesh else {
-                return Err(err(
-                    "[hair] generates hair on the scalp, but [scalp.mesh] kind = \"none\"; choose a scalp mesh \
-                     or give [[strands]] instead"
-                        .into(),
-                ));
+                return Err(err(SceneProblem::HairWithoutScalp));
             };
             let opts = GenerateOptions {
                 count: hair.count,
@@ -243,26 +193,28 @@ impl SceneFile {
                     },
                 },
             };
-            let density = maps.density(mesh).map_err(err)?;
+            let density = maps
+                .density(mesh)
+                .map_err(|e| self.error(MapsError::Map(e)))?;
             let mut inputs = hair_groom::generate_with_density(
                 mesh,
                 &opts,
                 density.as_ref().map(|d| d as &dyn hair_groom::RootDensity),
             )
-            .map_err(|e| err(format!("[hair] {e}")))?;
+            .map_err(|e| err(SceneProblem::Hair(e)))?;
             if let Some(style) = &hair.style {
                 let opts = style.options(&s.physics.gravity(), hair.seed);
                 hair_groom::lay_over_scalp(&mut inputs, mesh, &opts)
-                    .map_err(|e| err(format!("[hair.style] {e}")))?;
+                    .map_err(|e| err(SceneProblem::HairStyle(e)))?;
             }
             maps.scale_goal(&mut inputs, mesh, "[hair] strand")
-                .map_err(err)?;
+                .map_err(|e| self.error(e))?;
             maps.trim_length(&mut inputs, mesh, "[hair] strand")
-                .map_err(err)?;
+                .map_err(|e| self.error(e))?;
             for input in inputs {
                 strands
                     .push(input)
-                    .map_err(|e| err(format!("[hair] {e}")))?;
+                    .map_err(|e| err(SceneProblem::HairStrand(e)))?;
             }
         }
         let mut guided = None;
@@ -270,7 +222,7 @@ impl SceneFile {
         let mut nearest_guide = vec![None; strands.len()];
         if let Some(guides) = &s.guides {
             let Some(mesh) = &rest_mesh else {
-                return Err(err("[guides] puts guides on the scalp, but [scalp.mesh] kind = \"none\"; choose a scalp mesh".into()));
+                return Err(err(SceneProblem::GuidesWithoutScalp));
             };
             let mut built = guides::build(
                 guides,
@@ -280,17 +232,12 @@ impl SceneFile {
                 &s.physics.gravity(),
                 &maps,
             )
-            .map_err(err)?;
+            .map_err(|e| self.error(e))?;
             maps.scale_goal(&mut built.inputs, mesh, "sim hair")
-                .map_err(err)?;
+                .map_err(|e| self.error(e))?;
             if s.solver.model != StrandModel::MassSpring {
                 if guides.animation_keys().any() {
-                    return Err(err(
-                        "[guides] pose, sim_weight, pin and hold_out animate the \
-                         mass-spring model's rest shapes; remove them or set [solver] model = \
-                         \"mass-spring\""
-                            .into(),
-                    ));
+                    return Err(err(SceneProblem::GuideAnimationOfModel));
                 }
                 built.animation = None;
             }
@@ -300,27 +247,24 @@ impl SceneFile {
             for input in &built.inputs {
                 strands
                     .push(input.clone())
-                    .map_err(|e| err(format!("[sim_hairs] {e}")))?;
+                    .map_err(|e| err(SceneProblem::SimHairStrand(e)))?;
             }
             nearest_guide.extend(built.nearest_guide.iter().copied());
             guided = Some(built);
         } else if s.sim_hairs.is_some() {
-            return Err(err(
-                "[sim_hairs] interpolates from guides: add a [guides] section".into(),
-            ));
+            return Err(err(SceneProblem::SimHairsWithoutGuides));
         }
         for (i, st) in s.strands.iter().enumerate() {
-            let input = explicit_strand(st).map_err(|m| err(format!("[[strands]] #{i}: {m}")))?;
+            let strand = |source| err(SceneProblem::Strand { index: i, source });
+            let input = explicit_strand(st).map_err(strand)?;
             strands
                 .push(input)
-                .map_err(|e| err(format!("[[strands]] #{i}: {e}")))?;
+                .map_err(|e| strand(StrandError::Invalid(e)))?;
         }
-        let strips =
-            crate::scene::strips::build_into(s, rest_mesh.as_ref(), &mut strands).map_err(err)?;
+        let strips = crate::scene::strips::build_into(s, rest_mesh.as_ref(), &mut strands)
+            .map_err(|e| self.error(e))?;
         if strands.is_empty() {
-            return Err(err(
-                "the scene has no hair: add a [hair] section or [[strands]]".into(),
-            ));
+            return Err(err(SceneProblem::NoHair));
         }
         nearest_guide.resize(strands.len(), None);
         let regions = self.regions(
@@ -332,11 +276,13 @@ impl SceneFile {
         )?;
         let scales = regions
             .scales(&s.physics, strands.len())
-            .map_err(|m| err(format!("[[regions]] {m}")))?;
+            .map_err(|e| err(SceneProblem::RegionScales(e)))?;
         let child_maps = maps
             .child_factors(&strands, rest_mesh.as_ref())
-            .map_err(err)?;
-        let map_summaries = maps.summaries(&strands, rest_mesh.as_ref()).map_err(err)?;
+            .map_err(|e| self.error(e))?;
+        let map_summaries = maps
+            .summaries(&strands, rest_mesh.as_ref())
+            .map_err(|e| self.error(MapsError::Map(e)))?;
         let colliders = self.colliders()?;
         let contact = self.collider_motion(&colliders);
         let (integrator, bound) = crate::build::choose_integrator(
@@ -350,21 +296,17 @@ impl SceneFile {
         );
         self.check_work_budget(&settings, &bound, strands.point_count())?;
         if let Some(c) = &s.contacts {
-            c.validate().map_err(|e| err(format!("[contacts] {e}")))?;
+            c.validate().map_err(|e| err(SceneProblem::Contacts(e)))?;
         }
         if let Some(c) = &s.children {
-            c.settings().map_err(err)?;
+            c.settings().map_err(|e| self.error(e))?;
         }
         if s.scalp.collider.is_some() && rest_mesh.is_none() {
-            return Err(err(
-                "[scalp.collider] makes the scalp mesh a collider, but [scalp.mesh] kind = \"none\"; \
-                 choose a scalp mesh or remove [scalp.collider]"
-                    .into(),
-            ));
+            return Err(err(SceneProblem::ScalpColliderWithoutScalp));
         }
         let hair_hair = s.hair_hair;
         if let Some(h) = &hair_hair {
-            h.validate().map_err(|e| err(format!("[hair_hair] {e}")))?;
+            h.validate().map_err(|e| err(SceneProblem::HairHair(e)))?;
         }
         let fields = s
             .fields
@@ -372,20 +314,13 @@ impl SceneFile {
             .enumerate()
             .map(|(i, f)| f.field(i))
             .collect::<Result<Vec<_>, _>>()
-            .map_err(err)?;
+            .map_err(|e| self.error(e))?;
         if s.solver.model == StrandModel::Rod && (hair_hair.is_some() || !fields.is_empty()) {
-            return Err(err(
-                "[hair_hair] and [[fields]] act on the mass-spring model only; remove them or \
-                 set [solver] model = \"mass-spring\""
-                    .into(),
-            ));
+            return Err(err(SceneProblem::MassSpringOnly));
         }
         if let Some(i) = fields.iter().position(|f| f.moves_air()) {
             if s.physics.air_drag <= 0.0 {
-                return Err(err(format!(
-                    "[[fields]] #{i}: wind, vortex and turbulence move the air, which pushes hair \
-                     through [physics] air_drag = 0; set air_drag > 0"
-                )));
+                return Err(err(SceneProblem::MovingAirWithoutDrag { field: i }));
             }
         }
         let mut sim = Simulation {
@@ -396,7 +331,7 @@ impl SceneFile {
             first_frame: first,
             last_frame: last,
             rest_mesh,
-            scalp_colors: self.scalp_colors().map_err(err)?,
+            scalp_colors: self.scalp_colors().map_err(|e| self.error(e))?,
             scalp_animation,
             motion: crate::rig::Motion::Keyed(s.scalp.motion.clone()),
             colliders,
@@ -420,7 +355,7 @@ impl SceneFile {
             maps: map_summaries,
         };
         sim.settle(s.solver.sag_free)
-            .map_err(|e| err(self.settle_message(e)))?;
+            .map_err(|e| err(SceneProblem::Settle(e)))?;
         Ok(sim)
     }
 
@@ -439,12 +374,7 @@ impl SceneFile {
             return Ok(regions::Regions::default());
         }
         if s.solver.model != StrandModel::MassSpring {
-            return Err(self.error(
-                "[[regions]] and [maps.stiffness] give hair its own mass-spring parameters; the \
-                 rod and strip models have one material: remove them or set [solver] model = \
-                 \"mass-spring\""
-                    .into(),
-            ));
+            return Err(self.error(SceneProblem::RegionsOfModel));
         }
         let roots = regions::StrandRoots {
             mesh,
@@ -452,7 +382,7 @@ impl SceneFile {
             guide_count: guided.map_or(0, |g| g.guides.len()),
         };
         regions::Regions::build(&s.regions, &s.physics, strands, &roots, maps)
-            .map_err(|m| self.error(m))
+            .map_err(|e| self.error(e))
     }
 
     /// How fast `colliders` move against their size over the shot, for `"auto"`'s contact
@@ -477,7 +407,13 @@ impl SceneFile {
     fn colliders(&self) -> Result<Vec<SceneCollider>, SceneError> {
         let mut out = Vec::new();
         for (i, c) in self.scene.colliders.iter().enumerate() {
-            let err = |m: String| self.error(format!("[[colliders]] #{i}{}: {m}", named(&c.name)));
+            let err = |source| {
+                self.error(SceneProblem::Collider {
+                    index: i,
+                    name: c.name.clone(),
+                    source,
+                })
+            };
             let mut animation = None;
             let shape = match &c.shape {
                 ColliderShapeSection::Sphere { radius } => {
@@ -496,13 +432,13 @@ impl SceneFile {
                     up_axis,
                 } => ColliderShape::Mesh(
                     self.load_obj(path, *scale, *up_axis)
-                        .map_err(|e| err(format!("shape: {e}")))?,
+                        .map_err(|e| err(ColliderError::Shape(MeshSourceError::Obj(e))))?,
                 ),
                 ColliderShapeSection::Usd(_) | ColliderShapeSection::ObjSequence(_) => {
                     let source = c.shape.deforming().expect("a deforming shape");
                     let (rest, anim) = self
                         .load_deforming(source)
-                        .map_err(|e| err(format!("shape: {e}")))?;
+                        .map_err(|e| err(ColliderError::Shape(e.into())))?;
                     animation = Some(anim);
                     ColliderShape::Mesh(rest)
                 }
@@ -512,13 +448,12 @@ impl SceneFile {
                 thickness: c.thickness,
                 friction: c.friction,
             };
-            collider.validate(i).map_err(|e| match e {
-                HairError::Collider { message, .. } => err(message),
-                other => err(other.to_string()),
-            })?;
+            collider
+                .validate(i)
+                .map_err(|e| err(ColliderError::Invalid(e)))?;
             c.motion
                 .validate()
-                .map_err(|m| err(format!("motion: {m}")))?;
+                .map_err(|e| err(ColliderError::Motion(e)))?;
             out.push(SceneCollider {
                 name: c.name.clone(),
                 collider,
@@ -531,61 +466,48 @@ impl SceneFile {
 
     /// The per-vertex colors (`v x y z r g b`) of the scene's OBJ scalp, in the vertex order of the
     /// scalp mesh the scene builds; `None` for another scalp or an OBJ without colors on every vertex.
-    fn scalp_colors(&self) -> Result<Option<Vec<[f32; 3]>>, String> {
+    fn scalp_colors(&self) -> Result<Option<Vec<[f32; 3]>>, ScalpColorsError> {
         let ScalpMesh::Obj { path, .. } = &self.scene.scalp.mesh else {
             return Ok(None);
         };
         let path = self.base_dir.join(path);
         // The same bounded OBJ reader the scalp itself is loaded with (vertices in its order; a
         // hostile face index is an error, not a panic).
-        let Some(colors) = hair_groom::load_obj_vertex_colors(&path).map_err(|e| {
-            format!(
-                "[scalp.mesh] {}: cannot read its vertex colors ({e})",
-                path.display()
-            )
-        })?
+        let Some(colors) =
+            hair_groom::load_obj_vertex_colors(&path).map_err(|source| ScalpColorsError::Read {
+                path: path.clone(),
+                source,
+            })?
         else {
             return Ok(None);
         };
         if let Some(i) = colors.iter().position(|c| !c.iter().all(|x| x.is_finite())) {
-            return Err(format!(
-                "[scalp.mesh] {}: vertex {i} has a non-finite color {:?}; fix its `v x y z r g b` line",
-                path.display(),
-                colors[i]
-            ));
+            return Err(ScalpColorsError::NotFinite {
+                path,
+                vertex: i,
+                color: colors[i],
+            });
         }
         Ok(Some(colors))
     }
 
     /// The scene's `[maps.NAME]`, read and checked against the scalp at rest `mesh`.
-    fn scalp_maps(&self, mesh: Option<&TriMesh>) -> Result<maps::ScalpMaps, String> {
+    fn scalp_maps(&self, mesh: Option<&TriMesh>) -> Result<maps::ScalpMaps, MapsError> {
         let sections = &self.scene.maps;
         if sections.is_empty() {
             return Ok(maps::ScalpMaps::none());
         }
         let Some(mesh) = mesh else {
-            return Err(
-                "[maps] paint values over the scalp, but [scalp.mesh] kind = \"none\"; \
-                        choose a scalp mesh or remove [maps]"
-                    .into(),
-            );
+            return Err(MapsError::NoScalp);
         };
         if sections.contains_key("density")
             && self.scene.hair.is_none()
             && self.scene.sim_hairs.is_none()
         {
-            return Err(
-                "[maps.density] spreads the roots of [hair] and [sim_hairs], but the scene has \
-                 neither: grow hair with [hair] or [guides] + [sim_hairs], or remove the map"
-                    .into(),
-            );
+            return Err(MapsError::DensityWithoutHair);
         }
         if sections.contains_key("sim_weight") && self.scene.guides.is_none() {
-            return Err(
-                "[maps.sim_weight] paints the sim weight of hair grown from guides, but \
-                        the scene has no [guides]: add [guides] and [sim_hairs] or remove the map"
-                    .into(),
-            );
+            return Err(MapsError::SimWeightWithoutGuides);
         }
         let mut used: Vec<&str> = self
             .scene
@@ -610,9 +532,9 @@ impl SceneFile {
     }
 
     fn scalp_mesh(&self) -> Result<(Option<TriMesh>, Option<MeshAnimation>), SceneError> {
-        let err = |m: String| self.error(format!("[scalp.mesh] {m}"));
+        let err = |e: MeshSourceError| self.error(SceneProblem::ScalpMesh(e));
         if let Some(source) = self.scene.scalp.mesh.deforming() {
-            let (rest, animation) = self.load_deforming(source).map_err(err)?;
+            let (rest, animation) = self.load_deforming(source).map_err(|e| err(e.into()))?;
             return Ok((Some(rest), Some(animation)));
         }
         let rest = match &self.scene.scalp.mesh {
@@ -624,7 +546,7 @@ impl SceneFile {
                 rings,
             } => Some(
                 hair_groom::uv_sphere(*radius, *segments, *rings)
-                    .map_err(|e| err(format!("uv-sphere: {e}")))?,
+                    .map_err(|e| err(MeshSourceError::UvSphere(e)))?,
             ),
             ScalpMesh::Obj {
                 path,
@@ -632,7 +554,7 @@ impl SceneFile {
                 up_axis,
             } => Some(
                 self.load_obj(path, *scale, *up_axis)
-                    .map_err(|e| err(e.to_string()))?,
+                    .map_err(|e| err(MeshSourceError::Obj(e)))?,
             ),
             ScalpMesh::Usd(_) | ScalpMesh::ObjSequence(_) => None,
         };
@@ -643,7 +565,7 @@ impl SceneFile {
     fn load_deforming(
         &self,
         source: DeformingSource<'_>,
-    ) -> Result<(TriMesh, MeshAnimation), String> {
+    ) -> Result<(TriMesh, MeshAnimation), deforming::DeformingError> {
         let [first, last] = self.scene.scene.frames;
         deforming::load(source, &self.base_dir, (first, last), &self.budget)
     }
@@ -662,28 +584,25 @@ impl SceneFile {
 
 /// Builds an explicit strand: root frame at its first point with world axes, carried by the
 /// scalp's rigid motion.
-fn explicit_strand(st: &ExplicitStrand) -> Result<StrandInput, String> {
+fn explicit_strand(st: &ExplicitStrand) -> Result<StrandInput, StrandError> {
     let n = st.points.len();
     if n < 2 {
-        return Err(format!(
-            "points has {n} point(s); give at least 2, root first"
-        ));
+        return Err(StrandError::TooFewPoints { points: n });
     }
     if let Some(i) = st
         .points
         .iter()
         .position(|p| !p.iter().all(|c| c.is_finite()))
     {
-        return Err(format!("points[{i}] is not finite"));
+        return Err(StrandError::NotFinite { point: i });
     }
     let root = Vector3::from(st.points[0]);
     let rest: Vec<Vector3<f32>> = st.points.iter().map(|p| Vector3::from(*p) - root).collect();
     let anchor = Anchor::Body(RootFrame::at(root));
     if !(st.mass_per_length.is_finite() && st.mass_per_length > 0.0) {
-        return Err(format!(
-            "mass_per_length = {}: use a finite density > 0 kg/m",
-            st.mass_per_length
-        ));
+        return Err(StrandError::MassPerLength {
+            value: st.mass_per_length,
+        });
     }
     let mut input = StrandInput::uniform(
         anchor,
@@ -695,30 +614,23 @@ fn explicit_strand(st: &ExplicitStrand) -> Result<StrandInput, String> {
     );
     if let Some(masses) = &st.masses {
         if masses.len() != n {
-            return Err(format!(
-                "masses has {} values for {n} points; give one per point",
-                masses.len()
-            ));
+            return Err(StrandError::Masses {
+                given: masses.len(),
+                points: n,
+            });
         }
         input.mass.clone_from(masses);
     }
     for &i in &st.pinned {
         if i >= n {
-            return Err(format!(
-                "pinned names point {i} but the strand has {n} points (0–{})",
-                n - 1
-            ));
+            return Err(StrandError::Pinned {
+                point: i,
+                points: n,
+            });
         }
         input.pinned[i] = true;
     }
     Ok(input)
 }
 
-/// ` (name)` for a named collider, nothing otherwise.
-pub(super) fn named(name: &str) -> String {
-    if name.is_empty() {
-        String::new()
-    } else {
-        format!(" ({name})")
-    }
-}
+pub(super) use crate::scene::error::named;

@@ -11,10 +11,11 @@ use hair_core::{
 };
 use nalgebra::Vector3;
 
-use crate::scene::deforming::MeshAnimation;
+use crate::scene::deforming::{DeformingFrames, MeshAnimation};
+use crate::scene::error::ColliderError;
 use crate::scene::integrator::ResolvedIntegrator;
-use crate::scene::ScalpCollider;
 use crate::scene::{maps, regions};
+use crate::scene::{ScalpCollider, SceneProblem};
 
 use super::scene_file::named;
 
@@ -128,10 +129,10 @@ impl Simulation {
                     let scales = self
                         .regions
                         .scales(&self.params, self.strands.len())
-                        .map_err(|fix| HairError::Parameter {
+                        .map_err(|e| HairError::Parameter {
                             name: "regions".into(),
                             value: "their parameters".into(),
-                            fix,
+                            fix: e.to_string(),
                         })?;
                     solver = solver.with_strand_scales(scales, &self.strands)?;
                 } else if let Some(scales) = &self.strand_scales {
@@ -290,7 +291,7 @@ impl Simulation {
 
     /// Refuses a run over frames `first..=last` that leaves the frames a deforming scalp or
     /// collider was read for (see [`crate::scene::deforming`]).
-    pub fn check_deforming_frames(&self, first: u32, last: u32) -> Result<(), String> {
+    pub fn check_deforming_frames(&self, first: u32, last: u32) -> Result<(), DeformingFrames> {
         let scalp = self
             .scalp_animation
             .iter()
@@ -301,7 +302,7 @@ impl Simulation {
         });
         for (field, a) in scalp.chain(colliders) {
             a.check_covers(first, last)
-                .map_err(|e| format!("{field}: {e}"))?;
+                .map_err(|source| DeformingFrames { field, source })?;
         }
         Ok(())
     }
@@ -309,6 +310,23 @@ impl Simulation {
     /// True when the scalp mesh deforms (a USD or OBJ-sequence scalp).
     pub fn scalp_deforms(&self) -> bool {
         self.scalp_animation.is_some()
+    }
+
+    /// A collider error as a scene problem: [`SceneProblem::Collider`] naming
+    /// `[[colliders]] #i (name)`, or [`SceneProblem::ScalpCollider`] (the solver's collider
+    /// after the scene's, or another error of the colliders).
+    pub fn collider_problem(&self, e: HairError) -> SceneProblem {
+        match &e {
+            HairError::Collider { collider, .. } => match self.colliders.get(*collider) {
+                Some(c) => SceneProblem::Collider {
+                    index: *collider,
+                    name: c.name.clone(),
+                    source: ColliderError::Invalid(e),
+                },
+                None => SceneProblem::ScalpCollider(e),
+            },
+            _ => SceneProblem::Colliders(e),
+        }
     }
 
     /// A collider error in the scene's terms: `[[colliders]] #i (name)` or `[scalp.collider]`.

@@ -184,7 +184,7 @@ fn build_samples(args: &CardsOptions) -> Result<Samples, OutputError> {
             scene.origin
         )));
     };
-    let mut strips = section.build(mesh).map_err(OutputError::Request)?;
+    let mut strips = section.build(mesh)?;
     let scalp_collides = match (&shot, &sim) {
         (Some(shot), _) => shot.scalp_collider().is_some(),
         (None, Some(sim)) => sim.scalp_collider.is_some(),

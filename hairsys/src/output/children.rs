@@ -148,16 +148,38 @@ pub struct ExportSummary {
 }
 
 /// Parses `--shutter OPEN,CLOSE` (frames relative to the sampled frame, e.g. `-0.25,0.25`).
-pub fn parse_shutter(s: &str) -> Result<(f64, f64), String> {
-    let (a, b) = s
-        .split_once(',')
-        .ok_or_else(|| format!("`{s}` is not OPEN,CLOSE, e.g. -0.25,0.25"))?;
+pub fn parse_shutter(s: &str) -> Result<(f64, f64), ShutterError> {
+    let (a, b) = s.split_once(',').ok_or_else(|| ShutterError::NotAPair {
+        given: s.to_string(),
+    })?;
     let num = |t: &str| {
         t.trim()
             .parse::<f64>()
-            .map_err(|_| format!("`{t}` is not a number"))
+            .map_err(|source| ShutterError::NotANumber {
+                given: t.to_string(),
+                source,
+            })
     };
     Ok((num(a)?, num(b)?))
+}
+
+/// Why a `--shutter` value cannot be read.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ShutterError {
+    /// Not two values separated by a comma.
+    #[error("`{given}` is not OPEN,CLOSE, e.g. -0.25,0.25")]
+    NotAPair {
+        /// The value given.
+        given: String,
+    },
+    /// One of the two is not a number.
+    #[error("`{given}` is not a number")]
+    NotANumber {
+        /// The part given.
+        given: String,
+        /// The parser's error.
+        source: std::num::ParseFloatError,
+    },
 }
 
 /// Generates and writes the children; `on_sample` is called after each time sample. A file
@@ -311,9 +333,7 @@ pub(crate) fn child_settings(
     display: bool,
 ) -> Result<(ChildSettings, Lod), OutputError> {
     let (base, display_lod) = match scene.and_then(|s| s.scene.children.as_ref().map(|c| (s, c))) {
-        Some((scene, section)) => section
-            .settings()
-            .map_err(|e| OutputError::Request(format!("{}: {e}", scene.origin)))?,
+        Some((scene, section)) => section.settings().map_err(|e| scene.error(e))?,
         None => (ChildSettings::default(), DisplayLod::default()),
     };
     let settings = overrides.apply(base)?;

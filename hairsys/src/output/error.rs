@@ -22,6 +22,9 @@ pub enum OutputError {
     /// What was asked cannot be made: names the option and the fix.
     #[error("{0}")]
     Request(String),
+    /// The scene's `[strips]` cannot be grown into cards.
+    #[error("{0}")]
+    Strips(#[from] crate::scene::strips::StripsError),
     /// The children cannot be generated from the parents given.
     #[error("{0}")]
     Children(#[from] hair_render::RenderError),

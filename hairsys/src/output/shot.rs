@@ -37,13 +37,19 @@ pub enum ShotError {
     /// The scene stored in the cache (or given instead) cannot be parsed.
     #[error("{0}")]
     Scene(#[from] crate::scene::SceneError),
-    /// The rig cannot be used as the library needs it.
-    #[error("{path}: {message}")]
+    /// The rig cannot be used as the library needs it: the solver refuses its scalp, a
+    /// collider or a strand.
+    #[error(
+        "{path}: {}{source}",
+        strand.map(|s| format!("strand {s}: ")).unwrap_or_default()
+    )]
     Rig {
         /// The cache.
         path: PathBuf,
-        /// What is wrong.
-        message: String,
+        /// The strand refused, if the error is about one.
+        strand: Option<usize>,
+        /// The solver's error.
+        source: hair_core::HairError,
     },
 }
 
@@ -82,9 +88,10 @@ impl Shot {
                 }
             }
         };
-        let strands = strands_of(&rig, &reader).map_err(|message| ShotError::Rig {
+        let strands = strands_of(&rig, &reader).map_err(|(strand, source)| ShotError::Rig {
             path: path.to_path_buf(),
-            message,
+            strand: Some(strand),
+            source,
         })?;
         Ok(Self {
             reader,
@@ -231,8 +238,7 @@ impl Shot {
             (Some(rest), None) => Some(rest.transformed(&body)),
             (Some(rest), Some(v)) => {
                 let mut m = rest.clone();
-                m.set_positions(v)
-                    .map_err(|e| self.rig_error(e.to_string()))?;
+                m.set_positions(v).map_err(|e| self.rig_error(e))?;
                 Some(m.transformed(&body))
             }
         };
@@ -249,7 +255,7 @@ impl Shot {
     ) -> Result<Colliders, ShotError> {
         let state = self.state_at(frame)?;
         let mut set = Colliders::new();
-        let err = |e: hair_core::HairError| self.rig_error(e.to_string());
+        let err = |e: hair_core::HairError| self.rig_error(e);
         for (c, s) in self.rig.colliders.iter().zip(&state.colliders) {
             let id = set.insert(c.clone(), s.pose).map_err(err)?;
             if let Some(v) = &s.vertices {
@@ -261,8 +267,7 @@ impl Shot {
                 .map_err(err)?;
             if state.scalp_vertices.is_some() {
                 let scalp = self.scalp_of(&state)?;
-                set.place_scalp(&scalp)
-                    .map_err(|e| self.rig_error(e.to_string()))?;
+                set.place_scalp(&scalp).map_err(|e| self.rig_error(e))?;
             }
         }
         Ok(set)
@@ -274,16 +279,13 @@ impl Shot {
         let state = self.state_at(frame)?;
         for (i, s) in state.colliders.iter().enumerate() {
             let id = hair_core::ColliderId(i as u32);
-            set.set_pose(id, s.pose)
-                .map_err(|e| self.rig_error(e.to_string()))?;
+            set.set_pose(id, s.pose).map_err(|e| self.rig_error(e))?;
             if let Some(v) = &s.vertices {
-                set.place_vertices(id, v)
-                    .map_err(|e| self.rig_error(e.to_string()))?;
+                set.place_vertices(id, v).map_err(|e| self.rig_error(e))?;
             }
         }
         let scalp = self.scalp_of(&state)?;
-        set.place_scalp(&scalp)
-            .map_err(|e| self.rig_error(e.to_string()))
+        set.place_scalp(&scalp).map_err(|e| self.rig_error(e))
     }
 
     /// Each rig collider's shape at (possibly fractional) `frame` (deformed where it deforms)
@@ -298,8 +300,7 @@ impl Shot {
             let shape = match (&c.shape, &s.vertices) {
                 (hair_core::ColliderShape::Mesh(rest), Some(v)) => {
                     let mut m = rest.clone();
-                    m.set_positions(v)
-                        .map_err(|e| self.rig_error(e.to_string()))?;
+                    m.set_positions(v).map_err(|e| self.rig_error(e))?;
                     hair_core::ColliderShape::Mesh(m)
                 }
                 (shape, _) => shape.clone(),
@@ -314,17 +315,22 @@ impl Shot {
         self.rig.scalp_collider
     }
 
-    fn rig_error(&self, message: String) -> ShotError {
+    fn rig_error(&self, source: hair_core::HairError) -> ShotError {
         ShotError::Rig {
             path: self.reader.path().to_path_buf(),
-            message,
+            strand: None,
+            source,
         }
     }
 }
 
 /// The strands the rig roots (rest shapes in their root frames, inverse masses, the layout's
-/// radii and rest lengths), at rest on the rig's rest scalp.
-fn strands_of(rig: &CacheRig, reader: &CacheReader) -> Result<StrandSet, String> {
+/// radii and rest lengths), at rest on the rig's rest scalp. A strand the strand set refuses is
+/// returned with its index.
+fn strands_of(
+    rig: &CacheRig,
+    reader: &CacheReader,
+) -> Result<StrandSet, (usize, hair_core::HairError)> {
     let layout = reader.layout();
     let mut strands = StrandSet::new();
     for (s, anchor) in rig.anchors.iter().enumerate() {
@@ -341,9 +347,7 @@ fn strands_of(rig: &CacheRig, reader: &CacheReader) -> Result<StrandSet, String>
             goal_weight: vec![0.0; points.len()],
             pinned: inverse.iter().map(|&w| w == 0.0).collect(),
         };
-        strands
-            .push(input)
-            .map_err(|e| format!("strand {s}: {e}"))?;
+        strands.push(input).map_err(|e| (s, e))?;
     }
     // The run's rest lengths (sag-free initialisation sets them apart from the rest shape's).
     strands

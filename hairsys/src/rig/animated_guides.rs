@@ -348,16 +348,18 @@ impl GuideAnimation {
 
     /// Host-given guide points (body space of the scalp at rest, the guides in order, each with
     /// its point count, flat) as root-local shapes. Errors name what is wrong and the fix.
-    pub fn pose_from_points(&self, points: &[[f32; 3]]) -> Result<Vec<Vec<Vector3<f32>>>, String> {
+    pub fn pose_from_points(
+        &self,
+        points: &[[f32; 3]],
+    ) -> Result<Vec<Vec<Vector3<f32>>>, GuidePointsError> {
         let total: usize = self.guide_points().iter().sum();
         if points.len() != total {
-            return Err(format!(
-                "{} points, but the {} guides have {total} ({:?}…): give every guide's points in \
-                 order, keeping each guide's point count",
-                points.len(),
-                self.guide_count(),
-                &self.guide_points()[..self.guide_count().min(4)]
-            ));
+            return Err(GuidePointsError::Count {
+                given: points.len(),
+                total,
+                first_guides: self.guide_points()[..self.guide_count().min(4)].to_vec(),
+                guides: self.guide_count(),
+            });
         }
         let mut shapes = Vec::with_capacity(self.guide_count());
         let mut at = 0;
@@ -365,7 +367,7 @@ impl GuideAnimation {
             let curve = &points[at..at + n];
             at += n;
             if let Some(i) = curve.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
-                return Err(format!("guide {g} point {i} is not finite"));
+                return Err(GuidePointsError::NotFinite { guide: g, point: i });
             }
             let root = Vector3::from(curve[0]);
             let inv = frame.rotation.inverse();
@@ -645,6 +647,34 @@ fn turned(built: &RestDirection, from: &RestDirection, to: &RestDirection) -> Re
         u: r.y,
         w: r.z,
     }
+}
+
+/// Why a host's guide points cannot pose the guides ([`GuideAnimation::pose_from_points`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum GuidePointsError {
+    /// Not every guide's points, or not in the groom's point counts.
+    #[error(
+        "{given} points, but the {guides} guides have {total} ({first_guides:?}…): give every \
+         guide's points in order, keeping each guide's point count"
+    )]
+    Count {
+        /// Points given.
+        given: usize,
+        /// Points of all the guides.
+        total: usize,
+        /// The point counts of the first (up to four) guides.
+        first_guides: Vec<usize>,
+        /// The number of guides.
+        guides: usize,
+    },
+    /// A point is not finite.
+    #[error("guide {guide} point {point} is not finite")]
+    NotFinite {
+        /// The guide.
+        guide: usize,
+        /// The point on it.
+        point: usize,
+    },
 }
 
 #[cfg(test)]

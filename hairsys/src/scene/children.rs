@@ -97,31 +97,21 @@ pub const DEFAULT_NEIGHBOURS: u32 = 4;
 impl ChildrenSection {
     /// The child settings and display level of detail of this section, checked; errors name the
     /// `[children]` key and the fix.
-    pub fn settings(&self) -> Result<(ChildSettings, DisplayLod), String> {
+    pub fn settings(&self) -> Result<(ChildSettings, DisplayLod), ChildrenError> {
         let base = ChildSettings::default();
-        let count =
-            match (self.per_parent, self.count) {
-                (Some(_), Some(_)) => return Err(
-                    "[children] gives both per_parent and count: keep one (children per parent, \
-                     or in all)"
-                        .into(),
-                ),
-                (Some(n), None) => ChildCount::PerParent(n),
-                (None, Some(n)) => ChildCount::Total(n),
-                (None, None) => base.count,
-            };
-        let mode =
-            match (self.mode, self.neighbours) {
-                (ModeValue::Simple, Some(_)) => return Err(
-                    "[children] neighbours applies to mode = \"interpolated\" only: set the mode \
-                     or remove neighbours"
-                        .into(),
-                ),
-                (ModeValue::Simple, None) => ChildMode::Simple,
-                (ModeValue::Interpolated, n) => ChildMode::Interpolated {
-                    neighbours: n.unwrap_or(DEFAULT_NEIGHBOURS),
-                },
-            };
+        let count = match (self.per_parent, self.count) {
+            (Some(_), Some(_)) => return Err(ChildrenError::CountTwice),
+            (Some(n), None) => ChildCount::PerParent(n),
+            (None, Some(n)) => ChildCount::Total(n),
+            (None, None) => base.count,
+        };
+        let mode = match (self.mode, self.neighbours) {
+            (ModeValue::Simple, Some(_)) => return Err(ChildrenError::NeighboursWhenSimple),
+            (ModeValue::Simple, None) => ChildMode::Simple,
+            (ModeValue::Interpolated, n) => ChildMode::Interpolated {
+                neighbours: n.unwrap_or(DEFAULT_NEIGHBOURS),
+            },
+        };
         let defaults = Shape::default();
         let shape = Shape {
             clump: self.clump.unwrap_or(defaults.clump),
@@ -143,16 +133,35 @@ impl ChildrenSection {
         settings
             .validate()
             .and_then(|()| Lod::Display(display).validate())
-            .map_err(|e| format!("[children] {}", scene_key(e)))?;
+            .map_err(ChildrenError::Invalid)?;
         Ok((settings, display))
     }
 }
 
-/// A render error with the library's parameter name replaced by the `[children]` key.
-fn scene_key(e: RenderError) -> String {
+/// Why a `[children]` section is refused.
+#[derive(Debug, thiserror::Error)]
+pub enum ChildrenError {
+    /// Both `per_parent` and `count` are given.
+    #[error(
+        "[children] gives both per_parent and count: keep one (children per parent, or in all)"
+    )]
+    CountTwice,
+    /// `neighbours` is given for simple children.
+    #[error(
+        "[children] neighbours applies to mode = \"interpolated\" only: set the mode or remove \
+         neighbours"
+    )]
+    NeighboursWhenSimple,
+    /// A setting is out of range (the renderer's check, in the section's keys).
+    #[error("[children] {}", scene_key(.0))]
+    Invalid(#[source] RenderError),
+}
+
+/// A render-children parameter error in the section's keys: `key = value: fix`.
+fn scene_key(e: &RenderError) -> String {
     match e {
         RenderError::Parameter { name, value, fix } => {
-            let key = match name {
+            let key = match *name {
                 "children_per_parent" => "per_parent".to_string(),
                 n => n.trim_start_matches("shape.").replace("taper.", "width."),
             };
@@ -168,7 +177,7 @@ mod tests {
 
     fn parse(text: &str) -> Result<(ChildSettings, DisplayLod), String> {
         let section: ChildrenSection = toml::from_str(text).map_err(|e| e.to_string())?;
-        section.settings()
+        section.settings().map_err(|e| e.to_string())
     }
 
     #[test]

@@ -48,7 +48,7 @@ use hair_groom::{ObjOptions, ObjSequence, UpAxis, UsdMeshOptions, UsdMeshSource}
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-use crate::budget::Budget;
+use crate::budget::{Budget, OverBudget};
 
 /// `kind = "usd"`: a USD `Mesh` prim, read at every frame's time code.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -97,22 +97,18 @@ impl UsdMeshSection {
     }
 
     /// Refuses a time offset or scale that maps frames to no usable time code.
-    fn check_time_mapping(&self) -> Result<(), String> {
+    fn check_time_mapping(&self) -> Result<(), DeformingError> {
         if !self.time_offset.is_finite() {
-            return Err(format!(
-                "{}: time_offset = {}: give a finite number of time codes, e.g. 1000 for a \
-                 character animated from frame 1001 in a scene starting at frame 1",
-                self.path.display(),
-                self.time_offset
-            ));
+            return Err(DeformingError::TimeOffset {
+                path: self.path.clone(),
+                time_offset: self.time_offset,
+            });
         }
         if !(self.time_scale.is_finite() && self.time_scale > 0.0) {
-            return Err(format!(
-                "{}: time_scale = {}: give the time codes per scene frame, a finite number > 0 \
-                 (1 when the stage has one time code per frame)",
-                self.path.display(),
-                self.time_scale
-            ));
+            return Err(DeformingError::TimeScale {
+                path: self.path.clone(),
+                time_scale: self.time_scale,
+            });
         }
         Ok(())
     }
@@ -210,14 +206,14 @@ impl MeshAnimation {
     }
 
     /// Refuses a run over `first..=last` that leaves the frames read, naming the source.
-    pub fn check_covers(&self, first: u32, last: u32) -> Result<(), String> {
+    pub fn check_covers(&self, first: u32, last: u32) -> Result<(), FramesNotRead> {
         let (lo, hi) = self.frames();
         if first < lo || last > hi {
-            return Err(format!(
-                "{} is read for the scene's frames {lo}–{hi} ([scene] frames), not {first}–{last}; \
-                 widen [scene] frames (the mesh must have every frame of the run)",
-                self.source
-            ));
+            return Err(FramesNotRead {
+                mesh: self.source.clone(),
+                read: (lo, hi),
+                run: (first, last),
+            });
         }
         Ok(())
     }
@@ -231,28 +227,26 @@ pub fn load(
     base_dir: &Path,
     (first, last): (u32, u32),
     budget: &Budget,
-) -> Result<(TriMesh, MeshAnimation), String> {
+) -> Result<(TriMesh, MeshAnimation), DeformingError> {
     let frames = u64::from(last - first) + 1;
     let check = |vertices: usize, what: &str| {
-        budget
-            .check_points(
-                &format!("{what}: {frames} frames × {vertices} vertices"),
-                frames as f64 * vertices as f64,
-            )
-            .map_err(|e| e.to_string())
+        budget.check_points(
+            &format!("{what}: {frames} frames × {vertices} vertices"),
+            frames as f64 * vertices as f64,
+        )
     };
     match source {
         DeformingSource::Usd(s) => {
             s.check_time_mapping()?;
             let path = base_dir.join(&s.path);
-            let usd = UsdMeshSource::open(&path, &s.options()).map_err(|e| e.to_string())?;
+            let usd = UsdMeshSource::open(&path, &s.options())?;
             let what = format!("{} prim {}", s.path.display(), usd.prim());
             let at = |f: u32| s.time_code(f64::from(f));
-            let rest = usd.mesh_at(at(first)).map_err(|e| e.to_string())?;
+            let rest = usd.mesh_at(at(first))?;
             check(rest.positions().len(), &what)?;
             let mut out = vec![rest.positions().to_vec()];
             for f in first + 1..=last {
-                out.push(usd.positions_at(at(f)).map_err(|e| e.to_string())?);
+                out.push(usd.positions_at(at(f))?);
             }
             Ok((rest, animation(what, first, out)))
         }
@@ -263,17 +257,13 @@ pub fn load(
                     scale: s.scale,
                     up_axis: s.up_axis,
                 },
-            )
-            .map_err(|e| e.to_string())?;
+            )?;
             let what = format!("the sequence {}", s.path.display());
-            let rest = seq.mesh_at(first).map_err(|e| e.to_string())?;
+            let rest = seq.mesh_at(first)?;
             check(rest.positions().len(), &what)?;
             let mut out = vec![rest.positions().to_vec()];
             for f in first + 1..=last {
-                out.push(
-                    seq.positions_at(f, &rest, first)
-                        .map_err(|e| e.to_string())?,
-                );
+                out.push(seq.positions_at(f, &rest, first)?);
             }
             Ok((rest, animation(what, first, out)))
         }
@@ -294,15 +284,76 @@ pub fn hashed_files(
     source: DeformingSource<'_>,
     base_dir: &Path,
     (first, last): (u32, u32),
-) -> Result<Vec<PathBuf>, String> {
+) -> Result<Vec<PathBuf>, DeformingError> {
     Ok(match source {
         DeformingSource::Usd(s) => vec![base_dir.join(&s.path)],
         DeformingSource::ObjSequence(s) => {
-            let seq = ObjSequence::new(&base_dir.join(&s.path), ObjOptions::default())
-                .map_err(|e| e.to_string())?;
+            let seq = ObjSequence::new(&base_dir.join(&s.path), ObjOptions::default())?;
             (first..=last).map(|f| seq.frame_path(f)).collect()
         }
     })
+}
+
+/// Why a deforming mesh cannot be read for a run; the caller names the section.
+#[derive(Debug, thiserror::Error)]
+pub enum DeformingError {
+    /// `time_offset` is not finite.
+    #[error(
+        "{}: time_offset = {time_offset}: give a finite number of time codes, e.g. 1000 for a \
+         character animated from frame 1001 in a scene starting at frame 1",
+        path.display()
+    )]
+    TimeOffset {
+        /// The USD file, as the scene names it.
+        path: PathBuf,
+        /// The value given.
+        time_offset: f64,
+    },
+    /// `time_scale` is not a finite number > 0.
+    #[error(
+        "{}: time_scale = {time_scale}: give the time codes per scene frame, a finite number > 0 \
+         (1 when the stage has one time code per frame)",
+        path.display()
+    )]
+    TimeScale {
+        /// The USD file, as the scene names it.
+        path: PathBuf,
+        /// The value given.
+        time_scale: f64,
+    },
+    /// The file, the prim or a frame's points cannot be read.
+    #[error("{0}")]
+    Read(#[from] hair_groom::GroomError),
+    /// Every frame's vertices together are over the memory budget.
+    #[error("{0}")]
+    Budget(#[from] OverBudget),
+}
+
+/// A run asks for frames a deforming mesh was not read for.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "{mesh} is read for the scene's frames {}–{} ([scene] frames), not {}–{}; widen [scene] \
+     frames (the mesh must have every frame of the run)",
+    .read.0, .read.1, .run.0, .run.1
+)]
+pub struct FramesNotRead {
+    /// The mesh, in words (file and prim, or the sequence).
+    pub mesh: String,
+    /// The first and last frame it was read for.
+    pub read: (u32, u32),
+    /// The first and last frame of the run.
+    pub run: (u32, u32),
+}
+
+/// A run over frames a deforming scalp or collider was not read for
+/// ([`crate::build::Simulation::check_deforming_frames`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{field}: {source}")]
+pub struct DeformingFrames {
+    /// The section (`[scalp.mesh]`, `[[colliders]] #i (name)`).
+    pub field: String,
+    /// The frames asked for and read.
+    pub source: FramesNotRead,
 }
 
 #[cfg(test)]
@@ -375,7 +426,8 @@ mod tests {
             (1, 4),
             &Budget::default(),
         )
-        .unwrap_err();
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("shot.usdc"), "{e}");
     }
 
@@ -395,7 +447,8 @@ mod tests {
                 (1, 2),
                 &Budget::default(),
             )
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
             assert!(e.contains("shot.usdc") && e.contains(key), "{e}");
         }
     }

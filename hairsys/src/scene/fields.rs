@@ -97,16 +97,14 @@ fn up() -> [f32; 3] {
 
 impl FieldSection {
     /// The library field, validated; errors name `[[fields]] #index`, the key and the fix.
-    pub fn field(&self, index: usize) -> Result<ForceField, String> {
-        let label = if self.name.is_empty() {
-            format!("[[fields]] #{index}")
-        } else {
-            format!("[[fields]] #{index} ({})", self.name)
-        };
-        let only = |key: &str, kind: &str| {
-            Err(format!(
-                "{label}: `{key}` applies to type = \"{kind}\" only; remove it"
-            ))
+    pub fn field(&self, index: usize) -> Result<ForceField, FieldError> {
+        let only = |key: &'static str, kind: &'static str| {
+            Err(FieldError::OtherType {
+                index,
+                name: self.name.clone(),
+                key,
+                kind,
+            })
         };
         if self.noise.is_some() && self.kind != FieldType::Wind {
             return only("noise", "wind");
@@ -126,8 +124,9 @@ impl FieldSection {
             },
             FieldType::Vortex => FieldKind::Vortex,
             FieldType::Turbulence => FieldKind::Turbulence {
-                size: self.size.ok_or_else(|| {
-                    format!("{label}: turbulence needs `size`, its feature size in m (e.g. 0.1)")
+                size: self.size.ok_or_else(|| FieldError::TurbulenceSize {
+                    index,
+                    name: self.name.clone(),
                 })?,
                 flow: self.flow.unwrap_or(0.0),
                 seed: self.seed,
@@ -144,12 +143,63 @@ impl FieldSection {
         };
         field
             .validate(index)
-            .map_err(|e| format!("{label}: {}", field_message(&e)))?;
+            .map_err(|source| FieldError::Invalid {
+                index,
+                name: self.name.clone(),
+                source,
+            })?;
         Ok(field)
     }
 }
 
-/// A library error about a field, with the key as the scene file spells it.
+/// Why a `[[fields]]` table is refused. Displays as `[[fields]] #i (name): what and the fix`.
+#[derive(Debug, thiserror::Error)]
+pub enum FieldError {
+    /// A key that applies to another field type only.
+    #[error("{}: `{key}` applies to type = \"{kind}\" only; remove it", label(*.index, .name))]
+    OtherType {
+        /// The field's index in `[[fields]]`.
+        index: usize,
+        /// Its `name` (may be empty).
+        name: String,
+        /// The key given.
+        key: &'static str,
+        /// The field type it applies to.
+        kind: &'static str,
+    },
+    /// A turbulence field without `size`.
+    #[error(
+        "{}: turbulence needs `size`, its feature size in m (e.g. 0.1)",
+        label(*.index, .name)
+    )]
+    TurbulenceSize {
+        /// The field's index in `[[fields]]`.
+        index: usize,
+        /// Its `name` (may be empty).
+        name: String,
+    },
+    /// A value of the field is out of range (the solver's check, in the scene's keys).
+    #[error("{}: {}", label(*.index, .name), field_message(.source))]
+    Invalid {
+        /// The field's index in `[[fields]]`.
+        index: usize,
+        /// Its `name` (may be empty).
+        name: String,
+        /// The solver's error: the parameter, its value and the fix.
+        source: HairError,
+    },
+}
+
+/// `[[fields]] #i` or `[[fields]] #i (name)`.
+fn label(index: usize, name: &str) -> String {
+    if name.is_empty() {
+        format!("[[fields]] #{index}")
+    } else {
+        format!("[[fields]] #{index} ({name})")
+    }
+}
+
+/// A field's parameter error in the scene's words: `key = value: fix`.
 fn field_message(e: &HairError) -> String {
     match e {
         HairError::Parameter { name, value, fix } => {

@@ -18,7 +18,8 @@ use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::rig::animated_guides::{GuideAnimation, PoseKey, PoseLift, WeightCurve};
-use crate::scene::maps::{MapSelection, ScalpMaps};
+use crate::scene::guides::ReadGuidesError;
+use crate::scene::maps::{MapSelection, MapsError, ScalpMaps};
 use crate::scene::motion::Interpolation;
 use crate::scene::RegionSection;
 
@@ -163,7 +164,8 @@ impl<'a> AnimationKeys<'a> {
 }
 
 /// Reads a pose file into root-local guide shapes. `read` reads the file as `[guides] file` is.
-pub type PoseReader<'a> = dyn Fn(&Path, Option<f64>) -> Result<Vec<Vec<Vector3<f32>>>, String> + 'a;
+pub type PoseReader<'a> =
+    dyn Fn(&Path, Option<f64>) -> Result<Vec<Vec<Vector3<f32>>>, ReadGuidesError> + 'a;
 
 /// Everything animated guides need, built: pins and hold-outs are set on `inputs` (the sim
 /// hairs, before they join the strand set, already trimmed to `fractions`, their painted
@@ -181,52 +183,49 @@ pub fn build(
     max_snap_distance: f32,
     maps: &ScalpMaps,
     read: &PoseReader,
-) -> Result<GuideAnimation, String> {
-    let mut blend =
-        GuideBlend::new(mesh, guides, hairs, points).map_err(|e| format!("[sim_hairs] {e}"))?;
+) -> Result<GuideAnimation, GuideAnimError> {
+    let mut blend = GuideBlend::new(mesh, guides, hairs, points).map_err(GuideAnimError::Blend)?;
     if let Some(fractions) = fractions {
         blend = blend
             .with_length_fractions(fractions)
-            .map_err(|e| format!("[maps.length] {e}"))?;
+            .map_err(GuideAnimError::LengthFractions)?;
     }
     let frames: Vec<RootFrame> = guides.iter().map(|g| mesh.evaluate(&g.root)).collect();
     let groom: Vec<Vec<Vector3<f32>>> = guides.iter().map(|g| g.rest.clone()).collect();
     let mut poses = Vec::with_capacity(keys.poses.len());
     for (i, key) in keys.poses.iter().enumerate() {
-        let name = format!("[[guides.pose]] #{i} (frame {})", key.frame);
+        let pose = PoseName {
+            index: i,
+            frame: key.frame,
+        };
         if !key.frame.is_finite() {
-            return Err(format!("{name}: frame is not finite; use a frame number"));
+            return Err(GuideAnimError::PoseFrame { pose });
         }
         if i > 0 && key.frame <= keys.poses[i - 1].frame {
-            return Err(format!(
-                "{name}: keys must be in increasing frame order (key {} is at frame {})",
-                i - 1,
-                keys.poses[i - 1].frame
-            ));
+            return Err(GuideAnimError::PoseOrder {
+                pose,
+                previous: keys.poses[i - 1].frame,
+            });
         }
         if key.time.is_some() && key.file.is_none() {
-            return Err(format!(
-                "{name}: `time` picks a USD time sample of `file`; give `file` or remove `time`"
-            ));
+            return Err(GuideAnimError::TimeWithoutFile { pose });
         }
         let shapes = match (&key.file, &key.sweep) {
             (Some(_), Some(_)) => {
-                return Err(format!("{name}: give `file` or `sweep`, not both"));
+                return Err(GuideAnimError::FileAndSweep { pose });
             }
             (Some(file), None) => {
-                let world = read(file, key.time)
-                    .map_err(|e| format!("{name} file {}: {e}", file.display()))?;
-                let what = format!("{name} file {}", file.display());
-                to_root_local(&world, &frames, max_snap_distance, &what)?
+                let world = read(file, key.time).map_err(|source| GuideAnimError::PoseFile {
+                    pose,
+                    file: file.clone(),
+                    source: Box::new(source),
+                })?;
+                to_root_local(&world, &frames, max_snap_distance, pose, file)?
             }
-            (None, Some(sweep)) => {
-                swept(&groom, &frames, sweep).map_err(|e| format!("{name} sweep: {e}"))?
-            }
+            (None, Some(sweep)) => swept(&groom, &frames, sweep, pose)?,
             (None, None) => groom.clone(),
         };
-        blend
-            .check_pose(&shapes, &name)
-            .map_err(|e| e.to_string())?;
+        blend.check_pose(&shapes, &pose.to_string())?;
         poses.push(PoseKey {
             frame: key.frame,
             shapes,
@@ -235,17 +234,12 @@ pub fn build(
     let lift = match keys.clearance {
         None => None,
         Some(c) if c.is_finite() && c >= 0.0 => {
-            Some(PoseLift::new(mesh, c).map_err(|e| format!("[guides] pose_clearance: {e}"))?)
+            Some(PoseLift::new(mesh, c).map_err(GuideAnimError::PoseLift)?)
         }
-        Some(c) => {
-            return Err(format!(
-                "[guides] pose_clearance = {c}: give a height ≥ 0 m above the scalp \
-                 (e.g. the sim hairs' clearance) or remove the key"
-            ))
-        }
+        Some(c) => return Err(GuideAnimError::PoseClearance { value: c }),
     };
     let hair_count = hairs.len();
-    let select = |s: &HairSelection, what: &str| -> Result<Vec<bool>, String> {
+    let select = |s: &HairSelection, what: &str| -> Result<Vec<bool>, SelectionError> {
         selection(s, what, mesh, guides.len(), hairs, maps)
     };
     // Each hair's factor of the sim weight: every hair by default (the curve is then 0, but a
@@ -253,28 +247,28 @@ pub fn build(
     let mut sim_factor = vec![1.0f32; hair_count];
     let curve = match keys.sim_weight {
         None if maps.get("sim_weight").is_some() => {
-            return Err(
-                "[maps.sim_weight] paints each sim hair's factor of the sim weight \
-                        curve, but there is no [guides.sim_weight]: add its keys or remove the map"
-                    .into(),
-            )
+            return Err(MapsError::SimWeightWithoutCurve.into())
         }
         None => WeightCurve::default(),
         Some(w) => {
             let what = "[guides.sim_weight]";
             if w.keys.is_empty() {
-                return Err(format!("{what} has no keys; give keys = [{{ frame = 1, value = 0.0 }}, …] or remove the section"));
+                return Err(GuideAnimError::SimWeightNoKeys);
             }
             for (i, k) in w.keys.iter().enumerate() {
                 if !(k.frame.is_finite() && k.value.is_finite() && (0.0..=1.0).contains(&k.value)) {
-                    return Err(format!(
-                        "{what} keys[{i}] value = {} at frame {}: a sim weight is in [0, 1] \
-                         (0 = simulation, 1 = the animated guides)",
-                        k.value, k.frame
-                    ));
+                    return Err(GuideAnimError::SimWeightValue {
+                        key: i,
+                        value: k.value,
+                        frame: k.frame,
+                    });
                 }
                 if i > 0 && k.frame <= w.keys[i - 1].frame {
-                    return Err(format!("{what} keys[{i}] is at frame {} but keys[{}] at {}: keys must be in increasing frame order", k.frame, i - 1, w.keys[i - 1].frame));
+                    return Err(GuideAnimError::SimWeightOrder {
+                        key: i,
+                        frame: k.frame,
+                        previous: w.keys[i - 1].frame,
+                    });
                 }
             }
             let chosen = if w.select.is_empty() {
@@ -289,12 +283,9 @@ pub fn build(
                 for (i, (f, h)) in sim_factor.iter_mut().zip(hairs).enumerate() {
                     let v = map
                         .at(mesh, &h.root, &format!("sim hair {i}"))
-                        .map_err(|e| e.to_string())?;
+                        .map_err(MapsError::Map)?;
                     if !(0.0..=1.0).contains(&v) {
-                        return Err(format!(
-                            "[maps.sim_weight] is {v} at sim hair {i}: a sim weight factor is \
-                             in [0, 1]; paint values in [0, 1]"
-                        ));
+                        return Err(MapsError::SimWeightFactor { value: v, hair: i }.into());
                     }
                     *f *= v;
                 }
@@ -308,9 +299,7 @@ pub fn build(
     for (i, pin) in keys.pins.iter().enumerate() {
         let what = format!("[[guides.pin]] #{i}");
         if pin.select.is_empty() {
-            return Err(format!(
-                "{what} selects no hair: give `guides`, `strands`, `region` or `map`"
-            ));
+            return Err(SelectionError::Nothing { selection: what }.into());
         }
         let chosen = select(&pin.select, &what)?;
         if let Some(p) = pin
@@ -318,10 +307,11 @@ pub fn build(
             .as_ref()
             .and_then(|p| p.iter().find(|&&p| p >= points))
         {
-            return Err(format!(
-                "{what} points names point {p}, but sim hairs have {points} points (0–{})",
-                points - 1
-            ));
+            return Err(GuideAnimError::PinPoint {
+                pin: i,
+                point: *p,
+                points,
+            });
         }
         for (input, _) in inputs.iter_mut().zip(&chosen).filter(|(_, &c)| c) {
             match &pin.points {
@@ -334,9 +324,10 @@ pub fn build(
     if let Some(h) = keys.hold_out {
         let what = "[guides.hold_out]";
         if h.is_empty() {
-            return Err(format!(
-                "{what} selects no hair: give `guides`, `strands`, `region` or `map`"
-            ));
+            return Err(SelectionError::Nothing {
+                selection: what.to_string(),
+            }
+            .into());
         }
         hold_out = select(h, what)?;
         for (input, _) in inputs.iter_mut().zip(&hold_out).filter(|(_, &c)| c) {
@@ -365,16 +356,16 @@ fn selection(
     guide_count: usize,
     hairs: &[SimHair],
     maps: &ScalpMaps,
-) -> Result<Vec<bool>, String> {
+) -> Result<Vec<bool>, SelectionError> {
     let mut chosen = vec![false; hairs.len()];
+    let selection = || what.to_string();
     if let Some(list) = &s.guides {
         let mut wanted = vec![false; guide_count];
         for &g in list {
-            *wanted.get_mut(g).ok_or_else(|| {
-                format!(
-                    "{what} guides names guide {g}, but there are {guide_count} guides (0–{})",
-                    guide_count.saturating_sub(1)
-                )
+            *wanted.get_mut(g).ok_or_else(|| SelectionError::Guide {
+                selection: selection(),
+                guide: g,
+                count: guide_count,
             })? = true;
         }
         for (c, h) in chosen.iter_mut().zip(hairs) {
@@ -383,12 +374,10 @@ fn selection(
     }
     if let Some(list) = &s.strands {
         for &i in list {
-            *chosen.get_mut(i).ok_or_else(|| {
-                format!(
-                    "{what} strands names sim hair {i}, but there are {} sim hairs (0–{})",
-                    hairs.len(),
-                    hairs.len().saturating_sub(1)
-                )
+            *chosen.get_mut(i).ok_or_else(|| SelectionError::SimHair {
+                selection: selection(),
+                hair: i,
+                count: hairs.len(),
             })? = true;
         }
     }
@@ -404,12 +393,15 @@ fn selection(
         for (i, (c, h)) in chosen.iter_mut().zip(hairs).enumerate() {
             *c |= m.contains(
                 map.at(mesh, &h.root, &format!("sim hair {i}"))
-                    .map_err(|e| e.to_string())?,
+                    .map_err(MapsError::Map)?,
             );
         }
     }
     if !chosen.iter().any(|&c| c) {
-        return Err(format!("{what} names no hair: no sim hair matches its guides, strands, region or map; widen the selection"));
+        return Err(SelectionError::NoHair {
+            selection: selection(),
+            hairs: "sim hair",
+        });
     }
     Ok(chosen)
 }
@@ -420,14 +412,16 @@ fn to_root_local(
     world: &[Vec<Vector3<f32>>],
     frames: &[RootFrame],
     tolerance: f32,
-    what: &str,
-) -> Result<Vec<Vec<Vector3<f32>>>, String> {
+    pose: PoseName,
+    file: &Path,
+) -> Result<Vec<Vec<Vector3<f32>>>, GuideAnimError> {
     if world.len() != frames.len() {
-        return Err(format!(
-            "{what} has {} guides, but the groom has {}: a pose must give every guide, in the groom's order",
-            world.len(),
-            frames.len()
-        ));
+        return Err(GuideAnimError::PoseGuides {
+            pose,
+            file: file.to_path_buf(),
+            given: world.len(),
+            guides: frames.len(),
+        });
     }
     world
         .iter()
@@ -437,13 +431,13 @@ fn to_root_local(
             let root = curve[0];
             let off = (root - frame.origin).norm();
             if off > tolerance {
-                return Err(format!(
-                    "{what}: guide {g}'s root is {:.1} mm from where the guide grows (the most is \
-                     [guides] max_snap_distance = {:.1} mm): a pose moves guides, not their roots; \
-                     keep the guides in the groom's order",
-                    off * 1e3,
-                    tolerance * 1e3
-                ));
+                return Err(GuideAnimError::PoseRoot {
+                    pose,
+                    file: file.to_path_buf(),
+                    guide: g,
+                    distance: off,
+                    tolerance,
+                });
             }
             let inv = frame.rotation.inverse();
             Ok(curve.iter().map(|p| inv * (p - root)).collect())
@@ -456,16 +450,20 @@ fn swept(
     groom: &[Vec<Vector3<f32>>],
     frames: &[RootFrame],
     sweep: &SweepSection,
-) -> Result<Vec<Vec<Vector3<f32>>>, String> {
+    pose: PoseName,
+) -> Result<Vec<Vec<Vector3<f32>>>, GuideAnimError> {
     let dir = Vector3::from(sweep.direction);
     if !(dir.iter().all(|c| c.is_finite()) && dir.norm() > 0.0) {
-        return Err("direction must be a finite non-zero vector".into());
+        return Err(GuideAnimError::SweepDirection {
+            pose,
+            direction: sweep.direction,
+        });
     }
     if !(sweep.angle_deg.is_finite() && (0.0..=180.0).contains(&sweep.angle_deg)) {
-        return Err(format!(
-            "angle_deg = {}: use an angle in [0, 180] degrees",
-            sweep.angle_deg
-        ));
+        return Err(GuideAnimError::SweepAngle {
+            pose,
+            angle_deg: sweep.angle_deg,
+        });
     }
     let dir = dir.normalize();
     Ok(groom
@@ -494,3 +492,289 @@ fn swept(
         })
         .collect())
 }
+/// A `[[guides.pose]]` key as messages name it: `[[guides.pose]] #i (frame f)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PoseName {
+    /// The key's index in `[[guides.pose]]`.
+    pub index: usize,
+    /// Its frame.
+    pub frame: f32,
+}
+
+impl std::fmt::Display for PoseName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "[[guides.pose]] #{} (frame {})", self.index, self.frame)
+    }
+}
+
+/// Why a selection of hair (`guides`, `strands`, `region`, `map` in `[guides.sim_weight]`,
+/// `[[guides.pin]]`, `[guides.hold_out]` or `[[regions]]`) is refused. `selection` names the
+/// selecting section as messages show it.
+#[derive(Debug, thiserror::Error)]
+pub enum SelectionError {
+    /// The selection gives none of `guides`, `strands`, `region` and `map`.
+    #[error("{selection} selects no hair: give `guides`, `strands`, `region` or `map`")]
+    Nothing {
+        /// The selecting section.
+        selection: String,
+    },
+    /// `guides` in a scene without guides.
+    #[error(
+        "{selection} guides: the scene has no [guides]; select by `strands`, `region` or `map`"
+    )]
+    NoGuides {
+        /// The selecting section.
+        selection: String,
+    },
+    /// `guides` names a guide that does not exist.
+    #[error(
+        "{selection} guides names guide {guide}, but there are {count} guides (0–{})",
+        .count.saturating_sub(1)
+    )]
+    Guide {
+        /// The selecting section.
+        selection: String,
+        /// The guide named.
+        guide: usize,
+        /// The guides there are.
+        count: usize,
+    },
+    /// `strands` names a strand the run does not have.
+    #[error(
+        "{selection} strands names strand {strand}, but the run has {count} strands (0–{})",
+        .count.saturating_sub(1)
+    )]
+    Strand {
+        /// The selecting section.
+        selection: String,
+        /// The strand named.
+        strand: usize,
+        /// The run's strands.
+        count: usize,
+    },
+    /// `strands` names a sim hair that does not exist.
+    #[error(
+        "{selection} strands names sim hair {hair}, but there are {count} sim hairs (0–{})",
+        .count.saturating_sub(1)
+    )]
+    SimHair {
+        /// The selecting section.
+        selection: String,
+        /// The sim hair named.
+        hair: usize,
+        /// The sim hairs there are.
+        count: usize,
+    },
+    /// The `region` cone has no direction or its angle is out of range.
+    #[error("{selection} region: give a non-zero direction and max_angle_deg in [0, 180]")]
+    Cone {
+        /// The selecting section.
+        selection: String,
+        /// The direction given.
+        direction: [f32; 3],
+        /// The half-angle given, degrees.
+        max_angle_deg: f32,
+    },
+    /// `region` on hair without a scalp mesh.
+    #[error("{selection} region: a cone of root normals needs a scalp mesh; select by `strands`")]
+    RegionWithoutScalp {
+        /// The selecting section.
+        selection: String,
+    },
+    /// `map` on hair without a scalp mesh.
+    #[error("{selection} map: a painted map needs a scalp mesh")]
+    MapWithoutScalp {
+        /// The selecting section.
+        selection: String,
+    },
+    /// The map cannot be selected by or sampled.
+    #[error("{0}")]
+    Map(Box<MapsError>),
+    /// Nothing matches the selection.
+    #[error(
+        "{selection} names no hair: no {hairs} matches its guides, strands, region or map; \
+         widen the selection"
+    )]
+    NoHair {
+        /// The selecting section.
+        selection: String,
+        /// What was searched: `"strand"` or `"sim hair"`.
+        hairs: &'static str,
+    },
+}
+
+/// Why the animated guides' keys (`[[guides.pose]]`, `[guides.sim_weight]`, `[[guides.pin]]`,
+/// `[guides.hold_out]`, `pose_clearance`) are refused.
+#[derive(Debug, thiserror::Error)]
+pub enum GuideAnimError {
+    /// The sim hairs cannot be blended from the guides.
+    #[error("[sim_hairs] {0}")]
+    Blend(#[source] hair_groom::GroomError),
+    /// The `length` map's fractions do not fit the sim hairs.
+    #[error("[maps.length] {0}")]
+    LengthFractions(#[source] hair_groom::GroomError),
+    /// A pose's frame is not finite.
+    #[error("{pose}: frame is not finite; use a frame number")]
+    PoseFrame {
+        /// The pose.
+        pose: PoseName,
+    },
+    /// A pose is not after the one before it.
+    #[error(
+        "{pose}: keys must be in increasing frame order (key {} is at frame {previous})",
+        .pose.index - 1
+    )]
+    PoseOrder {
+        /// The pose.
+        pose: PoseName,
+        /// The frame of the key before it.
+        previous: f32,
+    },
+    /// `time` without `file`.
+    #[error("{pose}: `time` picks a USD time sample of `file`; give `file` or remove `time`")]
+    TimeWithoutFile {
+        /// The pose.
+        pose: PoseName,
+    },
+    /// Both `file` and `sweep`.
+    #[error("{pose}: give `file` or `sweep`, not both")]
+    FileAndSweep {
+        /// The pose.
+        pose: PoseName,
+    },
+    /// The pose's file cannot be read.
+    #[error("{pose} file {}: {source}", file.display())]
+    PoseFile {
+        /// The pose.
+        pose: PoseName,
+        /// The file, as the scene names it.
+        file: PathBuf,
+        /// Why.
+        source: Box<ReadGuidesError>,
+    },
+    /// The pose's file has another number of guides than the groom.
+    #[error(
+        "{pose} file {} has {given} guides, but the groom has {guides}: a pose must give every \
+         guide, in the groom's order",
+        file.display()
+    )]
+    PoseGuides {
+        /// The pose.
+        pose: PoseName,
+        /// The file, as the scene names it.
+        file: PathBuf,
+        /// Guides in the file.
+        given: usize,
+        /// Guides in the groom.
+        guides: usize,
+    },
+    /// A posed guide's root is away from where the guide grows.
+    #[error(
+        "{pose} file {}: guide {guide}'s root is {:.1} mm from where the guide grows (the most \
+         is [guides] max_snap_distance = {:.1} mm): a pose moves guides, not their roots; keep \
+         the guides in the groom's order",
+        file.display(),
+        .distance * 1e3,
+        .tolerance * 1e3
+    )]
+    PoseRoot {
+        /// The pose.
+        pose: PoseName,
+        /// The file, as the scene names it.
+        file: PathBuf,
+        /// The guide.
+        guide: usize,
+        /// Its root's distance from the groom's root, m.
+        distance: f32,
+        /// The most allowed (`[guides] max_snap_distance`), m.
+        tolerance: f32,
+    },
+    /// A sweep's direction is zero or not finite.
+    #[error("{pose} sweep: direction must be a finite non-zero vector")]
+    SweepDirection {
+        /// The pose.
+        pose: PoseName,
+        /// The direction given.
+        direction: [f32; 3],
+    },
+    /// A sweep's angle is outside [0, 180] degrees.
+    #[error("{pose} sweep: angle_deg = {angle_deg}: use an angle in [0, 180] degrees")]
+    SweepAngle {
+        /// The pose.
+        pose: PoseName,
+        /// The angle given, degrees.
+        angle_deg: f32,
+    },
+    /// A pose's shapes do not fit the guides (point counts, non-finite points).
+    #[error("{0}")]
+    Pose(#[from] hair_groom::PoseError),
+    /// The pose lift cannot be built on the scalp.
+    #[error("[guides] pose_clearance: {0}")]
+    PoseLift(#[source] hair_groom::GroomError),
+    /// `pose_clearance` is negative or not finite.
+    #[error(
+        "[guides] pose_clearance = {value}: give a height ≥ 0 m above the scalp (e.g. the sim \
+         hairs' clearance) or remove the key"
+    )]
+    PoseClearance {
+        /// The value given, m.
+        value: f32,
+    },
+    /// `[guides.sim_weight]` without keys.
+    #[error(
+        "[guides.sim_weight] has no keys; give keys = [{{ frame = 1, value = 0.0 }}, …] or \
+         remove the section"
+    )]
+    SimWeightNoKeys,
+    /// A sim weight key outside [0, 1] or not finite.
+    #[error(
+        "[guides.sim_weight] keys[{key}] value = {value} at frame {frame}: a sim weight is in \
+         [0, 1] (0 = simulation, 1 = the animated guides)"
+    )]
+    SimWeightValue {
+        /// The key's index.
+        key: usize,
+        /// Its value.
+        value: f32,
+        /// Its frame.
+        frame: f32,
+    },
+    /// A sim weight key is not after the one before it.
+    #[error(
+        "[guides.sim_weight] keys[{key}] is at frame {frame} but keys[{}] at {previous}: keys \
+         must be in increasing frame order",
+        .key - 1
+    )]
+    SimWeightOrder {
+        /// The key's index.
+        key: usize,
+        /// Its frame.
+        frame: f32,
+        /// The frame of the key before it.
+        previous: f32,
+    },
+    /// A pin names a point sim hairs do not have.
+    #[error(
+        "[[guides.pin]] #{pin} points names point {point}, but sim hairs have {points} points \
+         (0–{})",
+        .points - 1
+    )]
+    PinPoint {
+        /// The pin's index in `[[guides.pin]]`.
+        pin: usize,
+        /// The point named.
+        point: usize,
+        /// Points per sim hair.
+        points: usize,
+    },
+    /// A selection of hair is refused.
+    #[error("{0}")]
+    Selection(Box<SelectionError>),
+    /// A map cannot be applied (`[maps.sim_weight]`).
+    #[error("{0}")]
+    Maps(Box<MapsError>),
+}
+
+boxed_from!(SelectionError, Map, MapsError);
+boxed_from!(GuideAnimError, Selection, SelectionError);
+boxed_from!(GuideAnimError, Maps, MapsError);

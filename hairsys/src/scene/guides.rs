@@ -13,10 +13,11 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::rig::animated_guides::GuideAnimation;
+use crate::scene::guide_anim::GuideAnimError;
 use crate::scene::guide_anim::{
     self, AnimationKeys, HairSelection, PinSection, PoseSection, SimWeightSection,
 };
-use crate::scene::maps::ScalpMaps;
+use crate::scene::maps::{MapsError, ScalpMaps};
 use crate::scene::motion::Interpolation;
 use crate::scene::RegionSection;
 
@@ -218,14 +219,13 @@ pub fn build(
     base_dir: &Path,
     gravity: &Vector3<f32>,
     maps: &ScalpMaps,
-) -> Result<GuidedHair, String> {
+) -> Result<GuidedHair, GuidesError> {
     if guides.file.is_some() && guides.style.is_some() {
-        return Err("[guides.style] lays generated guides over the scalp; an imported groom keeps its shape: remove [guides.style] or `file`".into());
+        return Err(GuidesError::StyleOfFile);
     }
     let (guides_list, source) = match &guides.file {
         Some(file) => {
-            let groom = read_guides(guides, file, base_dir, None)
-                .map_err(|e| format!("[guides] file: {e}"))?;
+            let groom = read_guides(guides, file, base_dir, None).map_err(GuidesError::File)?;
             let snapped = hair_groom::snap_to_scalp(
                 &groom,
                 mesh,
@@ -233,7 +233,7 @@ pub fn build(
                     max_distance: guides.max_snap_distance,
                 },
             )
-            .map_err(|e| format!("[guides] {e}"))?;
+            .map_err(GuidesError::Guides)?;
             let [lo, median, hi] = snapped.distance_summary();
             let source = format!(
                 "{} guides from {}, roots snapped {:.2} / {:.2} / {:.2} mm (min / median / max)",
@@ -246,9 +246,7 @@ pub fn build(
             (snapped.guides, source)
         }
         None => {
-            let need = |key: &str| {
-                format!("[guides] needs `file`, or `{key}` (with count, length, segments) to generate guides")
-            };
+            let need = |key: &'static str| GuidesError::Missing { key };
             let opts = GuideOptions {
                 count: guides.count.ok_or_else(|| need("count"))?,
                 length: guides.length.ok_or_else(|| need("length"))?,
@@ -267,8 +265,7 @@ pub fn build(
                     turns_per_meter: guides.curl_turns_per_meter,
                 }),
             };
-            let mut list =
-                hair_groom::generate_guides(mesh, &opts).map_err(|e| format!("[guides] {e}"))?;
+            let mut list = hair_groom::generate_guides(mesh, &opts).map_err(GuidesError::Guides)?;
             if let Some(style) = &guides.style {
                 // The styling works on strands: lay the guides as strands, keep their shapes.
                 let mut strands: Vec<StrandInput> = list
@@ -289,7 +286,7 @@ pub fn build(
                     mesh,
                     &style.options(gravity, guides.seed),
                 )
-                .map_err(|e| format!("[guides.style] {e}"))?;
+                .map_err(GuidesError::Style)?;
                 for (g, s) in list.iter_mut().zip(strands) {
                     g.rest = s.rest;
                 }
@@ -300,19 +297,16 @@ pub fn build(
     };
     let mut enabled = vec![true; guides_list.len()];
     for &i in &guides.disabled {
-        let slot = enabled.get_mut(i).ok_or_else(|| {
-            format!(
-                "[guides] disabled names guide {i} but there are {} guides (0–{})",
-                guides_list.len(),
-                guides_list.len().saturating_sub(1)
-            )
+        let slot = enabled.get_mut(i).ok_or(GuidesError::Disabled {
+            guide: i,
+            count: guides_list.len(),
         })?;
         *slot = false;
     }
     let Some(sim) = sim else {
-        return Err("[guides] needs a [sim_hairs] section: how many simulation hairs to interpolate from the guides".into());
+        return Err(GuidesError::NoSimHairs);
     };
-    let density = maps.density(mesh)?;
+    let density = maps.density(mesh).map_err(MapsError::Map)?;
     let density = density.as_ref().map(|d| d as &dyn hair_groom::RootDensity);
     let roots = match (sim.count, sim.min_distance, sim.max_guide_distance) {
         (Some(count), None, Some(d)) => {
@@ -320,7 +314,7 @@ pub fn build(
         }
         (Some(count), None, None) => {
             hair_groom::sample_roots(mesh, count, sim.seed, &region(&sim.region), density)
-                .map_err(|e| format!("[sim_hairs] {e}"))?
+                .map_err(GuidesError::SimHairs)?
         }
         (None, Some(spacing), near) => {
             let roots = hair_groom::sample_poisson_disk(
@@ -330,7 +324,7 @@ pub fn build(
                 &region(&sim.region),
                 density,
             )
-            .map_err(|e| format!("[sim_hairs] {e}"))?;
+            .map_err(GuidesError::SimHairs)?;
             match near {
                 None => roots,
                 Some(d) => {
@@ -343,7 +337,7 @@ pub fn build(
                 }
             }
         }
-        _ => return Err("[sim_hairs] give exactly one of `count` (area-weighted roots) or `min_distance` (Poisson disk, m)".into()),
+        _ => return Err(GuidesError::RootCount),
     };
     let points = sim
         .points
@@ -354,7 +348,7 @@ pub fn build(
         distance: sim.distance,
     };
     let mut hairs = hair_groom::interpolate(mesh, &guides_list, &enabled, &roots, &opts)
-        .map_err(|e| format!("[sim_hairs] {e}"))?;
+        .map_err(GuidesError::SimHairs)?;
     let mut inputs = hairs
         .iter()
         .map(|h| {
@@ -371,8 +365,7 @@ pub fn build(
     let mut left_out = String::new();
     if let Some(clearance) = sim.clearance {
         // One search tree of the scalp for the lift and both checks after it.
-        let lift =
-            hair_groom::ScalpLift::new(mesh, clearance).map_err(|e| format!("[sim_hairs] {e}"))?;
+        let lift = hair_groom::ScalpLift::new(mesh, clearance).map_err(GuidesError::SimHairs)?;
         lift.lift_all(&mut inputs);
         let through = lift.strands_through(&inputs);
         // Hair the lift left lower than the quality report's contact tolerance below the
@@ -380,14 +373,14 @@ pub fn build(
         let tolerance = hair_core::QualityOptions::default().contact_tolerance;
         let low = lift
             .strands_below(&inputs, tolerance)
-            .map_err(|e| format!("[sim_hairs] {e}"))?;
+            .map_err(GuidesError::SimHairs)?;
         // A blend turning its guides' shapes (the angle between root normals) by more than
         // 60° over roots closer than a 3 cm radius of curvature needs — sharper than any skull,
         // as at an ear's rim — turns them out into the air: see
         // `hair_groom::hairs_turned_off_their_guides`.
         let turned =
             hair_groom::hairs_turned_off_their_guides(&hairs, &guides_list, mesh, 60.0, 0.03)
-                .map_err(|e| format!("[sim_hairs] {e}"))?;
+                .map_err(GuidesError::SimHairs)?;
         let mut reasons = Vec::new();
         if !through.is_empty() {
             reasons.push(format!(
@@ -444,9 +437,10 @@ pub fn build(
     // Built for every guided scene (cheap: the weights are kept, nothing runs per frame without
     // keys), so a host can pose the guides of any guided scene.
     let animation = {
-        let read = |file: &Path, time: Option<f64>| -> Result<Vec<Vec<Vector3<f32>>>, String> {
-            read_guides(guides, file, base_dir, time).map(|g| g.curves().to_vec())
-        };
+        let read =
+            |file: &Path, time: Option<f64>| -> Result<Vec<Vec<Vector3<f32>>>, ReadGuidesError> {
+                read_guides(guides, file, base_dir, time).map(|g| g.curves().to_vec())
+            };
         Some(guide_anim::build(
             &keys,
             mesh,
@@ -485,7 +479,7 @@ fn read_guides(
     file: &Path,
     base_dir: &Path,
     time: Option<f64>,
-) -> Result<hair_groom::Groom, String> {
+) -> Result<hair_groom::Groom, ReadGuidesError> {
     let path = base_dir.join(file);
     let given = guides.scale.is_some() || guides.up_axis.is_some();
     let units = ImportOptions {
@@ -503,22 +497,19 @@ fn read_guides(
         )
         .map(|c| c.groom),
         _ if guides.prim.is_some() => {
-            return Err(format!(
-                "[guides] prim = {:?} selects a prim of a USD stage, but {} is not a USD file; \
-                 remove `prim`",
-                guides.prim.as_deref().unwrap_or_default(),
-                file.display()
-            ))
+            return Err(ReadGuidesError::PrimOfNotUsd {
+                prim: guides.prim.clone().unwrap_or_default(),
+                file: file.to_path_buf(),
+            })
         }
         _ if time.is_some() => {
-            return Err(format!(
-                "`time` picks a USD time sample, but {} is not a USD file; remove `time`",
-                file.display()
-            ))
+            return Err(ReadGuidesError::TimeOfNotUsd {
+                file: file.to_path_buf(),
+            })
         }
         _ => hair_groom::read_groom(&path, &units),
     }
-    .map_err(|e| e.to_string())
+    .map_err(ReadGuidesError::Read)
 }
 
 /// The enabled guides' roots (m), with `max_distance` (the sim hairs' largest distance from
@@ -528,11 +519,11 @@ fn guide_roots(
     guides: &[Guide],
     enabled: &[bool],
     max_distance: f32,
-) -> Result<Vec<Vector3<f32>>, String> {
+) -> Result<Vec<Vector3<f32>>, GuidesError> {
     if !(max_distance.is_finite() && max_distance > 0.0) {
-        return Err(format!(
-            "[sim_hairs] max_guide_distance = {max_distance}: use a finite distance > 0 m, e.g. 0.01"
-        ));
+        return Err(GuidesError::MaxGuideDistance {
+            value: max_distance,
+        });
     }
     Ok(guides
         .iter()
@@ -552,31 +543,26 @@ fn near_guides(
     max_distance: f32,
     sim: &SimHairsSection,
     density: Option<&dyn hair_groom::RootDensity>,
-) -> Result<Vec<hair_core::MeshSample>, String> {
+) -> Result<Vec<hair_core::MeshSample>, GuidesError> {
     let guide_roots = guide_roots(mesh, guides, enabled, max_distance)?;
     let grid = PointGrid::new(&guide_roots, max_distance);
     let mut sampler = hair_groom::RootSampler::new(mesh, sim.seed, &region(&sim.region), density)
-        .map_err(|e| format!("[sim_hairs] {e}"))?;
+        .map_err(GuidesError::SimHairs)?;
     // A groom covering a thousandth of the region is still filled; a smaller one is refused.
     let max_draws = count.saturating_mul(hair_groom::sampling::MAX_DRAWS_PER_ROOT);
     let kept = sampler
         .fill(count, max_draws, |r| {
             grid.any_within(&mesh.evaluate(r).origin)
         })
-        .map_err(|e| format!("[sim_hairs] {e}"))?;
+        .map_err(GuidesError::SimHairs)?;
     if kept.len() < count {
-        return Err(format!(
-            "[sim_hairs] max_guide_distance = {max_distance} m: only {} of {count} roots found \
-             near the guide roots in {} draws; raise max_guide_distance or check that \
-             the guides were snapped onto this scalp{}",
-            kept.len(),
-            sampler.drawn(),
-            if density.is_some() {
-                " (and that [maps.density] is painted near them)"
-            } else {
-                ""
-            }
-        ));
+        return Err(GuidesError::FewNearGuides {
+            max_distance,
+            found: kept.len(),
+            count,
+            draws: sampler.drawn(),
+            density: density.is_some(),
+        });
     }
     Ok(kept)
 }
@@ -622,3 +608,118 @@ impl<'a> PointGrid<'a> {
         })
     }
 }
+
+/// Why a guide groom file (`[guides] file`, a `[[guides.pose]]` file) cannot be read.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadGuidesError {
+    /// The file cannot be read as a groom.
+    #[error("{0}")]
+    Read(#[source] hair_groom::GroomError),
+    /// `prim` is given for a file that is not USD.
+    #[error(
+        "[guides] prim = {prim:?} selects a prim of a USD stage, but {} is not a USD file; \
+         remove `prim`",
+        file.display()
+    )]
+    PrimOfNotUsd {
+        /// The prim given.
+        prim: String,
+        /// The file, as the scene names it.
+        file: PathBuf,
+    },
+    /// `time` is given for a file that is not USD.
+    #[error(
+        "`time` picks a USD time sample, but {} is not a USD file; remove `time`",
+        file.display()
+    )]
+    TimeOfNotUsd {
+        /// The file, as the scene names it.
+        file: PathBuf,
+    },
+}
+
+/// Why `[guides]` and `[sim_hairs]` cannot be built into simulation hairs.
+#[derive(Debug, thiserror::Error)]
+pub enum GuidesError {
+    /// `[guides.style]` beside an imported groom.
+    #[error(
+        "[guides.style] lays generated guides over the scalp; an imported groom keeps its \
+         shape: remove [guides.style] or `file`"
+    )]
+    StyleOfFile,
+    /// `[guides] file` cannot be read.
+    #[error("[guides] file: {0}")]
+    File(#[source] ReadGuidesError),
+    /// The guides cannot be snapped or generated on the scalp.
+    #[error("[guides] {0}")]
+    Guides(#[source] hair_groom::GroomError),
+    /// A key generated guides need is missing.
+    #[error("[guides] needs `file`, or `{key}` (with count, length, segments) to generate guides")]
+    Missing {
+        /// The key.
+        key: &'static str,
+    },
+    /// `[guides.style]` cannot lay the guides.
+    #[error("[guides.style] {0}")]
+    Style(#[source] hair_groom::GroomError),
+    /// `disabled` names a guide that does not exist.
+    #[error(
+        "[guides] disabled names guide {guide} but there are {count} guides (0–{})",
+        .count.saturating_sub(1)
+    )]
+    Disabled {
+        /// The guide named.
+        guide: usize,
+        /// The guides there are.
+        count: usize,
+    },
+    /// `[guides]` without `[sim_hairs]`.
+    #[error(
+        "[guides] needs a [sim_hairs] section: how many simulation hairs to interpolate from \
+         the guides"
+    )]
+    NoSimHairs,
+    /// The sim hairs cannot be rooted, interpolated or lifted.
+    #[error("[sim_hairs] {0}")]
+    SimHairs(#[source] hair_groom::GroomError),
+    /// Neither or both of `count` and `min_distance`.
+    #[error(
+        "[sim_hairs] give exactly one of `count` (area-weighted roots) or `min_distance` \
+         (Poisson disk, m)"
+    )]
+    RootCount,
+    /// `max_guide_distance` not a finite distance > 0.
+    #[error("[sim_hairs] max_guide_distance = {value}: use a finite distance > 0 m, e.g. 0.01")]
+    MaxGuideDistance {
+        /// The value given, m.
+        value: f32,
+    },
+    /// Too few roots near the guides.
+    #[error(
+        "[sim_hairs] max_guide_distance = {max_distance} m: only {found} of {count} roots found \
+         near the guide roots in {draws} draws; raise max_guide_distance or check that the \
+         guides were snapped onto this scalp{}",
+        if *.density { " (and that [maps.density] is painted near them)" } else { "" }
+    )]
+    FewNearGuides {
+        /// `max_guide_distance`, m.
+        max_distance: f32,
+        /// Roots found.
+        found: usize,
+        /// Roots asked for (`count`).
+        count: usize,
+        /// Candidates drawn.
+        draws: usize,
+        /// Whether a `[maps.density]` thinned the candidates.
+        density: bool,
+    },
+    /// A map cannot be applied to the sim hairs.
+    #[error("{0}")]
+    Maps(Box<MapsError>),
+    /// The animated guides' keys are refused.
+    #[error("{0}")]
+    Animation(Box<GuideAnimError>),
+}
+
+boxed_from!(GuidesError, Maps, MapsError);
+boxed_from!(GuidesError, Animation, GuideAnimError);

@@ -441,11 +441,19 @@ impl Serialize for IntegratorChoice {
     }
 }
 
+/// A word that is neither `"auto"` nor an integrator's name.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown integrator {word:?}: use {NAMES}", NAMES = NAMES)]
+pub struct UnknownIntegrator {
+    /// The word given.
+    pub word: String,
+}
+
 impl std::str::FromStr for IntegratorChoice {
-    type Err = String;
+    type Err = UnknownIntegrator;
 
     /// Parses the scene-file spelling: `"auto"` or an integrator's name.
-    fn from_str(word: &str) -> Result<Self, String> {
+    fn from_str(word: &str) -> Result<Self, UnknownIntegrator> {
         if word == "auto" {
             return Ok(Self::Auto);
         }
@@ -459,7 +467,9 @@ impl std::str::FromStr for IntegratorChoice {
         .into_iter()
         .find(|&i| integrator_name(i) == word)
         .map(Self::Named)
-        .ok_or_else(|| format!("unknown integrator {word:?}: use {NAMES}"))
+        .ok_or_else(|| UnknownIntegrator {
+            word: word.to_string(),
+        })
     }
 }
 

@@ -43,6 +43,8 @@
 //! scalp has primvars: a primvar map on any other scalp is refused, naming the scalp and what
 //! to use instead.
 
+use std::path::PathBuf;
+
 use crate::rig::maps::Channel;
 
 use super::{ScalpMesh, SceneFile};
@@ -76,16 +78,13 @@ pub fn scalp_primvar(
     map: &str,
     name: &str,
     channel: Option<Channel>,
-) -> Result<Vec<[f32; 3]>, String> {
+) -> Result<Vec<[f32; 3]>, PrimvarError> {
     let section = match &scene.scene.scalp.mesh {
         ScalpMesh::Usd(section) => section,
         ScalpMesh::Obj { path, .. } => {
-            return Err(format!(
-                "the scalp is the OBJ file {}, which has no primvars (only a USD scalp, \
-                 [scalp.mesh] kind = \"usd\", has); paint the OBJ's vertex colours and use \
-                 `vertex_colors = true`, or a texture over its UVs",
-                scene.base_dir.join(path).display()
-            ))
+            return Err(PrimvarError::ObjScalp {
+                path: scene.base_dir.join(path),
+            })
         }
         other => {
             let kind = match other {
@@ -94,15 +93,11 @@ pub fn scalp_primvar(
                 ScalpMesh::UvSphere { .. } => "uv-sphere",
                 _ => "obj-sequence",
             };
-            return Err(format!(
-                "the scalp ([scalp.mesh] kind = \"{kind}\") has no primvars (only a USD scalp, \
-                 kind = \"usd\", has); use a texture over the scalp's UVs instead"
-            ));
+            return Err(PrimvarError::NotUsd { kind });
         }
     };
     let path = scene.base_dir.join(&section.path);
-    let source =
-        hair_groom::UsdMeshSource::open(&path, &section.options()).map_err(|e| e.to_string())?;
+    let source = hair_groom::UsdMeshSource::open(&path, &section.options())?;
     let component = channel.map(|c| match c {
         Channel::R => 0,
         Channel::G => 1,
@@ -115,30 +110,93 @@ pub fn scalp_primvar(
         source
             .primvar(name, component, t)
             .map(|corners| corners.values)
-            .map_err(|e| e.to_string())
     };
     let values = read(time)?;
     if let Some((_, instead)) = FOLLOWS_THE_SHOT.iter().find(|(m, _)| *m == map) {
-        let times = source
-            .primvar_sample_times(name)
-            .map_err(|e| e.to_string())?;
+        let times = source.primvar_sample_times(name)?;
         for &t in times.iter().skip(usize::from(times.len() == 1)) {
             if read(t)? != values {
                 let name = name.strip_prefix("primvars:").unwrap_or(name);
-                return Err(format!(
-                    "primvars:{name} of prim {} in {} has {} time samples (time codes {} to {}) \
-                     whose values change (at time code {t}, from those at the first frame's \
-                     time code {time}); a {map} map is read once, at the scene's first frame \
-                     (frame {first_frame}), because the solver takes it when the scene is \
-                     built: author one value (a default, or the same at every sample), or {instead}",
-                    source.prim(),
-                    path.display(),
-                    times.len(),
-                    times[0],
-                    times[times.len() - 1],
-                ));
+                return Err(PrimvarError::Changes(Box::new(PrimvarChanges {
+                    primvar: name.to_string(),
+                    prim: source.prim().to_string(),
+                    path,
+                    samples: times.len(),
+                    range: (times[0], times[times.len() - 1]),
+                    at: t,
+                    first: time,
+                    map: map.to_string(),
+                    first_frame,
+                    instead,
+                })));
             }
         }
     }
     Ok(values)
+}
+
+/// Why a USD scalp's primvar cannot be read as a map; the caller names the map.
+#[derive(Debug, thiserror::Error)]
+pub enum PrimvarError {
+    /// The scalp is an OBJ file, which has no primvars.
+    #[error(
+        "the scalp is the OBJ file {}, which has no primvars (only a USD scalp, [scalp.mesh] \
+         kind = \"usd\", has); paint the OBJ's vertex colours and use `vertex_colors = true`, \
+         or a texture over its UVs",
+        path.display()
+    )]
+    ObjScalp {
+        /// The OBJ file.
+        path: PathBuf,
+    },
+    /// The scalp is not a USD mesh.
+    #[error(
+        "the scalp ([scalp.mesh] kind = \"{kind}\") has no primvars (only a USD scalp, kind = \
+         \"usd\", has); use a texture over the scalp's UVs instead"
+    )]
+    NotUsd {
+        /// The scalp's `kind`.
+        kind: &'static str,
+    },
+    /// The stage, the prim or the primvar cannot be read.
+    #[error("{0}")]
+    Read(#[from] hair_groom::GroomError),
+    /// The primvar's time samples change, but the map is read once.
+    #[error("{0}")]
+    Changes(Box<PrimvarChanges>),
+}
+
+/// A time-sampled primvar whose values change, read as a map that is read once.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "primvars:{primvar} of prim {prim} in {} has {samples} time samples (time codes {} to {}) \
+     whose values change (at time code {at}, from those at the first frame's time code {first}); \
+     a {map} map is read once, at the scene's first frame (frame {first_frame}), because the \
+     solver takes it when the scene is built: author one value (a default, or the same at every \
+     sample), or {instead}",
+    path.display(),
+    .range.0,
+    .range.1
+)]
+pub struct PrimvarChanges {
+    /// The primvar's name, without `primvars:`.
+    pub primvar: String,
+    /// The scalp's prim.
+    pub prim: String,
+    /// The USD file.
+    pub path: PathBuf,
+    /// Its number of time samples.
+    pub samples: usize,
+    /// The first and last time code sampled.
+    pub range: (f64, f64),
+    /// The time code whose values differ.
+    pub at: f64,
+    /// The time code of the scene's first frame.
+    pub first: f64,
+    /// The map's name.
+    pub map: String,
+    /// The scene's first frame.
+    pub first_frame: u32,
+    /// What to do instead, for this map.
+    pub instead: &'static str,
 }

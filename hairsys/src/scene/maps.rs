@@ -64,7 +64,8 @@ use std::path::{Path, PathBuf};
 use hair_core::{Anchor, MeshSample, StrandInput, StrandSet, TriMesh};
 use serde::{Deserialize, Serialize};
 
-use crate::rig::maps::{Channel, MapDensity, MapSource, ScalpMap, Texture};
+use crate::rig::maps::{Channel, MapDensity, MapError, MapSource, ScalpMap, Texture};
+use crate::scene::map_primvars::PrimvarError;
 
 /// Map names with a purpose that hairsys applies, with that purpose in words.
 pub const APPLIED: [(&str, &str); 7] = [
@@ -195,86 +196,68 @@ impl ScalpMaps {
         sections: &BTreeMap<String, MapSection>,
         base_dir: &Path,
         mesh: &TriMesh,
-        colors: impl FnOnce() -> Result<Option<Vec<[f32; 3]>>, String>,
-        primvar: impl Fn(&str, &str, Option<Channel>) -> Result<Vec<[f32; 3]>, String>,
+        colors: impl FnOnce() -> Result<Option<Vec<[f32; 3]>>, ScalpColorsError>,
+        primvar: impl Fn(&str, &str, Option<Channel>) -> Result<Vec<[f32; 3]>, PrimvarError>,
         used: &[&str],
-    ) -> Result<Self, String> {
+    ) -> Result<Self, MapsError> {
         let mut colors = Some(colors);
         let mut read_colors: Option<Option<Vec<[f32; 3]>>> = None;
         let mut maps = BTreeMap::new();
         let mut sources = BTreeMap::new();
         for (name, s) in sections {
             let map_name = name.as_str();
-            let what = format!("[maps.{name}]");
+            let map = || name.clone();
             if purpose(name).is_none() && !used.contains(&name.as_str()) {
-                let names: Vec<&str> = APPLIED.iter().map(|(n, _)| *n).collect();
-                return Err(format!(
-                    "{what} is used by nothing: name it after a purpose ({}), or select hair \
-                     with it (`map = {{ name = \"{name}\" }}` in [guides.sim_weight], \
-                     [[guides.pin]], [guides.hold_out] or [[regions]])",
-                    names.join(", ")
-                ));
+                return Err(MapsError::Unused { map: map() });
             }
             let channel = match s.channel.as_deref() {
                 None => Channel::R,
-                Some(c) => Channel::parse(c).ok_or_else(|| {
-                    format!("{what} channel = \"{c}\": use \"r\", \"g\", \"b\" or \"a\"")
+                Some(c) => Channel::parse(c).ok_or_else(|| MapsError::Channel {
+                    map: map(),
+                    channel: c.to_string(),
                 })?,
             };
             if s.primvar.is_some() && (s.texture.is_some() || s.vertex_colors) {
-                return Err(format!(
-                    "{what}: give one of `texture`, `vertex_colors = true` and `primvar`"
-                ));
+                return Err(MapsError::PrimvarAndOther { map: map() });
             }
             let source = match (&s.texture, s.vertex_colors) {
-                (Some(_), true) => {
-                    return Err(format!(
-                        "{what}: give `texture` or `vertex_colors = true`, not both"
-                    ))
-                }
+                (Some(_), true) => return Err(MapsError::TextureAndVertexColors { map: map() }),
                 (None, false) => {
                     let Some(name) = &s.primvar else {
-                        return Err(format!(
-                            "{what} has no values: give `texture = \"map.png\"` (over the \
-                             scalp's UVs), `vertex_colors = true` (an OBJ scalp's \
-                             `v x y z r g b`) or `primvar = \"NAME\"` (a USD scalp's)"
-                        ));
+                        return Err(MapsError::NoValues { map: map() });
                     };
                     if channel == Channel::A {
-                        return Err(format!(
-                            "{what} channel = \"a\": a primvar map reads a float or one \
-                             channel of a color3f/float3 primvar; use r, g or b"
-                        ));
+                        return Err(MapsError::PrimvarAlpha { map: map() });
                     }
                     let given = s.channel.is_some().then_some(channel);
-                    MapSource::Corners(
-                        primvar(map_name, name, given)
-                            .map_err(|e| format!("{what} primvar = \"{name}\": {e}"))?,
-                    )
+                    MapSource::Corners(primvar(map_name, name, given).map_err(|source| {
+                        MapsError::Primvar {
+                            map: map(),
+                            primvar: name.clone(),
+                            source: Box::new(source),
+                        }
+                    })?)
                 }
                 (Some(file), false) => {
                     let path = base_dir.join(file);
-                    let texture = Texture::read_png(&path, channel)
-                        .map_err(|e| format!("{what} texture {}: {e}", path.display()))?;
+                    let texture =
+                        Texture::read_png(&path, channel).map_err(|source| MapsError::Texture {
+                            map: map(),
+                            path: path.clone(),
+                            source: Box::new(source),
+                        })?;
                     MapSource::Texture { path, texture }
                 }
                 (None, true) => {
                     if channel == Channel::A {
-                        return Err(format!(
-                            "{what} channel = \"a\": vertex colours have no alpha; use r, g or b"
-                        ));
+                        return Err(MapsError::VertexColorsAlpha { map: map() });
                     }
                     if read_colors.is_none() {
                         let read = colors.take().map_or(Ok(None), |f| f())?;
                         read_colors = Some(read);
                     }
                     let Some(Some(rgb)) = &read_colors else {
-                        return Err(format!(
-                            "{what} vertex_colors: the scalp has no vertex colours; vertex \
-                             colours come from an OBJ scalp with `v x y z r g b` on every \
-                             vertex (a USD scalp's values: `primvar = \"NAME\"`): use a \
-                             texture"
-                        ));
+                        return Err(MapsError::NoVertexColors { map: map() });
                     };
                     let c = match channel {
                         Channel::G => 1,
@@ -284,10 +267,7 @@ impl ScalpMaps {
                     MapSource::Vertex(rgb.iter().map(|v| v[c]).collect())
                 }
             };
-            maps.insert(
-                name.clone(),
-                ScalpMap::new(name, source, mesh).map_err(|e| e.to_string())?,
-            );
+            maps.insert(name.clone(), ScalpMap::new(name, source, mesh)?);
             sources.insert(name.clone(), describe(s, channel));
         }
         Ok(Self { maps, sources })
@@ -295,9 +275,9 @@ impl ScalpMaps {
 
     /// The `density` map as the density of roots on `mesh` (`None` without that map). Errors
     /// name the map: a negative value, or 0 everywhere.
-    pub fn density<'a>(&'a self, mesh: &'a TriMesh) -> Result<Option<MapDensity<'a>>, String> {
+    pub fn density<'a>(&'a self, mesh: &'a TriMesh) -> Result<Option<MapDensity<'a>>, MapError> {
         self.get("density")
-            .map(|m| MapDensity::new(m, mesh).map_err(|e| e.to_string()))
+            .map(|m| MapDensity::new(m, mesh))
             .transpose()
     }
 
@@ -309,8 +289,8 @@ impl ScalpMaps {
         &self,
         strands: &StrandSet,
         mesh: Option<&TriMesh>,
-    ) -> Result<ChildMapFactors, String> {
-        let factors = |name: &str| -> Result<Option<Vec<f32>>, String> {
+    ) -> Result<ChildMapFactors, MapsError> {
+        let factors = |name: &'static str| -> Result<Option<Vec<f32>>, MapsError> {
             let (Some(map), Some(mesh)) = (self.get(name), mesh) else {
                 return Ok(None);
             };
@@ -319,14 +299,13 @@ impl ScalpMaps {
                 let Anchor::Surface(sample) = strands.anchors()[s] else {
                     continue;
                 };
-                let v = map
-                    .at(mesh, &sample, &format!("strand {s}"))
-                    .map_err(|e| e.to_string())?;
+                let v = map.at(mesh, &sample, &format!("strand {s}"))?;
                 if !(0.0..=1.0).contains(&v) {
-                    return Err(format!(
-                        "[maps.{name}] is {v} at strand {s}: a {name} factor is in [0, 1] (1 = \
-                         the [children] setting, 0 = no {name}); paint values in [0, 1]"
-                    ));
+                    return Err(MapsError::ChildFactor {
+                        map: name,
+                        value: v,
+                        strand: s,
+                    });
                 }
                 *f = v;
             }
@@ -344,7 +323,7 @@ impl ScalpMaps {
         &self,
         strands: &StrandSet,
         mesh: Option<&TriMesh>,
-    ) -> Result<Vec<MapSummary>, String> {
+    ) -> Result<Vec<MapSummary>, MapError> {
         let mut out = Vec::with_capacity(self.maps.len());
         for (name, map) in &self.maps {
             let mut range: Option<[f32; 2]> = None;
@@ -354,9 +333,7 @@ impl ScalpMaps {
                     let Anchor::Surface(sample) = anchor else {
                         continue;
                     };
-                    let v = map
-                        .at(mesh, sample, &format!("strand {s}"))
-                        .map_err(|e| e.to_string())?;
+                    let v = map.at(mesh, sample, &format!("strand {s}"))?;
                     roots += 1;
                     range = Some(range.map_or([v, v], |[lo, hi]| [lo.min(v), hi.max(v)]));
                 }
@@ -380,20 +357,18 @@ impl ScalpMaps {
     }
 
     /// The map a selection names, or an error naming `what` (the selecting section).
-    pub fn selected(&self, s: &MapSelection, what: &str) -> Result<&ScalpMap, String> {
+    pub fn selected(&self, s: &MapSelection, what: &str) -> Result<&ScalpMap, MapsError> {
         if !(s.min.is_finite() && s.max.is_none_or(|m| m.is_finite() && m >= s.min)) {
-            return Err(format!(
-                "{what} map: min = {} and max = {:?} must be finite with min ≤ max",
-                s.min, s.max
-            ));
+            return Err(MapsError::SelectionRange {
+                selection: what.to_string(),
+                min: s.min,
+                max: s.max,
+            });
         }
-        self.get(&s.name).ok_or_else(|| {
-            let known: Vec<&str> = self.maps.keys().map(String::as_str).collect();
-            format!(
-                "{what} map names \"{}\", but the scene's maps are {known:?}: add [maps.{}] or \
-                 fix the name",
-                s.name, s.name
-            )
+        self.get(&s.name).ok_or_else(|| MapsError::UnknownMap {
+            selection: what.to_string(),
+            map: s.name.clone(),
+            known: self.maps.keys().cloned().collect(),
         })
     }
 
@@ -404,14 +379,14 @@ impl ScalpMaps {
         mesh: &TriMesh,
         roots: impl IntoIterator<Item = &'a MeshSample>,
         what: &str,
-    ) -> Result<Option<Vec<f32>>, String> {
+    ) -> Result<Option<Vec<f32>>, MapsError> {
         let Some(map) = self.get("length") else {
             return Ok(None);
         };
         roots
             .into_iter()
             .enumerate()
-            .map(|(i, sample)| length_fraction(map, mesh, sample, &format!("{what} {i}")))
+            .map(|(i, sample)| length_fraction(map, mesh, sample, what, i))
             .collect::<Result<Vec<_>, _>>()
             .map(Some)
     }
@@ -426,7 +401,7 @@ impl ScalpMaps {
         inputs: &mut [StrandInput],
         mesh: &TriMesh,
         what: &str,
-    ) -> Result<(), String> {
+    ) -> Result<(), MapsError> {
         let Some(map) = self.get("length") else {
             return Ok(());
         };
@@ -434,10 +409,7 @@ impl ScalpMaps {
             let Anchor::Surface(sample) = input.anchor else {
                 continue;
             };
-            trim_input(
-                input,
-                length_fraction(map, mesh, &sample, &format!("{what} {i}"))?,
-            );
+            trim_input(input, length_fraction(map, mesh, &sample, what, i)?);
         }
         Ok(())
     }
@@ -449,7 +421,7 @@ impl ScalpMaps {
         inputs: &mut [StrandInput],
         mesh: &TriMesh,
         what: &str,
-    ) -> Result<(), String> {
+    ) -> Result<(), MapsError> {
         let Some(map) = self.get("goal") else {
             return Ok(());
         };
@@ -457,14 +429,13 @@ impl ScalpMaps {
             let Anchor::Surface(sample) = input.anchor else {
                 continue;
             };
-            let g = map
-                .at(mesh, &sample, &format!("{what} {i}"))
-                .map_err(|e| e.to_string())?;
+            let g = map.at(mesh, &sample, &format!("{what} {i}"))?;
             if !(0.0..=1.0).contains(&g) {
-                return Err(format!(
-                    "[maps.goal] is {g} at {what} {i}: a goal weight scale is in [0, 1]; \
-                     paint values in [0, 1]"
-                ));
+                return Err(MapsError::GoalScale {
+                    value: g,
+                    hairs: what.to_string(),
+                    index: i,
+                });
             }
             input.goal_weight.iter_mut().for_each(|w| *w *= g);
         }
@@ -472,22 +443,271 @@ impl ScalpMaps {
     }
 }
 
-/// The length map `map`'s fraction at the root `sample` of `hair` (named in the error), checked
-/// to lie in (0, 1].
+/// The length map `map`'s fraction at the root `sample` of hair `index` of `hairs` (named in
+/// the error), checked to lie in (0, 1].
 fn length_fraction(
     map: &ScalpMap,
     mesh: &TriMesh,
     sample: &MeshSample,
-    hair: &str,
-) -> Result<f32, String> {
-    let f = map.at(mesh, sample, hair).map_err(|e| e.to_string())?;
+    hairs: &str,
+    index: usize,
+) -> Result<f32, MapsError> {
+    let f = map.at(mesh, sample, &format!("{hairs} {index}"))?;
     if !(f > 0.0 && f <= 1.0) {
-        return Err(format!(
-            "[maps.length] is {f} at {hair}: a length fraction is in (0, 1] (1 = the full \
-             length, 0.5 = half); paint values above 0 where hair grows, at most 1 (white)"
-        ));
+        return Err(MapsError::LengthFraction {
+            value: f,
+            hairs: hairs.to_string(),
+            index,
+        });
     }
     Ok(f)
+}
+
+/// Why the scene's `[maps.NAME]` cannot be read, checked or applied. Every variant names the
+/// map's section and the fix.
+#[derive(Debug, thiserror::Error)]
+pub enum MapsError {
+    /// A map whose name has no purpose and that no selection uses.
+    #[error(
+        "[maps.{map}] is used by nothing: name it after a purpose ({}), or select hair with it \
+         (`map = {{ name = \"{map}\" }}` in [guides.sim_weight], [[guides.pin]], \
+         [guides.hold_out] or [[regions]])",
+        applied_names()
+    )]
+    Unused {
+        /// The map's name.
+        map: String,
+    },
+    /// A channel other than r, g, b and a.
+    #[error("[maps.{map}] channel = \"{channel}\": use \"r\", \"g\", \"b\" or \"a\"")]
+    Channel {
+        /// The map's name.
+        map: String,
+        /// The channel given.
+        channel: String,
+    },
+    /// `primvar` beside `texture` or `vertex_colors`.
+    #[error("[maps.{map}]: give one of `texture`, `vertex_colors = true` and `primvar`")]
+    PrimvarAndOther {
+        /// The map's name.
+        map: String,
+    },
+    /// Both `texture` and `vertex_colors`.
+    #[error("[maps.{map}]: give `texture` or `vertex_colors = true`, not both")]
+    TextureAndVertexColors {
+        /// The map's name.
+        map: String,
+    },
+    /// No source of values.
+    #[error(
+        "[maps.{map}] has no values: give `texture = \"map.png\"` (over the scalp's UVs), \
+         `vertex_colors = true` (an OBJ scalp's `v x y z r g b`) or `primvar = \"NAME\"` (a \
+         USD scalp's)"
+    )]
+    NoValues {
+        /// The map's name.
+        map: String,
+    },
+    /// The alpha channel of a primvar.
+    #[error(
+        "[maps.{map}] channel = \"a\": a primvar map reads a float or one channel of a \
+         color3f/float3 primvar; use r, g or b"
+    )]
+    PrimvarAlpha {
+        /// The map's name.
+        map: String,
+    },
+    /// The primvar cannot be used.
+    #[error("[maps.{map}] primvar = \"{primvar}\": {source}")]
+    Primvar {
+        /// The map's name.
+        map: String,
+        /// The primvar's name.
+        primvar: String,
+        /// Why.
+        source: Box<PrimvarError>,
+    },
+    /// The texture cannot be read.
+    #[error("[maps.{map}] texture {}: {source}", path.display())]
+    Texture {
+        /// The map's name.
+        map: String,
+        /// The texture file.
+        path: PathBuf,
+        /// Why.
+        source: Box<MapError>,
+    },
+    /// The alpha channel of vertex colours.
+    #[error("[maps.{map}] channel = \"a\": vertex colours have no alpha; use r, g or b")]
+    VertexColorsAlpha {
+        /// The map's name.
+        map: String,
+    },
+    /// `vertex_colors = true` on a scalp without vertex colours.
+    #[error(
+        "[maps.{map}] vertex_colors: the scalp has no vertex colours; vertex colours come from \
+         an OBJ scalp with `v x y z r g b` on every vertex (a USD scalp's values: \
+         `primvar = \"NAME\"`): use a texture"
+    )]
+    NoVertexColors {
+        /// The map's name.
+        map: String,
+    },
+    /// The OBJ scalp's vertex colours cannot be read.
+    #[error("{0}")]
+    Colors(Box<ScalpColorsError>),
+    /// A map cannot be laid over the scalp, or sampled at a root.
+    #[error("{0}")]
+    Map(#[from] MapError),
+    /// A `clump` or `curl` map outside [0, 1] at a strand's root.
+    #[error(
+        "[maps.{map}] is {value} at strand {strand}: a {map} factor is in [0, 1] (1 = the \
+         [children] setting, 0 = no {map}); paint values in [0, 1]"
+    )]
+    ChildFactor {
+        /// `"clump"` or `"curl"`.
+        map: &'static str,
+        /// The value at the root.
+        value: f32,
+        /// The strand.
+        strand: usize,
+    },
+    /// A selection's `min` and `max` are not finite with min ≤ max.
+    #[error("{selection} map: min = {min} and max = {max:?} must be finite with min ≤ max")]
+    SelectionRange {
+        /// The selecting section.
+        selection: String,
+        /// `min` given.
+        min: f32,
+        /// `max` given.
+        max: Option<f32>,
+    },
+    /// A selection names a map the scene does not have.
+    #[error(
+        "{selection} map names \"{map}\", but the scene's maps are {known:?}: add [maps.{map}] \
+         or fix the name"
+    )]
+    UnknownMap {
+        /// The selecting section.
+        selection: String,
+        /// The name it gives.
+        map: String,
+        /// The scene's maps.
+        known: Vec<String>,
+    },
+    /// The `length` map outside (0, 1] at a hair's root.
+    #[error(
+        "[maps.length] is {value} at {hairs} {index}: a length fraction is in (0, 1] (1 = the \
+         full length, 0.5 = half); paint values above 0 where hair grows, at most 1 (white)"
+    )]
+    LengthFraction {
+        /// The value at the root.
+        value: f32,
+        /// Which hairs (`sim hair`, `[hair] strand`).
+        hairs: String,
+        /// The hair's index among them.
+        index: usize,
+    },
+    /// The `goal` map outside [0, 1] at a hair's root.
+    #[error(
+        "[maps.goal] is {value} at {hairs} {index}: a goal weight scale is in [0, 1]; paint \
+         values in [0, 1]"
+    )]
+    GoalScale {
+        /// The value at the root.
+        value: f32,
+        /// Which hairs (`sim hair`, `[hair] strand`).
+        hairs: String,
+        /// The hair's index among them.
+        index: usize,
+    },
+    /// The `sim_weight` map outside [0, 1] at a sim hair's root.
+    #[error(
+        "[maps.sim_weight] is {value} at sim hair {hair}: a sim weight factor is in [0, 1]; \
+         paint values in [0, 1]"
+    )]
+    SimWeightFactor {
+        /// The value at the root.
+        value: f32,
+        /// The sim hair.
+        hair: usize,
+    },
+    /// The `stiffness` map negative or not finite at a strand's root.
+    #[error(
+        "[maps.stiffness] is {value} at strand {strand}: a stiffness factor is ≥ 0 (0 = no \
+         bending, 1 = [physics] bend_stiffness); paint values ≥ 0"
+    )]
+    StiffnessFactor {
+        /// The value at the root.
+        value: f32,
+        /// The strand.
+        strand: usize,
+    },
+    /// `[maps]` without a scalp mesh.
+    #[error(
+        "[maps] paint values over the scalp, but [scalp.mesh] kind = \"none\"; choose a scalp \
+         mesh or remove [maps]"
+    )]
+    NoScalp,
+    /// `[maps.stiffness]` on hair without a scalp mesh.
+    #[error("[maps.stiffness] needs a scalp mesh")]
+    StiffnessWithoutScalp,
+    /// `[maps.density]` without hair grown on the scalp.
+    #[error(
+        "[maps.density] spreads the roots of [hair] and [sim_hairs], but the scene has neither: \
+         grow hair with [hair] or [guides] + [sim_hairs], or remove the map"
+    )]
+    DensityWithoutHair,
+    /// `[maps.sim_weight]` without guides.
+    #[error(
+        "[maps.sim_weight] paints the sim weight of hair grown from guides, but the scene has \
+         no [guides]: add [guides] and [sim_hairs] or remove the map"
+    )]
+    SimWeightWithoutGuides,
+    /// `[maps.sim_weight]` without a `[guides.sim_weight]` curve.
+    #[error(
+        "[maps.sim_weight] paints each sim hair's factor of the sim weight curve, but there is \
+         no [guides.sim_weight]: add its keys or remove the map"
+    )]
+    SimWeightWithoutCurve,
+}
+
+boxed_from!(MapsError, Colors, ScalpColorsError);
+
+/// The names of [`APPLIED`], comma-separated.
+fn applied_names() -> String {
+    APPLIED
+        .iter()
+        .map(|(n, _)| *n)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Why the OBJ scalp's vertex colours (`v x y z r g b`) cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum ScalpColorsError {
+    /// The file cannot be read.
+    #[error("[scalp.mesh] {}: cannot read its vertex colors ({source})", path.display())]
+    Read {
+        /// The OBJ file.
+        path: PathBuf,
+        /// Why.
+        source: hair_groom::GroomError,
+    },
+    /// A vertex has a non-finite colour.
+    #[error(
+        "[scalp.mesh] {}: vertex {vertex} has a non-finite color {color:?}; fix its \
+         `v x y z r g b` line",
+        path.display()
+    )]
+    NotFinite {
+        /// The OBJ file.
+        path: PathBuf,
+        /// The vertex.
+        vertex: usize,
+        /// Its colour.
+        color: [f32; 3],
+    },
 }
 
 /// Cuts `input`'s rest curve at `fraction` of its arc length and resamples it to the same point

@@ -18,8 +18,21 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
+/// `From<$inner>` for `$outer::$variant(Box<$inner>)`: a nested error boxed, so every
+/// `Result` of the scene's helpers stays small (clippy's `result_large_err`).
+macro_rules! boxed_from {
+    ($outer:ty, $variant:ident, $inner:ty) => {
+        impl From<$inner> for $outer {
+            fn from(e: $inner) -> Self {
+                Self::$variant(Box::new(e))
+            }
+        }
+    };
+}
+
 pub mod children;
 pub mod deforming;
+pub mod error;
 pub mod fields;
 pub mod guide_anim;
 pub mod guides;
@@ -32,6 +45,7 @@ pub mod strips;
 pub mod style;
 pub mod version;
 
+pub use error::{SceneError, SceneProblem};
 pub use version::SCENE_VERSION;
 
 use deforming::{DeformingSource, ObjSequenceSection, UsdMeshSection};
@@ -42,16 +56,6 @@ use motion::RigidMotion;
 
 /// The built-in default scene, fully commented (printed by `hairsys scene init`).
 pub const DEFAULT_SCENE: &str = include_str!("../../../scenes/default.toml");
-
-/// A scene file could not be used. Displays as `FILE: message`.
-#[derive(Debug, thiserror::Error)]
-#[error("{file}: {message}")]
-pub struct SceneError {
-    /// The scene file (or `<built-in default scene>`).
-    pub file: String,
-    /// What is wrong, naming the field and the fix.
-    pub message: String,
-}
 
 /// The whole scene file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -418,15 +422,20 @@ impl RegionSection {
     /// The cone as a unit axis and the cosine of its half-angle (a root normal `n` is in it
     /// when `n · axis ≥ cos`), for selections named `what` in errors: a zero or non-finite
     /// direction, or a half-angle outside [0, 180] degrees, is refused.
-    pub(crate) fn cone(&self, what: &str) -> Result<(Vector3<f32>, f32), String> {
+    pub(crate) fn cone(
+        &self,
+        what: &str,
+    ) -> Result<(Vector3<f32>, f32), guide_anim::SelectionError> {
         let axis = Vector3::from(self.direction);
         if !(axis.iter().all(|c| c.is_finite())
             && axis.norm() > 0.0
             && (0.0..=180.0).contains(&self.max_angle_deg))
         {
-            return Err(format!(
-                "{what} region: give a non-zero direction and max_angle_deg in [0, 180]"
-            ));
+            return Err(guide_anim::SelectionError::Cone {
+                selection: what.to_string(),
+                direction: self.direction,
+                max_angle_deg: self.max_angle_deg,
+            });
         }
         Ok((axis.normalize(), self.max_angle_deg.to_radians().cos()))
     }
@@ -490,19 +499,15 @@ impl SceneFile {
     /// device, FIFO or directory is refused by name before it is opened).
     pub fn load(path: &Path) -> Result<Self, SceneError> {
         let origin = path.display().to_string();
-        let bytes =
-            hair_groom::input_file::read_regular_file(path, MAX_SCENE_FILE_BYTES).map_err(|e| {
-                SceneError {
-                    file: origin.clone(),
-                    message: format!("cannot read the scene file: {e}"),
-                }
-            })?;
-        let text = String::from_utf8(bytes).map_err(|e| SceneError {
-            file: origin.clone(),
-            message: format!(
-                "not a text file (byte {} is not UTF-8); a scene is TOML text",
-                e.utf8_error().valid_up_to()
-            ),
+        let bytes = hair_groom::input_file::read_regular_file(path, MAX_SCENE_FILE_BYTES)
+            .map_err(|e| SceneError::new(origin.clone(), SceneProblem::Read(e)))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            SceneError::new(
+                origin.clone(),
+                SceneProblem::NotText {
+                    byte: e.utf8_error().valid_up_to(),
+                },
+            )
         })?;
         let base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         Self::parse(&text, &origin, base_dir)
@@ -511,14 +516,9 @@ impl SceneFile {
     /// Parses scene text; `origin` names it in errors. A `version` newer than [`SCENE_VERSION`]
     /// is refused (see [`version`]).
     pub fn parse(text: &str, origin: &str, base_dir: PathBuf) -> Result<Self, SceneError> {
-        version::check(text).map_err(|message| SceneError {
-            file: origin.to_string(),
-            message,
-        })?;
-        let scene: Scene = toml::from_str(text).map_err(|e| SceneError {
-            file: origin.to_string(),
-            message: format!("not a valid scene: {}", e.to_string().trim_end()),
-        })?;
+        version::check(text).map_err(|e| SceneError::new(origin, e))?;
+        let scene: Scene =
+            toml::from_str(text).map_err(|e| SceneError::new(origin, SceneProblem::Syntax(e)))?;
         Ok(Self {
             origin: origin.to_string(),
             base_dir,
@@ -541,11 +541,13 @@ impl SceneFile {
         h.update(serde_json::to_vec(&simulated).expect("a scene always serialises"));
         if let ScalpMesh::Obj { path, .. } = &self.scene.scalp.mesh {
             let full = self.base_dir.join(path);
-            let bytes = std::fs::read(&full).map_err(|e| self.error(format!(
-                "[scalp.mesh] path = {}: cannot read {} ({e}); fix the path (relative to the scene file)",
-                path.display(),
-                full.display()
-            )))?;
+            let bytes = std::fs::read(&full).map_err(|source| {
+                self.error(SceneProblem::Unreadable {
+                    field: format!("[scalp.mesh] path = {}", path.display()),
+                    path: full.clone(),
+                    source,
+                })
+            })?;
             h.update(bytes);
         }
         let frames = (self.scene.scene.frames[0], self.scene.scene.frames[1]);
@@ -562,14 +564,20 @@ impl SceneFile {
         );
         for (field, source) in sources {
             let Some(source) = source else { continue };
-            let files = deforming::hashed_files(source, &self.base_dir, frames)
-                .map_err(|e| self.error(format!("{field}: {e}")))?;
+            let files =
+                deforming::hashed_files(source, &self.base_dir, frames).map_err(|source| {
+                    self.error(SceneProblem::Deforming {
+                        field: field.clone(),
+                        source,
+                    })
+                })?;
             for full in files {
-                let bytes = std::fs::read(&full).map_err(|e| {
-                    self.error(format!(
-                        "{field}: cannot read {} ({e}); fix the path (relative to the scene file)",
-                        full.display()
-                    ))
+                let bytes = std::fs::read(&full).map_err(|source| {
+                    self.error(SceneProblem::Unreadable {
+                        field: field.clone(),
+                        path: full.clone(),
+                        source,
+                    })
                 })?;
                 h.update(bytes);
             }
@@ -577,13 +585,12 @@ impl SceneFile {
         for (i, c) in self.scene.colliders.iter().enumerate() {
             if let ColliderShapeSection::Obj { path, .. } = &c.shape {
                 let full = self.base_dir.join(path);
-                let bytes = std::fs::read(&full).map_err(|e| {
-                    self.error(format!(
-                        "[[colliders]] #{i} shape path = {}: cannot read {} ({e}); fix the path \
-                         (relative to the scene file)",
-                        path.display(),
-                        full.display()
-                    ))
+                let bytes = std::fs::read(&full).map_err(|source| {
+                    self.error(SceneProblem::Unreadable {
+                        field: format!("[[colliders]] #{i} shape path = {}", path.display()),
+                        path: full.clone(),
+                        source,
+                    })
                 })?;
                 h.update(bytes);
             }
@@ -591,11 +598,8 @@ impl SceneFile {
         Ok(h.finalize().iter().map(|b| format!("{b:02x}")).collect())
     }
 
-    /// A [`SceneError`] of this scene with `message`.
-    pub(crate) fn error(&self, message: String) -> SceneError {
-        SceneError {
-            file: self.origin.clone(),
-            message,
-        }
+    /// A [`SceneError`] of this scene for `problem`.
+    pub(crate) fn error(&self, problem: impl Into<SceneProblem>) -> SceneError {
+        SceneError::new(self.origin.clone(), problem)
     }
 }

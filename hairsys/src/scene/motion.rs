@@ -48,23 +48,20 @@ pub struct RigidMotion {
 
 impl RigidMotion {
     /// Checks keys are finite and strictly increasing in frame; returns a message naming the key.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), MotionError> {
         for (i, k) in self.keys.iter().enumerate() {
             let finite = k.frame.is_finite()
                 && k.translation.iter().all(|v| v.is_finite())
                 && k.rotation_deg.iter().all(|v| v.is_finite());
             if !finite {
-                return Err(format!(
-                    "key {i} has a non-finite value; use finite numbers"
-                ));
+                return Err(MotionError::NotFinite { key: i });
             }
             if i > 0 && k.frame <= self.keys[i - 1].frame {
-                return Err(format!(
-                    "key {i} is at frame {} but key {} is at frame {}; keys must be in increasing frame order",
-                    k.frame,
-                    i - 1,
-                    self.keys[i - 1].frame
-                ));
+                return Err(MotionError::Unordered {
+                    key: i,
+                    frame: k.frame,
+                    previous: self.keys[i - 1].frame,
+                });
             }
         }
         Ok(())
@@ -101,6 +98,32 @@ impl RigidMotion {
         let (tb, rb) = key(b);
         (ta.lerp(&tb, s), ra.lerp(&rb, s))
     }
+}
+
+/// Why keyframed rigid motion is refused; the caller names the section (`[scalp.motion]`,
+/// `[[colliders]] #i motion`).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MotionError {
+    /// A key has a non-finite frame, translation or rotation.
+    #[error("key {key} has a non-finite value; use finite numbers")]
+    NotFinite {
+        /// The key's index.
+        key: usize,
+    },
+    /// A key is not after the one before it.
+    #[error(
+        "key {key} is at frame {frame} but key {} is at frame {previous}; keys must be in \
+         increasing frame order",
+        .key - 1
+    )]
+    Unordered {
+        /// The key's index.
+        key: usize,
+        /// Its frame.
+        frame: f32,
+        /// The frame of the key before it.
+        previous: f32,
+    },
 }
 
 #[cfg(test)]
@@ -148,6 +171,6 @@ mod tests {
     fn unordered_keys_are_named() {
         let mut m = motion(Interpolation::Linear);
         m.keys[1].frame = 1.0;
-        assert!(m.validate().unwrap_err().contains("key 1"));
+        assert!(m.validate().unwrap_err().to_string().contains("key 1"));
     }
 }

@@ -38,8 +38,8 @@ use hair_core::{Anchor, HairParams, StrandScales, StrandSet, TriMesh};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-use crate::scene::guide_anim::HairSelection;
-use crate::scene::maps::ScalpMaps;
+use crate::scene::guide_anim::{HairSelection, SelectionError};
+use crate::scene::maps::{MapsError, ScalpMaps};
 
 /// `[[regions]]`: one named region and its parameters (absent keys: the scene's).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
@@ -151,25 +151,18 @@ impl Regions {
         strands: &mut StrandSet,
         roots: &StrandRoots,
         maps: &ScalpMaps,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, RegionError> {
         let mut regions: Vec<BuiltRegion> = Vec::with_capacity(sections.len());
         for (i, r) in sections.iter().enumerate() {
             let what = format!("[[regions]] #{i} \"{}\"", r.name);
             if r.name.trim().is_empty() {
-                return Err(format!(
-                    "[[regions]] #{i} has no name; give name = \"fringe\" (errors and the \
-                     library name regions)"
-                ));
+                return Err(RegionError::Unnamed { index: i });
             }
             if regions.iter().any(|b| b.name == r.name) {
-                return Err(format!(
-                    "{what}: another region has this name; give each region its own"
-                ));
+                return Err(RegionError::SameName { region: what });
             }
             if r.select.is_empty() {
-                return Err(format!(
-                    "{what} selects no hair: give `guides`, `strands`, `region` or `map`"
-                ));
+                return Err(SelectionError::Nothing { selection: what }.into());
             }
             check_params(&r.params, params, &what)?;
             let chosen = select(&r.select, &what, strands, roots, maps)?;
@@ -196,12 +189,12 @@ impl Regions {
             if (mass, radius) != (1.0, 1.0) {
                 strands
                     .scale_strand(s, mass, radius)
-                    .map_err(|e| format!("[[regions]] {e}"))?;
+                    .map_err(RegionError::Material)?;
             }
         }
         let mut stiffness_map = Vec::new();
         if let Some(map) = maps.get("stiffness") {
-            let mesh = roots.mesh.ok_or("[maps.stiffness] needs a scalp mesh")?;
+            let mesh = roots.mesh.ok_or(MapsError::StiffnessWithoutScalp)?;
             stiffness_map = vec![1.0; strands.len()];
             for (s, f) in stiffness_map.iter_mut().enumerate() {
                 let Anchor::Surface(sample) = strands.anchors()[s] else {
@@ -209,12 +202,13 @@ impl Regions {
                 };
                 let v = map
                     .at(mesh, &sample, &format!("strand {s}"))
-                    .map_err(|e| e.to_string())?;
+                    .map_err(MapsError::Map)?;
                 if !(v.is_finite() && v >= 0.0) {
-                    return Err(format!(
-                        "[maps.stiffness] is {v} at strand {s}: a stiffness factor is ≥ 0 \
-                         (0 = no bending, 1 = [physics] bend_stiffness); paint values ≥ 0"
-                    ));
+                    return Err(MapsError::StiffnessFactor {
+                        value: v,
+                        strand: s,
+                    }
+                    .into());
                 }
                 *f = v;
             }
@@ -231,7 +225,7 @@ impl Regions {
         &self,
         params: &HairParams,
         strand_count: usize,
-    ) -> Result<Vec<StrandScales>, String> {
+    ) -> Result<Vec<StrandScales>, RegionError> {
         if self.is_empty() {
             return Ok(Vec::new());
         }
@@ -269,20 +263,22 @@ impl Regions {
 
 /// Checks a region's values: finite, ≥ 0 (stretch and mass > 0), and no component the scene
 /// has off.
-pub fn check_params(r: &RegionParams, params: &HairParams, what: &str) -> Result<(), String> {
+pub fn check_params(r: &RegionParams, params: &HairParams, what: &str) -> Result<(), RegionError> {
     factors(r, params, what)?;
     if let Some(m) = r.mass_scale {
         if !(m.is_finite() && m > 0.0) {
-            return Err(format!(
-                "{what} mass_scale = {m}: give a finite factor > 0 of the hair's masses"
-            ));
+            return Err(RegionError::MassScale {
+                region: what.to_string(),
+                value: m,
+            });
         }
     }
     if let Some(m) = r.radius_scale {
         if !(m.is_finite() && m >= 0.0) {
-            return Err(format!(
-                "{what} radius_scale = {m}: give a finite factor ≥ 0 of the hair's radii"
-            ));
+            return Err(RegionError::RadiusScale {
+                region: what.to_string(),
+                value: m,
+            });
         }
     }
     Ok(())
@@ -290,7 +286,11 @@ pub fn check_params(r: &RegionParams, params: &HairParams, what: &str) -> Result
 
 /// The factors of `params` a region's values make (stretch, bend, goal, damping, drag; None
 /// where the region keeps the scene's value).
-fn factors(r: &RegionParams, params: &HairParams, what: &str) -> Result<[Option<f32>; 5], String> {
+fn factors(
+    r: &RegionParams,
+    params: &HairParams,
+    what: &str,
+) -> Result<[Option<f32>; 5], RegionError> {
     let mut out = [None; 5];
     for (slot, (key, value, scene)) in out.iter_mut().zip(r.solver_keys()) {
         let Some(value) = value else { continue };
@@ -302,20 +302,23 @@ fn factors(r: &RegionParams, params: &HairParams, what: &str) -> Result<[Option<
         };
         let valid = value.is_finite() && (value > 0.0 || (value == 0.0 && least == "≥ 0"));
         if !valid {
-            return Err(format!(
-                "{what} {key} = {value}: give a finite value {least} in [physics]'s units"
-            ));
+            return Err(RegionError::Parameter {
+                region: what.to_string(),
+                key,
+                value,
+                least,
+            });
         }
         *slot = Some(if scene > 0.0 {
             value / scene
         } else if value == 0.0 {
             1.0
         } else {
-            return Err(format!(
-                "{what} {key} = {value}, but [physics] {key} = 0 switches it off for all hair: a \
-                 region scales the scene's material, so set [physics] {key} > 0 (and give the \
-                 other hair its own region, or 0 here) or remove the key"
-            ));
+            return Err(RegionError::SwitchedOff {
+                region: what.to_string(),
+                key,
+                value,
+            });
         });
     }
     Ok(out)
@@ -329,22 +332,23 @@ fn select(
     strands: &StrandSet,
     roots: &StrandRoots,
     maps: &ScalpMaps,
-) -> Result<Vec<bool>, String> {
+) -> Result<Vec<bool>, SelectionError> {
     let count = strands.len();
     let mut chosen = vec![false; count];
+    let selection = || what.to_string();
     if let Some(list) = &s.guides {
         if roots.guide_count == 0 {
-            return Err(format!(
-                "{what} guides: the scene has no [guides]; select by `strands`, `region` or `map`"
-            ));
+            return Err(SelectionError::NoGuides {
+                selection: selection(),
+            });
         }
         for &g in list {
             if g >= roots.guide_count {
-                return Err(format!(
-                    "{what} guides names guide {g}, but there are {} guides (0–{})",
-                    roots.guide_count,
-                    roots.guide_count - 1
-                ));
+                return Err(SelectionError::Guide {
+                    selection: selection(),
+                    guide: g,
+                    count: roots.guide_count,
+                });
             }
         }
         for (c, nearest) in chosen.iter_mut().zip(roots.nearest_guide) {
@@ -353,11 +357,10 @@ fn select(
     }
     if let Some(list) = &s.strands {
         for &i in list {
-            *chosen.get_mut(i).ok_or_else(|| {
-                format!(
-                    "{what} strands names strand {i}, but the run has {count} strands (0–{})",
-                    count.saturating_sub(1)
-                )
+            *chosen.get_mut(i).ok_or_else(|| SelectionError::Strand {
+                selection: selection(),
+                strand: i,
+                count,
             })? = true;
         }
     }
@@ -366,9 +369,11 @@ fn select(
         Anchor::Body(_) => None,
     };
     if let Some(r) = &s.region {
-        let mesh = roots.mesh.ok_or_else(|| {
-            format!("{what} region: a cone of root normals needs a scalp mesh; select by `strands`")
-        })?;
+        let mesh = roots
+            .mesh
+            .ok_or_else(|| SelectionError::RegionWithoutScalp {
+                selection: selection(),
+            })?;
         let (axis, cos) = r.cone(what)?;
         for (i, c) in chosen.iter_mut().enumerate() {
             if let Some(sample) = surface(i) {
@@ -379,23 +384,98 @@ fn select(
     }
     if let Some(m) = &s.map {
         let map = maps.selected(m, what)?;
-        let mesh = roots
-            .mesh
-            .ok_or_else(|| format!("{what} map: a painted map needs a scalp mesh"))?;
+        let mesh = roots.mesh.ok_or_else(|| SelectionError::MapWithoutScalp {
+            selection: selection(),
+        })?;
         for (i, c) in chosen.iter_mut().enumerate() {
             if let Some(sample) = surface(i) {
                 *c |= m.contains(
                     map.at(mesh, &sample, &format!("strand {i}"))
-                        .map_err(|e| e.to_string())?,
+                        .map_err(MapsError::Map)?,
                 );
             }
         }
     }
     if !chosen.iter().any(|&c| c) {
-        return Err(format!(
-            "{what} names no hair: no strand matches its guides, strands, region or map; widen \
-             the selection"
-        ));
+        return Err(SelectionError::NoHair {
+            selection: selection(),
+            hairs: "strand",
+        });
     }
     Ok(chosen)
 }
+
+/// Why `[[regions]]` (or a host's region parameters) are refused. `region` names the region
+/// as the message shows it (`[[regions]] #i "name"`, `region "name"`).
+#[derive(Debug, thiserror::Error)]
+pub enum RegionError {
+    /// A region without a name.
+    #[error(
+        "[[regions]] #{index} has no name; give name = \"fringe\" (errors and the library name \
+         regions)"
+    )]
+    Unnamed {
+        /// The region's index in `[[regions]]`.
+        index: usize,
+    },
+    /// Two regions with one name.
+    #[error("{region}: another region has this name; give each region its own")]
+    SameName {
+        /// The second region.
+        region: String,
+    },
+    /// The region's selection of hair is refused.
+    #[error("{0}")]
+    Selection(Box<SelectionError>),
+    /// A solver parameter that is not finite or below its least value.
+    #[error("{region} {key} = {value}: give a finite value {least} in [physics]'s units")]
+    Parameter {
+        /// The region.
+        region: String,
+        /// The key (`bend_stiffness`, …).
+        key: &'static str,
+        /// The value given.
+        value: f32,
+        /// The allowed range: `"> 0"` or `"≥ 0"`.
+        least: &'static str,
+    },
+    /// A parameter the scene switches off (0 in `[physics]`), which a region cannot scale.
+    #[error(
+        "{region} {key} = {value}, but [physics] {key} = 0 switches it off for all hair: a region \
+         scales the scene's material, so set [physics] {key} > 0 (and give the other hair its \
+         own region, or 0 here) or remove the key"
+    )]
+    SwitchedOff {
+        /// The region.
+        region: String,
+        /// The key.
+        key: &'static str,
+        /// The value given.
+        value: f32,
+    },
+    /// `mass_scale` not a finite factor > 0.
+    #[error("{region} mass_scale = {value}: give a finite factor > 0 of the hair's masses")]
+    MassScale {
+        /// The region.
+        region: String,
+        /// The value given.
+        value: f32,
+    },
+    /// `radius_scale` not a finite factor ≥ 0.
+    #[error("{region} radius_scale = {value}: give a finite factor ≥ 0 of the hair's radii")]
+    RadiusScale {
+        /// The region.
+        region: String,
+        /// The value given.
+        value: f32,
+    },
+    /// A strand's masses or radii cannot be scaled.
+    #[error("[[regions]] {0}")]
+    Material(#[source] hair_core::HairError),
+    /// `[maps.stiffness]` cannot be applied.
+    #[error("{0}")]
+    Maps(Box<MapsError>),
+}
+
+boxed_from!(RegionError, Selection, SelectionError);
+boxed_from!(RegionError, Maps, MapsError);

@@ -74,34 +74,33 @@ impl Default for StripsSection {
 
 impl StripsSection {
     /// The strip-model settings of the section.
-    pub fn settings(&self) -> Result<StripSettings, String> {
+    pub fn settings(&self) -> Result<StripSettings, StripsError> {
         let root_angle = self
             .root_angle_deg
             .map(|deg| RootAngleLimit::new(deg.to_radians()))
             .transpose()
-            .map_err(|e| format!("[strips] {e}"))?;
+            .map_err(StripsError::Invalid)?;
         let s = StripSettings {
             max_strain: self.max_strain,
             root_angle,
             clearance: self.clearance,
         };
-        s.validate().map_err(|e| format!("[strips] {e}"))?;
+        s.validate().map_err(StripsError::Invalid)?;
         Ok(s)
     }
 
     /// Grows the strips on `mesh` (the scalp at rest, m).
-    pub fn build(&self, mesh: &TriMesh) -> Result<StripSet, String> {
+    pub fn build(&self, mesh: &TriMesh) -> Result<StripSet, StripsError> {
         if self.every == 0 {
-            return Err("[strips] every = 0: use every n-th triangle with n ≥ 1".into());
+            return Err(StripsError::EveryZero);
         }
         let cone = match &self.region {
             Some(r) => {
                 let axis = Vector3::from(r.direction);
                 let Some(axis) = axis.try_normalize(1e-12) else {
-                    return Err(format!(
-                        "[strips] region.direction = {:?} has no length; give an axis",
-                        r.direction
-                    ));
+                    return Err(StripsError::NoDirection {
+                        direction: r.direction,
+                    });
                 };
                 Some((axis, r.max_angle_deg.to_radians().cos()))
             }
@@ -131,7 +130,7 @@ impl StripsSection {
             mass_per_length: self.mass_per_length,
             radius: self.radius,
         };
-        StripSet::from_triangles(mesh, &triangles, &growth).map_err(|e| format!("[strips] {e}"))
+        StripSet::from_triangles(mesh, &triangles, &growth).map_err(StripsError::Invalid)
     }
 }
 
@@ -143,45 +142,22 @@ pub fn build_into(
     scene: &crate::scene::Scene,
     mesh: Option<&TriMesh>,
     strands: &mut hair_core::StrandSet,
-) -> Result<Option<StripSettings>, String> {
+) -> Result<Option<StripSettings>, StripsError> {
     let strips_model = scene.solver.model == hair_core::StrandModel::Strips;
-    let section =
-        match (&scene.strips, strips_model) {
-            (None, false) => return Ok(None),
-            (Some(_), false) => return Err(
-                "[strips] is given but [solver] model is not \"strips\"; set model = \"strips\" \
-                 or remove [strips]"
-                    .into(),
-            ),
-            (None, true) => {
-                return Err(
-                    "[solver] model = \"strips\" needs a [strips] section (e.g. length = 0.2, \
-                 segments = 8, hairs_per_strip = 100)"
-                        .into(),
-                )
-            }
-            (Some(section), true) => section,
-        };
+    let section = match (&scene.strips, strips_model) {
+        (None, false) => return Ok(None),
+        (Some(_), false) => return Err(StripsError::WithoutModel),
+        (None, true) => return Err(StripsError::MissingSection),
+        (Some(section), true) => section,
+    };
     if !strands.is_empty() || scene.guides.is_some() {
-        return Err(
-            "[solver] model = \"strips\" grows its own edge strands from [strips]; remove [hair], \
-             [guides] and [[strands]]"
-                .into(),
-        );
+        return Err(StripsError::OtherHair);
     }
     if scene.hair_hair.is_some() || !scene.fields.is_empty() {
-        return Err(
-            "[hair_hair] and [[fields]] act on the mass-spring model only; remove them or set \
-             [solver] model = \"mass-spring\""
-                .into(),
-        );
+        return Err(StripsError::MassSpringOnly);
     }
     let Some(mesh) = mesh else {
-        return Err(
-            "[strips] grows strips on scalp triangles, but [scalp.mesh] kind = \"none\"; choose a \
-             scalp mesh"
-                .into(),
-        );
+        return Err(StripsError::NoScalp);
     };
     let settings = section.settings()?;
     let set = section.build(mesh)?;
@@ -202,11 +178,61 @@ pub fn build_into(
     if let Some(style) = &section.style {
         // One seed for every strip: with `layer = 0` both edges of a card lie at one height.
         let opts = style.options(&scene.physics.gravity(), 0);
-        hair_groom::lay_over_scalp(&mut inputs, mesh, &opts)
-            .map_err(|e| format!("[strips.style] {e}"))?;
+        hair_groom::lay_over_scalp(&mut inputs, mesh, &opts).map_err(StripsError::Style)?;
     }
     for input in inputs {
-        strands.push(input).map_err(|e| format!("[strips] {e}"))?;
+        strands.push(input).map_err(StripsError::Invalid)?;
     }
     Ok(Some(settings))
+}
+
+/// Why the `[strips]` section (or the strips model) is refused.
+#[derive(Debug, thiserror::Error)]
+pub enum StripsError {
+    /// A value of the section is out of range, or the strips cannot be grown (the solver's
+    /// check).
+    #[error("[strips] {0}")]
+    Invalid(#[source] hair_core::HairError),
+    /// `every = 0`.
+    #[error("[strips] every = 0: use every n-th triangle with n ≥ 1")]
+    EveryZero,
+    /// The region's direction has no length.
+    #[error("[strips] region.direction = {direction:?} has no length; give an axis")]
+    NoDirection {
+        /// The direction given.
+        direction: [f32; 3],
+    },
+    /// `[strips]` without `[solver] model = "strips"`.
+    #[error(
+        "[strips] is given but [solver] model is not \"strips\"; set model = \"strips\" or \
+         remove [strips]"
+    )]
+    WithoutModel,
+    /// `[solver] model = "strips"` without `[strips]`.
+    #[error(
+        "[solver] model = \"strips\" needs a [strips] section (e.g. length = 0.2, segments = 8, \
+         hairs_per_strip = 100)"
+    )]
+    MissingSection,
+    /// Other hair (`[hair]`, `[guides]`, `[[strands]]`) beside the strips.
+    #[error(
+        "[solver] model = \"strips\" grows its own edge strands from [strips]; remove [hair], \
+         [guides] and [[strands]]"
+    )]
+    OtherHair,
+    /// `[hair_hair]` or `[[fields]]` with the strips model.
+    #[error(
+        "[hair_hair] and [[fields]] act on the mass-spring model only; remove them or set \
+         [solver] model = \"mass-spring\""
+    )]
+    MassSpringOnly,
+    /// No scalp mesh to grow strips on.
+    #[error(
+        "[strips] grows strips on scalp triangles, but [scalp.mesh] kind = \"none\"; choose a \
+         scalp mesh"
+    )]
+    NoScalp,
+    /// `[strips.style]` cannot lay the strips.
+    #[error("[strips.style] {0}")]
+    Style(#[source] hair_groom::GroomError),
 }

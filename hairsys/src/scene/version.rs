@@ -35,7 +35,7 @@ struct VersionProbe {
 
 /// Checks the top-level `version` of scene `text`: absent, or a whole number from 1 to
 /// [`SCENE_VERSION`]. Text that is not valid TOML passes (the full parse reports it).
-pub(crate) fn check(text: &str) -> Result<(), String> {
+pub(crate) fn check(text: &str) -> Result<(), VersionError> {
     let Ok(VersionProbe {
         version: Some(value),
     }) = toml::from_str::<VersionProbe>(text)
@@ -44,16 +44,36 @@ pub(crate) fn check(text: &str) -> Result<(), String> {
     };
     match value.as_integer() {
         Some(v) if (1..=i64::from(SCENE_VERSION)).contains(&v) => Ok(()),
-        Some(v) if v > i64::from(SCENE_VERSION) => Err(format!(
-            "version = {v}: this scene is written for scene format {v}, but this hairsys reads \
-             format {SCENE_VERSION} at most; update hairsys, or rewrite the scene for format \
-             {SCENE_VERSION} and set version = {SCENE_VERSION}"
-        )),
-        _ => Err(format!(
-            "version = {value}: the scene format version is a whole number from 1 to \
-             {SCENE_VERSION}; write version = {SCENE_VERSION} (or leave it out: absent = 1)"
-        )),
+        Some(v) if v > i64::from(SCENE_VERSION) => Err(VersionError::Newer { version: v }),
+        _ => Err(VersionError::Invalid { given: value }),
     }
+}
+
+/// Why a scene's `version` key is refused (checked before the rest of the scene is read, so a
+/// newer scene's new keys are not reported as unknown).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum VersionError {
+    /// The scene is written for a newer scene format than this hairsys reads: update hairsys.
+    #[error(
+        "version = {version}: this scene is written for scene format {version}, but this \
+         hairsys reads format {max} at most; update hairsys, or rewrite the scene for format \
+         {max} and set version = {max}",
+        max = SCENE_VERSION
+    )]
+    Newer {
+        /// The scene's `version`.
+        version: i64,
+    },
+    /// `version` is not a whole number from 1 to [`SCENE_VERSION`].
+    #[error(
+        "version = {given}: the scene format version is a whole number from 1 to {max}; write \
+         version = {max} (or leave it out: absent = 1)",
+        max = SCENE_VERSION
+    )]
+    Invalid {
+        /// The value given, as written.
+        given: toml::Value,
+    },
 }
 
 #[cfg(test)]

@@ -58,10 +58,10 @@ impl Session {
         let solver = sim.strand_solver().map_err(solver_error)?;
         let first = sim.first_frame as f32;
         let colliders = sim.colliders_at(first).map_err(|e| {
-            Error::Scene(crate::scene::SceneError {
-                file: origin.clone(),
-                message: sim.collider_message(&e),
-            })
+            Error::Scene(crate::scene::SceneError::new(
+                origin.clone(),
+                sim.collider_problem(e),
+            ))
         })?;
         let scalp_collider = sim
             .scalp_collider

@@ -197,7 +197,7 @@ impl Session {
             .guides_or_err("points")?
             .animation
             .pose_from_points(points)
-            .map_err(|m| Error::argument("points", m))?;
+            .map_err(|e| Error::argument("points", e.to_string()))?;
         self.pending.guide_pose = Some(pose);
         Ok(())
     }

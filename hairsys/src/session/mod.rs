@@ -240,10 +240,7 @@ pub struct FrameView<'a> {
 }
 
 impl SceneAnimation {
-    fn scene_error(&self, e: &HairError) -> crate::scene::SceneError {
-        crate::scene::SceneError {
-            file: self.origin.clone(),
-            message: self.sim.collider_message(e),
-        }
+    fn scene_error(&self, e: HairError) -> crate::scene::SceneError {
+        crate::scene::SceneError::new(self.origin.clone(), self.sim.collider_problem(e))
     }
 }

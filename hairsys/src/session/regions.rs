@@ -77,11 +77,12 @@ impl Session {
                  scene's values",
             ));
         }
-        check_params(&params, &current, &argument).map_err(|m| Error::argument(&argument, m))?;
+        check_params(&params, &current, &argument)
+            .map_err(|e| Error::argument(&argument, e.to_string()))?;
         region.params = params;
         let scales = changed
             .scales(&current, self.strands.len())
-            .map_err(|m| Error::argument(&argument, m))?;
+            .map_err(|e| Error::argument(&argument, e.to_string()))?;
         let count = self.strands.len();
         let solver = self.solver.mass_spring_mut().expect("checked above");
         solver

@@ -85,7 +85,7 @@ impl Session {
                 if !pending.posed.get(i).copied().unwrap_or(false) {
                     self.colliders
                         .set_pose(id, c.motion.at(frame as f32))
-                        .map_err(|e| Error::Scene(a.scene_error(&e)))?;
+                        .map_err(|e| Error::Scene(a.scene_error(e)))?;
                 }
                 // A deforming collider of the scene (USD, OBJ sequence) takes the frame's
                 // vertices unless the host deformed it.
@@ -95,7 +95,7 @@ impl Session {
                 ) {
                     self.colliders
                         .set_vertices(id, &anim.vertices_at(frame as f32))
-                        .map_err(|e| Error::Scene(a.scene_error(&e)))?;
+                        .map_err(|e| Error::Scene(a.scene_error(e)))?;
                 }
             }
         }
