@@ -131,8 +131,7 @@ pub(crate) fn put_back_escapees(
                 let allowed = if input.contact_size[i] == NO_CONTACT {
                     0.0
                 } else {
-                    SETTLED_DEPTH
-                        + (input.found_depth[i] - input.max_push_speed * step_dt).max(0.0)
+                    SETTLED_DEPTH + (input.found_depth[i] - input.max_push_speed * step_dt).max(0.0)
                 };
                 for (c, col) in step.iter().enumerate() {
                     let m = &mut memory[j * count + c];

@@ -173,7 +173,9 @@ fn swept_surface_model<L: Lane>(x: &V3<L>, c: &ContactLanes<L>, t_end: L, inv_dt
     // First s ∈ [0, 1] with |w0 − s·travel| = ρ: s² T − 2 s (w0·travel) + |w0|² − ρ² = 0.
     let b = w0.dot(&travel);
     let disc = (b * b - travel2 * (r0 - rho * rho)).max(zero);
-    let s = div_or_zero(b - disc.sqrt(), travel2, 1e-30).max(zero).min(one);
+    let s = div_or_zero(b - disc.sqrt(), travel2, 1e-30)
+        .max(zero)
+        .min(one);
     let at = w0 - travel * s;
     let hit_n = at * div_or_zero(one, at.dot(&at).sqrt(), 1e-12);
     let hit_d = hit_n.dot(&w1) - rho;
@@ -425,8 +427,15 @@ mod tests {
         let end = (x + (v + push) * splat(dt)).lane(0);
         let centre_end = Vector3::new(speed * dt, 0.0, 0.0);
         let w = end - centre_end;
-        assert!(w.norm() >= 0.1 - 1e-5, "outside the ball at the end: {}", w.norm());
-        assert!(w.x > 0.0, "ahead of the ball's centre, not behind it: {w:?}");
+        assert!(
+            w.norm() >= 0.1 - 1e-5,
+            "outside the ball at the end: {}",
+            w.norm()
+        );
+        assert!(
+            w.x > 0.0,
+            "ahead of the ball's centre, not behind it: {w:?}"
+        );
         // It is carried along with the ball, never faster than the ball's own normal speed.
         let kept = v.lane(0);
         assert!(kept.x > 0.0 && kept.norm() <= speed + 1e-3, "{kept:?}");
