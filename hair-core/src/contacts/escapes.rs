@@ -8,27 +8,15 @@
 //! frame inside the collider (2.2 cm on that scene). The next step's detection would find it and
 //! push it out, but the frame would already be cached with it inside.
 //!
-//! So after a frame's last step every free point is checked against every collider, at the
-//! colliders' end-of-frame poses. Detection's memory makes this nearly free: a
+//! So after a frame's last step every free point that had no contact is checked against every
+//! collider, at the colliders' end-of-frame poses. Detection's memory makes this nearly free: a
 //! point at distance `≥ bound` from the surface at body-space position `at` is still at least
 //! `bound − |p − at|` away at `p` (the distance is 1-Lipschitz), and for a point that kept to its
 //! margin that exceeds its hair radius plus the collider's thickness. Only a point for which it
 //! does not is projected exactly; if its centre is closer to the surface than radius plus
 //! thickness (or inside a solid) it is moved to that distance along the surface normal, and its
-//! velocity relative to the collider loses any part pointing into the surface. A point that
-//! is not moved keeps its bits.
-//!
-//! **Points in contact** are checked too. The response lands them on the contact's local
-//! surface model (a plane or sphere moving with the collider, see `penalty`), which at the
-//! implicit integrators' long substeps can drift from the exact surface where hair slides over
-//! a turning part of it or the collider moves within the step: on the shipped scenes at 7 BDF2
-//! substeps per frame such points ended frames up to 0.26 mm inside, and a gust swept into the
-//! head 0.85 mm. A point in contact is left alone within [`SETTLED_DEPTH`] (the model's own
-//! error, which includes the smooth sphere lying below the facets of a mesh) plus whatever of
-//! the depth found at detection the response has not yet eased out at the push speed (hair that
-//! started inside leaves over several substeps, see `penalty`); deeper, it is moved back to that
-//! depth. Hair resting on a collider costs a projection per point in contact per frame, on a
-//! convex part of a mesh a plane test or two (the detection's shortcut).
+//! velocity relative to the collider loses any part pointing into the surface. A scene where no
+//! point outruns the margin is bit-identical with or without this check.
 //!
 //! The move back is a correction, not motion: the point's velocity keeps its tangential and
 //! outward parts and loses only what points into the surface, and the displacement is not
@@ -46,12 +34,6 @@ use super::detect::{step_colliders, Affine, NO_CONTACT};
 /// Points per parallel job.
 const CHUNK: usize = 4096;
 
-/// Depth (m) a point that had a contact in the last step may keep at the frame's end beyond
-/// what is left of the depth found at detection: the contact model's surface (a sphere from
-/// smooth normals, see `penalty`) lies below a faceted mesh by up to the facets' sagitta, and
-/// hair resting on it is left there; anything deeper is put back.
-pub(crate) const SETTLED_DEPTH: f32 = 2.5e-5;
-
 /// What the check reads and changes of the strands.
 pub(crate) struct EscapeInput<'a> {
     /// Positions at the frame's end, world, m (points put back are moved).
@@ -65,48 +47,24 @@ pub(crate) struct EscapeInput<'a> {
     /// The last step's contacts: plane offset or sphere radius per point, [`NO_CONTACT`] for
     /// none.
     pub contact_size: &'a [f32],
-    /// The last step's contacts: depth found at detection per point, m (0 without a contact).
-    pub found_depth: &'a [f32],
-    /// Speed at which the response eases found depth out, m/s
-    /// ([`super::ContactSettings::max_push_speed`]).
-    pub max_push_speed: f32,
 }
 
-/// How many points the frame-end check put back.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub(crate) struct PutBack {
-    /// Points without a contact in the last step (they outran detection's margin).
-    pub escaped: usize,
-    /// Points with a contact in the last step, deeper than [`SETTLED_DEPTH`].
-    pub deep: usize,
-}
-
-impl std::iter::Sum for PutBack {
-    fn sum<I: Iterator<Item = Self>>(iter: I) -> Self {
-        iter.fold(Self::default(), |a, b| Self {
-            escaped: a.escaped + b.escaped,
-            deep: a.deep + b.deep,
-        })
-    }
-}
-
-/// Puts back on the surface every free point that ends the frame closer to a collider than its
-/// radius plus the collider's thickness: by any depth if it had no contact in the last step
-/// (from fraction `a` to 1 of the frame, `step_dt` s long), by more than [`SETTLED_DEPTH`] if it
-/// had one. Returns how many points were put back.
+/// Puts back on the surface every free point without a contact in the last step (from fraction
+/// `a` to 1 of the frame, `step_dt` s long) that ends the frame closer to a collider than its
+/// radius plus the collider's thickness. Returns how many points were put back.
 pub(crate) fn put_back_escapees(
     colliders: &mut Colliders,
     a: f32,
     step_dt: f32,
     input: EscapeInput,
-) -> PutBack {
+) -> usize {
     // Deforming meshes stand at the frame's end, with the last step's motion.
     colliders.place_meshes(1.0, a, 1.0);
     let count = colliders.entries.len();
     let n = input.positions.len();
     let memory = &mut colliders.clearance.memory;
     if count == 0 || memory.len() != n * count {
-        return PutBack::default();
+        return 0;
     }
     let step = step_colliders(&colliders.entries, a, 1.0, true);
     let to_body: Vec<Affine> = step.iter().map(|c| Affine::from(c.end.inverse())).collect();
@@ -118,36 +76,26 @@ pub(crate) fn put_back_escapees(
         .enumerate()
         .map(|(k, ((x, v), memory))| {
             let base = k * CHUNK;
-            let mut caught = PutBack::default();
+            let mut caught = 0;
             for (j, (x, v)) in x.iter_mut().zip(v.iter_mut()).enumerate() {
                 let i = base + j;
-                if input.inv_mass[i] == 0.0 {
+                if input.inv_mass[i] == 0.0 || input.contact_size[i] != NO_CONTACT {
                     continue;
                 }
-                // Depth left alone: none for a point without a contact; for one with a contact,
-                // the contact model's own error plus what the response has not yet eased out of
-                // the depth found at detection (hair that started inside leaves at the push
-                // speed, not at once).
-                let allowed = if input.contact_size[i] == NO_CONTACT {
-                    0.0
-                } else {
-                    SETTLED_DEPTH + (input.found_depth[i] - input.max_push_speed * step_dt).max(0.0)
-                };
                 for (c, col) in step.iter().enumerate() {
                     let m = &mut memory[j * count + c];
                     let local = to_body[c].apply(x);
                     let keep = input.radii[i] + col.thickness;
-                    if m.clear_of(&local, keep - allowed) {
+                    if m.clear_of(&local, keep) {
                         continue;
                     }
                     let Some(hit) = m.project(col, local, keep, m.hint) else {
                         continue;
                     };
-                    if hit.signed >= keep - allowed {
+                    if hit.signed >= keep {
                         continue;
                     }
-                    // Back to the depth allowed (0: onto the surface), no farther.
-                    let target = hit.local_point + hit.local_normal * (keep - allowed);
+                    let target = hit.local_point + hit.local_normal * keep;
                     *x = (col.end * Point3::from(target)).coords;
                     let normal = col.end.rotation * hit.local_normal;
                     let surface = col.surface_velocity(&target, &hit.motion, step_dt);
@@ -158,11 +106,7 @@ pub(crate) fn put_back_escapees(
                     // Forget the distance (its exact value is measured at the next step).
                     m.at = target;
                     m.bound = f32::NEG_INFINITY;
-                    if allowed == 0.0 {
-                        caught.escaped += 1;
-                    } else {
-                        caught.deep += 1;
-                    }
+                    caught += 1;
                 }
             }
             caught

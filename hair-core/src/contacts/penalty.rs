@@ -40,17 +40,6 @@
 //!   relative to the surface, `v_t`, shrinks by at most `μ Δ` (Coulomb: the friction impulse is at
 //!   most μ times the normal impulse), stopping at 0 (static friction) and never reversing.
 //!
-//! **Fast spheres.** The test above asks where the point would be at the substep's end if it
-//! stayed put. A convex contact sphere that moves more than its radius within a substep (a ball
-//! at 24 m/s at 8 substeps per frame moves 12.5 cm) can run over such a point: at the end the
-//! point lies behind the sphere's centre, the end-time normal points out of its far side, and
-//! the response would push the point through the ball. Where the sphere moves more than an
-//! eighth of its radius in the substep and the point is outside at the substep's start and
-//! inside at its end, the model is instead the tangent plane at the first contact along the
-//! point's path relative to the sphere, moving with it: the point is pushed ahead of the ball
-//! (continuous collision against the moving sphere). Planes need no such test (a plane moving
-//! along its normal cannot pass a point between the two times).
-//!
 //! **Velocities and positions.** Everywhere else in the substep the stored velocity is the one
 //! that moved the point (semi-implicit Euler, and the strain limit moves velocities by its
 //! displacements over dt, see `integrate::strain_limit`). The push-out is the one deliberate
@@ -106,7 +95,7 @@ pub(crate) fn respond<L: Lane>(
     max_push: L,
 ) -> V3<L> {
     let (zero, one) = (splat::<L>(0.0), splat::<L>(1.0));
-    let (n, d_end) = swept_surface_model(x, c, t_end, inv_dt);
+    let (n, d_end) = surface_model(x, c, t_end);
     let vn = n.dot(v);
     let v_target = -d_end * inv_dt;
     let touching = vn.simd_lt(v_target);
@@ -129,67 +118,6 @@ pub(crate) fn respond<L: Lane>(
     let allowed = max_push + (needed - c.found_depth * inv_dt).max(zero);
     n * L::select(touching, needed.min(allowed), zero)
 }
-
-/// Where a convex contact sphere moves more than [`SWEPT_FRACTION`] of its radius within the
-/// substep and runs over a point that stays put — outside it at the substep's start, inside at
-/// its end — the end-time sphere's normal can point out of its far side, and the response would
-/// push the point through the collider. For such lanes the model is instead the sphere's
-/// tangent plane at the first contact along the point's path relative to the sphere, moving
-/// with the sphere: the point is pushed ahead of it (continuous collision against the moving
-/// sphere). Every other lane gets [`surface_model`]. Returns the normal and the distance at
-/// `t_end`, as [`surface_model`] does; `inv_dt` is 1 / the substep, 1/s.
-#[inline(always)]
-fn swept_surface_model<L: Lane>(x: &V3<L>, c: &ContactLanes<L>, t_end: L, inv_dt: L) -> (V3<L>, L) {
-    let (n, d_end) = surface_model(x, c, t_end);
-    let (zero, one) = (splat::<L>(0.0), splat::<L>(1.0));
-    let fast = c.curved.simd_gt(zero);
-    if !L::any(fast) {
-        return (n, d_end);
-    }
-    // Convex spheres that move far within the substep and pass over the point.
-    let dt = div_or_zero(one, inv_dt, 1e-30);
-    let rho = c.size;
-    let travel = c.anchor_velocity * dt;
-    let travel2 = travel.dot(&travel);
-    let far = rho * splat(SWEPT_FRACTION);
-    let centre_end = c.anchor + c.anchor_velocity * t_end;
-    let w1 = *x - centre_end;
-    let w0 = w1 + travel;
-    let (r0, r1) = (w0.dot(&w0), w1.dot(&w1));
-    let gates = [
-        c.curved.simd_gt(zero),
-        rho.simd_gt(zero),
-        travel2.simd_gt(far * far),
-        r0.simd_gt(rho * rho),
-        r1.simd_lt(rho * rho),
-    ];
-    let all = gates
-        .iter()
-        .fold(one, |acc, &m| acc * L::select(m, one, zero));
-    let swept = all.simd_gt(zero);
-    if !L::any(swept) {
-        return (n, d_end);
-    }
-    // First s ∈ [0, 1] with |w0 − s·travel| = ρ: s² T − 2 s (w0·travel) + |w0|² − ρ² = 0.
-    let b = w0.dot(&travel);
-    let disc = (b * b - travel2 * (r0 - rho * rho)).max(zero);
-    let s = div_or_zero(b - disc.sqrt(), travel2, 1e-30)
-        .max(zero)
-        .min(one);
-    let at = w0 - travel * s;
-    let hit_n = at * div_or_zero(one, at.dot(&at).sqrt(), 1e-12);
-    let hit_d = hit_n.dot(&w1) - rho;
-    (
-        V3::select(swept, &hit_n, &n),
-        L::select(swept, hit_d, d_end),
-    )
-}
-
-/// Fraction of its radius a convex contact sphere must move within a substep before the
-/// response tests the point's path against its sweep instead of its end position
-/// ([`swept_surface_model`]). Below it the end-time normal turns by less than about this angle
-/// (rad) from the first contact's, and the model keeps its end-time form.
-const SWEPT_FRACTION: f32 = 0.125;
 
 /// The contact's surface model at time `t_end` (s, from the step's start) seen from a point at
 /// `x` (m): the model's outward unit normal there and the signed distance of the point's sphere
@@ -400,45 +328,6 @@ mod tests {
         let r = x.dot(&x).sqrt().to_array()[0];
         assert!((r - 0.1).abs() < 2e-5, "|x| = {r}");
         assert!(x.x.to_array()[0] > 0.009);
-    }
-
-    #[test]
-    fn a_fast_ball_pushes_a_point_it_runs_over_ahead_of_it() {
-        // A ball of radius 0.1 (hair centre kept at 0.1) at 24 m/s along x, 0.125 m in one
-        // substep of 1/192 s; a point at rest 1 cm ahead of its surface and 2 cm off its path.
-        // At the substep's end the ball's centre has passed the point's x: the end-time normal
-        // points backwards, and the swept test must push the point ahead instead.
-        let dt = 1.0f32 / 192.0;
-        let speed = 24.0f32;
-        let c = ContactLanes {
-            anchor: V3::default(),
-            size: splat(0.1),
-            curved: splat(1.0),
-            anchor_velocity: V3::splat(&Vector3::new(speed, 0.0, 0.0)),
-            surface_velocity: V3::splat(&Vector3::new(speed, 0.0, 0.0)),
-            friction: splat(0.0),
-            found_depth: splat(0.0),
-        };
-        let start = Vector3::new(0.1098, 0.02, 0.0);
-        assert!(start.norm() > 0.1 + 1e-4, "outside at the substep's start");
-        let x = V3::splat(&start);
-        let mut v = V3::splat(&Vector3::zeros());
-        let push = respond(&mut v, &x, &c, splat(dt), splat(1.0 / dt), splat(1e9));
-        let end = (x + (v + push) * splat(dt)).lane(0);
-        let centre_end = Vector3::new(speed * dt, 0.0, 0.0);
-        let w = end - centre_end;
-        assert!(
-            w.norm() >= 0.1 - 1e-5,
-            "outside the ball at the end: {}",
-            w.norm()
-        );
-        assert!(
-            w.x > 0.0,
-            "ahead of the ball's centre, not behind it: {w:?}"
-        );
-        // It is carried along with the ball, never faster than the ball's own normal speed.
-        let kept = v.lane(0);
-        assert!(kept.x > 0.0 && kept.norm() <= speed + 1e-3, "{kept:?}");
     }
 
     #[test]
