@@ -136,6 +136,33 @@ pub enum GroomError {
     /// An option or parameter is out of range, or `hair-core` refused the data built from it.
     #[error(transparent)]
     Core(#[from] HairError),
+    /// The file is in a format this build leaves out: the crate was built without the Cargo
+    /// feature that reads it (`usd` for `.usd`, `.usda`, `.usdc`, `.usdz`).
+    #[error(
+        "{} is a {format} file, and this build of hairsys reads no {format}: it was built \
+         without the Cargo feature `{feature}`; use a build with it (the `hairsys` command has \
+         it) or convert the file to .hair, .tfx or .obj",
+        .path.display()
+    )]
+    NotBuilt {
+        /// The file.
+        path: PathBuf,
+        /// The format, e.g. `"USD"`.
+        format: &'static str,
+        /// The Cargo feature that reads it, e.g. `"usd"`.
+        feature: &'static str,
+    },
+}
+
+impl GroomError {
+    /// A [`GroomError::NotBuilt`] for the USD file `path`.
+    pub fn usd_not_built(path: &std::path::Path) -> Self {
+        GroomError::NotBuilt {
+            path: path.to_path_buf(),
+            format: "USD",
+            feature: "usd",
+        }
+    }
 }
 
 /// Where in a file a fault lies.

@@ -69,7 +69,9 @@ pub use formats::obj::{load_obj, load_obj_vertex_colors, ObjOptions, ObjParseErr
 pub use formats::obj_curves::{read_obj_curves, write_obj_curves};
 pub use formats::obj_sequence::ObjSequence;
 pub use formats::tfx::{read_tfx, write_tfx};
+#[cfg(feature = "usd")]
 pub use formats::usd::{read_usd, read_usda, write_usda, UsdCurves, UsdReadOptions};
+#[cfg(feature = "usd")]
 pub use formats::usd_mesh::{CornerValues, PrimvarInterpolation, UsdMeshOptions, UsdMeshSource};
 pub use formats::{read_groom, write_groom, GroomFormat, ImportOptions};
 pub use generate::{generate, generate_with_density, GenerateOptions};

@@ -127,6 +127,7 @@ pub enum InputError {
         points: usize,
     },
     /// The USD encoder refused the layer.
+    #[cfg(feature = "usd")]
     #[error(transparent)]
     Usd(#[from] hair_groom::formats::usd_write::UsdWriteError),
 }

@@ -30,6 +30,16 @@
 //! | hair cards of a strips scene | [`output::cards::export_cards`] |
 //! | a shot's job for a render farm (OpenJD) | [`shot::ShotFile::load`], [`farm::job::write_job`] |
 //!
+//! ## Cargo features
+//! | feature | default | what it brings |
+//! |---|---|---|
+//! | `parallel` | on | strands, contacts, guides and children on rayon's worker threads (off: the calling thread, or a host's pool through `Session::set_thread_pool`; the same bits either way) |
+//! | `preview` | on | `output::preview`: PNG pictures of cached frames (CPU renderer, font, PNG encoder) |
+//! | `usd` | on | USD stages in and out (openusd): grooms, scalps, deforming meshes and primvar maps read from USD; children and cards exported as USD; `output::shot_export`; [`farm`] |
+//!
+//! A host that draws and caches hair itself can build with `default-features = false`: without
+//! `usd`, a scene naming a USD file is refused with an error that names the feature.
+//!
 //! ```no_run
 //! use hairsys::{scene::SceneFile, Session};
 //! let scene = SceneFile::load("scenes/default.toml".as_ref())?;
@@ -46,6 +56,7 @@ pub mod accuracy;
 pub mod budget;
 pub mod build;
 pub mod error;
+#[cfg(feature = "usd")]
 pub mod farm;
 pub mod output;
 pub mod plan;

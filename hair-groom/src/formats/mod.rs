@@ -3,22 +3,29 @@
 //!
 //! Groom formats read into a [`crate::Groom`]: [`hair`] (Cem Yuksel's `.hair`, read and write),
 //! [`tfx`] (AMD TressFX `.tfx`, read and write), [`obj_curves`] (OBJ polylines, read and write)
-//! and [`usd`] (USD `BasisCurves` from a composed `.usd`/`.usda`/`.usdc`/`.usdz` stage, read;
-//! `.usda`/`.usdc`, written through [`usd_write`]). They all take
+//! and `usd` (USD `BasisCurves` from a composed `.usd`/`.usda`/`.usdc`/`.usdz` stage, read;
+//! `.usda`/`.usdc`, written through `usd_write`). They all take
 //! [`ImportOptions`]: meters per file unit and the file's up axis; writers apply the inverse, so
 //! a groom written with the options it was read with gives back the file's numbers.
 //! [`read_groom`] and [`write_groom`] pick the format from the file's extension.
 //!
 //! Meshes: [`obj`] (OBJ scalps and colliders, and numbered OBJ sequences of a deforming mesh
-//! in [`obj_sequence`]) and [`usd_mesh`] (a USD `Mesh` prim read at any time code).
+//! in [`obj_sequence`]) and `usd_mesh` (a USD `Mesh` prim read at any time code).
+//!
+//! The USD modules (`usd`, `usd_mesh`, `usd_write`) are the Cargo feature `usd` (on by default);
+//! without it a USD file is still recognised by its extension and refused with
+//! [`GroomError::NotBuilt`], which names the feature.
 
 pub mod hair;
 pub mod obj;
 pub mod obj_curves;
 pub mod obj_sequence;
 pub mod tfx;
+#[cfg(feature = "usd")]
 pub mod usd;
+#[cfg(feature = "usd")]
 pub mod usd_mesh;
+#[cfg(feature = "usd")]
 pub mod usd_write;
 
 use std::path::Path;
@@ -72,7 +79,7 @@ impl GroomFormat {
 
 /// Reads the groom file at `path` in the format its extension names ([`GroomFormat::of`]), in
 /// meters, Z up (`opts`: the file's unit scale and up axis; for USD they replace the stage's
-/// `metersPerUnit` and `upAxis`: use [`usd::read_usd`] to take the stage's, pick prims or a
+/// `metersPerUnit` and `upAxis`: use `usd::read_usd` to take the stage's, pick prims or a
 /// time).
 pub fn read_groom(path: &Path, opts: &ImportOptions) -> Result<Groom, GroomError> {
     // What the path is comes before what its name says: "is a directory" is the clearer error.
@@ -81,7 +88,10 @@ pub fn read_groom(path: &Path, opts: &ImportOptions) -> Result<Groom, GroomError
         GroomFormat::Hair => hair::read_hair(path, opts),
         GroomFormat::Tfx => tfx::read_tfx(path, opts),
         GroomFormat::ObjCurves => obj_curves::read_obj_curves(path, opts),
+        #[cfg(feature = "usd")]
         GroomFormat::Usd => usd::read_usda(path, opts),
+        #[cfg(not(feature = "usd"))]
+        GroomFormat::Usd => Err(GroomError::usd_not_built(path)),
     }
 }
 
@@ -92,7 +102,10 @@ pub fn write_groom(path: &Path, groom: &Groom, opts: &ImportOptions) -> Result<(
         GroomFormat::Hair => hair::write_hair(path, groom, opts),
         GroomFormat::Tfx => tfx::write_tfx(path, groom, opts),
         GroomFormat::ObjCurves => obj_curves::write_obj_curves(path, groom, opts),
+        #[cfg(feature = "usd")]
         GroomFormat::Usd => usd::write_usda(path, groom, opts),
+        #[cfg(not(feature = "usd"))]
+        GroomFormat::Usd => Err(GroomError::usd_not_built(path)),
     }
 }
 

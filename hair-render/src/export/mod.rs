@@ -1,15 +1,18 @@
-//! Exporters of [`crate::ChildBuffers`], one file per format: [`usd`] (`BasisCurves` as `.usdc` or
-//! `.usda`, through `hair_groom`'s one USD layer writer) and [`hair`] (Cem Yuksel's `.hair`); and of hair cards ([`crate::CardMesh`]):
-//! [`cards_usd`] (`Mesh` in `.usda`) and [`cards_obj`] (OBJ). The only module of the crate that
-//! does I/O.
+//! Exporters of [`crate::ChildBuffers`], one file per format: `usd` (`BasisCurves` as `.usdc` or
+//! `.usda`, through `hair_groom`'s one USD layer writer) and [`hair`] (Cem Yuksel's `.hair`); and
+//! of hair cards ([`crate::CardMesh`]): `cards_usd` (`Mesh` in `.usda`) and [`cards_obj`] (OBJ).
+//! The only module of the crate that does I/O. The USD exporters are the Cargo feature `usd` (on
+//! by default).
 //!
 //! Each format writes to any `Write` (`write_*`) or to a path (`export_*`). A path is written as
 //! `<path>.partial` beside it and renamed into place only when complete, so a failed export leaves
 //! neither a half-written file nor a clobbered previous one; the partial file is removed on error.
 
 pub mod cards_obj;
+#[cfg(feature = "usd")]
 pub mod cards_usd;
 pub mod hair;
+#[cfg(feature = "usd")]
 pub mod usd;
 
 use std::fs::File;

@@ -15,6 +15,7 @@ use std::path::PathBuf;
 use hair_cache::Interpolation;
 use hair_core::model::strips::HeadShape;
 use hair_render::export::cards_obj::{export_cards_obj, ObjUpAxis};
+#[cfg(feature = "usd")]
 use hair_render::export::cards_usd::{export_cards_usda, CardSample, CardUsdOptions};
 use hair_render::{build_cards, CardMesh, CardSettings};
 
@@ -77,6 +78,12 @@ pub struct CardsSummary {
 /// Builds and writes the cards of `args`. A file that cannot be written is an
 /// [`OutputError::Write`]; every other error is about what was asked or read.
 pub fn export_cards(args: &CardsOptions) -> Result<CardsSummary, OutputError> {
+    #[cfg(not(feature = "usd"))]
+    if args.format == CardsFormat::Usd {
+        return Err(OutputError::UsdNotBuilt {
+            path: args.out.clone(),
+        });
+    }
     let Samples {
         meshes: samples,
         represented_hairs,
@@ -90,6 +97,15 @@ pub fn export_cards(args: &CardsOptions) -> Result<CardsSummary, OutputError> {
                 .map_err(|e| OutputError::export(&args.out, e))?;
             1
         }
+        #[cfg(not(feature = "usd"))]
+        CardsFormat::Usd => {
+            // Refused before the cards were built; the rate and frame are for USD only.
+            let _ = (fps, frame);
+            return Err(OutputError::UsdNotBuilt {
+                path: args.out.clone(),
+            });
+        }
+        #[cfg(feature = "usd")]
         CardsFormat::Usd => {
             let motion: Vec<CardSample> = if samples.len() > 1 {
                 samples

@@ -1,7 +1,7 @@
 //! `hairsys render-children export`: render children generated on request from a cached frame (or
 //! sub-frame samples over a shutter, for motion blur) or from the scene's rest state, written as
 //! USD `BasisCurves` (`.usdc` or `.usda`) or Cem Yuksel's `.hair`. A range of frames in one
-//! file is [`crate::output::shot_export`] with children.
+//! file is `crate::output::shot_export` with children.
 //!
 //! From a cache, the children's roots (mesh samples, root frames) come from the cache's rig
 //! ([`Shot`]): the scalp as it was simulated, at the sampled time. The scene's `[children]`
@@ -13,6 +13,7 @@ use std::path::PathBuf;
 
 use hair_cache::Interpolation;
 use hair_core::{Anchor, MeshSample, Scalp, StrandSet};
+#[cfg(feature = "usd")]
 use hair_render::export::usd::{self, Motion, MotionSample, UsdOptions};
 use hair_render::{
     generate, ChildBuffers, ChildCount, ChildMode, ChildSettings, DisplayLod, Lod, Parents,
@@ -189,6 +190,12 @@ pub fn export(
     opts: &ExportOptions,
     mut on_sample: impl FnMut(),
 ) -> Result<ExportSummary, OutputError> {
+    #[cfg(not(feature = "usd"))]
+    if opts.format == Format::Usd {
+        return Err(OutputError::UsdNotBuilt {
+            path: opts.out.clone(),
+        });
+    }
     if opts.motion_samples == 0 {
         return Err(OutputError::request(
             "--motion-samples 0: use at least 1 sample",
@@ -281,6 +288,13 @@ pub fn export(
             hair_render::export::hair::export_hair(out, &samples[centre].1)
                 .map_err(|e| OutputError::export(out, e))?;
         }
+        #[cfg(not(feature = "usd"))]
+        Format::Usd => {
+            // Refused before the children were generated; the rate is for USD only.
+            let _ = fps;
+            return Err(OutputError::UsdNotBuilt { path: out.clone() });
+        }
+        #[cfg(feature = "usd")]
         Format::Usd => {
             let usd_opts = UsdOptions {
                 frames_per_second: fps,

@@ -55,6 +55,17 @@ pub enum OutputError {
     /// The work asked for is over the memory or time budget.
     #[error("{0}")]
     Budget(crate::budget::OverBudget),
+    /// A USD output was asked of a build without the Cargo feature `usd`.
+    #[error(
+        "{} is a USD file, and this build of hairsys writes no USD: it was built without the \
+         Cargo feature `usd`; use a build with it (the `hairsys` command has it), or write \
+         children as .hair and cards as .obj",
+        path.display()
+    )]
+    UsdNotBuilt {
+        /// The output asked for.
+        path: PathBuf,
+    },
     /// The output file cannot be written.
     #[error("cannot write {}: {reason}", path.display())]
     Write {

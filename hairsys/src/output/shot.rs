@@ -360,8 +360,3 @@ fn strands_of(
     strands.reset_to_rest(&scalp);
     Ok(strands)
 }
-
-/// Flat x, y, z of `points`.
-pub(crate) fn flat(points: &[Vector3<f32>]) -> Vec<f32> {
-    points.iter().flat_map(|p| [p.x, p.y, p.z]).collect()
-}

@@ -44,10 +44,11 @@ use hair_groom::formats::usd_write::{
 };
 use hair_render::buffers::ChildBuffers;
 use hair_render::export::usd::curves_prim;
+use nalgebra::Vector3;
 
 use crate::budget::Budget;
 use crate::output::children::{check_children_memory, child_settings, children_of, ChildOverrides};
-use crate::output::shot::{flat, Shot};
+use crate::output::shot::Shot;
 use crate::scene::maps::ChildMapFactors;
 
 /// Render children instead of the simulated strands.
@@ -477,6 +478,11 @@ fn scalp_moves(shot: &mut Shot, times: &[f64]) -> Result<bool, OutputError> {
         previous = Some(points);
     }
     Ok(false)
+}
+
+/// Flat x, y, z of `points`.
+fn flat(points: &[Vector3<f32>]) -> Vec<f32> {
+    points.iter().flat_map(|p| [p.x, p.y, p.z]).collect()
 }
 
 #[cfg(test)]

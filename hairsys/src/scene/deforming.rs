@@ -44,7 +44,9 @@
 use std::path::{Path, PathBuf};
 
 use hair_core::TriMesh;
-use hair_groom::{ObjOptions, ObjSequence, UpAxis, UsdMeshOptions, UsdMeshSource};
+use hair_groom::{ObjOptions, ObjSequence, UpAxis};
+#[cfg(feature = "usd")]
+use hair_groom::{UsdMeshOptions, UsdMeshSource};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -77,6 +79,7 @@ pub struct UsdMeshSection {
 
 impl UsdMeshSection {
     /// The prim and units to open the stage with.
+    #[cfg(feature = "usd")]
     pub fn options(&self) -> UsdMeshOptions {
         let units = match (self.scale, self.up_axis) {
             (None, None) => None,
@@ -236,6 +239,12 @@ pub fn load(
         )
     };
     match source {
+        #[cfg(not(feature = "usd"))]
+        DeformingSource::Usd(s) => {
+            s.check_time_mapping()?;
+            Err(hair_groom::GroomError::usd_not_built(&base_dir.join(&s.path)).into())
+        }
+        #[cfg(feature = "usd")]
         DeformingSource::Usd(s) => {
             s.check_time_mapping()?;
             let path = base_dir.join(&s.path);
@@ -356,7 +365,7 @@ pub struct DeformingFrames {
     pub source: FramesNotRead,
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "usd"))]
 mod tests {
     use super::*;
     use hair_groom::formats::usd_write::{Samples, UsdLayer, UsdMeshPrim, UsdStageInfo};

@@ -481,18 +481,20 @@ fn read_guides(
     time: Option<f64>,
 ) -> Result<hair_groom::Groom, ReadGuidesError> {
     let path = base_dir.join(file);
-    let given = guides.scale.is_some() || guides.up_axis.is_some();
     let units = ImportOptions {
         scale: guides.scale.unwrap_or(1.0),
         up_axis: guides.up_axis.unwrap_or_default(),
     };
     match hair_groom::GroomFormat::of(&path) {
+        #[cfg(not(feature = "usd"))]
+        Ok(hair_groom::GroomFormat::Usd) => Err(hair_groom::GroomError::usd_not_built(&path)),
+        #[cfg(feature = "usd")]
         Ok(hair_groom::GroomFormat::Usd) => hair_groom::read_usd(
             &path,
             &hair_groom::UsdReadOptions {
                 prim: guides.prim.clone(),
                 time,
-                units: given.then_some(units),
+                units: (guides.scale.is_some() || guides.up_axis.is_some()).then_some(units),
             },
         )
         .map(|c| c.groom),

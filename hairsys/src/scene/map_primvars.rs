@@ -51,6 +51,7 @@ use super::{ScalpMesh, SceneFile};
 
 /// Map purposes that would vary over a shot, so a time-sampled primvar of one is refused
 /// rather than read at the first frame only, each with the ways hairsys does animate it.
+#[cfg(feature = "usd")]
 const FOLLOWS_THE_SHOT: [(&str, &str); 3] = [
     (
         "goal",
@@ -97,42 +98,50 @@ pub fn scalp_primvar(
         }
     };
     let path = scene.base_dir.join(&section.path);
-    let source = hair_groom::UsdMeshSource::open(&path, &section.options())?;
-    let component = channel.map(|c| match c {
-        Channel::R => 0,
-        Channel::G => 1,
-        Channel::B => 2,
-        Channel::A => 3,
-    });
-    let first_frame = scene.scene.scene.frames[0];
-    let time = section.time_code(f64::from(first_frame));
-    let read = |t: f64| {
-        source
-            .primvar(name, component, t)
-            .map(|corners| corners.values)
-    };
-    let values = read(time)?;
-    if let Some((_, instead)) = FOLLOWS_THE_SHOT.iter().find(|(m, _)| *m == map) {
-        let times = source.primvar_sample_times(name)?;
-        for &t in times.iter().skip(usize::from(times.len() == 1)) {
-            if read(t)? != values {
-                let name = name.strip_prefix("primvars:").unwrap_or(name);
-                return Err(PrimvarError::Changes(Box::new(PrimvarChanges {
-                    primvar: name.to_string(),
-                    prim: source.prim().to_string(),
-                    path,
-                    samples: times.len(),
-                    range: (times[0], times[times.len() - 1]),
-                    at: t,
-                    first: time,
-                    map: map.to_string(),
-                    first_frame,
-                    instead,
-                })));
+    #[cfg(not(feature = "usd"))]
+    {
+        let _ = (map, name, channel);
+        Err(hair_groom::GroomError::usd_not_built(&path).into())
+    }
+    #[cfg(feature = "usd")]
+    {
+        let source = hair_groom::UsdMeshSource::open(&path, &section.options())?;
+        let component = channel.map(|c| match c {
+            Channel::R => 0,
+            Channel::G => 1,
+            Channel::B => 2,
+            Channel::A => 3,
+        });
+        let first_frame = scene.scene.scene.frames[0];
+        let time = section.time_code(f64::from(first_frame));
+        let read = |t: f64| {
+            source
+                .primvar(name, component, t)
+                .map(|corners| corners.values)
+        };
+        let values = read(time)?;
+        if let Some((_, instead)) = FOLLOWS_THE_SHOT.iter().find(|(m, _)| *m == map) {
+            let times = source.primvar_sample_times(name)?;
+            for &t in times.iter().skip(usize::from(times.len() == 1)) {
+                if read(t)? != values {
+                    let name = name.strip_prefix("primvars:").unwrap_or(name);
+                    return Err(PrimvarError::Changes(Box::new(PrimvarChanges {
+                        primvar: name.to_string(),
+                        prim: source.prim().to_string(),
+                        path,
+                        samples: times.len(),
+                        range: (times[0], times[times.len() - 1]),
+                        at: t,
+                        first: time,
+                        map: map.to_string(),
+                        first_frame,
+                        instead,
+                    })));
+                }
             }
         }
+        Ok(values)
     }
-    Ok(values)
 }
 
 /// Why a USD scalp's primvar cannot be read as a map; the caller names the map.
