@@ -48,12 +48,36 @@ seed = 3
 air_drag = 2.0
 "#;
 
-/// A fresh, empty temporary directory named for the test and this process.
-pub fn tempdir(name: &str) -> PathBuf {
+/// A fresh, empty temporary directory named for the test and this process, removed with
+/// everything in it when the returned guard is dropped (at the end of the test, pass or fail).
+#[allow(dead_code)] // each test binary compiles this module; not all of them use every helper
+pub fn tempdir(name: &str) -> TestDir {
     let dir = std::env::temp_dir().join(format!("hairsys-cli-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    dir
+    TestDir(dir)
+}
+
+/// A test's temporary directory ([`tempdir`]): reads as its path, removed on drop.
+pub struct TestDir(PathBuf);
+
+impl std::ops::Deref for TestDir {
+    type Target = PathBuf;
+    fn deref(&self) -> &PathBuf {
+        &self.0
+    }
+}
+
+impl AsRef<Path> for TestDir {
+    fn as_ref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for TestDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
 }
 
 /// A flat 10 cm square OBJ at z = 0 (normal +z), 4 × 4 quads, with per-vertex colours
