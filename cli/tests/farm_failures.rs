@@ -34,7 +34,7 @@ fn ok(out: &Output, what: &str) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
-fn setup(name: &str) -> std::path::PathBuf {
+fn setup(name: &str) -> common::TestDir {
     let dir = tempdir(name);
     std::fs::write(dir.join("head.toml"), SCENE).unwrap();
     std::fs::write(dir.join("shot.toml"), SHOT).unwrap();
