@@ -40,6 +40,21 @@ fn write_scene(dir: &Path, text: &str) -> std::path::PathBuf {
     path
 }
 
+/// Loads and builds the scene at `path`, which names the USD file `usd_file`, and checks that it
+/// is refused with an error naming that file and the missing feature.
+fn assert_refused(path: &Path, usd_file: &str) {
+    let text = match SceneFile::load(path).map(|scene| scene.build()) {
+        Err(e) => e.to_string(),
+        Ok(Err(e)) => e.to_string(),
+        Ok(Ok(_)) => panic!("{usd_file} needs the usd feature"),
+    };
+    assert!(text.contains(usd_file), "names the file: {text}");
+    assert!(
+        text.contains("Cargo feature `usd`"),
+        "names the feature: {text}"
+    );
+}
+
 /// A one-triangle USD mesh, so the refusal is about the build, not a missing file.
 const TRIANGLE_USDA: &str = r#"#usda 1.0
 (
@@ -64,16 +79,7 @@ fn a_usd_scalp_is_refused_naming_the_file_and_the_feature() {
             "",
         ),
     );
-    let scene = SceneFile::load(&path).expect("the scene file itself is valid");
-    let text = match scene.build() {
-        Ok(_) => panic!("a USD scalp needs the usd feature"),
-        Err(e) => e.to_string(),
-    };
-    assert!(text.contains("scalp.usda"), "names the file: {text}");
-    assert!(
-        text.contains("Cargo feature `usd`"),
-        "names the feature: {text}"
-    );
+    assert_refused(&path, "scalp.usda");
 }
 
 #[test]
@@ -87,18 +93,7 @@ fn usd_guides_are_refused_naming_the_file_and_the_feature() {
         ),
     );
     std::fs::write(dir.path().join("guides.usdc"), b"PXR-USDC").unwrap();
-    let text = match SceneFile::load(&path) {
-        Err(e) => e.to_string(),
-        Ok(scene) => match scene.build() {
-            Ok(_) => panic!("USD guides need the usd feature"),
-            Err(e) => e.to_string(),
-        },
-    };
-    assert!(text.contains("guides.usdc"), "names the file: {text}");
-    assert!(
-        text.contains("Cargo feature `usd`"),
-        "names the feature: {text}"
-    );
+    assert_refused(&path, "guides.usdc");
 }
 
 #[test]
