@@ -107,6 +107,11 @@ pub struct RunSummary {
     /// `hair_core::contacts`). Nonzero means hair moved faster within a step than detection
     /// allowed for: a strain limit (`max_strain`) or more collision steps keeps it within.
     pub escaped_points: u64,
+    /// Point-frames whose point had a contact but ended the frame deeper inside a collider than
+    /// the contact model's own error (25 µm), put back on its surface by the frame-end check
+    /// (see `hair_core::contacts`). Each moves by at most its depth; their count says how often
+    /// the substep's contact model missed the exact surface.
+    pub deep_contact_points: u64,
     /// Most collision steps any frame took (more than `[solver] steps` when colliders moved
     /// fast).
     pub max_collision_steps: u32,
@@ -310,6 +315,7 @@ pub fn simulate(
         contact_points_per_step: totals.contact_points as f64
             / totals.collision_steps.max(1) as f64,
         escaped_points: totals.escaped_points,
+        deep_contact_points: totals.deep_contact_points,
         max_collision_steps: totals.max_steps,
         point_substeps_per_s: totals.point_substeps as f64 / solve.as_secs_f64().max(1e-12),
         max_stretch: totals.max_stretch,
@@ -335,6 +341,7 @@ struct Totals {
     collision_steps: u64,
     max_steps: u32,
     escaped_points: u64,
+    deep_contact_points: u64,
     point_substeps: u64,
     max_stretch: f32,
     projection: Option<ProjectionReport>,
@@ -350,6 +357,7 @@ impl Totals {
         self.fields += r.times.fields;
         self.contact_points += r.contact_points;
         self.escaped_points += r.escaped_points;
+        self.deep_contact_points += r.deep_contact_points;
         self.collision_steps += r.steps as u64;
         self.max_steps = self.max_steps.max(r.steps);
         self.point_substeps += r.point_substeps;
@@ -402,6 +410,14 @@ impl std::fmt::Display for RunSummary {
                 "  contacts: detection {:.2} ms/frame, {:.0} points in contact per step, up to {} collision steps per frame",
                 self.contacts_ms_per_frame, self.contact_points_per_step, self.max_collision_steps
             )?;
+            if self.deep_contact_points > 0 {
+                writeln!(
+                    f,
+                    "  contacts: {} point-frames in contact ended deeper than 25 µm inside a \
+                     collider; put back on its surface at the frame's end",
+                    self.deep_contact_points
+                )?;
+            }
             if self.escaped_points > 0 {
                 writeln!(
                     f,

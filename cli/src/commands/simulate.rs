@@ -145,6 +145,7 @@ pub fn run(run: SimulateArgs, ctx: &Context) -> Result<(), CliError> {
             "hair_hair_ms": r.times.volume.as_secs_f64() * 1e3,
             "fields_ms": r.times.fields.as_secs_f64() * 1e3,
             "escaped_points": r.escaped_points,
+            "deep_contact_points": r.deep_contact_points,
         }))
     });
     progress.finish();

@@ -16,7 +16,8 @@
 //! - `detect`: detection once per step (query radius from relative motion, clearance skip, rapier
 //!   broad phase, parry narrow phase, the contact's surface model).
 //! - `coupling`: contacts solved together with the length constraints after the position update.
-//! - `escapes`: the frame-end check that puts back points which outran detection's margin.
+//! - `escapes`: the frame-end check that puts back points which outran detection's margin or
+//!   ended deeper than the contact model's error.
 //! - `fast_projection`: an exact shortcut for the narrow phase near a convex part of a mesh.
 //! - `penalty`: the response in the substeps, in SIMD lanes (lanes = strands).
 //! - `math`: the one place where nalgebra and rapier/parry's glam types meet.
@@ -79,9 +80,16 @@
 //!   step every free point without a contact is checked against every collider (nearly free: it
 //!   reads detection's distance bounds) and one closer than its radius plus the thickness is put
 //!   back on the surface, its velocity into the surface removed; `FrameReport::escaped_points`
-//!   counts them (34 point-frames in that scene; none with its strain limit, where the check
-//!   changes nothing). Within a frame of several collision steps the next step's detection pushes
-//!   such a point out instead.
+//!   counts them (34 point-frames in that scene; none with its strain limit). Within a frame of
+//!   several collision steps the next step's detection pushes such a point out instead.
+//! - **Frame-end depth.** The same check measures points in contact against the exact surface:
+//!   one that the step's local model left deeper than 25 µm inside (beyond what remains of the
+//!   depth found at detection) is moved back to that depth, and
+//!   `FrameReport::deep_contact_points` counts them. Strands with a length limit (the strain
+//!   limit, the inextensibility projection) are then brought back within it, the moved points
+//!   held and their neighbours following, so a cached frame has no point deeper than 25 µm
+//!   inside a collider except hair being eased out of a start inside it, and a point next to a
+//!   root, which the limit keeps where the segment allows.
 //! - **Resuming.** The scalp collider is built from the rest mesh (then put at the frame's deformed
 //!   scalp by [`Colliders::place_scalp`], a deforming mesh at its vertices by
 //!   [`Colliders::place_vertices`]: everything the shape holds is recomputed from the vertices and

@@ -180,7 +180,6 @@ impl<L: Lane> V3<L> {
     }
 
     /// Lane `l` as a nalgebra vector.
-    #[cfg(test)]
     pub fn lane(&self, l: usize) -> Vector3<f32> {
         Vector3::new(
             self.x.to_array()[l],

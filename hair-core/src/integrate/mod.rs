@@ -32,7 +32,7 @@ pub(crate) mod lanes;
 pub mod params;
 pub mod sag_free;
 pub mod stability;
-mod strain_limit;
+pub(crate) mod strain_limit;
 pub(crate) mod xpbd;
 
 pub use inextensible::Inextensibility;

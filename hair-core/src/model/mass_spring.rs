@@ -64,7 +64,7 @@ use hair_par::prelude::*;
 use nalgebra::{UnitQuaternion, Vector3};
 
 use crate::contacts::detect::{detect, DetectInput, PointContacts};
-use crate::contacts::escapes::{put_back_escapees, EscapeInput};
+use crate::contacts::escapes::{put_back_escapees, EscapeInput, LengthLimit, PutBack};
 use crate::contacts::Colliders;
 use crate::error::{Blowup, HairError, Result};
 use crate::fields::{self, FieldInput, ForceField};
@@ -648,11 +648,23 @@ impl MassSpringSolver {
             }
             max_stretch = outcome.max_stretch;
         }
-        let mut escaped_points = 0u64;
+        let mut put_back = PutBack::default();
         if let Some(c) = colliders {
             let t4 = Instant::now();
             let (positions, velocities, data) = strands.split_for_solver();
-            escaped_points = put_back_escapees(
+            // The length limit the put-back keeps: the strain limit's, or the rest length
+            // under the inextensibility projection.
+            let ratio = self
+                .settings
+                .max_strain
+                .map(|e| 1.0 + e)
+                .or(self.inextensible.map(|_| 1.0));
+            let lengths = ratio.map(|ratio| LengthLimit {
+                offsets: data.offsets,
+                rest_length: data.rest_length,
+                ratio,
+            });
+            put_back = put_back_escapees(
                 c,
                 (steps - 1) as f32 / steps as f32,
                 step_dt as f32,
@@ -662,8 +674,11 @@ impl MassSpringSolver {
                     radii: data.radii,
                     inv_mass: data.inv_mass,
                     contact_size: &self.workspace.contacts.size,
+                    found_depth: &self.workspace.contacts.found_depth,
+                    max_push_speed: c.settings.max_push_speed,
+                    lengths,
                 },
-            ) as u64;
+            );
             times.contacts += t4.elapsed();
             c.finish_frame();
         }
@@ -675,7 +690,8 @@ impl MassSpringSolver {
             steps,
             point_substeps: strands.point_count() as u64 * (substeps * steps) as u64,
             contact_points,
-            escaped_points,
+            escaped_points: put_back.escaped as u64,
+            deep_contact_points: put_back.deep as u64,
             max_stretch,
             times,
             figures: ModelFigures::MassSpring,

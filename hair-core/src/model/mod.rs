@@ -111,6 +111,10 @@ pub struct FrameReport {
     /// without a contact in the last step — they outran detection's margin — and were put back
     /// on the surface by the frame-end check (see `contacts::escapes`; 0 without colliders).
     pub escaped_points: u64,
+    /// Points that had a contact in the last step and ended the frame deeper inside a collider
+    /// than the contact model's own error (25 µm), put back on its surface by the same check
+    /// (see `contacts::escapes`; 0 without colliders).
+    pub deep_contact_points: u64,
     /// Largest relative segment elongation `len/rest − 1` at the end of the frame (0 if none is
     /// longer than at rest).
     pub max_stretch: f32,

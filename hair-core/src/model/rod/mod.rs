@@ -655,6 +655,7 @@ impl RodSolver {
                 contact_points: contacts / self.substeps as u64,
                 // The rod projects its nodes out of colliders in every substep.
                 escaped_points: 0,
+                deep_contact_points: 0,
                 max_stretch: strands.max_stretch(),
                 times: PhaseTimes {
                     roots: roots_time,
