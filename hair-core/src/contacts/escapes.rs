@@ -238,7 +238,11 @@ fn keep_lengths(
         );
         let segments = points.start - s..points.end - s - 1;
         rest.clear();
-        rest.extend(limit.rest_length[segments.clone()].iter().map(|&l| splat::<Baseline>(l)));
+        rest.extend(
+            limit.rest_length[segments.clone()]
+                .iter()
+                .map(|&l| splat::<Baseline>(l)),
+        );
         // Velocities move by 0 × the displacement: a correction, not motion.
         let ratio = splat::<Baseline>(limit.ratio);
         limit_strain(&mut x, &mut v, &w, &rest, ratio, splat(0.0), &mut scratch);
@@ -263,7 +267,9 @@ mod tests {
 
     /// A straight strand of `n` points 1 cm apart along +z from the origin, root kinematic.
     fn strand(n: usize) -> (Vec<Vector3<f32>>, Vec<f32>, Vec<f32>) {
-        let x = (0..n).map(|i| Vector3::new(0.0, 0.0, 0.01 * i as f32)).collect();
+        let x = (0..n)
+            .map(|i| Vector3::new(0.0, 0.0, 0.01 * i as f32))
+            .collect();
         let w = (0..n).map(|i| if i == 0 { 0.0 } else { 1.0 }).collect();
         (x, w, vec![0.01; n - 1])
     }

@@ -323,6 +323,9 @@ impl FastProjection {
                 }
             }
             match behind {
+                // Back to the triangle it came from: the walk would cycle between the two (a
+                // point in the region of their edge on a body that is not convex).
+                Some(k) if self.neighbours[t as usize][k] == previous => return None,
                 Some(k) => {
                     previous = t;
                     t = self.neighbours[t as usize][k];
