@@ -93,5 +93,8 @@ fn points_put_back_keep_the_strain_limit_and_stay_out_of_the_head() {
         "{put_back} point-frames put back; smallest centre gap {:.3} mm (radius 5 mm)",
         gap.smallest * 1e3
     );
-    assert!(put_back > 0, "the check had nothing to do: the test tests nothing");
+    assert!(
+        put_back > 0,
+        "the check had nothing to do: the test tests nothing"
+    );
 }
